@@ -1,0 +1,3 @@
+# SPDX-License-Identifier: MIT
+list(APPEND VOLSPLINE_CORE_SOURCES
+)

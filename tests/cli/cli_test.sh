@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# CLI integration tests: exit codes, messages and outputs of the built volspline binary.
+# usage: cli_test.sh VOLSPLINE_BIN SOURCE_DIR SHARED_DATA_DIR
+set -u
+BIN=$1; SRC=$2; DATA=$3
+TMP=$(mktemp -d); trap 'rm -rf "$TMP"' EXIT
+pass=0; fail=0
+ok()   { pass=$((pass+1)); }
+bad()  { fail=$((fail+1)); echo "FAIL: $*"; }
+# expect CODE CMD... : runs CMD, checks the exit code, keeps stdout/stderr in $TMP/out, $TMP/err
+expect() {
+  local want=$1; shift
+  "$@" >"$TMP/out" 2>"$TMP/err"; local got=$?
+  if [ "$got" = "$want" ]; then ok; else bad "exit $got (want $want): $* :: $(head -c 300 "$TMP/err")"; fi
+}
+# contains FILE TEXT
+contains() { if grep -qF -- "$2" "$1"; then ok; else bad "'$2' not in $1: $(head -c 300 "$1")"; fi; }
+
+for f in "$SRC"/tests/cli/cases/*.sh; do
+  [ -f "$f" ] && . "$f"
+done
+
+echo "$pass passed, $fail failed"
+[ "$fail" = 0 ]
