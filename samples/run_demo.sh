@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# The main job on the bundled samples: installs what is missing, builds the CLI (Release) and runs
+# every job that exists on samples/, writing results to build/demo/.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash tests/setup_deps.sh
+cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build/release -j"$(nproc)" --target volspline
+VS=build/release/cli/volspline
+OUT=build/demo; mkdir -p "$OUT"
+for m in samples/meshes/*.off; do
+  echo "== volspline info $m"
+  "$VS" info "$m"
+done
+for img in samples/images/*.png; do
+  [ -f "$img" ] || continue
+  name=$(basename "$img" .png)
+  echo "== volspline lens $img"
+  "$VS" lens "$img" -o "$OUT/${name}_lens.png" --stats-json "$OUT/${name}_lens.json"
+  cat "$OUT/${name}_lens.json"; echo
+done
+echo "results in $OUT/"

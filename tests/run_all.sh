@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# The test command: installs what is missing, builds every configuration and runs every test.
+#   1. native Release build: unit tests, CLI integration tests (ctest)
+#   2. native Debug build under AddressSanitizer + UndefinedBehaviorSanitizer: the same tests
+#   3. libFuzzer targets (clang): the saved corpus, then a short bounded run per reader
+#   4. WebAssembly build (em++): the core called from node
+# Ends with one line "N passed, M failed" counting the stages.
+set -uo pipefail
+cd "$(dirname "$0")/.."
+ROOT=$(pwd)
+JOBS=$(nproc)
+FUZZ_SECONDS=${VOLSPLINE_FUZZ_SECONDS:-15}
+bash tests/setup_deps.sh || { echo "setup failed"; echo "0 passed, 1 failed"; exit 1; }
+
+passed=0; failed=0; failures=""
+stage() {  # stage NAME COMMAND...
+  local name=$1; shift
+  echo "=== $name"
+  local t0=$SECONDS
+  if "$@"; then passed=$((passed+1)); echo "=== $name: ok ($((SECONDS-t0)) s)";
+  else failed=$((failed+1)); failures="$failures $name"; echo "=== $name: FAILED ($((SECONDS-t0)) s)"; fi
+}
+
+native() {
+  cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release >/dev/null &&
+  cmake --build build/release -j"$JOBS" &&
+  ctest --test-dir build/release --output-on-failure -j"$JOBS"
+}
+sanitized() {
+  cmake -S . -B build/asan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-g -O1" \
+        -DVOLSPLINE_SANITIZE=ON -DVOLSPLINE_BENCH=OFF >/dev/null &&
+  cmake --build build/asan -j"$JOBS" &&
+  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    ctest --test-dir build/asan --output-on-failure -j"$JOBS"
+}
+fuzz() {
+  CC=clang CXX=clang++ cmake -S . -B build/fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVOLSPLINE_FUZZ=ON \
+        -DVOLSPLINE_BENCH=OFF >/dev/null &&
+  cmake --build build/fuzz -j"$JOBS" --target fuzz_targets &&
+  bash tests/fuzz/run_fuzz.sh build/fuzz "$FUZZ_SECONDS"
+}
+wasm() {
+  export NODE_PATH=/usr/share/nodejs
+  emcmake cmake -S . -B build/wasm -DCMAKE_BUILD_TYPE=Release -DEigen3_DIR=/usr/share/eigen3/cmake >/dev/null &&
+  cmake --build build/wasm -j"$JOBS" &&
+  node --no-experimental-fetch tests/wasm/node_smoke_test.cjs build/wasm/wasm/volspline_node.cjs "$ROOT" "$ROOT/../shared/data"
+}
+
+stage native-release native
+stage asan-ubsan sanitized
+stage fuzz fuzz
+stage wasm-node wasm
+
+[ -n "$failures" ] && echo "failed stages:$failures"
+echo "$passed passed, $failed failed"
+[ "$failed" = 0 ]
