@@ -11,5 +11,7 @@ namespace volspline::cli {
 /// main maps both to exit code 2.
 int run_info(const std::vector<std::string>& argv);
 int run_lens(const std::vector<std::string>& argv);
+int run_mesh2spline(const std::vector<std::string>& argv);
+int run_eval(const std::vector<std::string>& argv);
 
 }  // namespace volspline::cli

@@ -20,6 +20,8 @@ const char* kUsage =
     "\n"
     "commands:\n"
     "  info FILE          mesh facts: counts, closed, manifold, components, genus, bounding box\n"
+    "  mesh2spline MESH   closed genus-0 triangle mesh -> trivariate T-spline (thesis ch. 3, 4)\n"
+    "  eval SPLINE        evaluate a spline JSON file at --uvw u,v,w\n"
     "  lens IMAGE         focus+context magnification lens on an image (thesis ch. 6)\n"
     "\n"
     "Run 'volspline <command> --help' for the options of a command.\n"
@@ -32,6 +34,8 @@ struct Command {
 
 const Command kCommands[] = {
     {"info", volspline::cli::run_info},
+    {"mesh2spline", volspline::cli::run_mesh2spline},
+    {"eval", volspline::cli::run_eval},
     {"lens", volspline::cli::run_lens},
 };
 

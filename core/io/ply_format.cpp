@@ -190,6 +190,12 @@ std::size_t min_item_bytes(const PlyElement& element, PlyEncoding encoding) {
   return bytes;
 }
 
+std::string number_text(double value) {
+  std::string text;
+  append_number(text, value);
+  return text;
+}
+
 // Where the mesh data sits in the vertex and face elements.
 struct MeshLayout {
   int vertex_element = -1;
@@ -273,9 +279,8 @@ mesh::TriangleMesh read_data(const PlyHeader& header, const MeshLayout& layout, 
           const double value = next_value(property.type, element, item);
           if (!indices) continue;
           if (!(value >= 0 && value < static_cast<double>(num_vertices)))
-            throw Error(name + ": face " + std::to_string(item) + ": index " + std::to_string(static_cast<long long>(
-                            std::isfinite(value) ? value : -1)) + " out of range (" +
-                        std::to_string(num_vertices) + " vertices)");
+            throw Error(name + ": face " + std::to_string(item) + ": index " + number_text(value) +
+                        " out of range (" + std::to_string(num_vertices) + " vertices)");
           if (value != std::floor(value))
             throw Error(name + ": face " + std::to_string(item) + ": index is not an integer");
           polygon.push_back(static_cast<int>(value));

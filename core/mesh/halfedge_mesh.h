@@ -170,7 +170,7 @@ class HalfedgeMesh {
             halfedge_face(twin_[3 * f + 2])};
   }
 
-  /// The interior halfedge of e if it has one, else its lower-numbered halfedge.
+  /// Lower-numbered halfedge of e; always interior (boundary halfedges are numbered last).
   int edge_halfedge(int e) const { return edge_halfedge_[e]; }
   /// Endpoints (origin, tip) of edge_halfedge(e).
   std::array<int, 2> edge_vertices(int e) const {
