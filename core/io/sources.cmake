@@ -1,4 +1,13 @@
 # SPDX-License-Identifier: MIT
 list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/file_bytes.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/image_io.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/mesh_io.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/mesh_builder.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/mesh_text_scanner.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/obj_format.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/off_format.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/ply_format.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/stl_format.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/gltf_format.cpp
 )

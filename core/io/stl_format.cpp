@@ -104,7 +104,10 @@ mesh::TriangleMesh parse_ascii(const std::string& bytes, const std::string& name
   return builder.finish(name);
 }
 
-bool starts_with_solid(const std::string& bytes) {
+// ASCII STL: starts with "solid" and has no NUL byte near the start (binary headers often begin
+// with "solid" too, but their triangle data holds zero bytes).
+bool looks_ascii(const std::string& bytes) {
+  if (bytes.find('\0') < 512) return false;
   std::size_t pos = 0;
   while (pos < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[pos]))) ++pos;
   return bytes.compare(pos, 5, "solid") == 0;
@@ -121,7 +124,7 @@ mesh::TriangleMesh parse_stl(const std::string& bytes, const std::string& name) 
     if (num_triangles == 0) throw Error(name + ": no faces (binary STL with 0 triangles)");
     return parse_binary(bytes, name, num_triangles);
   }
-  if (starts_with_solid(bytes)) return parse_ascii(bytes, name);
+  if (looks_ascii(bytes)) return parse_ascii(bytes, name);
   if (bytes.size() < kBinaryHeader)
     throw Error(name + ": truncated binary STL (" + std::to_string(bytes.size()) + " bytes, header needs 84)");
   throw Error(name + ": binary STL size mismatch: header says " + std::to_string(num_triangles) +

@@ -1,3 +1,8 @@
 # SPDX-License-Identifier: MIT
 list(APPEND VOLSPLINE_CORE_SOURCES
+  ${CMAKE_CURRENT_LIST_DIR}/bspline_basis.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/bspline_volume.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/knot_insertion.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/tspline.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/tspline_refinement.cpp
 )

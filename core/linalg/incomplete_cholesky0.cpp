@@ -1,0 +1,139 @@
+// SPDX-License-Identifier: MIT
+#include "core/linalg/incomplete_cholesky0.h"
+
+#include <cassert>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace volspline::linalg {
+
+namespace {
+
+// Row-oriented (left-looking) IC(0) of A + shift·S on the pattern of `lower`, whose values hold
+// the strictly lower entries of A on entry and of L on success. Returns false on a pivot ≤ 0.
+bool factorize(const std::vector<double>& a_lower, const Eigen::VectorXd& diag,
+               const Eigen::VectorXd& diag_scale, double shift, CsrMatrix& lower,
+               Eigen::VectorXd& inverse_diagonal) {
+  const int n = lower.rows();
+  const int* off = lower.row_offsets().data();
+  const int* col = lower.col_indices().data();
+  std::vector<double>& l = lower.values();
+  l = a_lower;
+  // position_in_row[j] = index k of entry (i, j) of the current row i, valid if row_of[j] == i.
+  std::vector<int> position_in_row(n, 0);
+  std::vector<int> row_of(n, -1);
+  for (int i = 0; i < n; ++i) {
+    for (int k = off[i]; k < off[i + 1]; ++k) {
+      position_in_row[col[k]] = k;
+      row_of[col[k]] = i;
+    }
+    double pivot = diag[i] + shift * diag_scale[i];
+    for (int k = off[i]; k < off[i + 1]; ++k) {
+      const int c = col[k];
+      // L_ic = (A_ic − Σ_{j<c} L_ij L_cj) / L_cc over the common pattern of rows i and c.
+      double s = l[k];
+      for (int t = off[c]; t < off[c + 1]; ++t) {
+        const int j = col[t];
+        if (row_of[j] == i) s -= l[position_in_row[j]] * l[t];
+      }
+      s *= inverse_diagonal[c];
+      l[k] = s;
+      pivot -= s * s;
+    }
+    if (!(pivot > 0.0) || !std::isfinite(pivot)) return false;
+    inverse_diagonal[i] = 1.0 / std::sqrt(pivot);
+  }
+  return true;
+}
+
+}  // namespace
+
+void IncompleteCholesky0::compute(const CsrMatrix& a) {
+  assert(a.rows() == a.cols());
+  const int n = a.rows();
+  const std::vector<int>& a_off = a.row_offsets();
+  const std::vector<int>& a_col = a.col_indices();
+  const std::vector<double>& a_val = a.values();
+
+  std::vector<int> offsets(n + 1, 0);
+  std::vector<int> cols;
+  std::vector<double> vals;
+  Eigen::VectorXd diag = Eigen::VectorXd::Zero(n);
+  cols.reserve(a.nnz() / 2 + 1);
+  vals.reserve(a.nnz() / 2 + 1);
+  for (int i = 0; i < n; ++i) {
+    for (int k = a_off[i]; k < a_off[i + 1] && a_col[k] <= i; ++k) {
+      if (a_col[k] == i) {
+        diag[i] = a_val[k];
+      } else {
+        cols.push_back(a_col[k]);
+        vals.push_back(a_val[k]);
+      }
+    }
+    offsets[i + 1] = static_cast<int>(cols.size());
+  }
+  const std::vector<double> a_lower = vals;
+  lower_ = CsrMatrix::from_arrays(n, n, std::move(offsets), std::move(cols), std::move(vals));
+  Eigen::VectorXd diag_scale = diag.cwiseAbs();
+  for (int i = 0; i < n; ++i) {
+    if (diag_scale[i] == 0.0) diag_scale[i] = 1.0;
+  }
+  inverse_diagonal_.resize(n);
+
+  shift_ = 0.0;
+  bool ok = factorize(a_lower, diag, diag_scale, shift_, lower_, inverse_diagonal_);
+  for (int attempt = 0; !ok && attempt < 60; ++attempt) {
+    shift_ = attempt == 0 ? 1e-3 : 2.0 * shift_;
+    ok = factorize(a_lower, diag, diag_scale, shift_, lower_, inverse_diagonal_);
+  }
+  if (!ok) {
+    shift_ = std::numeric_limits<double>::infinity();
+    std::fill(lower_.values().begin(), lower_.values().end(), 0.0);
+    inverse_diagonal_.setOnes();
+  }
+  upper_ = lower_.transpose();
+}
+
+void IncompleteCholesky0::solve(const double* r, double* z) const {
+  const int n = lower_.rows();
+  const int* lo = lower_.row_offsets().data();
+  const int* lc = lower_.col_indices().data();
+  const double* lv = lower_.values().data();
+  const int* uo = upper_.row_offsets().data();
+  const int* uc = upper_.col_indices().data();
+  const double* uv = upper_.values().data();
+  const double* inv = inverse_diagonal_.data();
+  for (int i = 0; i < n; ++i) {
+    double s = r[i];
+    for (int k = lo[i]; k < lo[i + 1]; ++k) s -= lv[k] * z[lc[k]];
+    z[i] = s * inv[i];
+  }
+  for (int i = n - 1; i >= 0; --i) {
+    double s = z[i];
+    for (int k = uo[i]; k < uo[i + 1]; ++k) s -= uv[k] * z[uc[k]];
+    z[i] = s * inv[i];
+  }
+}
+
+Eigen::VectorXd IncompleteCholesky0::solve(const Eigen::VectorXd& r) const {
+  assert(r.size() == lower_.rows());
+  Eigen::VectorXd z(r.size());
+  solve(r.data(), z.data());
+  return z;
+}
+
+CsrMatrix IncompleteCholesky0::factor() const {
+  const int n = lower_.rows();
+  std::vector<Triplet> triplets;
+  triplets.reserve(lower_.nnz() + n);
+  for (int i = 0; i < n; ++i) {
+    for (int k = lower_.row_offsets()[i]; k < lower_.row_offsets()[i + 1]; ++k) {
+      triplets.push_back({i, lower_.col_indices()[k], lower_.values()[k]});
+    }
+    triplets.push_back({i, i, 1.0 / inverse_diagonal_[i]});
+  }
+  return CsrMatrix::from_triplets(n, n, triplets);
+}
+
+}  // namespace volspline::linalg

@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <vector>
+
+#include "core/mesh/halfedge_mesh.h"
+#include "core/polycube/cuboid_layout.h"
+
+namespace volspline::param {
+
+/// Edge weights of the per-rectangle harmonic maps.
+enum class SurfaceWeights {
+  MeanValue,  ///< Floater's mean-value weights, symmetrized; always > 0, so the map is bijective
+  Cotan,      ///< cotangent weights; can be negative on obtuse meshes (checked for flips)
+};
+
+/// Options of compute_cuboid_surface_map.
+struct CuboidSurfaceMapOptions {
+  SurfaceWeights weights = SurfaceWeights::MeanValue;
+  double tolerance = 1e-10;  ///< relative CG residual of each solve (unitless)
+};
+
+/// Map of a closed genus-0 surface onto the boundary of the unit cube (thesis §3.4.1).
+struct CuboidSurfaceMap {
+  mesh::Positions uvw;           ///< per mesh vertex, a point on the boundary of [0,1]³
+  std::vector<int> face_region;  ///< per mesh face, cube face id 0..5 (see polycube)
+  int num_flipped = 0;  ///< triangles with non-positive oriented area in their cube face
+  int cg_iterations = 0;  ///< largest CG iteration count over the 6 faces
+};
+
+/// 2D coordinates (s, t) of a point of cube face f: the two in-plane coordinates of uvw,
+/// axes (f/2 + 1) % 3 and (f/2 + 2) % 3. Orientation: triangles seen from outside are
+/// counter-clockwise in (s, t) on the faces with f % 2 == 1 and clockwise on the others.
+Eigen::Vector2d cube_face_coordinates(int face, const Eigen::Vector3d& uvw);
+/// Inverse of cube_face_coordinates: the point (s, t) of face f as uvw.
+Eigen::Vector3d cube_face_point(int face, double s, double t);
+
+/// Parameterizes the 6 rectangles of a cuboid layout.
+///
+/// Deviation from §3.4.1 (three global harmonic solves Δu = Δv = Δw = 0 with opposite
+/// rectangles pinned at 0 and 1): each rectangle is mapped on its own to its unit square with
+/// the poly-edges fixed by arc length and a discrete harmonic interior; with positive weights
+/// this is Tutte/Floater's convex-combination map, which is provably bijective, and shared
+/// poly-edges get the same parameters from both sides, so the 6 maps glue continuously.
+/// Throws volspline::Error naming the mesh, the cube face and the first bad triangle if the
+/// map is not bijective (flipped or degenerate triangles, e.g. cotan weights on a bad mesh).
+CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
+                                            const polycube::CuboidLayout& layout,
+                                            const CuboidSurfaceMapOptions& options = {});
+
+}  // namespace volspline::param

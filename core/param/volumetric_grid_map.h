@@ -1,0 +1,47 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <array>
+
+#include "core/mesh/triangle_mesh.h"
+#include "core/param/cuboid_surface_locator.h"
+
+namespace volspline::param {
+
+/// Options of compute_volumetric_grid_map.
+struct VolumetricGridOptions {
+  std::array<int, 3> nodes = {17, 17, 17};  ///< n0, n1, n2 grid nodes per axis, each ≥ 2
+  double tolerance = 1e-8;                  ///< relative CG residual (unitless)
+};
+
+/// Node positions of a uniform parameter grid mapped into the solid (thesis §3.4.2).
+struct VolumetricGridMap {
+  std::array<int, 3> nodes{};  ///< n0, n1, n2
+  /// (n0·n1·n2)×3 positions, model units; node (i, j, k) at row i + n0·(j + n1·k), parameter
+  /// (i/(n0−1), j/(n1−1), k/(n2−1)).
+  mesh::Positions xyz;
+  int num_hexes = 0;
+  int num_inverted_hexes = 0;         ///< hexes with a corner Jacobian ≤ 0
+  double min_scaled_jacobian = 1.0;   ///< over the 8 corners of every hex, in [−1, 1]
+  int cg_iterations = 0;
+  bool converged = false;
+};
+
+/// Row of node (i, j, k) in VolumetricGridMap::xyz.
+inline int grid_node_index(const std::array<int, 3>& nodes, int i, int j, int k) {
+  return i + nodes[0] * (j + nodes[1] * k);
+}
+
+/// Boundary nodes by inverse lookup in the surface map, interior nodes minimizing the uniform
+/// 6-neighbour Laplacian energy of Eq. 3.1 (one SPD solve by CG with IC(0), warm-started from
+/// transfinite interpolation, instead of the thesis' Jacobi sweeps); then every hex is checked
+/// for positive corner Jacobians (the harmonic grid may fold on non-convex shapes: reported,
+/// not an error). Throws volspline::Error if a node count is < 2 or > 1024.
+VolumetricGridMap compute_volumetric_grid_map(const CuboidSurfaceLocator& locator,
+                                              const VolumetricGridOptions& options = {});
+
+/// Smallest scaled Jacobian det[e1 e2 e3]/(|e1||e2||e3|) over the 8 corners of the hex with
+/// corners x[c], c = i + 2j + 4k (the trilinear hex of a grid cell); ≤ 0 means folded.
+double hex_min_scaled_jacobian(const std::array<Eigen::Vector3d, 8>& x);
+
+}  // namespace volspline::param

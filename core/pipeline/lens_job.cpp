@@ -1,0 +1,222 @@
+// SPDX-License-Identifier: MIT
+#include "core/pipeline/lens_job.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "core/common/error.h"
+#include "core/lens/baseline_lens.h"
+#include "core/lens/flatten.h"
+#include "core/lens/lens_measures.h"
+#include "core/lens/lens_mesh.h"
+#include "core/lens/lens_texture.h"
+#include "core/lens/rasterize.h"
+#include "core/lens/roi_field.h"
+
+namespace volspline::pipeline {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// Radius (texture pixels) around a ROI centre over which the magnification is measured.
+double measure_radius(const lens::RoiField& roi) { return 0.15 * roi.inscribed_radius(); }
+
+// Grid resolution of the h0 search: coarse enough to be cheap, fine enough to resolve the centre.
+constexpr int kCalibrationGrid = 48;
+
+struct Deformation {
+  Eigen::MatrixX2d positions, texture;
+  mesh::Triangles triangles, grid_triangles;
+  int iterations = 0;
+  bool converged = true;
+  double ms_mesh = 0, ms_factorize = 0, ms_iterations = 0;
+};
+
+Deformation run_metric(const std::vector<lens::RoiField>& rois, int width, int height, int grid, double h0,
+                       const LensOptions& options, const Progress& progress) {
+  Deformation d;
+  const auto t_mesh = Clock::now();
+  lens::LensMeshOptions mesh_options;
+  mesh_options.grid = grid;
+  mesh_options.height_rel = h0;
+  mesh_options.band_rel = options.band;
+  mesh_options.pin_context = options.boundary == LensBoundary::Pinned;
+  const lens::LensMesh lens_mesh = lens::build_lens_mesh(rois, width, height, mesh_options);
+  d.texture = lens::harmonic_texture(lens_mesh);
+  d.ms_mesh = ms_since(t_mesh);
+
+  Eigen::MatrixX2d start = lens_mesh.xyz.leftCols<2>();
+  double scale = 1.0;
+  const Eigen::RowVector2d mid(0.5 * width, 0.5 * height);
+  if (options.boundary == LensBoundary::Square) {
+    // §6.4 boundary control: the border sits on the square scaled by √(A_lens/A_image).
+    double area = 0;
+    for (int t = 0; t < lens_mesh.triangles.rows(); ++t) {
+      const Eigen::Vector3d a = lens_mesh.xyz.row(lens_mesh.triangles(t, 0));
+      const Eigen::Vector3d b = lens_mesh.xyz.row(lens_mesh.triangles(t, 1));
+      const Eigen::Vector3d c = lens_mesh.xyz.row(lens_mesh.triangles(t, 2));
+      area += 0.5 * (b - a).cross(c - a).norm();
+    }
+    scale = std::sqrt(area / (double(width) * height));
+    for (int v = 0; v < start.rows(); ++v) start.row(v) = mid + scale * (start.row(v) - mid);
+  }
+  lens::FlattenOptions flatten_options;
+  flatten_options.alpha = options.alpha;
+  flatten_options.tol_rel = options.tol_rel;
+  flatten_options.max_iterations = options.max_iterations;
+  flatten_options.height_unit = std::max(width, height);
+  lens::FlattenResult flat =
+      lens::flatten_lens(lens_mesh.xyz, lens_mesh.triangles, lens_mesh.pinned, start, flatten_options, progress);
+  if (scale != 1.0)
+    for (int v = 0; v < flat.positions.rows(); ++v) flat.positions.row(v) = mid + (flat.positions.row(v) - mid) / scale;
+  d.positions = std::move(flat.positions);
+  d.triangles = lens_mesh.triangles;
+  d.grid_triangles = lens_mesh.grid_triangles;
+  d.iterations = flat.iterations;
+  d.converged = flat.converged;
+  d.ms_factorize = flat.ms_factorize;
+  d.ms_iterations = flat.ms_iterations;
+  return d;
+}
+
+std::vector<double> magnifications(const Deformation& d, const std::vector<lens::RoiField>& rois) {
+  std::vector<double> out;
+  for (const lens::RoiField& roi : rois)
+    out.push_back(lens::measure_magnification(d.positions, d.texture, d.grid_triangles, roi.centre(), measure_radius(roi)));
+  return out;
+}
+
+double mean(const std::vector<double>& values) {
+  double s = 0;
+  for (double v : values) s += v;
+  return values.empty() ? 0.0 : s / values.size();
+}
+
+// Secant search in log–log space for the parameter whose measured magnification is the target;
+// the relation is monotone increasing. Returns the best parameter found.
+template <class Measure>
+double search_parameter(Measure measure, double target, double p0, double p1, int max_steps, double tol_rel) {
+  double lp0 = std::log(p0), lp1 = std::log(p1);
+  double lm0 = std::log(std::max(measure(p0), 1e-6)), lm1 = std::log(std::max(measure(p1), 1e-6));
+  const double lt = std::log(target);
+  double best = std::abs(lm0 - lt) < std::abs(lm1 - lt) ? p0 : p1;
+  double best_err = std::min(std::abs(lm0 - lt), std::abs(lm1 - lt));
+  for (int step = 0; step < max_steps && best_err > tol_rel; ++step) {
+    double slope = (lm1 - lm0) / (lp1 - lp0);
+    if (!(slope > 1e-3)) slope = 1e-3;
+    const double lp2 = std::clamp(lp1 + (lt - lm1) / slope, lp1 - 2.0, lp1 + 2.0);
+    const double lm2 = std::log(std::max(measure(std::exp(lp2)), 1e-6));
+    lp0 = lp1, lm0 = lm1, lp1 = lp2, lm1 = lm2;
+    if (std::abs(lm2 - lt) < best_err) best_err = std::abs(lm2 - lt), best = std::exp(lp2);
+  }
+  return best;
+}
+
+void validate(const LensInput& input, const LensOptions& o) {
+  const auto bad = [](const std::string& what) { throw Error(what); };
+  if (input.image.width <= 0 || input.image.height <= 0 || input.image.channels < 1 || input.image.channels > 4 ||
+      input.image.pixels.size() != std::size_t(input.image.width) * input.image.height * input.image.channels)
+    bad("'" + input.name + "': empty or malformed image");
+  if (input.image.width < 2 || input.image.height < 2) bad("'" + input.name + "': image must be at least 2x2 pixels");
+  if (input.rois.empty()) bad("lens: at least one ROI is needed (--roi)");
+  if (!(o.magnification > 1.0)) bad("lens: magnification must be > 1, got " + std::to_string(o.magnification));
+  if (!(o.magnification <= 16.0)) bad("lens: magnification must be at most 16, got " + std::to_string(o.magnification));
+  if (!(o.height >= 0.0 && o.height <= 50.0)) bad("lens: height must be in (0, 50] ROI radii, got " + std::to_string(o.height));
+  if (!(o.alpha >= 0.0 && o.alpha <= 1.0)) bad("lens: alpha must be in [0, 1], got " + std::to_string(o.alpha));
+  if (o.grid < 4) bad("lens: grid must be at least 4, got " + std::to_string(o.grid));
+  if (o.grid > 2000) bad("lens: grid must be at most 2000, got " + std::to_string(o.grid));
+  if (!(o.band > 0.0 && o.band <= 10.0)) bad("lens: band must be in (0, 10], got " + std::to_string(o.band));
+  if (!(o.tol_rel > 0.0 && o.tol_rel < 1.0)) bad("lens: tol_rel must be in (0, 1), got " + std::to_string(o.tol_rel));
+  if (o.max_iterations < 1 || o.max_iterations > 100000)
+    bad("lens: max_iterations must be in [1, 100000], got " + std::to_string(o.max_iterations));
+  for (const lens::Roi& roi : input.rois) lens::validate_roi(roi, input.image.width, input.image.height);
+}
+
+}  // namespace
+
+LensResult run_lens(const LensInput& input, const LensOptions& options, const Progress& progress) {
+  const auto t_total = Clock::now();
+  validate(input, options);
+  const int width = input.image.width, height = input.image.height;
+  std::vector<lens::RoiField> rois;
+  for (const lens::Roi& roi : input.rois) rois.push_back(lens::RoiField::build(roi, width, height, options.band));
+  progress.report("lens mesh", 0.0);
+
+  LensResult result;
+  LensStats& s = result.stats;
+  Deformation d;
+  if (options.method == LensMethod::Metric) {
+    double h0 = options.height;
+    if (h0 <= 0) {
+      const auto t_cal = Clock::now();
+      const Progress quiet;
+      const auto measure_at = [&](int grid) {
+        return [&, grid](double h) { return mean(magnifications(run_metric(rois, width, height, grid, h, options, quiet), rois)); };
+      };
+      const int coarse = std::min(options.grid, kCalibrationGrid);
+      h0 = search_parameter(measure_at(coarse), options.magnification, 1.0, 2.0, 10, 0.01);
+      s.ms_calibration = ms_since(t_cal);
+    }
+    d = run_metric(rois, width, height, options.grid, h0, options, progress);
+    s.height = h0;
+  } else {
+    const lens::LensMesh grid = lens::build_grid(width, height, options.grid);
+    d.texture = grid.xyz.leftCols<2>();
+    d.triangles = grid.triangles;
+    d.grid_triangles = grid.grid_triangles;
+    std::vector<lens::RadialLens> lenses;
+    for (const lens::RoiField& roi : rois) {
+      // Baselines are radial: a disc of the ROI's area at its centre, free out to the same band.
+      lenses.push_back({roi.centre(), roi.equivalent_radius(), (1.0 + options.band) * roi.equivalent_radius()});
+    }
+    const lens::BaselineKind kind = options.method == LensMethod::Fisheye   ? lens::BaselineKind::Fisheye
+                                    : options.method == LensMethod::Bifocal ? lens::BaselineKind::Bifocal
+                                                                            : lens::BaselineKind::Zoom;
+    const auto measure = [&](double m) {
+      Deformation trial = d;
+      trial.positions = lens::baseline_positions(kind, d.texture, lenses, std::max(m, 1.0 + 1e-9));
+      return mean(magnifications(trial, rois));
+    };
+    const double m = search_parameter(measure, options.magnification, options.magnification,
+                                      options.magnification * 1.1, 12, 0.002);
+    d.positions = lens::baseline_positions(kind, d.texture, lenses, m);
+    s.baseline_parameter = m;
+  }
+
+  s.magnification_per_roi = magnifications(d, rois);
+  s.magnification_center = mean(s.magnification_per_roi);
+  const int grid_vertices = static_cast<int>(d.grid_triangles.maxCoeff()) + 1;
+  const lens::ShapeDistortion distortion = lens::measure_distortion(
+      d.positions.topRows(grid_vertices), d.texture.topRows(grid_vertices), d.grid_triangles);
+  s.distortion_sum = distortion.sum;
+  s.distortion_max = distortion.max;
+  s.flipped_triangles = distortion.flipped_triangles;
+  s.iterations = d.iterations;
+  s.converged = d.converged;
+  s.ms_mesh = d.ms_mesh;
+  s.ms_factorize = d.ms_factorize;
+  s.ms_per_iteration = d.iterations > 0 ? d.ms_iterations / d.iterations : 0.0;
+  s.vertices = static_cast<int>(d.positions.rows());
+  s.triangles = static_cast<int>(d.triangles.rows());
+
+  if (options.render) {
+    progress.report("render", 0.0);
+    const auto t_render = Clock::now();
+    result.image = lens::render_textured_mesh(input.image, d.positions, d.texture, d.triangles, width, height);
+    s.ms_render = ms_since(t_render);
+  }
+  result.positions = std::move(d.positions);
+  result.texture = std::move(d.texture);
+  result.triangles = std::move(d.triangles);
+  s.ms_total = ms_since(t_total);
+  progress.report("done", 1.0);
+  return result;
+}
+
+}  // namespace volspline::pipeline

@@ -1,0 +1,86 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/lens/image.h"
+#include "core/lens/roi.h"
+#include "core/mesh/triangle_mesh.h"
+#include "core/pipeline/progress.h"
+
+namespace volspline::pipeline {
+
+/// How the lens deforms the image.
+enum class LensMethod {
+  Metric,   ///< thesis ch. 6: lens mesh, harmonic texture, metric flattening (Algorithm 5)
+  Fisheye,  ///< Sarkar–Brown graphical fisheye (baseline)
+  Bifocal,  ///< piecewise linear radial bifocal lens (baseline)
+  Zoom,     ///< magnified inset (baseline)
+};
+
+/// What stays fixed while the metric lens is flattened.
+enum class LensBoundary {
+  Pinned,  ///< the image border and everything beyond each ROI's context band keep their place
+  Square,  ///< §6.4 boundary control: only the image border, on a square scaled by √(A_lens/A_image); the result is scaled back to the image size
+};
+
+/// Options of the lens job; every field is checked on entry.
+struct LensOptions {
+  LensMethod method = LensMethod::Metric;
+  double magnification = 2.0;  ///< wanted linear magnification at each ROI centre, in (1, 16]
+  double height = 0.0;         ///< > 0: lens height h0 in ROI inscribed radii (metric only, skips the calibration); ≤ 50
+  double alpha = 0.0;          ///< Eq. 6.8 blend in [0, 1]: 0 rigid, 1 conformal
+  int grid = 100;              ///< grid vertices along the longer image side, in [4, 2000]
+  LensBoundary boundary = LensBoundary::Pinned;
+  double band = 0.75;          ///< free context band around each ROI, in ROI equivalent radii, in (0, 10]
+  double tol_rel = 1e-3;       ///< flattening stops when the energy changes by less than this fraction
+  int max_iterations = 300;    ///< flattening iterations at most, in [1, 100000]
+  bool render = true;          ///< render the output image (false: mesh and stats only)
+};
+
+/// Input of the lens job.
+struct LensInput {
+  lens::Image image;             ///< the picture, 8-bit, 1–4 channels
+  std::vector<lens::Roi> rois;   ///< at least one
+  std::string name = "image";    ///< used in error messages
+};
+
+/// Numbers reported by the lens job (the stats JSON keys).
+struct LensStats {
+  double distortion_sum = 0;       ///< Eq. 6.9 over the grid triangles (lens_measures.h)
+  double distortion_max = 0;
+  double magnification_center = 0; ///< measured, mean over the ROIs
+  std::vector<double> magnification_per_roi;
+  int flipped_triangles = 0;       ///< output triangles with non-positive area (grid triangles)
+  int iterations = 0;              ///< flattening iterations of the final run (0 for baselines)
+  bool converged = true;
+  double height = 0;               ///< lens height h0 used, in ROI inscribed radii (metric)
+  double baseline_parameter = 0;   ///< the baselines' magnification parameter after calibration
+  int vertices = 0;                ///< output mesh vertices
+  int triangles = 0;               ///< output mesh triangles
+  double ms_total = 0;             ///< whole job, calibration and rendering included
+  double ms_calibration = 0;       ///< search of h0 for the requested magnification
+  double ms_mesh = 0;              ///< lens mesh and texture of the final run
+  double ms_factorize = 0;         ///< one sparse factorization of the final run
+  double ms_per_iteration = 0;     ///< mean local+global iteration of the final run
+  double ms_render = 0;
+};
+
+/// Result of the lens job: the flattened textured mesh, the rendered image and the stats.
+struct LensResult {
+  lens::Image image;            ///< same size and channels as the input (empty if !render)
+  Eigen::MatrixX2d positions;   ///< n×2 output pixel positions
+  Eigen::MatrixX2d texture;     ///< n×2 input pixel positions (texture coordinates)
+  mesh::Triangles triangles;    ///< m×3
+  LensStats stats;
+};
+
+/// Runs the focus+context lens of thesis ch. 6 (or a baseline) on an image.
+/// Throws volspline::Error on bad options (message names the option) or bad ROIs (names the ROI),
+/// Cancelled if progress asks to stop.
+LensResult run_lens(const LensInput& input, const LensOptions& options, const Progress& progress = {});
+
+}  // namespace volspline::pipeline

@@ -1,0 +1,416 @@
+// SPDX-License-Identifier: MIT
+#include "core/polycube/cuboid_layout.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <queue>
+#include <set>
+#include <string>
+#include <utility>
+
+#include <Eigen/Dense>
+
+#include "core/common/error.h"
+#include "core/mesh/mesh_geometry.h"
+
+namespace volspline::polycube {
+
+std::array<int, 2> cube_edge_corners(int edge) {
+  assert(edge >= 0 && edge < num_cube_edges);
+  const int axis = edge / 4;
+  const int combo = edge % 4;
+  const int o1 = axis == 0 ? 1 : 0;
+  const int o2 = axis == 2 ? 1 : 2;
+  const int low = ((combo & 1) << o1) | (((combo >> 1) & 1) << o2);
+  return {low, low | (1 << axis)};
+}
+
+int cube_edge_between(int corner_a, int corner_b) {
+  const int diff = corner_a ^ corner_b;
+  assert(diff == 1 || diff == 2 || diff == 4);
+  const int axis = diff == 1 ? 0 : (diff == 2 ? 1 : 2);
+  const int low = std::min(corner_a, corner_b);
+  const int o1 = axis == 0 ? 1 : 0;
+  const int o2 = axis == 2 ? 1 : 2;
+  return 4 * axis + ((low >> o1) & 1) + 2 * ((low >> o2) & 1);
+}
+
+std::array<int, 4> cube_face_corners(int face) {
+  assert(face >= 0 && face < num_cube_faces);
+  const int a = face / 2;
+  const int base = (face % 2) << a;
+  const int b1 = 1 << ((a + 1) % 3);
+  const int b2 = 1 << ((a + 2) % 3);
+  return {base, base | b1, base | b1 | b2, base | b2};
+}
+
+std::array<int, 4> cube_face_edges(int face) {
+  const auto c = cube_face_corners(face);
+  return {cube_edge_between(c[0], c[1]), cube_edge_between(c[1], c[2]),
+          cube_edge_between(c[2], c[3]), cube_edge_between(c[3], c[0])};
+}
+
+namespace {
+
+using Corners = std::array<int, num_cube_corners>;
+
+Eigen::Vector3d corner_signs(int c) {
+  return Eigen::Vector3d((c & 1) ? 1.0 : -1.0, ((c >> 1) & 1) ? 1.0 : -1.0,
+                         ((c >> 2) & 1) ? 1.0 : -1.0);
+}
+
+double min_pair_distance(const mesh::HalfedgeMesh& mesh, const Corners& corners) {
+  double best = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < num_cube_corners; ++a)
+    for (int b = a + 1; b < num_cube_corners; ++b)
+      best = std::min(best, (mesh.vertex_position(corners[a]) -
+                             mesh.vertex_position(corners[b])).norm());
+  return best;
+}
+
+// Vertices extremal along the 8 box diagonals of `frame` (columns = axes) scaled by `extent`;
+// false if two diagonals pick the same vertex.
+bool extremal_corners(const mesh::HalfedgeMesh& mesh, const Eigen::Vector3d& centre,
+                      const Eigen::Matrix3d& frame, const Eigen::Vector3d& extent,
+                      Corners& corners) {
+  for (int c = 0; c < num_cube_corners; ++c) {
+    const Eigen::Vector3d direction = frame * corner_signs(c).cwiseProduct(extent);
+    double best = -std::numeric_limits<double>::infinity();
+    int best_id = -1;
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      if (mesh.vertex_halfedge(v) == mesh::no_id) continue;
+      const double score = (mesh.vertex_position(v) - centre).dot(direction);
+      if (score > best) {
+        best = score;
+        best_id = v;
+      }
+    }
+    corners[c] = best_id;
+  }
+  std::set<int> distinct(corners.begin(), corners.end());
+  return static_cast<int>(distinct.size()) == num_cube_corners;
+}
+
+Corners automatic_corners(const mesh::HalfedgeMesh& mesh) {
+  // Area-weighted moments make the frame independent of the sampling density.
+  const std::vector<double> areas = mesh::face_areas(mesh);
+  std::vector<double> vertex_weight(mesh.num_vertices(), 0.0);
+  double total = 0.0;
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    for (int v : mesh.face_vertices(f)) vertex_weight[v] += areas[f] / 3.0;
+    total += areas[f];
+  }
+  if (!(total > 0.0)) throw Error("mesh '" + mesh.source_name() + "': surface has zero area");
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (int v = 0; v < mesh.num_vertices(); ++v) centre += vertex_weight[v] * mesh.vertex_position(v);
+  centre /= total;
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    const Eigen::Vector3d d = mesh.vertex_position(v) - centre;
+    covariance += vertex_weight[v] * d * d.transpose();
+  }
+  covariance /= total;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
+  Eigen::Matrix3d pca;
+  Eigen::Vector3d extent;
+  for (int a = 0; a < 3; ++a) {
+    pca.col(a) = eigen.eigenvectors().col(2 - a);
+    extent(a) = std::sqrt(std::max(eigen.eigenvalues()(2 - a), 0.0));
+  }
+  if (pca.determinant() < 0.0) pca.col(2) = -pca.col(2);
+  extent = extent.cwiseMax(1e-9 * extent.maxCoeff());
+
+  Corners best{};
+  double best_score = -1.0;
+  auto consider = [&](const Eigen::Matrix3d& frame) {
+    Corners corners;
+    if (!extremal_corners(mesh, centre, frame, extent, corners)) return;
+    const double score = min_pair_distance(mesh, corners);
+    if (score > best_score) {
+      best_score = score;
+      best = corners;
+    }
+  };
+  consider(pca);
+  const double step = 15.0 * 3.14159265358979323846 / 180.0;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int k = 1; k < 6; ++k)
+      consider(pca * Eigen::AngleAxisd(k * step, Eigen::Vector3d::Unit(axis)).toRotationMatrix());
+  if (best_score < 0.0)
+    throw Error("mesh '" + mesh.source_name() + "': cannot find 8 distinct cuboid corners");
+
+  // Procrustes refinement: rotate the box to fit the corners found, pick again (a rotated cube
+  // then snaps onto its own corners whatever the start frame).
+  for (int iteration = 0; iteration < 8; ++iteration) {
+    Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
+    for (int c = 0; c < num_cube_corners; ++c)
+      h += corner_signs(c).cwiseProduct(extent) *
+           (mesh.vertex_position(best[c]) - centre).transpose();
+    Eigen::JacobiSVD<Eigen::Matrix3d> svd(h, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::Matrix3d fix = Eigen::Matrix3d::Identity();
+    fix(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
+    const Eigen::Matrix3d frame = svd.matrixV() * fix * svd.matrixU().transpose();
+    Corners corners;
+    if (!extremal_corners(mesh, centre, frame, extent, corners)) break;
+    const double score = min_pair_distance(mesh, corners);
+    if (corners == best || score <= best_score) break;
+    best = corners;
+    best_score = score;
+  }
+  return best;
+}
+
+// Edge id of the mesh edge between adjacent vertices a and b, -1 if none.
+int edge_between(const mesh::HalfedgeMesh& mesh, int a, int b) {
+  for (int h : mesh.vertex_outgoing(a))
+    if (mesh.halfedge_vertex(h) == b) return mesh.halfedge_edge(h);
+  return -1;
+}
+
+// Dijkstra from source to target entering only unblocked vertices (the target always) through
+// halfedges accepted by edge_ok. Ties: smaller distance, then smaller vertex id. Empty if none.
+std::vector<int> restricted_path(const mesh::HalfedgeMesh& mesh, const std::vector<double>& length,
+                                 int source, int target, const std::vector<char>& blocked,
+                                 const std::function<bool(int)>& edge_ok) {
+  const int n = mesh.num_vertices();
+  std::vector<double> distance(n, std::numeric_limits<double>::infinity());
+  std::vector<int> predecessor(n, -1);
+  std::vector<char> settled(n, 0);
+  using Entry = std::pair<double, int>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  distance[source] = 0.0;
+  queue.push({0.0, source});
+  while (!queue.empty()) {
+    const auto [d, u] = queue.top();
+    queue.pop();
+    if (settled[u]) continue;
+    settled[u] = 1;
+    if (u == target) break;
+    for (int h : mesh.vertex_outgoing(u)) {
+      const int v = mesh.halfedge_vertex(h);
+      if (settled[v] || (blocked[v] && v != target)) continue;
+      if (edge_ok && !edge_ok(h)) continue;
+      const double candidate = d + length[mesh.halfedge_edge(h)];
+      if (candidate < distance[v]) {
+        distance[v] = candidate;
+        predecessor[v] = u;
+        queue.push({candidate, v});
+      }
+    }
+  }
+  std::vector<int> path;
+  if (!settled[target]) return path;
+  for (int v = target; v != -1; v = predecessor[v]) path.push_back(v);
+  std::reverse(path.begin(), path.end());
+  return path;
+}
+
+// Face components separated by the given edges; returns the component count.
+int face_components(const mesh::HalfedgeMesh& mesh, const std::vector<char>& cut_edge,
+                    std::vector<int>& component) {
+  component.assign(mesh.num_faces(), -1);
+  int count = 0;
+  std::vector<int> stack;
+  for (int seed = 0; seed < mesh.num_faces(); ++seed) {
+    if (component[seed] >= 0) continue;
+    component[seed] = count;
+    stack.push_back(seed);
+    while (!stack.empty()) {
+      const int f = stack.back();
+      stack.pop_back();
+      for (int h : mesh.face_halfedges(f)) {
+        if (cut_edge[mesh.halfedge_edge(h)]) continue;
+        const int g = mesh.halfedge_face(mesh.halfedge_twin(h));
+        if (g >= 0 && component[g] < 0) {
+          component[g] = count;
+          stack.push_back(g);
+        }
+      }
+    }
+    ++count;
+  }
+  return count;
+}
+
+void mark_path_edges(const mesh::HalfedgeMesh& mesh, const std::vector<int>& path,
+                     std::vector<char>& cut_edge) {
+  for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+    const int e = edge_between(mesh, path[i], path[i + 1]);
+    assert(e >= 0);
+    cut_edge[e] = 1;
+  }
+}
+
+// Traces the 12 poly-edges with the loops around the ends of `long_axis`; false on failure
+// (reason in *why).
+bool trace_layout(const mesh::HalfedgeMesh& mesh, const std::vector<double>& length,
+                  int long_axis, CuboidLayout& layout, std::string* why) {
+  const int n = mesh.num_vertices();
+  std::vector<char> blocked(n, 0);
+  for (int c : layout.corners) blocked[c] = 1;
+  std::vector<char> on_loop(n, 0);
+  std::vector<char> cut_edge(mesh.num_edges(), 0);
+  for (int side = 0; side < 2; ++side) {
+    const auto loop = cube_face_corners(2 * long_axis + side);
+    for (int i = 0; i < 4; ++i) {
+      const int ca = loop[i], cb = loop[(i + 1) % 4];
+      const int e = cube_edge_between(ca, cb);
+      const auto ends = cube_edge_corners(e);
+      std::vector<int> path = restricted_path(mesh, length, layout.corners[ends[0]],
+                                              layout.corners[ends[1]], blocked, nullptr);
+      if (path.empty()) {
+        *why = "no free path for cuboid edge " + std::to_string(e);
+        return false;
+      }
+      for (int v : path) blocked[v] = on_loop[v] = 1;
+      mark_path_edges(mesh, path, cut_edge);
+      layout.poly_edges[e] = std::move(path);
+    }
+  }
+  std::vector<int> component;
+  const int num_regions = face_components(mesh, cut_edge, component);
+  if (num_regions != 3) {
+    *why = "the two end loops cut the surface into " + std::to_string(num_regions) +
+           " regions instead of 3";
+    return false;
+  }
+  // The annulus is the region touching both loops.
+  std::vector<int> touches(3, 0);
+  for (int side = 0; side < 2; ++side)
+    for (int e : cube_face_edges(2 * long_axis + side)) {
+      const auto& path = layout.poly_edges[e];
+      for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+        const int edge = edge_between(mesh, path[i], path[i + 1]);
+        const int h = mesh.edge_halfedge(edge);
+        touches[component[mesh.halfedge_face(h)]] |= 1 << side;
+        touches[component[mesh.halfedge_face(mesh.halfedge_twin(h))]] |= 1 << side;
+      }
+    }
+  int annulus = -1;
+  for (int r = 0; r < 3; ++r)
+    if (touches[r] == 3) annulus = r;
+  if (annulus < 0) {
+    *why = "no band between the end loops";
+    return false;
+  }
+  for (int v = 0; v < n; ++v) {
+    if (on_loop[v]) continue;
+    const int h = mesh.vertex_halfedge(v);
+    if (h == mesh::no_id || component[mesh.halfedge_face(h)] != annulus) blocked[v] = 1;
+  }
+  auto in_annulus = [&](int h) {
+    const int f = mesh.halfedge_face(h);
+    const int g = mesh.halfedge_face(mesh.halfedge_twin(h));
+    return component[f] == annulus || component[g] == annulus;
+  };
+  for (int k = 0; k < 4; ++k) {
+    const int e = 4 * long_axis + k;
+    const auto ends = cube_edge_corners(e);
+    std::vector<int> path = restricted_path(mesh, length, layout.corners[ends[0]],
+                                            layout.corners[ends[1]], blocked, in_annulus);
+    if (path.empty()) {
+      *why = "no free path across the band for cuboid edge " + std::to_string(e);
+      return false;
+    }
+    for (int v : path) blocked[v] = 1;
+    mark_path_edges(mesh, path, cut_edge);
+    layout.poly_edges[e] = std::move(path);
+  }
+  // Validation: 6 disks, each bounded by the 4 poly-edges of one cube face.
+  if (face_components(mesh, cut_edge, component) != num_cube_faces) {
+    *why = "the poly-edges do not cut the surface into 6 regions";
+    return false;
+  }
+  std::vector<std::set<int>> bounding(num_cube_faces);
+  for (int e = 0; e < num_cube_edges; ++e) {
+    const auto& path = layout.poly_edges[e];
+    for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+      const int h = mesh.edge_halfedge(edge_between(mesh, path[i], path[i + 1]));
+      bounding[component[mesh.halfedge_face(h)]].insert(e);
+      bounding[component[mesh.halfedge_face(mesh.halfedge_twin(h))]].insert(e);
+    }
+  }
+  std::vector<int> region_face(num_cube_faces, -1);
+  std::vector<char> face_used(num_cube_faces, 0);
+  for (int r = 0; r < num_cube_faces; ++r) {
+    for (int f = 0; f < num_cube_faces; ++f) {
+      const auto edges = cube_face_edges(f);
+      if (bounding[r] == std::set<int>(edges.begin(), edges.end()) && !face_used[f]) {
+        region_face[r] = f;
+        face_used[f] = 1;
+        break;
+      }
+    }
+    if (region_face[r] < 0) {
+      *why = "a region is not bounded by the 4 poly-edges of one cuboid face (twisted layout)";
+      return false;
+    }
+  }
+  layout.face_region.resize(mesh.num_faces());
+  for (int f = 0; f < mesh.num_faces(); ++f) layout.face_region[f] = region_face[component[f]];
+  return true;
+}
+
+}  // namespace
+
+CuboidLayout compute_cuboid_layout(const mesh::HalfedgeMesh& mesh,
+                                   const CuboidLayoutOptions& options) {
+  const std::string name = "mesh '" + mesh.source_name() + "'";
+  CuboidLayout layout;
+  if (options.corners.empty()) {
+    layout.corners = automatic_corners(mesh);
+  } else {
+    if (options.corners.size() != num_cube_corners)
+      throw Error(name + ": expected 8 corner vertex ids, got " +
+                  std::to_string(options.corners.size()));
+    std::set<int> seen;
+    for (int c = 0; c < num_cube_corners; ++c) {
+      const int v = options.corners[c];
+      if (v < 0 || v >= mesh.num_vertices() || mesh.vertex_halfedge(v) == mesh::no_id)
+        throw Error(name + ": corner " + std::to_string(c) + " is vertex " + std::to_string(v) +
+                    ", not a vertex of the mesh");
+      if (!seen.insert(v).second)
+        throw Error(name + ": corner vertex " + std::to_string(v) + " is listed twice");
+      layout.corners[c] = v;
+    }
+    const Eigen::Vector3d p0 = mesh.vertex_position(layout.corners[0]);
+    Eigen::Matrix3d m;
+    m << mesh.vertex_position(layout.corners[1]) - p0, mesh.vertex_position(layout.corners[2]) - p0,
+        mesh.vertex_position(layout.corners[4]) - p0;
+    if (m.determinant() <= 0.0)
+      throw Error(name + ": corners are in mirrored (left-handed) order; corner c must sit at "
+                  "(c&1, c>>1&1, c>>2&1) of a right-handed box");
+  }
+
+  Eigen::Vector3d lo = mesh.positions().colwise().minCoeff();
+  Eigen::Vector3d hi = mesh.positions().colwise().maxCoeff();
+  const double diagonal = (hi - lo).norm();
+  layout.min_corner_distance_rel = diagonal > 0.0 ? min_pair_distance(mesh, layout.corners) / diagonal : 0.0;
+
+  // Try the longest cube axis first for the band; fall back to the others.
+  std::array<double, 3> axis_length{};
+  for (int e = 0; e < num_cube_edges; ++e) {
+    const auto ends = cube_edge_corners(e);
+    axis_length[e / 4] += (mesh.vertex_position(layout.corners[ends[0]]) -
+                           mesh.vertex_position(layout.corners[ends[1]])).norm();
+  }
+  std::array<int, 3> order = {0, 1, 2};
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return axis_length[a] > axis_length[b]; });
+  const std::vector<double> length = mesh::edge_lengths(mesh);
+  std::string reasons;
+  for (int axis : order) {
+    CuboidLayout attempt = layout;
+    std::string why;
+    if (trace_layout(mesh, length, axis, attempt, &why)) return attempt;
+    reasons += (reasons.empty() ? "" : "; ") + std::string("band along axis ") +
+               std::to_string(axis) + ": " + why;
+  }
+  throw Error(name + ": cannot lay out a cuboid: " + reasons +
+              " (try other corners with --corners)");
+}
+
+}  // namespace volspline::polycube

@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "core/mesh/halfedge_mesh.h"
+
+namespace volspline::polycube {
+
+/// Corner c of the unit cube sits at (u, v, w) = (c & 1, (c >> 1) & 1, (c >> 2) & 1).
+inline constexpr int num_cube_corners = 8;
+/// Cube edge e runs along axis e / 4 from its corner with that bit 0 to the one with it 1.
+inline constexpr int num_cube_edges = 12;
+/// Cube face f lies on the plane (axis f / 2) = (f % 2).
+inline constexpr int num_cube_faces = 6;
+
+/// Corner ids (low, high) of cube edge e (0..11).
+std::array<int, 2> cube_edge_corners(int edge);
+/// The cube edge joining two corners that differ in exactly one bit (asserts so).
+int cube_edge_between(int corner_a, int corner_b);
+/// The 4 corners of cube face f (0..5) in cyclic order around the face.
+std::array<int, 4> cube_face_corners(int face);
+/// The 4 edges of cube face f (0..5).
+std::array<int, 4> cube_face_edges(int face);
+
+/// A closed genus-0 surface cut into 6 topological rectangles (thesis §3.4.1, Fig. 3.8(a)):
+/// 8 corner vertices and 12 vertex-disjoint poly-edges along mesh edges.
+struct CuboidLayout {
+  std::array<int, num_cube_corners> corners{};  ///< mesh vertex id of each cube corner
+  /// Vertex path of each cube edge, from cube_edge_corners(e)[0] to [1]; paths share only
+  /// their end corners.
+  std::array<std::vector<int>, num_cube_edges> poly_edges;
+  std::vector<int> face_region;  ///< per mesh face: cube face id 0..5
+  double min_corner_distance_rel = 0.0;  ///< closest corner pair / bounding-box diagonal
+};
+
+/// Options of compute_cuboid_layout.
+struct CuboidLayoutOptions {
+  /// Corner vertex ids in cube-corner order (see num_cube_corners); empty = automatic choice.
+  std::vector<int> corners;
+};
+
+/// Lays a cuboid onto a closed genus-0 mesh.
+///
+/// Automatic corners: in a right-handed PCA frame of the vertices (and 15°-step rotations of
+/// it, then refined by Procrustes fits of a box to the chosen corners) the vertices extremal in
+/// the 8 diagonal directions scaled by the principal extents; the frame whose corners are
+/// farthest apart (no slivers) wins. This depends only on the shape, not on its pose.
+/// Poly-edges: Dijkstra shortest paths, made disjoint by forbidding used vertices: first the
+/// two loops around the ends of the longest cube axis, then the 4 long edges inside the annulus
+/// between the loops, so the 12 paths always cut the sphere into 6 disks in cube order.
+/// Preconditions: a closed, consistently oriented, connected genus-0 mesh (checked by caller).
+/// Throws volspline::Error naming the mesh when user corners are invalid (wrong count, out of
+/// range, repeated, mirrored order) or when no valid layout is found.
+CuboidLayout compute_cuboid_layout(const mesh::HalfedgeMesh& mesh,
+                                   const CuboidLayoutOptions& options = {});
+
+}  // namespace volspline::polycube

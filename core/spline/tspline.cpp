@@ -1,0 +1,421 @@
+// SPDX-License-Identifier: MIT
+#include "core/spline/tspline.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <string>
+#include <utility>
+
+#include "core/common/error.h"
+#include "core/spline/bspline_volume.h"
+
+namespace volspline::spline {
+
+namespace {
+
+const char* const kAxisName[3] = {"u", "v", "w"};
+constexpr long kMaxCells = long(1) << 26;
+
+int break_index(const std::vector<double>& breaks, double t) {
+  return static_cast<int>(std::lower_bound(breaks.begin(), breaks.end(), t) - breaks.begin());
+}
+
+// Derivative of the given order of c0 + c1 s + c2 s² + c3 s³ at s, chained by inverse_width^order.
+double piece_derivative(const std::array<double, 4>& c, double s, int order, double inverse_width) {
+  switch (order) {
+    case 0: return c[0] + s * (c[1] + s * (c[2] + s * c[3]));
+    case 1: return (c[1] + s * (2.0 * c[2] + 3.0 * s * c[3])) * inverse_width;
+    case 2: return (2.0 * c[2] + 6.0 * s * c[3]) * inverse_width * inverse_width;
+    case 3: return 6.0 * c[3] * inverse_width * inverse_width * inverse_width;
+    default: return 0.0;
+  }
+}
+
+}  // namespace
+
+TSpline::TSpline(std::vector<BlendingKnots> knots, Eigen::VectorXd weights, Eigen::MatrixXd points)
+    : knots_(std::move(knots)), weights_(std::move(weights)), points_(std::move(points)) {
+  const Eigen::Index n = static_cast<Eigen::Index>(knots_.size());
+  if (n == 0) throw Error("T-spline: no blending functions");
+  if (weights_.size() != n) {
+    throw Error("T-spline: " + std::to_string(weights_.size()) + " weights for " + std::to_string(n) +
+                " blending functions");
+  }
+  if (points_.rows() != n) {
+    throw Error("T-spline: " + std::to_string(points_.rows()) + " control points for " +
+                std::to_string(n) + " blending functions");
+  }
+  if (points_.cols() < 1 || points_.cols() > 4) {
+    throw Error("T-spline: control point dimension " + std::to_string(points_.cols()) + " is not in 1..4");
+  }
+  if (n > std::numeric_limits<std::int32_t>::max()) throw Error("T-spline: too many blending functions");
+  dimension_ = static_cast<int>(points_.cols());
+  for (Eigen::Index i = 0; i < n; ++i) {
+    for (int a = 0; a < 3; ++a) {
+      if (!local_knots_valid(knots_[i][a])) {
+        throw Error("T-spline: blending function " + std::to_string(i) + ": knot vector " + kAxisName[a] +
+                    " is not finite and non-decreasing with r0 < r4");
+      }
+    }
+    if (!(std::isfinite(weights_[i]) && weights_[i] > 0.0)) {
+      throw Error("T-spline: blending function " + std::to_string(i) + ": weight " +
+                  std::to_string(weights_[i]) + " is not finite and positive");
+    }
+  }
+  set_points(points_);
+  build_grid();
+}
+
+void TSpline::set_points(Eigen::MatrixXd points) {
+  if (points.rows() != num_functions() || points.cols() != dimension_) {
+    throw Error("T-spline: new control points are " + std::to_string(points.rows()) + "x" +
+                std::to_string(points.cols()) + ", expected " + std::to_string(num_functions()) + "x" +
+                std::to_string(dimension_));
+  }
+  for (Eigen::Index i = 0; i < points.rows(); ++i) {
+    if (!points.row(i).allFinite()) {
+      throw Error("T-spline: control point " + std::to_string(i) + " is not finite");
+    }
+  }
+  points_ = std::move(points);
+  weighted_points_.resize(size_t(points_.rows()) * dimension_);
+  for (Eigen::Index i = 0; i < points_.rows(); ++i) {
+    for (int d = 0; d < dimension_; ++d) weighted_points_[size_t(i) * dimension_ + d] = weights_[i] * points_(i, d);
+  }
+}
+
+void TSpline::build_grid() {
+  const int n = num_functions();
+  long num_cells = 1;
+  for (int a = 0; a < 3; ++a) {
+    std::vector<double>& b = breaks_[a];
+    b.clear();
+    for (const BlendingKnots& k : knots_) b.insert(b.end(), k[a].begin(), k[a].end());
+    std::sort(b.begin(), b.end());
+    b.erase(std::unique(b.begin(), b.end()), b.end());
+    inverse_widths_[a].resize(b.size() - 1);
+    for (size_t k = 0; k + 1 < b.size(); ++k) inverse_widths_[a][k] = 1.0 / (b[k + 1] - b[k]);
+    num_cells *= long(b.size() - 1);
+    if (num_cells > kMaxCells) {
+      throw Error("T-spline: the knot-line grid has more than " + std::to_string(kMaxCells) + " cells");
+    }
+  }
+  const int nc[3] = {int(breaks_[0].size() - 1), int(breaks_[1].size() - 1), int(breaks_[2].size() - 1)};
+
+  // Pieces: one power-form cubic per (univariate knot vector, grid interval), shared by all
+  // blending functions with that knot vector. Coefficients are the Taylor expansion at the
+  // interval start in s = (t - b_k) / (b_{k+1} - b_k).
+  std::array<std::vector<int>, 3> first_cell;   // per function: first grid interval of support
+  std::array<std::vector<int>, 3> first_piece;  // per function: piece id of that interval
+  for (int a = 0; a < 3; ++a) {
+    std::map<std::pair<LocalKnots, int>, int> piece_ids;
+    pieces_[a].clear();
+    first_cell[a].resize(n);
+    first_piece[a].resize(n);
+    for (int i = 0; i < n; ++i) {
+      const LocalKnots& r = knots_[i][a];
+      const int k0 = break_index(breaks_[a], r[0]);
+      const int k1 = break_index(breaks_[a], r[4]);
+      first_cell[a][i] = k0;
+      const auto found = piece_ids.find({r, k0});
+      if (found != piece_ids.end()) {
+        first_piece[a][i] = found->second;
+        continue;
+      }
+      first_piece[a][i] = static_cast<int>(pieces_[a].size());
+      for (int k = k0; k < k1; ++k) {
+        piece_ids.emplace(std::make_pair(r, k), static_cast<int>(pieces_[a].size()));
+        const double start = breaks_[a][k];
+        const double h = breaks_[a][k + 1] - start;
+        const BasisDerivatives d = cubic_basis_piece_derivatives(r, cubic_basis_interval(r, start, RightEnd::Open), start);
+        pieces_[a].push_back({d.value, d.d1 * h, d.d2 * h * h / 2.0, d.d3 * h * h * h / 6.0});
+      }
+    }
+  }
+
+  // Cells in CSR form: count, then fill in function order (so entries are sorted by function).
+  cells_.assign(size_t(nc[0]) * nc[1] * nc[2], Cell{});
+  std::array<std::array<int, 2>, 3> range;
+  auto support_range = [&](int i) {
+    for (int a = 0; a < 3; ++a) {
+      range[a] = {first_cell[a][i], break_index(breaks_[a], knots_[i][a][4])};
+    }
+  };
+  std::vector<std::uint64_t> counts(cells_.size() + 1, 0);
+  for (int i = 0; i < n; ++i) {
+    support_range(i);
+    for (int k2 = range[2][0]; k2 < range[2][1]; ++k2)
+      for (int k1 = range[1][0]; k1 < range[1][1]; ++k1)
+        for (int k0 = range[0][0]; k0 < range[0][1]; ++k0) ++counts[size_t(k0) + nc[0] * (size_t(k1) + nc[1] * size_t(k2)) + 1];
+  }
+  for (size_t c = 0; c < cells_.size(); ++c) counts[c + 1] += counts[c];
+  if (counts.back() > std::numeric_limits<std::uint32_t>::max()) {
+    throw Error("T-spline: too many (cell, blending function) overlaps for the acceleration grid");
+  }
+  entries_.assign(counts.back(), Entry{});
+  std::vector<std::array<std::uint32_t, 3>> global_piece(counts.back());
+  std::vector<std::uint64_t> fill(counts.begin(), counts.end() - 1);
+  for (int i = 0; i < n; ++i) {
+    support_range(i);
+    for (int k2 = range[2][0]; k2 < range[2][1]; ++k2)
+      for (int k1 = range[1][0]; k1 < range[1][1]; ++k1)
+        for (int k0 = range[0][0]; k0 < range[0][1]; ++k0) {
+          const size_t c = size_t(k0) + nc[0] * (size_t(k1) + nc[1] * size_t(k2));
+          const size_t e = fill[c]++;
+          entries_[e].function = static_cast<std::uint32_t>(i);
+          global_piece[e] = {std::uint32_t(first_piece[0][i] + k0 - range[0][0]),
+                             std::uint32_t(first_piece[1][i] + k1 - range[1][0]),
+                             std::uint32_t(first_piece[2][i] + k2 - range[2][0])};
+        }
+  }
+
+  // Per cell: the distinct pieces per axis (first-appearance order) and local indices.
+  cell_pieces_.clear();
+  max_functions_per_cell_ = 0;
+  std::vector<std::uint32_t> distinct;
+  for (size_t c = 0; c < cells_.size(); ++c) {
+    Cell& cell = cells_[c];
+    cell.entry_begin = static_cast<std::uint32_t>(counts[c]);
+    cell.entry_end = static_cast<std::uint32_t>(counts[c + 1]);
+    cell.piece_begin = static_cast<std::uint32_t>(cell_pieces_.size());
+    max_functions_per_cell_ = std::max(max_functions_per_cell_, int(cell.entry_end - cell.entry_begin));
+    for (int a = 0; a < 3; ++a) {
+      distinct.clear();
+      for (std::uint32_t e = cell.entry_begin; e < cell.entry_end; ++e) {
+        const std::uint32_t p = global_piece[e][a];
+        auto it = std::find(distinct.begin(), distinct.end(), p);
+        if (it == distinct.end()) {
+          if (distinct.size() == std::numeric_limits<std::uint16_t>::max()) {
+            throw Error("T-spline: more than 65535 distinct knot vectors overlap one cell");
+          }
+          distinct.push_back(p);
+          it = distinct.end() - 1;
+        }
+        entries_[e].piece[a] = static_cast<std::uint16_t>(it - distinct.begin());
+      }
+      cell.num_pieces[a] = static_cast<std::uint16_t>(distinct.size());
+      cell_pieces_.insert(cell_pieces_.end(), distinct.begin(), distinct.end());
+    }
+    if (cell_pieces_.size() > std::numeric_limits<std::uint32_t>::max()) {
+      throw Error("T-spline: acceleration grid too large");
+    }
+  }
+}
+
+// Cell index of uvw; k[a] = grid interval and local[a] = position in it in [0, 1] along axis a.
+int TSpline::locate(const Eigen::Vector3d& uvw, double* local, int* k) const {
+  for (int a = 0; a < 3; ++a) {
+    const std::vector<double>& b = breaks_[a];
+    const double t = uvw[a];
+    if (!(t >= b.front() && t <= b.back())) {
+      throw Error("T-spline: parameter " + std::string(kAxisName[a]) + " = " + std::to_string(t) +
+                  " is outside the domain [" + std::to_string(b.front()) + ", " + std::to_string(b.back()) + "]");
+    }
+    // The last cell is closed at the domain end.
+    k[a] = static_cast<int>(std::upper_bound(b.begin() + 1, b.end() - 1, t) - b.begin()) - 1;
+    local[a] = (t - b[k[a]]) * inverse_widths_[a][k[a]];
+  }
+  return k[0] + int(breaks_[0].size() - 1) * (k[1] + int(breaks_[1].size() - 1) * k[2]);
+}
+
+// Eq. 4.3 (semi-standard) or Eq. 4.1 (kRational); jacobian by the product rule, and for the
+// rational form the quotient rule (N' - F W') / W.
+template <int D, bool kRational, bool kJacobian>
+void TSpline::evaluate_impl(const Eigen::Vector3d& uvw, double* value, double* jacobian) const {
+  double s[3];
+  int k[3];
+  const Cell& cell = cells_[locate(uvw, s, k)];
+  const int total = cell.num_pieces[0] + cell.num_pieces[1] + cell.num_pieces[2];
+  constexpr int kStack = 96;
+  double stack_values[2 * kStack];
+  std::vector<double> heap_values;
+  double* basis = stack_values;
+  if (total > kStack) {
+    heap_values.resize(2 * size_t(total));
+    basis = heap_values.data();
+  }
+  double* axis_values[3];
+  double* axis_derivs[3];
+  const std::uint32_t* ids = cell_pieces_.data() + cell.piece_begin;
+  int offset = 0;
+  for (int a = 0; a < 3; ++a) {
+    axis_values[a] = basis + offset;
+    axis_derivs[a] = basis + total + offset;
+    const double t = s[a];
+    for (int m = 0; m < cell.num_pieces[a]; ++m) {
+      const std::array<double, 4>& c = pieces_[a][ids[offset + m]];
+      axis_values[a][m] = c[0] + t * (c[1] + t * (c[2] + t * c[3]));
+      if (kJacobian) axis_derivs[a][m] = c[1] + t * (2.0 * c[2] + 3.0 * t * c[3]);
+    }
+    offset += cell.num_pieces[a];
+  }
+
+  double sum[D] = {};
+  double sum_d[3][D] = {};
+  double weight = 0.0;
+  double weight_d[3] = {0.0, 0.0, 0.0};
+  const Entry* entries = entries_.data();
+  const double* wp_all = weighted_points_.data();
+  const double* w_all = weights_.data();
+  for (std::uint32_t e = cell.entry_begin; e < cell.entry_end; ++e) {
+    const Entry& entry = entries[e];
+    const double bu = axis_values[0][entry.piece[0]];
+    const double bv = axis_values[1][entry.piece[1]];
+    const double bw = axis_values[2][entry.piece[2]];
+    const double bvw = bv * bw;
+    const double b = bu * bvw;
+    const double* wp = wp_all + size_t(entry.function) * D;
+    for (int d = 0; d < D; ++d) sum[d] += b * wp[d];
+    if (kRational) weight += b * w_all[entry.function];
+    if (kJacobian) {
+      const double grad[3] = {axis_derivs[0][entry.piece[0]] * bvw,
+                              bu * axis_derivs[1][entry.piece[1]] * bw,
+                              bu * bv * axis_derivs[2][entry.piece[2]]};
+      for (int a = 0; a < 3; ++a) {
+        for (int d = 0; d < D; ++d) sum_d[a][d] += grad[a] * wp[d];
+        if (kRational) weight_d[a] += grad[a] * w_all[entry.function];
+      }
+    }
+  }
+
+  if (kRational) {
+    const double inverse_weight = 1.0 / weight;
+    for (int d = 0; d < D; ++d) value[d] = sum[d] * inverse_weight;
+  } else {
+    for (int d = 0; d < D; ++d) value[d] = sum[d];
+  }
+  if (kJacobian) {
+    for (int a = 0; a < 3; ++a) {
+      const double inverse_width = inverse_widths_[a][k[a]];
+      for (int d = 0; d < D; ++d) {
+        double g = sum_d[a][d] * inverse_width;
+        if (kRational) g = (g - value[d] * weight_d[a] * inverse_width) / weight;
+        jacobian[d + D * a] = g;
+      }
+    }
+  }
+}
+
+void TSpline::evaluate_to(const Eigen::Vector3d& uvw, TSplineForm form, double* value) const {
+  const bool rational = form == TSplineForm::Rational;
+  switch (dimension_) {
+    case 1: rational ? evaluate_impl<1, true, false>(uvw, value, nullptr) : evaluate_impl<1, false, false>(uvw, value, nullptr); break;
+    case 2: rational ? evaluate_impl<2, true, false>(uvw, value, nullptr) : evaluate_impl<2, false, false>(uvw, value, nullptr); break;
+    case 3: rational ? evaluate_impl<3, true, false>(uvw, value, nullptr) : evaluate_impl<3, false, false>(uvw, value, nullptr); break;
+    default: rational ? evaluate_impl<4, true, false>(uvw, value, nullptr) : evaluate_impl<4, false, false>(uvw, value, nullptr); break;
+  }
+}
+
+void TSpline::evaluate_with_jacobian(const Eigen::Vector3d& uvw, TSplineForm form, double* value,
+                                     double* jacobian) const {
+  const bool rational = form == TSplineForm::Rational;
+  switch (dimension_) {
+    case 1: rational ? evaluate_impl<1, true, true>(uvw, value, jacobian) : evaluate_impl<1, false, true>(uvw, value, jacobian); break;
+    case 2: rational ? evaluate_impl<2, true, true>(uvw, value, jacobian) : evaluate_impl<2, false, true>(uvw, value, jacobian); break;
+    case 3: rational ? evaluate_impl<3, true, true>(uvw, value, jacobian) : evaluate_impl<3, false, true>(uvw, value, jacobian); break;
+    default: rational ? evaluate_impl<4, true, true>(uvw, value, jacobian) : evaluate_impl<4, false, true>(uvw, value, jacobian); break;
+  }
+}
+
+Eigen::VectorXd TSpline::evaluate(const Eigen::Vector3d& uvw, TSplineForm form) const {
+  Eigen::VectorXd value(dimension_);
+  evaluate_to(uvw, form, value.data());
+  return value;
+}
+
+Eigen::MatrixXd TSpline::jacobian(const Eigen::Vector3d& uvw, TSplineForm form) const {
+  double value[4];
+  Eigen::MatrixXd jac(dimension_, 3);
+  evaluate_with_jacobian(uvw, form, value, jac.data());
+  return jac;
+}
+
+Eigen::MatrixXd TSpline::evaluate_batch(const Eigen::MatrixX3d& uvw, TSplineForm form) const {
+  Eigen::MatrixXd out(uvw.rows(), dimension_);
+  double value[4];
+  for (Eigen::Index i = 0; i < uvw.rows(); ++i) {
+    try {
+      evaluate_to(uvw.row(i).transpose(), form, value);
+    } catch (const Error& e) {
+      throw Error("row " + std::to_string(i) + ": " + e.what());
+    }
+    for (int d = 0; d < dimension_; ++d) out(i, d) = value[d];
+  }
+  return out;
+}
+
+void TSpline::basis_at(const Eigen::Vector3d& uvw, const std::array<int, 3>& order,
+                       std::vector<int>& function_ids, std::vector<double>& values) const {
+  double s[3];
+  int k[3];
+  const Cell& cell = cells_[locate(uvw, s, k)];
+  std::array<std::vector<double>, 3> axis_values;
+  const std::uint32_t* ids = cell_pieces_.data() + cell.piece_begin;
+  for (int a = 0; a < 3; ++a) {
+    for (int m = 0; m < cell.num_pieces[a]; ++m) {
+      axis_values[a].push_back(piece_derivative(pieces_[a][*ids++], s[a], order[a], inverse_widths_[a][k[a]]));
+    }
+  }
+  function_ids.clear();
+  values.clear();
+  for (std::uint32_t e = cell.entry_begin; e < cell.entry_end; ++e) {
+    const Entry& entry = entries_[e];
+    function_ids.push_back(static_cast<int>(entry.function));
+    values.push_back(axis_values[0][entry.piece[0]] * axis_values[1][entry.piece[1]] *
+                     axis_values[2][entry.piece[2]]);
+  }
+}
+
+Eigen::VectorXd TSpline::derivative(const Eigen::Vector3d& uvw, const std::array<int, 3>& order) const {
+  std::vector<int> ids;
+  std::vector<double> values;
+  basis_at(uvw, order, ids, values);
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(dimension_);
+  for (size_t m = 0; m < ids.size(); ++m) {
+    for (int d = 0; d < dimension_; ++d) out[d] += values[m] * weighted_points_[size_t(ids[m]) * dimension_ + d];
+  }
+  return out;
+}
+
+double TSpline::weight_sum(const Eigen::Vector3d& uvw) const {
+  std::vector<int> ids;
+  std::vector<double> values;
+  basis_at(uvw, {0, 0, 0}, ids, values);
+  double sum = 0.0;
+  for (size_t m = 0; m < ids.size(); ++m) sum += weights_[ids[m]] * values[m];
+  return sum;
+}
+
+double TSpline::blending_function(int i, const Eigen::Vector3d& uvw) const {
+  assert(i >= 0 && i < num_functions());
+  double b = 1.0;
+  for (int a = 0; a < 3; ++a) {
+    const LocalKnots& r = knots_[i][a];
+    const RightEnd end = r[4] == breaks_[a].back() ? RightEnd::Closed : RightEnd::Open;
+    b *= cubic_basis(r, uvw[a], end);
+  }
+  return b;
+}
+
+TSpline from_bspline_volume(const BsplineVolume& volume) {
+  const int n[3] = {volume.num_control(0), volume.num_control(1), volume.num_control(2)};
+  std::vector<BlendingKnots> knots(size_t(n[0]) * n[1] * n[2]);
+  for (int i2 = 0; i2 < n[2]; ++i2) {
+    for (int i1 = 0; i1 < n[1]; ++i1) {
+      for (int i0 = 0; i0 < n[0]; ++i0) {
+        const int idx[3] = {i0, i1, i2};
+        BlendingKnots& k = knots[volume.control_index(i0, i1, i2)];
+        for (int a = 0; a < 3; ++a) {
+          for (int m = 0; m < 5; ++m) k[a][m] = volume.knots(a)[idx[a] + m];
+        }
+      }
+    }
+  }
+  Eigen::VectorXd weights = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(knots.size()));
+  return TSpline(std::move(knots), std::move(weights), volume.control_points());
+}
+
+}  // namespace volspline::spline

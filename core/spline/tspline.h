@@ -1,0 +1,140 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/spline/bspline_basis.h"
+
+namespace volspline::spline {
+
+class BsplineVolume;
+
+/// Local knot vectors along u, v, w of one blending function B_i = N_u(u) N_v(v) N_w(w) (Eq. 4.2).
+using BlendingKnots = std::array<LocalKnots, 3>;
+
+/// Which formula TSpline evaluation uses.
+enum class TSplineForm {
+  SemiStandard,  ///< F = Σ w_i p_i B_i (Eq. 4.3); equals Eq. 4.1 when Σ w_i B_i ≡ 1. No division.
+  Rational,      ///< F = Σ w_i p_i B_i / Σ w_i B_i (Eq. 4.1).
+};
+
+/// Point-based trivariate cubic T-spline (thesis §3.5, §4.2.2): blending function i has three
+/// 5-knot local vectors knots()[i], a weight w_i > 0 and a control point p_i in R^D (D in 1..4:
+/// 3 for geometry, 4 for geometry + density).
+///
+/// Domain: per axis [min_i r0, max_i r4] over all blending functions, closed at both ends. A
+/// blending function whose r4 is the domain end is evaluated with RightEnd::Closed, all others
+/// with RightEnd::Open (see bspline_basis.h), so the domain is closed at its last knot.
+///
+/// Acceleration: the constructor builds the knot-line grid (cells between consecutive distinct
+/// knot values per axis); inside a cell every univariate basis function is one cubic polynomial,
+/// stored once per (knot vector, cell interval) in power form on the cell's local coordinate.
+/// Each cell lists its overlapping blending functions, so an evaluation is one binary search per
+/// axis plus O(#functions overlapping the cell). Memory is O(Σ_i #cells in support of B_i).
+/// Evaluation is const and thread-safe.
+class TSpline {
+ public:
+  /// Builds the spline and its acceleration grid. knots has n entries, weights n, points n×D.
+  /// Throws volspline::Error naming the blending function if a knot vector is not finite,
+  /// decreasing or of zero length (r0 = r4), a weight is not finite and positive, a point is not
+  /// finite; also if n = 0, sizes disagree, D is not in 1..4, or the grid would exceed 2^26 cells.
+  TSpline(std::vector<BlendingKnots> knots, Eigen::VectorXd weights, Eigen::MatrixXd points);
+
+  /// Number n of blending functions (= control points).
+  int num_functions() const { return static_cast<int>(knots_.size()); }
+  /// Number D of components of F.
+  int dimension() const { return dimension_; }
+  /// Knot vectors of every blending function.
+  const std::vector<BlendingKnots>& knots() const { return knots_; }
+  /// n weights w_i.
+  const Eigen::VectorXd& weights() const { return weights_; }
+  /// n×D control points p_i.
+  const Eigen::MatrixXd& points() const { return points_; }
+  /// Replaces the control points (same n×D shape) keeping knots, weights and the grid, e.g. after
+  /// a refit. Throws volspline::Error if the shape differs or an entry is not finite.
+  void set_points(Eigen::MatrixXd points);
+
+  /// Lower domain corner (u, v, w).
+  Eigen::Vector3d domain_min() const { return {breaks_[0].front(), breaks_[1].front(), breaks_[2].front()}; }
+  /// Upper domain corner (u, v, w).
+  Eigen::Vector3d domain_max() const { return {breaks_[0].back(), breaks_[1].back(), breaks_[2].back()}; }
+  /// Sorted distinct knot values along axis a (the knot lines of the acceleration grid).
+  const std::vector<double>& knot_lines(int axis) const { return breaks_[axis]; }
+  /// Number of cells of the acceleration grid.
+  int num_cells() const { return static_cast<int>(cells_.size()); }
+  /// Largest number of blending functions overlapping one cell.
+  int max_functions_per_cell() const { return max_functions_per_cell_; }
+
+  /// F(uvw) in the given form, written to value[0..D). No allocation.
+  /// Throws volspline::Error if uvw is outside the domain or not finite. Rational form:
+  /// precondition Σ w_i B_i > 0 at uvw.
+  void evaluate_to(const Eigen::Vector3d& uvw, TSplineForm form, double* value) const;
+  /// F(uvw), D values. Throws like evaluate_to.
+  Eigen::VectorXd evaluate(const Eigen::Vector3d& uvw, TSplineForm form = TSplineForm::SemiStandard) const;
+  /// F(uvw) and the D×3 Jacobian [∂F/∂u ∂F/∂v ∂F/∂w] written column-major
+  /// (jacobian[d + D·a] = ∂F_d/∂uvw_a); the rational form uses the quotient rule. No allocation.
+  /// Throws like evaluate_to.
+  void evaluate_with_jacobian(const Eigen::Vector3d& uvw, TSplineForm form, double* value,
+                              double* jacobian) const;
+  /// D×3 Jacobian at uvw (3×3 for geometry). Throws like evaluate_to.
+  Eigen::MatrixXd jacobian(const Eigen::Vector3d& uvw, TSplineForm form = TSplineForm::SemiStandard) const;
+  /// Partial derivative ∂^(o0+o1+o2) / ∂u^o0 ∂v^o1 ∂w^o2 of the semi-standard form Σ w_i p_i B_i,
+  /// D values; orders >= 0 (orders > 3 give 0). Throws like evaluate_to.
+  Eigen::VectorXd derivative(const Eigen::Vector3d& uvw, const std::array<int, 3>& order) const;
+  /// Σ w_i B_i(uvw): 1 everywhere for a semi-standard spline. Throws like evaluate_to.
+  double weight_sum(const Eigen::Vector3d& uvw) const;
+  /// F at each row of uvw (m×3), returns m×D. Throws like evaluate_to, naming the row.
+  Eigen::MatrixXd evaluate_batch(const Eigen::MatrixX3d& uvw, TSplineForm form = TSplineForm::SemiStandard) const;
+
+  /// Blending functions whose support contains uvw: their indices (increasing) and the partial
+  /// derivative of the given order of B_i (unweighted; order (0,0,0) is B_i itself). Functions of
+  /// the cell whose value is exactly zero are listed too. For least-squares fitting.
+  /// Throws like evaluate_to.
+  void basis_at(const Eigen::Vector3d& uvw, const std::array<int, 3>& order,
+                std::vector<int>& function_ids, std::vector<double>& values) const;
+  /// B_i(uvw) from its knot vectors directly (no grid), 0 outside the support; for tests and
+  /// single queries. Precondition: 0 <= i < n.
+  double blending_function(int i, const Eigen::Vector3d& uvw) const;
+
+ private:
+  struct Cell {
+    std::uint32_t entry_begin = 0;
+    std::uint32_t entry_end = 0;
+    std::uint32_t piece_begin = 0;  // num_pieces[0] u pieces, then v, then w
+    std::uint16_t num_pieces[3] = {0, 0, 0};
+  };
+  struct Entry {
+    std::uint32_t function = 0;
+    std::uint16_t piece[3] = {0, 0, 0};  // local index into the cell's u, v, w pieces
+  };
+
+  void build_grid();
+  int locate(const Eigen::Vector3d& uvw, double* local, int* k) const;
+  template <int D, bool kRational, bool kJacobian>
+  void evaluate_impl(const Eigen::Vector3d& uvw, double* value, double* jacobian) const;
+
+  int dimension_ = 0;
+  std::vector<BlendingKnots> knots_;
+  Eigen::VectorXd weights_;
+  Eigen::MatrixXd points_;
+  std::vector<double> weighted_points_;  // n×D row-major w_i p_i
+  std::array<std::vector<double>, 3> breaks_;
+  std::array<std::vector<double>, 3> inverse_widths_;
+  std::array<std::vector<std::array<double, 4>>, 3> pieces_;  // power form in s ∈ [0, 1]
+  std::vector<Cell> cells_;
+  std::vector<std::uint32_t> cell_pieces_;
+  std::vector<Entry> entries_;
+  int max_functions_per_cell_ = 0;
+};
+
+/// The T-spline of a full tensor grid: one blending function per control point of the volume,
+/// with the local knot vectors cut from its clamped global knots (so the replicated end knots act
+/// as the boundary knots of §4.3.1), weight 1 and the same control point. Equal to the volume
+/// everywhere and semi-standard. Function index = volume.control_index(i0, i1, i2).
+TSpline from_bspline_volume(const BsplineVolume& volume);
+
+}  // namespace volspline::spline

@@ -1,0 +1,7 @@
+# SPDX-License-Identifier: MIT
+set(TEST_SOURCES
+  ${CMAKE_CURRENT_LIST_DIR}/csr_matrix_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/jacobi_preconditioner_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/incomplete_cholesky0_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/conjugate_gradient_test.cpp
+)

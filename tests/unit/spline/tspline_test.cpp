@@ -1,0 +1,233 @@
+// SPDX-License-Identifier: MIT
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "core/common/error.h"
+#include "core/spline/bspline_volume.h"
+#include "core/spline/tspline.h"
+
+using volspline::Error;
+using volspline::spline::BlendingKnots;
+using volspline::spline::boundary_restricted_knots;
+using volspline::spline::BsplineVolume;
+using volspline::spline::from_bspline_volume;
+using volspline::spline::LocalKnots;
+using volspline::spline::TSpline;
+using volspline::spline::TSplineForm;
+
+namespace {
+
+BsplineVolume random_volume(int dimension, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::array<std::vector<double>, 3> knots = {
+      boundary_restricted_knots({0.0, 0.2, 0.25, 0.6, 1.0}),
+      boundary_restricted_knots({-1.0, 0.5, 1.0, 3.0}),
+      std::vector<double>{2, 2, 2, 2, 2.5, 2.5, 3, 3.1, 3.1, 3.1, 4, 4, 4, 4}};
+  const int rows = (int(knots[0].size()) - 4) * (int(knots[1].size()) - 4) * (int(knots[2].size()) - 4);
+  Eigen::MatrixXd points(rows, dimension);
+  for (int i = 0; i < rows; ++i)
+    for (int d = 0; d < dimension; ++d) points(i, d) = normal(rng);
+  return BsplineVolume(knots, points);
+}
+
+std::vector<Eigen::Vector3d> random_parameters(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, int count,
+                                               unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<Eigen::Vector3d> out;
+  for (int c = 0; c < 8; ++c) out.emplace_back(c & 1 ? hi[0] : lo[0], c & 2 ? hi[1] : lo[1], c & 4 ? hi[2] : lo[2]);
+  while (int(out.size()) < count) {
+    out.emplace_back(lo[0] + (hi[0] - lo[0]) * unit(rng), lo[1] + (hi[1] - lo[1]) * unit(rng),
+                     lo[2] + (hi[2] - lo[2]) * unit(rng));
+  }
+  return out;
+}
+
+// A T-spline with no tensor structure: random knot vectors drawn from a small set of values
+// (with repeats), random positive weights. Not semi-standard, and parts of the box may be
+// uncovered.
+TSpline random_tspline(int n, int dimension, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> pick(0, 6);
+  std::uniform_real_distribution<double> weight(0.5, 2.0);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  const double values[7] = {0.0, 0.1, 0.3, 0.35, 0.6, 0.8, 1.0};
+  std::vector<BlendingKnots> knots(n);
+  Eigen::VectorXd weights(n);
+  Eigen::MatrixXd points(n, dimension);
+  for (int i = 0; i < n; ++i) {
+    for (int a = 0; a < 3; ++a) {
+      LocalKnots r;
+      do {
+        for (double& k : r) k = values[pick(rng)];
+        std::sort(r.begin(), r.end());
+      } while (r[0] == r[4]);
+      knots[i][a] = r;
+    }
+    weights[i] = weight(rng);
+    for (int d = 0; d < dimension; ++d) points(i, d) = normal(rng);
+  }
+  return TSpline(knots, weights, points);
+}
+
+}  // namespace
+
+TEST_CASE("T-spline of a full tensor grid equals the B-spline volume") {
+  for (int dimension = 1; dimension <= 4; ++dimension) {
+    const BsplineVolume volume = random_volume(dimension, 10 + dimension);
+    const TSpline spline = from_bspline_volume(volume);
+    CHECK(spline.num_functions() == volume.control_points().rows());
+    CHECK(spline.dimension() == dimension);
+    CHECK(spline.domain_min() == volume.domain_min());
+    CHECK(spline.domain_max() == volume.domain_max());
+    CHECK(spline.max_functions_per_cell() == 64);
+    for (const Eigen::Vector3d& p : random_parameters(volume.domain_min(), volume.domain_max(), 1000, 20)) {
+      CAPTURE(p.transpose());
+      const Eigen::VectorXd expected = volume.evaluate(p);
+      // Same function, different evaluation order (power-form pieces): 1e-12 for O(1) values.
+      CHECK((spline.evaluate(p) - expected).cwiseAbs().maxCoeff() < 1e-12);
+      CHECK(std::abs(spline.weight_sum(p) - 1.0) < 1e-12);
+      CHECK((spline.evaluate(p, TSplineForm::Rational) - expected).cwiseAbs().maxCoeff() < 1e-12);
+      const Eigen::MatrixXd jac = volume.jacobian(p);
+      CHECK((spline.jacobian(p) - jac).cwiseAbs().maxCoeff() < 1e-10);
+      CHECK((spline.jacobian(p, TSplineForm::Rational) - jac).cwiseAbs().maxCoeff() < 1e-10);
+      if (dimension == 3) {
+        for (const std::array<int, 3> order : {std::array<int, 3>{1, 0, 0}, {0, 2, 0}, {1, 1, 1}, {0, 0, 3}}) {
+          const Eigen::VectorXd d = volume.derivative(p, order);
+          CHECK((spline.derivative(p, order) - d).cwiseAbs().maxCoeff() < 1e-8 * std::max(1.0, d.norm()));
+        }
+      }
+    }
+  }
+}
+
+TEST_CASE("grid evaluation equals the brute-force sum over all blending functions") {
+  const TSpline spline = random_tspline(60, 3, 5);
+  CHECK(spline.num_cells() > 1);
+  std::vector<Eigen::Vector3d> params = random_parameters(spline.domain_min(), spline.domain_max(), 400, 6);
+  // Parameters on knot lines, where the half-open convention matters.
+  for (double u : spline.knot_lines(0)) params.emplace_back(u, spline.knot_lines(1)[1], 0.5);
+  for (double w : spline.knot_lines(2)) params.emplace_back(0.3, 1.0, w);
+  std::vector<int> ids;
+  std::vector<double> values;
+  for (const Eigen::Vector3d& p : params) {
+    CAPTURE(p.transpose());
+    Eigen::Vector3d numerator = Eigen::Vector3d::Zero();
+    double denominator = 0.0;
+    for (int i = 0; i < spline.num_functions(); ++i) {
+      const double b = spline.blending_function(i, p);
+      numerator += spline.weights()[i] * b * spline.points().row(i).transpose();
+      denominator += spline.weights()[i] * b;
+    }
+    CHECK((spline.evaluate(p) - numerator).norm() < 1e-12);
+    CHECK(std::abs(spline.weight_sum(p) - denominator) < 1e-12);
+    if (denominator > 1e-3) {
+      CHECK((spline.evaluate(p, TSplineForm::Rational) - numerator / denominator).norm() < 1e-9);
+    }
+    spline.basis_at(p, {0, 0, 0}, ids, values);
+    CHECK(std::is_sorted(ids.begin(), ids.end()));
+    for (size_t m = 0; m < ids.size(); ++m) CHECK(std::abs(values[m] - spline.blending_function(ids[m], p)) < 1e-12);
+  }
+}
+
+TEST_CASE("semi-standard and rational Jacobians match finite differences") {
+  const TSpline spline = random_tspline(80, 3, 8);
+  const double h = 1e-6;
+  int checked = 0;
+  for (const Eigen::Vector3d& p : random_parameters(spline.domain_min(), spline.domain_max(), 300, 9)) {
+    bool near_line = false;
+    for (int a = 0; a < 3; ++a)
+      for (double k : spline.knot_lines(a)) near_line = near_line || std::abs(p[a] - k) < 2 * h;
+    if (near_line || spline.weight_sum(p) < 0.05) continue;
+    ++checked;
+    for (const TSplineForm form : {TSplineForm::SemiStandard, TSplineForm::Rational}) {
+      const Eigen::MatrixXd jac = spline.jacobian(p, form);
+      double value[3], jac_raw[9];
+      spline.evaluate_with_jacobian(p, form, value, jac_raw);
+      CHECK((spline.evaluate(p, form) - Eigen::Map<Eigen::Vector3d>(value)).norm() < 1e-14);
+      for (int a = 0; a < 3; ++a) {
+        Eigen::Vector3d e = Eigen::Vector3d::Zero();
+        e[a] = h;
+        const Eigen::VectorXd fd = (spline.evaluate(p + e, form) - spline.evaluate(p - e, form)) / (2 * h);
+        // Central differences inside one polynomial cell: O(h²) truncation, O(eps/h) rounding.
+        CHECK((fd - jac.col(a)).norm() <= 1e-6 * std::max(1.0, jac.col(a).norm()));
+      }
+    }
+  }
+  CHECK(checked > 100);
+}
+
+TEST_CASE("set_points keeps the grid and changes F") {
+  const BsplineVolume volume = random_volume(3, 1);
+  TSpline spline = from_bspline_volume(volume);
+  const Eigen::MatrixXd doubled = 2.0 * spline.points();
+  spline.set_points(doubled);
+  const Eigen::Vector3d p(0.4, 0.2, 3.05);
+  CHECK((spline.evaluate(p) - 2.0 * volume.evaluate(p)).norm() < 1e-12);
+  CHECK_THROWS_WITH_AS(spline.set_points(Eigen::MatrixXd::Zero(3, 3)),
+                       ("T-spline: new control points are 3x3, expected " + std::to_string(spline.num_functions()) + "x3").c_str(),
+                       Error);
+}
+
+TEST_CASE("batch evaluation equals single evaluation") {
+  const TSpline spline = from_bspline_volume(random_volume(2, 4));
+  const auto params = random_parameters(spline.domain_min(), spline.domain_max(), 40, 2);
+  Eigen::MatrixX3d uvw(params.size(), 3);
+  for (size_t i = 0; i < params.size(); ++i) uvw.row(i) = params[i].transpose();
+  for (const TSplineForm form : {TSplineForm::SemiStandard, TSplineForm::Rational}) {
+    const Eigen::MatrixXd out = spline.evaluate_batch(uvw, form);
+    for (size_t i = 0; i < params.size(); ++i) CHECK(out.row(i).transpose() == spline.evaluate(params[i], form));
+  }
+  uvw(3, 0) = -0.5;
+  CHECK_THROWS_WITH_AS(spline.evaluate_batch(uvw),
+                       "row 3: T-spline: parameter u = -0.500000 is outside the domain [0.000000, 1.000000]", Error);
+}
+
+TEST_CASE("T-spline rejects broken input with a message") {
+  const std::vector<BlendingKnots> knots = {BlendingKnots{LocalKnots{0, 1, 2, 3, 4}, LocalKnots{0, 1, 2, 3, 4},
+                                                          LocalKnots{0, 1, 2, 3, 4}}};
+  const Eigen::VectorXd one = Eigen::VectorXd::Ones(1);
+  const Eigen::MatrixXd point = Eigen::MatrixXd::Zero(1, 3);
+  CHECK_NOTHROW(TSpline(knots, one, point));
+  CHECK_THROWS_WITH_AS(TSpline({}, Eigen::VectorXd(), Eigen::MatrixXd(0, 3)), "T-spline: no blending functions", Error);
+  CHECK_THROWS_WITH_AS(TSpline(knots, Eigen::VectorXd::Ones(2), point), "T-spline: 2 weights for 1 blending functions",
+                       Error);
+  CHECK_THROWS_WITH_AS(TSpline(knots, one, Eigen::MatrixXd::Zero(2, 3)),
+                       "T-spline: 2 control points for 1 blending functions", Error);
+  CHECK_THROWS_WITH_AS(TSpline(knots, one, Eigen::MatrixXd::Zero(1, 5)),
+                       "T-spline: control point dimension 5 is not in 1..4", Error);
+  auto broken = knots;
+  broken[0][1] = {0, 2, 1, 3, 4};
+  CHECK_THROWS_WITH_AS(TSpline(broken, one, point),
+                       "T-spline: blending function 0: knot vector v is not finite and non-decreasing with r0 < r4",
+                       Error);
+  broken = knots;
+  broken[0][2] = {1, 1, 1, 1, 1};
+  CHECK_THROWS_WITH_AS(TSpline(broken, one, point),
+                       "T-spline: blending function 0: knot vector w is not finite and non-decreasing with r0 < r4",
+                       Error);
+  CHECK_THROWS_WITH_AS(TSpline(knots, Eigen::VectorXd::Zero(1), point),
+                       "T-spline: blending function 0: weight 0.000000 is not finite and positive", Error);
+  Eigen::MatrixXd nan_point = point;
+  nan_point(0, 2) = std::numeric_limits<double>::quiet_NaN();
+  CHECK_THROWS_WITH_AS(TSpline(knots, one, nan_point), "T-spline: control point 0 is not finite", Error);
+  const TSpline spline(knots, one, point);
+  CHECK_THROWS_WITH_AS(spline.evaluate({1.0, 5.0, 1.0}),
+                       "T-spline: parameter v = 5.000000 is outside the domain [0.000000, 4.000000]", Error);
+  CHECK_THROWS_AS(spline.weight_sum({1.0, 1.0, std::nan("")}), Error);
+  // A knot-line grid above the cell limit is refused instead of exhausting memory.
+  std::vector<BlendingKnots> many(420);
+  for (int i = 0; i < 420; ++i) {
+    const double s = i;
+    many[i] = {LocalKnots{s, s + 0.1, s + 0.2, s + 0.3, s + 0.4}, LocalKnots{s, s + 0.1, s + 0.2, s + 0.3, s + 0.4},
+               LocalKnots{s, s + 0.1, s + 0.2, s + 0.3, s + 0.4}};
+  }
+  CHECK_THROWS_WITH_AS(TSpline(many, Eigen::VectorXd::Ones(420), Eigen::MatrixXd::Zero(420, 3)),
+                       "T-spline: the knot-line grid has more than 67108864 cells", Error);
+}
