@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/common/version.h"
+#include "wasm/lens_binding.h"
 #include "wasm/mesh_info_binding.h"
 
 namespace {
@@ -18,4 +19,7 @@ std::string version() { return volspline::version(); }
 EMSCRIPTEN_BINDINGS(volspline) {
   emscripten::function("version", &version);
   emscripten::function("meshInfo", &volspline::wasm::mesh_info);
+  emscripten::function("decodeImage", &volspline::wasm::decode_image);
+  emscripten::function("encodePng", &volspline::wasm::encode_png);
+  emscripten::function("lens", &volspline::wasm::lens);
 }

@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 
+#include <Eigen/Geometry>
+#include <Eigen/LU>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 

@@ -6,6 +6,8 @@
 #include <complex>
 #include <limits>
 
+#include <Eigen/Geometry>
+
 namespace volspline::lens {
 
 namespace {

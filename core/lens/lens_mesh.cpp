@@ -43,10 +43,13 @@ LensMesh build_grid(int width, int height, int grid) {
 }
 
 double lens_profile(double d) {
-  // §6.3.1 prints h = g(1−d)·h0 with g(x) = e^{x²}; shifted by g(0) and scaled by 1/(e−1) so the
-  // height is h0 on the axis and 0 with zero slope on the ROI boundary (no crease at the context).
-  const double s = 1.0 - std::clamp(d, 0.0, 1.0);
-  return (std::exp(s * s) - 1.0) / (M_E - 1.0);
+  // §6.3.1 prints h = g(1−d)·h0 with "the standard gaussian g(x) = e^{x²}", which is not zero on the
+  // boundary; we use a Gaussian bump in d (σ = 0.35) shifted and scaled to 1 on the axis and 0 on
+  // the boundary: a plateau around the axis that the harmonic texture shrinks (the magnification).
+  constexpr double kSigma = 0.35;
+  const double floor = std::exp(-0.5 / (kSigma * kSigma));
+  const double x = std::clamp(d, 0.0, 1.0);
+  return (std::exp(-0.5 * x * x / (kSigma * kSigma)) - floor) / (1.0 - floor);
 }
 
 double lens_height(const std::vector<RoiField>& rois, double height_rel, double x, double y) {

@@ -33,7 +33,8 @@ struct LensMesh {
 /// cells split into two triangles. Fills xyz (z = 0), triangles, grid_* ; in_roi false, pinned on the border.
 LensMesh build_grid(int width, int height, int grid);
 
-/// Profile of §6.3.1 step 2 with the medial-axis distance d ∈ [0, 1]: 1 on the axis, 0 on the boundary.
+/// Lens profile of §6.3.1 step 2 over the normalized medial-axis distance d ∈ [0, 1]: a Gaussian
+/// bump, 1 on the axis, 0 (with nearly zero slope) on the boundary.
 double lens_profile(double d);
 
 /// Lens height at (x, y): the largest h0·r·profile(d) over the ROIs (r their inscribed radius), pixels.

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include <Eigen/Geometry>
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCore>
 

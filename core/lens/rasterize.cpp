@@ -29,13 +29,16 @@ void sample_bilinear(const Image& image, double u, double v, std::uint8_t* out) 
 }  // namespace
 
 Image render_textured_mesh(const Image& texture_image, const Eigen::MatrixX2d& output,
-                           const Eigen::MatrixX2d& texture, const mesh::Triangles& triangles, int width, int height) {
+                           const Eigen::MatrixX2d& texture, const mesh::Triangles& triangles, int width, int height,
+                           std::vector<int>* draw_count) {
   Image image;
   image.width = width;
   image.height = height;
   image.channels = texture_image.channels;
   image.pixels.assign(std::size_t(width) * height * image.channels, 0);
-  std::vector<char> covered(std::size_t(width) * height, 0);
+  std::vector<int> local_count;
+  std::vector<int>& covered = draw_count ? *draw_count : local_count;
+  covered.assign(std::size_t(width) * height, 0);
   const int ch = image.channels;
 
   for (int t = 0; t < triangles.rows(); ++t) {
@@ -79,7 +82,7 @@ Image render_textured_mesh(const Image& texture_image, const Eigen::MatrixX2d& o
         const Eigen::Vector2d uv = w0 * t0 + w1 * t1 + (1.0 - w0 - w1) * t2;
         const std::size_t pixel = std::size_t(py) * width + px;
         sample_bilinear(texture_image, uv.x(), uv.y(), &image.pixels[pixel * ch]);
-        covered[pixel] = 1;
+        ++covered[pixel];
       }
     }
   }

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "core/lens/image.h"
@@ -15,7 +17,9 @@ namespace volspline::lens {
 /// sharing an edge leave no gap and draw no pixel twice. Pixels covered by no triangle with positive
 /// area sample the input at their own position.
 /// output: n×2 pixel positions in the output; texture: n×2 pixel positions in the input image.
+/// draw_count: if not null, receives width·height counts of the triangles that drew each pixel.
 Image render_textured_mesh(const Image& texture_image, const Eigen::MatrixX2d& output,
-                           const Eigen::MatrixX2d& texture, const mesh::Triangles& triangles, int width, int height);
+                           const Eigen::MatrixX2d& texture, const mesh::Triangles& triangles, int width, int height,
+                           std::vector<int>* draw_count = nullptr);
 
 }  // namespace volspline::lens

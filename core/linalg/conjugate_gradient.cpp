@@ -12,27 +12,38 @@ struct Sum4 {
   double total() const { return (s[0] + s[1]) + (s[2] + s[3]); }
 };
 
+// Rows per block of the lagged direction update: the slice of p that a block reads stays in
+// cache between its update and its use, and the update itself is a contiguous, vectorizable loop.
+constexpr int kBlockRows = 512;
+
 template <class Direction>
-double direction_spmv_impl(const CsrMatrix& a, Direction direction, double beta, double* p,
-                           double* q) {
+double direction_spmv_impl(const CsrMatrix& a, Direction direction, double beta,
+                           double* __restrict p, double* __restrict q) {
   const int n = a.rows();
   const int* offsets = a.row_offsets().data();
   const int* cols = a.col_indices().data();
   const double* vals = a.values().data();
   int updated = 0;
   double pq = 0.0;
-  for (int i = 0; i < n; ++i) {
-    const int begin = offsets[i];
-    const int end = offsets[i + 1];
-    // Entries of p up to the last column this row reads (and i itself, for p·q) must be new.
-    const int need = end > begin ? std::max(i, cols[end - 1]) : i;
-    for (; updated <= need; ++updated) p[updated] = direction(updated) + beta * p[updated];
-    double sum = 0.0;
-    for (int k = begin; k < end; ++k) sum += vals[k] * p[cols[k]];
-    q[i] = sum;
-    pq += p[i] * sum;
+  for (int block = 0; block < n; block += kBlockRows) {
+    const int block_end = std::min(n, block + kBlockRows);
+    // Entries of p up to the last column this block reads (and its own rows, for p·q) must be
+    // new before the block's SpMV.
+    int need = block_end;
+    for (int i = block; i < block_end; ++i) {
+      if (offsets[i + 1] > offsets[i]) need = std::max(need, cols[offsets[i + 1] - 1] + 1);
+    }
+    if (need > updated) {
+      direction(updated, need, beta, p);
+      updated = need;
+    }
+    for (int i = block; i < block_end; ++i) {
+      double sum = 0.0;
+      for (int k = offsets[i]; k < offsets[i + 1]; ++k) sum += vals[k] * p[cols[k]];
+      q[i] = sum;
+      pq += p[i] * sum;
+    }
   }
-  for (; updated < n; ++updated) p[updated] = direction(updated) + beta * p[updated];
   return pq;
 }
 
@@ -68,13 +79,23 @@ double direction_spmv(const CsrMatrix& a, const double* z, const double* scale, 
                       double* p, double* q) {
   if (scale) {
     return direction_spmv_impl(
-        a, [z, scale](int j) { return scale[j] * z[j]; }, beta, p, q);
+        a,
+        [z, scale](int begin, int end, double beta, double* __restrict p) {
+          for (int j = begin; j < end; ++j) p[j] = scale[j] * z[j] + beta * p[j];
+        },
+        beta, p, q);
   }
-  return direction_spmv_impl(a, [z](int j) { return z[j]; }, beta, p, q);
+  return direction_spmv_impl(
+      a,
+      [z](int begin, int end, double beta, double* __restrict p) {
+        for (int j = begin; j < end; ++j) p[j] = z[j] + beta * p[j];
+      },
+      beta, p, q);
 }
 
-double update(int n, double alpha, const double* p, const double* q, const double* scale,
-              double* x, double* r, double* rz) {
+double update(int n, double alpha, const double* __restrict p, const double* __restrict q,
+              const double* __restrict scale, double* __restrict x, double* __restrict r,
+              double* rz) {
   Sum4 rr_acc;
   if (scale) {
     Sum4 rz_acc;

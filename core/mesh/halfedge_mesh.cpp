@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <sstream>
 
 #include "core/common/error.h"
@@ -72,12 +73,16 @@ HalfedgeMesh HalfedgeMesh::build(const TriangleMesh& input, const std::string& s
   for (int v = 0; v < n; ++v) bucket_start[v + 1] += bucket_start[v];
   std::vector<int> order(num_interior);
   {
+    // Keys (larger endpoint, halfedge) packed in 64 bits keep the per-bucket sorts cache-local.
+    std::vector<std::uint64_t> keys(num_interior);
     std::vector<int> fill(bucket_start.begin(), bucket_start.end() - 1);
-    for (int h = 0; h < num_interior; ++h) order[fill[lo[h]]++] = h;
-  }
-  for (int v = 0; v < n; ++v) {
-    std::sort(order.begin() + bucket_start[v], order.begin() + bucket_start[v + 1],
-              [&](int a, int b) { return hi[a] != hi[b] ? hi[a] < hi[b] : a < b; });
+    for (int h = 0; h < num_interior; ++h) {
+      keys[fill[lo[h]]++] = (static_cast<std::uint64_t>(hi[h]) << 32) | static_cast<std::uint32_t>(h);
+    }
+    for (int v = 0; v < n; ++v) {
+      std::sort(keys.begin() + bucket_start[v], keys.begin() + bucket_start[v + 1]);
+    }
+    for (int i = 0; i < num_interior; ++i) order[i] = static_cast<int>(keys[i] & 0xffffffffu);
   }
 
   // Runs of equal (lo, hi) are edges, in lexicographic order; reject edges with > 2 faces,

@@ -25,7 +25,8 @@ enum class CirculatorValue {
 };
 
 /// Forward range over the one-ring of a vertex; obtain it from HalfedgeMesh::vertex_outgoing,
-/// vertex_neighbors or vertex_faces. Valid while the mesh lives.
+/// vertex_neighbors or vertex_faces. Valid while the mesh lives. Each step costs O(1); the
+/// iterator yields ints (halfedge, vertex or face ids) by value.
 template <CirculatorValue kValue>
 class VertexRing {
  public:
@@ -108,12 +109,15 @@ class HalfedgeMesh {
   /// faces; a non-orientable surface; a non-manifold vertex (its faces form several fans).
   static HalfedgeMesh build(const TriangleMesh& mesh, const std::string& source_name = "mesh");
 
+  /// Counts; vertices include unreferenced ones.
   int num_vertices() const { return static_cast<int>(vertex_halfedge_.size()); }
   int num_faces() const { return static_cast<int>(triangles_.rows()); }
   /// Interior plus boundary halfedges: 2 * num_edges().
   int num_halfedges() const { return static_cast<int>(twin_.size()); }
   int num_edges() const { return static_cast<int>(edge_halfedge_.size()); }
+  /// Halfedges with no face, = number of boundary edges.
   int num_boundary_halfedges() const { return num_halfedges() - 3 * num_faces(); }
+  /// Vertices used by no face.
   int num_unreferenced_vertices() const { return num_unreferenced_vertices_; }
 
   /// n×3 positions, model units (a copy of the input).
@@ -130,10 +134,13 @@ class HalfedgeMesh {
 
   /// True iff no face had to be flipped during build().
   bool consistently_oriented() const { return num_flipped_faces_ == 0; }
+  /// Number of faces build() reversed.
   int num_flipped_faces() const { return num_flipped_faces_; }
   /// True iff build() reversed face f to make the orientation consistent.
   bool face_is_flipped(int f) const { return flipped_[f] != 0; }
 
+  /// Next / previous halfedge in the same face, or along the boundary loop for a boundary
+  /// halfedge; opposite halfedge of the same edge.
   int halfedge_next(int h) const { return next_[h]; }
   int halfedge_prev(int h) const { return prev_[h]; }
   int halfedge_twin(int h) const { return twin_[h]; }
@@ -143,7 +150,9 @@ class HalfedgeMesh {
   int halfedge_source(int h) const { return vertex_[twin_[h]]; }
   /// Face of h, no_id for a boundary halfedge.
   int halfedge_face(int h) const { return h < 3 * num_faces() ? h / 3 : no_id; }
+  /// Edge of h (shared with its twin).
   int halfedge_edge(int h) const { return edge_[h]; }
+  /// True iff h has no face (h >= 3 * num_faces()).
   bool halfedge_is_boundary(int h) const { return h >= 3 * num_faces(); }
 
   /// First halfedge of the one-ring (outgoing from v, see class comment); no_id if v is
@@ -159,6 +168,7 @@ class HalfedgeMesh {
 
   /// Halfedge 3f (from corner 0 to corner 1).
   int face_halfedge(int f) const { return 3 * f; }
+  /// The three halfedges of f in order: h_k runs from corner k to corner k+1.
   std::array<int, 3> face_halfedges(int f) const { return {3 * f, 3 * f + 1, 3 * f + 2}; }
   /// Corners of f in stored (consistent) order.
   std::array<int, 3> face_vertices(int f) const {

@@ -1,4 +1,7 @@
 # SPDX-License-Identifier: MIT
 list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/cuboid_surface_map.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/cuboid_surface_locator.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/volumetric_grid_map.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/surface_distance.cpp
 )

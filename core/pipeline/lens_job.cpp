@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cmath>
 
+#include <Eigen/Geometry>
+
 #include "core/common/error.h"
 #include "core/lens/baseline_lens.h"
 #include "core/lens/flatten.h"
@@ -28,7 +30,7 @@ double ms_since(Clock::time_point start) {
 double measure_radius(const lens::RoiField& roi) { return 0.15 * roi.inscribed_radius(); }
 
 // Grid resolution of the h0 search: coarse enough to be cheap, fine enough to resolve the centre.
-constexpr int kCalibrationGrid = 48;
+constexpr int kCalibrationGrid = 64;
 
 struct Deformation {
   Eigen::MatrixX2d positions, texture;
@@ -157,13 +159,29 @@ LensResult run_lens(const LensInput& input, const LensOptions& options, const Pr
       const auto t_cal = Clock::now();
       const Progress quiet;
       const auto measure_at = [&](int grid) {
-        return [&, grid](double h) { return mean(magnifications(run_metric(rois, width, height, grid, h, options, quiet), rois)); };
+        return [&, grid](double h) {
+          const Deformation trial = run_metric(rois, width, height, grid, h, options, quiet);
+          const int grid_vertices = static_cast<int>(trial.grid_triangles.maxCoeff()) + 1;
+          const lens::ShapeDistortion dist = lens::measure_distortion(
+              trial.positions.topRows(grid_vertices), trial.texture.topRows(grid_vertices), trial.grid_triangles);
+          // A folding height counts as overshoot, so the search settles on the tallest clean lens.
+          return dist.flipped_triangles > 0 ? 4.0 * options.magnification : mean(magnifications(trial, rois));
+        };
       };
       const int coarse = std::min(options.grid, kCalibrationGrid);
       h0 = search_parameter(measure_at(coarse), options.magnification, 1.0, 2.0, 10, 0.01);
       s.ms_calibration = ms_since(t_cal);
     }
     d = run_metric(rois, width, height, options.grid, h0, options, progress);
+    // Thesis §6.5 repairs rare fold-overs with [77]; we lower h0 until the flattening is fold-free.
+    for (int attempt = 0; attempt < 6; ++attempt) {
+      const int grid_vertices = static_cast<int>(d.grid_triangles.maxCoeff()) + 1;
+      const lens::ShapeDistortion check = lens::measure_distortion(
+          d.positions.topRows(grid_vertices), d.texture.topRows(grid_vertices), d.grid_triangles);
+      if (check.flipped_triangles == 0) break;
+      h0 *= 0.8;
+      d = run_metric(rois, width, height, options.grid, h0, options, progress);
+    }
     s.height = h0;
   } else {
     const lens::LensMesh grid = lens::build_grid(width, height, options.grid);

@@ -5,4 +5,6 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/knot_insertion.cpp
   ${CMAKE_CURRENT_LIST_DIR}/tspline.cpp
   ${CMAKE_CURRENT_LIST_DIR}/tspline_refinement.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/tspline_fitting.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/hierarchical_refinement.cpp
 )

@@ -18,6 +18,50 @@ namespace {
 
 const char* const kAxisName[3] = {"u", "v", "w"};
 constexpr long kMaxCells = long(1) << 26;
+constexpr double kAutoPolynomialBytes = 256.0 * 1024 * 1024;
+
+// Tricubic power-form polynomial with K components at (s0, s1, s2) by nested Horner; c holds
+// monomial m = (4 a + b) 4 + c, K values each.
+template <int K>
+inline void horner3(const double* coef, const double* s, double* out) {
+  double t2[4][K];
+  for (int a = 0; a < 4; ++a) {
+    double t1[4][K];
+    for (int b = 0; b < 4; ++b) {
+      const double* q = coef + (4 * a + b) * 4 * K;
+      for (int d = 0; d < K; ++d) t1[b][d] = ((q[3 * K + d] * s[2] + q[2 * K + d]) * s[2] + q[K + d]) * s[2] + q[d];
+    }
+    for (int d = 0; d < K; ++d) t2[a][d] = ((t1[3][d] * s[1] + t1[2][d]) * s[1] + t1[1][d]) * s[1] + t1[0][d];
+  }
+  for (int d = 0; d < K; ++d) out[d] = ((t2[3][d] * s[0] + t2[2][d]) * s[0] + t2[1][d]) * s[0] + t2[0][d];
+}
+
+// As horner3, plus the gradient with respect to (s0, s1, s2): grad[a][d].
+template <int K>
+inline void horner3_gradient(const double* coef, const double* s, double* out, double (*grad)[K]) {
+  double t2[4][K], t2_1[4][K], t2_2[4][K];
+  for (int a = 0; a < 4; ++a) {
+    double t1[4][K], t1_2[4][K];
+    for (int b = 0; b < 4; ++b) {
+      const double* q = coef + (4 * a + b) * 4 * K;
+      for (int d = 0; d < K; ++d) {
+        t1[b][d] = ((q[3 * K + d] * s[2] + q[2 * K + d]) * s[2] + q[K + d]) * s[2] + q[d];
+        t1_2[b][d] = (3.0 * q[3 * K + d] * s[2] + 2.0 * q[2 * K + d]) * s[2] + q[K + d];
+      }
+    }
+    for (int d = 0; d < K; ++d) {
+      t2[a][d] = ((t1[3][d] * s[1] + t1[2][d]) * s[1] + t1[1][d]) * s[1] + t1[0][d];
+      t2_1[a][d] = (3.0 * t1[3][d] * s[1] + 2.0 * t1[2][d]) * s[1] + t1[1][d];
+      t2_2[a][d] = ((t1_2[3][d] * s[1] + t1_2[2][d]) * s[1] + t1_2[1][d]) * s[1] + t1_2[0][d];
+    }
+  }
+  for (int d = 0; d < K; ++d) {
+    out[d] = ((t2[3][d] * s[0] + t2[2][d]) * s[0] + t2[1][d]) * s[0] + t2[0][d];
+    grad[0][d] = (3.0 * t2[3][d] * s[0] + 2.0 * t2[2][d]) * s[0] + t2[1][d];
+    grad[1][d] = ((t2_1[3][d] * s[0] + t2_1[2][d]) * s[0] + t2_1[1][d]) * s[0] + t2_1[0][d];
+    grad[2][d] = ((t2_2[3][d] * s[0] + t2_2[2][d]) * s[0] + t2_2[1][d]) * s[0] + t2_2[0][d];
+  }
+}
 
 int break_index(const std::vector<double>& breaks, double t) {
   return static_cast<int>(std::lower_bound(breaks.begin(), breaks.end(), t) - breaks.begin());
@@ -36,7 +80,8 @@ double piece_derivative(const std::array<double, 4>& c, double s, int order, dou
 
 }  // namespace
 
-TSpline::TSpline(std::vector<BlendingKnots> knots, Eigen::VectorXd weights, Eigen::MatrixXd points)
+TSpline::TSpline(std::vector<BlendingKnots> knots, Eigen::VectorXd weights, Eigen::MatrixXd points,
+                 TSplineAcceleration acceleration)
     : knots_(std::move(knots)), weights_(std::move(weights)), points_(std::move(points)) {
   const Eigen::Index n = static_cast<Eigen::Index>(knots_.size());
   if (n == 0) throw Error("T-spline: no blending functions");
@@ -67,6 +112,41 @@ TSpline::TSpline(std::vector<BlendingKnots> knots, Eigen::VectorXd weights, Eige
   }
   set_points(points_);
   build_grid();
+  const double polynomial_bytes = double(cells_.size()) * 64 * (dimension_ + 1) * sizeof(double);
+  if (acceleration == TSplineAcceleration::CellPolynomials ||
+      (acceleration == TSplineAcceleration::Auto && polynomial_bytes <= kAutoPolynomialBytes)) {
+    build_cell_polynomials();
+  }
+}
+
+// F and Σ w B restricted to one cell are sums of tensor products of the power-form pieces.
+void TSpline::build_cell_polynomials() {
+  const size_t num_cells = cells_.size();
+  cell_numerator_.assign(num_cells * 64 * dimension_, 0.0);
+  cell_denominator_.assign(num_cells * 64, 0.0);
+  for (size_t c = 0; c < num_cells; ++c) {
+    const Cell& cell = cells_[c];
+    const std::uint32_t* ids = cell_pieces_.data() + cell.piece_begin;
+    const std::uint32_t* axis_ids[3] = {ids, ids + cell.num_pieces[0], ids + cell.num_pieces[0] + cell.num_pieces[1]};
+    double* numerator = cell_numerator_.data() + c * 64 * dimension_;
+    double* denominator = cell_denominator_.data() + c * 64;
+    for (std::uint32_t e = cell.entry_begin; e < cell.entry_end; ++e) {
+      const Entry& entry = entries_[e];
+      const std::array<double, 4>& pu = pieces_[0][axis_ids[0][entry.piece[0]]];
+      const std::array<double, 4>& pv = pieces_[1][axis_ids[1][entry.piece[1]]];
+      const std::array<double, 4>& pw = pieces_[2][axis_ids[2][entry.piece[2]]];
+      const double* wp = weighted_points_.data() + size_t(entry.function) * dimension_;
+      const double w = weights_[entry.function];
+      for (int a = 0; a < 4; ++a)
+        for (int b = 0; b < 4; ++b)
+          for (int cc = 0; cc < 4; ++cc) {
+            const int m = (4 * a + b) * 4 + cc;
+            const double basis = pu[a] * pv[b] * pw[cc];
+            for (int d = 0; d < dimension_; ++d) numerator[m * dimension_ + d] += basis * wp[d];
+            denominator[m] += basis * w;
+          }
+    }
+  }
 }
 
 void TSpline::set_points(Eigen::MatrixXd points) {
@@ -85,6 +165,7 @@ void TSpline::set_points(Eigen::MatrixXd points) {
   for (Eigen::Index i = 0; i < points_.rows(); ++i) {
     for (int d = 0; d < dimension_; ++d) weighted_points_[size_t(i) * dimension_ + d] = weights_[i] * points_(i, d);
   }
+  if (!cell_numerator_.empty()) build_cell_polynomials();
 }
 
 void TSpline::build_grid() {
@@ -227,7 +308,12 @@ template <int D, bool kRational, bool kJacobian>
 void TSpline::evaluate_impl(const Eigen::Vector3d& uvw, double* value, double* jacobian) const {
   double s[3];
   int k[3];
-  const Cell& cell = cells_[locate(uvw, s, k)];
+  const int cell_index = locate(uvw, s, k);
+  if (!cell_numerator_.empty()) {
+    evaluate_polynomial<D, kRational, kJacobian>(cell_index, s, k, value, jacobian);
+    return;
+  }
+  const Cell& cell = cells_[cell_index];
   const int total = cell.num_pieces[0] + cell.num_pieces[1] + cell.num_pieces[2];
   constexpr int kStack = 96;
   double stack_values[2 * kStack];
@@ -299,6 +385,37 @@ void TSpline::evaluate_impl(const Eigen::Vector3d& uvw, double* value, double* j
   }
 }
 
+template <int D, bool kRational, bool kJacobian>
+void TSpline::evaluate_polynomial(int cell, const double* s, const int* k, double* value, double* jacobian) const {
+  const double* numerator = cell_numerator_.data() + size_t(cell) * 64 * D;
+  const double* denominator = cell_denominator_.data() + size_t(cell) * 64;
+  if (!kJacobian) {
+    horner3<D>(numerator, s, value);
+    if (kRational) {
+      double weight;
+      horner3<1>(denominator, s, &weight);
+      const double inverse_weight = 1.0 / weight;
+      for (int d = 0; d < D; ++d) value[d] *= inverse_weight;
+    }
+    return;
+  }
+  double grad[3][D];
+  horner3_gradient<D>(numerator, s, value, grad);
+  double weight = 1.0, weight_grad[3][1] = {{0.0}, {0.0}, {0.0}};
+  if (kRational) {
+    horner3_gradient<1>(denominator, s, &weight, weight_grad);
+    for (int d = 0; d < D; ++d) value[d] /= weight;
+  }
+  for (int a = 0; a < 3; ++a) {
+    const double inverse_width = inverse_widths_[a][k[a]];
+    for (int d = 0; d < D; ++d) {
+      double g = grad[a][d];
+      if (kRational) g = (g - value[d] * weight_grad[a][0]) / weight;
+      jacobian[d + D * a] = g * inverse_width;
+    }
+  }
+}
+
 void TSpline::evaluate_to(const Eigen::Vector3d& uvw, TSplineForm form, double* value) const {
   const bool rational = form == TSplineForm::Rational;
   switch (dimension_) {
@@ -334,14 +451,34 @@ Eigen::MatrixXd TSpline::jacobian(const Eigen::Vector3d& uvw, TSplineForm form) 
 }
 
 Eigen::MatrixXd TSpline::evaluate_batch(const Eigen::MatrixX3d& uvw, TSplineForm form) const {
-  Eigen::MatrixXd out(uvw.rows(), dimension_);
-  double value[4];
-  for (Eigen::Index i = 0; i < uvw.rows(); ++i) {
+  const Eigen::Index n = uvw.rows();
+  Eigen::MatrixXd out(n, dimension_);
+  std::vector<std::uint64_t> keys(static_cast<size_t>(n));
+  for (Eigen::Index i = 0; i < n; ++i) {
+    double s[3];
+    int k[3];
     try {
-      evaluate_to(uvw.row(i).transpose(), form, value);
+      keys[i] = (std::uint64_t(locate(uvw.row(i).transpose(), s, k)) << 32) | std::uint64_t(i);
     } catch (const Error& e) {
       throw Error("row " + std::to_string(i) + ": " + e.what());
     }
+  }
+  // Visit the parameters cell by cell so each cell's data is loaded once; the values do not
+  // depend on the order.
+  if (cells_.size() <= 4 * size_t(n)) {
+    std::vector<std::uint32_t> start(cells_.size() + 1, 0);
+    for (std::uint64_t key : keys) ++start[(key >> 32) + 1];
+    for (size_t c = 0; c < cells_.size(); ++c) start[c + 1] += start[c];
+    std::vector<std::uint64_t> sorted(keys.size());
+    for (std::uint64_t key : keys) sorted[start[key >> 32]++] = key;
+    keys.swap(sorted);
+  } else {
+    std::sort(keys.begin(), keys.end());
+  }
+  double value[4];
+  for (std::uint64_t key : keys) {
+    const Eigen::Index i = static_cast<Eigen::Index>(key & 0xffffffffu);
+    evaluate_to(uvw.row(i).transpose(), form, value);
     for (int d = 0; d < dimension_; ++d) out(i, d) = value[d];
   }
   return out;
@@ -400,7 +537,7 @@ double TSpline::blending_function(int i, const Eigen::Vector3d& uvw) const {
   return b;
 }
 
-TSpline from_bspline_volume(const BsplineVolume& volume) {
+TSpline from_bspline_volume(const BsplineVolume& volume, TSplineAcceleration acceleration) {
   const int n[3] = {volume.num_control(0), volume.num_control(1), volume.num_control(2)};
   std::vector<BlendingKnots> knots(size_t(n[0]) * n[1] * n[2]);
   for (int i2 = 0; i2 < n[2]; ++i2) {
@@ -415,7 +552,7 @@ TSpline from_bspline_volume(const BsplineVolume& volume) {
     }
   }
   Eigen::VectorXd weights = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(knots.size()));
-  return TSpline(std::move(knots), std::move(weights), volume.control_points());
+  return TSpline(std::move(knots), std::move(weights), volume.control_points(), acceleration);
 }
 
 }  // namespace volspline::spline

@@ -22,6 +22,15 @@ enum class TSplineForm {
   Rational,      ///< F = Σ w_i p_i B_i / Σ w_i B_i (Eq. 4.1).
 };
 
+/// How TSpline evaluates inside a cell of its knot-line grid (results agree to rounding).
+enum class TSplineAcceleration {
+  Auto,              ///< CellPolynomials if they fit in 256 MiB, else FunctionLists.
+  CellPolynomials,   ///< per cell, F's numerator and Σ w_i B_i as tricubic power-form polynomials:
+                     ///< 64·(D+1) doubles per cell, evaluation cost independent of the overlap.
+  FunctionLists,     ///< per cell, the list of overlapping blending functions: O(overlap) per
+                     ///< evaluation, memory O(Σ_i #cells in the support of B_i).
+};
+
 /// Point-based trivariate cubic T-spline (thesis §3.5, §4.2.2): blending function i has three
 /// 5-knot local vectors knots()[i], a weight w_i > 0 and a control point p_i in R^D (D in 1..4:
 /// 3 for geometry, 4 for geometry + density).
@@ -34,15 +43,19 @@ enum class TSplineForm {
 /// knot values per axis); inside a cell every univariate basis function is one cubic polynomial,
 /// stored once per (knot vector, cell interval) in power form on the cell's local coordinate.
 /// Each cell lists its overlapping blending functions, so an evaluation is one binary search per
-/// axis plus O(#functions overlapping the cell). Memory is O(Σ_i #cells in support of B_i).
-/// Evaluation is const and thread-safe.
+/// axis plus O(#functions overlapping the cell); memory O(Σ_i #cells in the support of B_i).
+/// Since F is one tricubic polynomial per cell, the cells can also store F (and Σ w_i B_i)
+/// directly in power form (TSplineAcceleration::CellPolynomials), which is faster when the grid
+/// is small enough. Evaluation is const and thread-safe.
 class TSpline {
  public:
   /// Builds the spline and its acceleration grid. knots has n entries, weights n, points n×D.
   /// Throws volspline::Error naming the blending function if a knot vector is not finite,
   /// decreasing or of zero length (r0 = r4), a weight is not finite and positive, a point is not
   /// finite; also if n = 0, sizes disagree, D is not in 1..4, or the grid would exceed 2^26 cells.
-  TSpline(std::vector<BlendingKnots> knots, Eigen::VectorXd weights, Eigen::MatrixXd points);
+  /// CellPolynomials is honoured whatever the memory it takes.
+  TSpline(std::vector<BlendingKnots> knots, Eigen::VectorXd weights, Eigen::MatrixXd points,
+          TSplineAcceleration acceleration = TSplineAcceleration::Auto);
 
   /// Number n of blending functions (= control points).
   int num_functions() const { return static_cast<int>(knots_.size()); }
@@ -68,6 +81,8 @@ class TSpline {
   int num_cells() const { return static_cast<int>(cells_.size()); }
   /// Largest number of blending functions overlapping one cell.
   int max_functions_per_cell() const { return max_functions_per_cell_; }
+  /// True if evaluation uses per-cell polynomials (see TSplineAcceleration).
+  bool has_cell_polynomials() const { return !cell_numerator_.empty(); }
 
   /// F(uvw) in the given form, written to value[0..D). No allocation.
   /// Throws volspline::Error if uvw is outside the domain or not finite. Rational form:
@@ -87,7 +102,8 @@ class TSpline {
   Eigen::VectorXd derivative(const Eigen::Vector3d& uvw, const std::array<int, 3>& order) const;
   /// Σ w_i B_i(uvw): 1 everywhere for a semi-standard spline. Throws like evaluate_to.
   double weight_sum(const Eigen::Vector3d& uvw) const;
-  /// F at each row of uvw (m×3), returns m×D. Throws like evaluate_to, naming the row.
+  /// F at each row of uvw (m×3, m < 2^32), returns m×D; the rows are visited grouped by grid
+  /// cell (cache-friendly), results equal evaluate(). Throws like evaluate_to, naming the row.
   Eigen::MatrixXd evaluate_batch(const Eigen::MatrixX3d& uvw, TSplineForm form = TSplineForm::SemiStandard) const;
 
   /// Blending functions whose support contains uvw: their indices (increasing) and the partial
@@ -113,9 +129,12 @@ class TSpline {
   };
 
   void build_grid();
+  void build_cell_polynomials();
   int locate(const Eigen::Vector3d& uvw, double* local, int* k) const;
   template <int D, bool kRational, bool kJacobian>
   void evaluate_impl(const Eigen::Vector3d& uvw, double* value, double* jacobian) const;
+  template <int D, bool kRational, bool kJacobian>
+  void evaluate_polynomial(int cell, const double* s, const int* k, double* value, double* jacobian) const;
 
   int dimension_ = 0;
   std::vector<BlendingKnots> knots_;
@@ -129,12 +148,17 @@ class TSpline {
   std::vector<std::uint32_t> cell_pieces_;
   std::vector<Entry> entries_;
   int max_functions_per_cell_ = 0;
+  // Per cell, monomial m = (4·a + b)·4 + c of s_u^a s_v^b s_w^c: D numerator coefficients
+  // (Σ w p B) and one denominator coefficient (Σ w B). Empty unless CellPolynomials is used.
+  std::vector<double> cell_numerator_;
+  std::vector<double> cell_denominator_;
 };
 
 /// The T-spline of a full tensor grid: one blending function per control point of the volume,
 /// with the local knot vectors cut from its clamped global knots (so the replicated end knots act
 /// as the boundary knots of §4.3.1), weight 1 and the same control point. Equal to the volume
 /// everywhere and semi-standard. Function index = volume.control_index(i0, i1, i2).
-TSpline from_bspline_volume(const BsplineVolume& volume);
+TSpline from_bspline_volume(const BsplineVolume& volume,
+                            TSplineAcceleration acceleration = TSplineAcceleration::Auto);
 
 }  // namespace volspline::spline

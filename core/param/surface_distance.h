@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/mesh/triangle_mesh.h"
+
+namespace volspline::param {
+
+/// Closest point of triangle (a, b, c) to p (Ericson, Real-Time Collision Detection §5.1.5).
+Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                          const Eigen::Vector3d& b, const Eigen::Vector3d& c);
+
+/// Unsigned distance from points to a triangle mesh, accelerated by a uniform grid of buckets
+/// (exact: rings of buckets are searched until no closer triangle can exist).
+class SurfaceDistance {
+ public:
+  /// Builds the bucket grid over the mesh's bounding box (about 2 triangles per bucket side).
+  /// Precondition: the mesh has at least one triangle and finite positions.
+  explicit SurfaceDistance(const mesh::TriangleMesh& mesh);
+  /// Distance from p to the nearest point of the mesh, model units.
+  double distance(const Eigen::Vector3d& p) const;
+
+ private:
+  mesh::TriangleMesh mesh_;
+  Eigen::Vector3d origin_;
+  double cell_ = 1.0;
+  Eigen::Vector3i size_;
+  std::vector<int> bucket_begin_;
+  std::vector<int> bucket_triangles_;
+};
+
+}  // namespace volspline::param

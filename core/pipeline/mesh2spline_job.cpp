@@ -1,0 +1,387 @@
+// SPDX-License-Identifier: MIT
+#include "core/pipeline/mesh2spline_job.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <random>
+#include <string>
+
+#include <Eigen/LU>
+
+#include "core/common/error.h"
+#include "core/mesh/halfedge_mesh.h"
+#include "core/mesh/mesh_report.h"
+#include "core/param/cuboid_surface_locator.h"
+#include "core/param/surface_distance.h"
+#include "core/param/volumetric_grid_map.h"
+#include "core/polycube/cuboid_layout.h"
+#include "core/spline/bspline_volume.h"
+#include "core/spline/hierarchical_refinement.h"
+#include "core/spline/tspline_fitting.h"
+
+namespace volspline::pipeline {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+void check_options(const Mesh2SplineOptions& o) {
+  auto fail = [](const std::string& what) { throw Error("mesh2spline: " + what); };
+  if (!(o.max_rms_rel > 0.0) || !std::isfinite(o.max_rms_rel))
+    fail("--max-rms must be a positive number, got " + std::to_string(o.max_rms_rel));
+  if (o.max_control_points < 64) fail("--max-control-points must be ≥ 64");
+  if (o.max_levels < 0 || o.max_levels > 10) fail("--max-levels must be in [0, 10]");
+  if (o.initial_cells < 1 || o.initial_cells > 64) fail("initial cells must be in [1, 64]");
+  if (o.grid_nodes != 0 && (o.grid_nodes < 5 || o.grid_nodes > 256))
+    fail("grid nodes must be 0 (auto) or in [5, 256]");
+  if (!(o.smoothing >= 0.0) || !std::isfinite(o.smoothing)) fail("smoothing must be ≥ 0");
+  if (o.threads < 1) fail("--threads must be ≥ 1");
+  if (o.measure_samples < 8 || o.measure_samples > 512) fail("measure samples must be in [8, 512]");
+}
+
+// The validated, outward-oriented half-edge mesh; throws on anything mesh2spline refuses.
+mesh::HalfedgeMesh validated_mesh(const mesh::TriangleMesh& input, const std::string& name) {
+  mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(input, name);
+  const mesh::MeshReport r = mesh::analyze_mesh(hm);
+  const std::string prefix = "mesh '" + name + "': ";
+  if (!r.closed)
+    throw Error(prefix + "not closed (" + std::to_string(r.num_boundary_edges) +
+                " boundary edges); mesh2spline needs the closed surface of a solid");
+  if (r.num_components != 1)
+    throw Error(prefix + std::to_string(r.num_components) +
+                " connected components; mesh2spline needs exactly one");
+  if (!r.consistently_oriented)
+    throw Error(prefix + "inconsistently oriented faces (" + std::to_string(r.num_flipped_faces) +
+                " would have to be flipped)");
+  if (r.genus != 0)
+    throw Error(prefix + "genus " + std::to_string(r.genus) +
+                "; mesh2spline maps the solid to one cuboid and needs genus 0");
+  if (r.num_degenerate_faces > 0)
+    throw Error(prefix + std::to_string(r.num_degenerate_faces) + " degenerate (zero-area) faces, first: face " +
+                std::to_string(r.first_degenerate_face));
+  if (r.signed_volume < 0.0) {
+    // Consistently inward-facing: flip every face so normals point outwards.
+    mesh::TriangleMesh flipped = hm.to_triangle_mesh();
+    flipped.triangles.col(1).swap(flipped.triangles.col(2));
+    return mesh::HalfedgeMesh::build(flipped, name);
+  }
+  return hm;
+}
+
+// Transfinite guess: mean of the three linear interpolations between opposite cube faces.
+Eigen::Vector3d transfinite_point(const param::CuboidSurfaceLocator& locator, const Eigen::Vector3d& uvw) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int a = 0; a < 3; ++a) {
+    Eigen::Vector3d lo = uvw, hi = uvw;
+    lo(a) = 0.0;
+    hi(a) = 1.0;
+    sum += (1.0 - uvw(a)) * locator.locate_uvw(lo) + uvw(a) * locator.locate_uvw(hi);
+  }
+  return sum / 3.0;
+}
+
+Eigen::MatrixX3d greville_prior(const spline::TSpline& spline, const param::CuboidSurfaceLocator& locator) {
+  Eigen::MatrixX3d prior(spline.num_functions(), 3);
+  for (int i = 0; i < spline.num_functions(); ++i) {
+    Eigen::Vector3d g;
+    for (int a = 0; a < 3; ++a) {
+      const auto& r = spline.knots()[i][a];
+      g(a) = (r[1] + r[2] + r[3]) / 3.0;
+    }
+    prior.row(i) = transfinite_point(locator, g).transpose();
+  }
+  return prior;
+}
+
+spline::TSpline uniform_tspline(const std::array<int, 3>& cells) {
+  std::array<std::vector<double>, 3> knots;
+  int count = 1;
+  for (int a = 0; a < 3; ++a) {
+    std::vector<double> grid(cells[a] + 1);
+    for (int i = 0; i <= cells[a]; ++i) grid[i] = static_cast<double>(i) / cells[a];
+    knots[a] = spline::boundary_restricted_knots(grid);
+    count *= cells[a] + 3;
+  }
+  return spline::from_bspline_volume(spline::BsplineVolume(knots, Eigen::MatrixXd::Zero(count, 3)));
+}
+
+std::array<int, 3> cells_for(const Eigen::Vector3d& dims, int longest_cells) {
+  std::array<int, 3> cells;
+  for (int a = 0; a < 3; ++a)
+    cells[a] = std::max(1, static_cast<int>(std::lround(longest_cells * dims(a) / dims.maxCoeff())));
+  return cells;
+}
+
+struct Samples {
+  Eigen::MatrixX3d uvw, xyz;
+};
+
+Samples stack(const std::vector<Eigen::Vector3d>& uvw, const std::vector<Eigen::Vector3d>& xyz) {
+  Samples s;
+  s.uvw.resize(uvw.size(), 3);
+  s.xyz.resize(xyz.size(), 3);
+  for (std::size_t i = 0; i < uvw.size(); ++i) {
+    s.uvw.row(i) = uvw[i].transpose();
+    s.xyz.row(i) = xyz[i].transpose();
+  }
+  return s;
+}
+
+spline::TSplineFitReport fit(spline::TSpline& ts, const Samples& samples, const Eigen::MatrixX3d& prior,
+                             const Mesh2SplineOptions& options) {
+  spline::TSplineFitOptions fit_options;
+  fit_options.smoothing = options.smoothing;
+  if (options.fit == Mesh2SplineFit::Grid)
+    return spline::fit_tspline(ts, samples.uvw, samples.xyz, prior, fit_options);
+  return spline::fit_tspline_meshless(ts, samples.uvw, samples.xyz, prior, fit_options);
+}
+
+Eigen::VectorXd sample_errors(const spline::TSpline& ts, const Samples& samples) {
+  const Eigen::MatrixXd f = ts.evaluate_batch(samples.uvw);
+  return (f - samples.xyz).rowwise().norm();
+}
+
+double rms(const Eigen::VectorXd& e) { return e.size() ? std::sqrt(e.squaredNorm() / e.size()) : 0.0; }
+
+}  // namespace
+
+Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::string& name,
+                                  const Mesh2SplineOptions& options, const Progress& progress) {
+  check_options(options);
+  Mesh2SplineStats stats;
+  auto stage_start = Clock::now();
+  auto lap = [&](const char* stage) {
+    const auto now = Clock::now();
+    stats.times_s.emplace_back(stage, std::chrono::duration<double>(now - stage_start).count());
+    stage_start = now;
+  };
+
+  progress.report("validate", 0.0);
+  const mesh::HalfedgeMesh hm = validated_mesh(input, name);
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d hi = -lo;
+  for (int v = 0; v < hm.num_vertices(); ++v)
+    if (hm.vertex_halfedge(v) != mesh::no_id) {
+      lo = lo.cwiseMin(hm.vertex_position(v));
+      hi = hi.cwiseMax(hm.vertex_position(v));
+    }
+  const double diagonal = (hi - lo).norm();
+  if (!(diagonal > 0.0)) throw Error("mesh '" + name + "': zero-size bounding box");
+  lap("validate");
+
+  progress.report("cuboid layout", 0.05);
+  polycube::CuboidLayoutOptions layout_options;
+  layout_options.corners = options.corners;
+  const polycube::CuboidLayout layout = polycube::compute_cuboid_layout(hm, layout_options);
+  std::copy(layout.corners.begin(), layout.corners.end(), stats.corners.begin());
+  stats.min_corner_distance_rel = layout.min_corner_distance_rel;
+  Eigen::Vector3d dims = Eigen::Vector3d::Zero();  // mean poly-edge length per cuboid axis
+  for (int e = 0; e < polycube::num_cube_edges; ++e) {
+    const auto& path = layout.poly_edges[e];
+    for (std::size_t i = 0; i + 1 < path.size(); ++i)
+      dims(e / 4) += 0.25 * (hm.vertex_position(path[i + 1]) - hm.vertex_position(path[i])).norm();
+  }
+  dims = dims.cwiseMax(1e-3 * dims.maxCoeff());
+  lap("layout");
+
+  progress.report("surface map", 0.1);
+  param::CuboidSurfaceMapOptions map_options;
+  map_options.weights = options.weights;
+  const param::CuboidSurfaceMap surface_map = param::compute_cuboid_surface_map(hm, layout, map_options);
+  stats.flipped_triangles = surface_map.num_flipped;
+  const param::CuboidSurfaceLocator locator(hm, surface_map);
+  lap("surface_map");
+
+  // Samples: mesh vertices at their surface parameters, the lattice of the volumetric grid
+  // (all nodes for the grid fit, boundary nodes for the meshless fit).
+  progress.report("volumetric map", 0.2);
+  const int longest_nodes = options.grid_nodes > 0 ? options.grid_nodes : std::max(17, 4 * options.initial_cells + 1);
+  std::array<int, 3> nodes;
+  for (int a = 0; a < 3; ++a)
+    nodes[a] = std::max(5, static_cast<int>(std::lround((longest_nodes - 1) * dims(a) / dims.maxCoeff())) + 1);
+  std::vector<Eigen::Vector3d> sample_uvw, sample_xyz;
+  for (int v = 0; v < hm.num_vertices(); ++v) {
+    if (hm.vertex_halfedge(v) == mesh::no_id) continue;
+    sample_uvw.push_back(surface_map.uvw.row(v).transpose());
+    sample_xyz.push_back(hm.vertex_position(v));
+  }
+  if (options.fit == Mesh2SplineFit::Grid) {
+    param::VolumetricGridOptions grid_options;
+    grid_options.nodes = nodes;
+    const param::VolumetricGridMap grid = param::compute_volumetric_grid_map(locator, grid_options);
+    stats.grid_inverted_hexes = grid.num_inverted_hexes;
+    stats.grid_min_scaled_jacobian = grid.min_scaled_jacobian;
+    for (int k = 0; k < nodes[2]; ++k)
+      for (int j = 0; j < nodes[1]; ++j)
+        for (int i = 0; i < nodes[0]; ++i) {
+          sample_uvw.emplace_back(double(i) / (nodes[0] - 1), double(j) / (nodes[1] - 1), double(k) / (nodes[2] - 1));
+          sample_xyz.push_back(grid.xyz.row(param::grid_node_index(nodes, i, j, k)).transpose());
+        }
+  } else {
+    for (int face = 0; face < polycube::num_cube_faces; ++face) {
+      const int a = face / 2;
+      const int ns = nodes[(a + 1) % 3], nt = nodes[(a + 2) % 3];
+      for (int j = 0; j < nt; ++j)
+        for (int i = 0; i < ns; ++i) {
+          const double s = double(i) / (ns - 1), t = double(j) / (nt - 1);
+          sample_uvw.push_back(param::cube_face_point(face, s, t));
+          sample_xyz.push_back(locator.locate(face, s, t));
+        }
+    }
+  }
+  const Samples samples = stack(sample_uvw, sample_xyz);
+  stats.samples = static_cast<int>(samples.uvw.rows());
+  lap("volumetric_map");
+
+  // §4.3.1 boundary restricted control grid, Algorithm 4 hierarchical fitting.
+  progress.report("fit", 0.3);
+  const std::array<int, 3> cells = cells_for(dims, options.initial_cells);
+  spline::TSpline ts = uniform_tspline(cells);
+  Eigen::MatrixX3d prior = greville_prior(ts, locator);
+  ts.set_points(prior);
+  spline::RefinementGrid refinement(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), cells);
+  const double target = options.max_rms_rel * diagonal;
+  Eigen::VectorXd errors;
+  for (int level = 0;; ++level) {
+    progress.report("fit level " + std::to_string(level), 0.3 + 0.4 * level / (options.max_levels + 1));
+    fit(ts, samples, prior, options);
+    errors = sample_errors(ts, samples);
+    stats.levels = level;
+    if (rms(errors) <= target || level >= options.max_levels) break;
+    // FittingError(g) of Algorithm 4: the worst sample error inside each leaf cell.
+    const std::vector<int> leaves = refinement.leaves();
+    std::vector<double> cell_error(leaves.empty() ? 0 : leaves.back() + 1, 0.0);
+    for (Eigen::Index s = 0; s < samples.uvw.rows(); ++s) {
+      const int leaf = refinement.leaf_of(samples.uvw.row(s).transpose());
+      cell_error[leaf] = std::max(cell_error[leaf], errors(s));
+    }
+    std::vector<int> marked;
+    for (int leaf : leaves)
+      if (cell_error[leaf] > target) marked.push_back(leaf);
+    if (marked.empty()) break;
+    spline::RefinementGrid next_grid = refinement;
+    spline::TSpline refined = next_grid.split(ts, marked);
+    if (refined.num_functions() > options.max_control_points) break;
+    ts = std::move(refined);
+    refinement = std::move(next_grid);
+    // The refined spline equals the previous fit: it is the prior of the next level.
+    prior = ts.points();
+  }
+  stats.control_points = ts.num_functions();
+  stats.rms_rel = rms(errors) / diagonal;
+  stats.max_rel = errors.size() ? errors.maxCoeff() / diagonal : 0.0;
+  lap("fit");
+
+  // Measures.
+  progress.report("measures", 0.75);
+  {
+    const int m = options.measure_samples;
+    mesh::TriangleMesh boundary;
+    boundary.positions.resize(6 * m * m, 3);
+    boundary.triangles.resize(6 * 2 * (m - 1) * (m - 1), 3);
+    int t = 0;
+    for (int face = 0; face < 6; ++face) {
+      const int base = face * m * m;
+      for (int j = 0; j < m; ++j)
+        for (int i = 0; i < m; ++i)
+          boundary.positions.row(base + i + m * j) =
+              ts.evaluate(param::cube_face_point(face, double(i) / (m - 1), double(j) / (m - 1))).transpose();
+      for (int j = 0; j + 1 < m; ++j)
+        for (int i = 0; i + 1 < m; ++i) {
+          const int a = base + i + m * j;
+          boundary.triangles.row(t++) << a, a + 1, a + m + 1;
+          boundary.triangles.row(t++) << a, a + m + 1, a + m;
+        }
+    }
+    const param::SurfaceDistance to_mesh(hm.to_triangle_mesh());
+    const param::SurfaceDistance to_spline(boundary);
+    double max_d = 0.0, sum2 = 0.0;
+    int count = 0;
+    for (int i = 0; i < boundary.num_vertices(); ++i) {
+      const double d = to_mesh.distance(boundary.positions.row(i).transpose());
+      max_d = std::max(max_d, d);
+      sum2 += d * d;
+      ++count;
+    }
+    for (int v = 0; v < hm.num_vertices(); ++v) {
+      if (hm.vertex_halfedge(v) == mesh::no_id) continue;
+      const double d = to_spline.distance(hm.vertex_position(v));
+      max_d = std::max(max_d, d);
+      sum2 += d * d;
+      ++count;
+    }
+    stats.hausdorff_rel = max_d / diagonal;
+    stats.rms_geo_rel = std::sqrt(sum2 / count) / diagonal;
+
+    const int nj = 25;
+    int negative = 0;
+    double min_q = 1.0;
+    for (int k = 0; k < nj; ++k)
+      for (int j = 0; j < nj; ++j)
+        for (int i = 0; i < nj; ++i) {
+          const Eigen::Vector3d uvw(double(i) / (nj - 1), double(j) / (nj - 1), double(k) / (nj - 1));
+          const Eigen::Matrix3d jac = ts.jacobian(uvw);
+          const double scale = jac.col(0).norm() * jac.col(1).norm() * jac.col(2).norm();
+          const double q = scale > 0.0 ? jac.determinant() / scale : -1.0;
+          if (q <= 0.0) ++negative;
+          min_q = std::min(min_q, q);
+        }
+    stats.min_scaled_jacobian = min_q;
+    stats.negative_jacobian_fraction = double(negative) / (nj * nj * nj);
+
+    std::mt19937_64 rng(options.seed);
+    double worst = 0.0;
+    for (int s = 0; s < 100000; ++s) {
+      Eigen::Vector3d uvw;
+      for (int a = 0; a < 3; ++a) uvw(a) = static_cast<double>(rng() >> 11) * 0x1.0p-53;
+      worst = std::max(worst, std::abs(ts.weight_sum(uvw) - 1.0));
+    }
+    stats.semi_standard_max_error = worst;
+  }
+  lap("measures");
+
+  if (options.compare_uniform) {
+    progress.report("uniform comparison", 0.85);
+    // Smallest uniform grid (same aspect as the cuboid) whose fit reaches the T-spline's rms.
+    auto uniform_rms = [&](int n, int* points) {
+      spline::TSpline u = uniform_tspline(cells_for(dims, n));
+      const Eigen::MatrixX3d p = greville_prior(u, locator);
+      u.set_points(p);
+      fit(u, samples, p, options);
+      *points = u.num_functions();
+      return rms(sample_errors(u, samples)) / diagonal;
+    };
+    int lo_n = options.initial_cells, hi_n = -1, points = 0;
+    double hi_rms = 0.0;
+    for (int n = options.initial_cells; n <= 64; n *= 2) {
+      const double r = uniform_rms(n, &points);
+      if (r <= stats.rms_rel) {
+        hi_n = n;
+        hi_rms = r;
+        break;
+      }
+      lo_n = n;
+      if (points > 8 * options.max_control_points) break;
+    }
+    if (hi_n > 0) {
+      while (hi_n - lo_n > 1) {
+        const int mid = (lo_n + hi_n) / 2;
+        const double r = uniform_rms(mid, &points);
+        if (r <= stats.rms_rel) {
+          hi_n = mid;
+          hi_rms = r;
+        } else {
+          lo_n = mid;
+        }
+      }
+      stats.uniform_control_points = uniform_tspline(cells_for(dims, hi_n)).num_functions();
+      stats.uniform_rms_rel = hi_rms;
+    }
+    lap("uniform_comparison");
+  }
+  progress.report("done", 1.0);
+  return Mesh2SplineResult{std::move(ts), std::move(stats)};
+}
+
+}  // namespace volspline::pipeline

@@ -1,0 +1,81 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/mesh/triangle_mesh.h"
+#include "core/param/cuboid_surface_map.h"
+#include "core/pipeline/progress.h"
+#include "core/spline/tspline.h"
+
+namespace volspline::pipeline {
+
+/// Which samples determine the control points.
+enum class Mesh2SplineFit {
+  Grid,      ///< §3.4.2: volumetric grid parameterization (Eq. 3.1), then fit all samples
+  Meshless,  ///< §4.3.2: boundary control points from surface samples, interior by Eq. 4.7
+};
+
+/// Options of the mesh2spline job; every field is checked on entry (volspline::Error).
+struct Mesh2SplineOptions {
+  double max_rms_rel = 0.002;       ///< stop when rms_rel ≤ this (fraction of bbox diagonal), > 0
+  int max_control_points = 50000;   ///< no refinement step beyond this many control points, ≥ 64
+  int max_levels = 4;               ///< refinement levels after level 0, in [0, 10]
+  Mesh2SplineFit fit = Mesh2SplineFit::Grid;
+  std::vector<int> corners;         ///< 8 corner vertex ids, or empty for the automatic layout
+  param::SurfaceWeights weights = param::SurfaceWeights::MeanValue;
+  int initial_cells = 4;            ///< spline cells along the longest cuboid axis at level 0, [1, 64]
+  int grid_nodes = 0;               ///< volumetric grid nodes along the longest axis; 0 = auto; else [5, 256]
+  double smoothing = 1e-4;          ///< weight of the Eq. 4.7 fairing rows (grid fit), ≥ 0
+  int threads = 1;                  ///< accepted for the CLI; the job runs on one thread, ≥ 1
+  std::uint64_t seed = 1;           ///< seeds the random parameters of semi_standard_max_error
+  bool compare_uniform = false;     ///< also fit uniform tensor B-splines to the same rms_rel
+  int measure_samples = 48;         ///< per axis per cuboid face for the surface distance, [8, 512]
+};
+
+/// The measures of DESIGN.md plus job facts (the stats JSON keys).
+struct Mesh2SplineStats {
+  double rms_rel = 0;              ///< RMS fitting error over the samples / bbox diagonal
+  double max_rel = 0;              ///< largest fitting error / bbox diagonal
+  double hausdorff_rel = 0;        ///< two-sided spline boundary ↔ mesh distance / bbox diagonal
+  double rms_geo_rel = 0;          ///< RMS of the same two-sided distances / bbox diagonal
+  int control_points = 0;
+  int levels = 0;                  ///< refinement levels done after level 0
+  double min_scaled_jacobian = 0;  ///< over a 25³ lattice of the spline domain
+  double negative_jacobian_fraction = 0;
+  double semi_standard_max_error = 0;  ///< max |Σ w_i B_i − 1| at 10⁵ random parameters
+  int cuboids = 1;
+  int flipped_triangles = 0;           ///< of the surface map (0: bijective)
+  int grid_inverted_hexes = 0;         ///< of the volumetric grid map (grid fit)
+  double grid_min_scaled_jacobian = 1; ///< of the volumetric grid map (grid fit)
+  int samples = 0;
+  double min_corner_distance_rel = 0;  ///< closest cuboid corner pair / bbox diagonal
+  std::array<int, 8> corners{};        ///< corner vertex ids used
+  /// Uniform tensor B-spline fitted to the same samples with rms_rel ≤ the T-spline's
+  /// (compare_uniform): its control points (−1: not computed or not reached) and rms_rel.
+  int uniform_control_points = -1;
+  double uniform_rms_rel = 0;
+  std::vector<std::pair<std::string, double>> times_s;  ///< per stage, seconds, in run order
+};
+
+/// Result of the mesh2spline job.
+struct Mesh2SplineResult {
+  spline::TSpline spline;  ///< domain [0,1]³, semi-standard, geometry (D = 3)
+  Mesh2SplineStats stats;
+};
+
+/// Closed genus-0 triangle mesh → one cuboid → trivariate T-spline (thesis ch. 3, 4):
+/// validate, cuboid layout, surface map (§3.4.1), volumetric grid (§3.4.2, grid fit), boundary
+/// restricted control grid (§4.3.1), least-squares fit with hierarchical refinement
+/// (Algorithm 4, §4.3.3), measures. `name` is used in error messages.
+/// Throws volspline::Error on bad options or input: open, non-manifold, several components,
+/// genus ≠ 0, inconsistent orientation, degenerate faces, NaN, or no valid cuboid map;
+/// volspline::Cancelled if progress asks to stop.
+Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& mesh, const std::string& name,
+                                  const Mesh2SplineOptions& options, const Progress& progress = {});
+
+}  // namespace volspline::pipeline

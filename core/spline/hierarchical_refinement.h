@@ -1,0 +1,54 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/spline/tspline.h"
+
+namespace volspline::spline {
+
+/// The cells of hierarchical fitting (thesis §3.5.1 Algorithm 4, §4.3.3): a uniform grid of
+/// boxes over a parameter domain, each of which can be split into 8 children, recursively.
+class RefinementGrid {
+ public:
+  /// Uniform cells[a] boxes along axis a over [lo, hi]. Asserts cells ≥ 1 and lo < hi.
+  RefinementGrid(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, std::array<int, 3> cells);
+
+  /// Ids of the current leaf cells, increasing.
+  std::vector<int> leaves() const;
+  int num_leaves() const { return num_leaves_; }
+  /// Lower and upper parameter corners and level (0 = initial grid) of cell `id`.
+  const Eigen::Vector3d& cell_min(int id) const { return nodes_[id].lo; }
+  const Eigen::Vector3d& cell_max(int id) const { return nodes_[id].hi; }
+  int cell_level(int id) const { return nodes_[id].level; }
+  /// Deepest level of any leaf.
+  int max_level() const { return max_level_; }
+  /// Leaf containing uvw (closed at the domain's upper faces); uvw is clamped into the domain.
+  int leaf_of(const Eigen::Vector3d& uvw) const;
+
+  /// Splits the given leaves into 8 (Algorithm 4 `Subdivision`) and returns `spline` refined so
+  /// that its blending functions resolve the new cells: the midpoint knots of every split cell
+  /// are inserted (Table 4.1, Eq. 4.8/4.9) into each blending function whose support overlaps
+  /// the cell, which keeps F and Σ w_i B_i unchanged.
+  /// Deviation from §4.3.3: the blending functions are split directly instead of ray-tracing a
+  /// 3D T-mesh; the result is the same kind of point-based, semi-standard spline without the
+  /// bookkeeping of T-junction faces. Asserts every id is a leaf.
+  TSpline split(const TSpline& spline, const std::vector<int>& leaf_ids);
+
+ private:
+  struct Node {
+    Eigen::Vector3d lo, hi;
+    int level = 0;
+    int first_child = -1;  // children first_child .. first_child + 7, index c = i + 2j + 4k
+  };
+  Eigen::Vector3d lo_, hi_;
+  std::array<int, 3> cells_;
+  std::vector<Node> nodes_;  // the first cells_[0]·cells_[1]·cells_[2] are the roots
+  int num_leaves_ = 0;
+  int max_level_ = 0;
+};
+
+}  // namespace volspline::spline

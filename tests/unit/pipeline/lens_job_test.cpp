@@ -1,0 +1,120 @@
+// SPDX-License-Identifier: MIT
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "core/common/error.h"
+#include "core/pipeline/lens_job.h"
+
+using namespace volspline;
+using namespace volspline::pipeline;
+
+namespace {
+
+lens::Image checkerboard(int w, int h, int cell) {
+  lens::Image img{w, h, 1, std::vector<std::uint8_t>(std::size_t(w) * h)};
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) img.pixels[y * w + x] = ((x / cell + y / cell) % 2) ? 230 : 20;
+  return img;
+}
+
+lens::Image circles(int w, int h) {
+  lens::Image img{w, h, 3, std::vector<std::uint8_t>(std::size_t(w) * h * 3)};
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c)
+        img.pixels[(y * w + x) * 3 + c] = (int(std::hypot(x - w / 2.0, y - h / 2.0) / 6) % 2) ? 200 : 40 + 30 * c;
+  return img;
+}
+
+LensInput input_with(lens::Image image, const std::vector<std::string>& rois) {
+  LensInput in;
+  in.image = std::move(image);
+  for (const auto& r : rois) in.rois.push_back(lens::parse_roi_spec(r).roi);
+  return in;
+}
+
+}  // namespace
+
+TEST_CASE("metric lens: magnification at the centre within 10% of the request, far pixels unchanged") {
+  const LensInput in = input_with(checkerboard(160, 160, 8), {"circle:80,80,30"});
+  LensOptions o;
+  o.grid = 48;
+  const LensResult r = run_lens(in, o);
+  CHECK(r.stats.magnification_center == doctest::Approx(2.0).epsilon(0.10));
+  CHECK(r.stats.flipped_triangles == 0);
+  CHECK(r.stats.converged);
+  REQUIRE(r.image.pixels.size() == in.image.pixels.size());
+  // Far outside the ROI and its context band (30·1.75 px) nothing moves: one grey level of rounding.
+  for (int y = 0; y < 160; ++y)
+    for (int x = 0; x < 160; ++x)
+      if (std::hypot(x + 0.5 - 80, y + 0.5 - 80) > 30 * 1.75 + 8)
+        CHECK(std::abs(int(r.image.at(x, y, 0)) - int(in.image.at(x, y, 0))) <= 1);
+}
+
+TEST_CASE("no folds for the thesis' alpha values with one to three ROIs") {
+  const std::vector<std::vector<std::string>> roi_sets = {
+      {"circle:60,60,20"}, {"circle:40,40,16", "rect:90,80,30,24"}, {"circle:30,30,14", "circle:90,40,14", "polygon:40,80,80,80,60,110"}};
+  for (const auto& rois : roi_sets)
+    for (double alpha : {0.0, 0.001, 0.01, 1.0}) {
+      const LensInput in = input_with(circles(120, 120), rois);
+      LensOptions o;
+      o.grid = 32;
+      o.alpha = alpha;
+      o.height = 1.0;
+      const LensResult r = run_lens(in, o);
+      INFO("rois " << rois.size() << " alpha " << alpha);
+      CHECK(r.stats.flipped_triangles == 0);
+      CHECK(r.image.channels == 3);
+    }
+}
+
+TEST_CASE("baselines run on the same grid and reach the requested magnification") {
+  const LensInput in = input_with(checkerboard(120, 120, 6), {"circle:60,60,24"});
+  for (LensMethod m : {LensMethod::Fisheye, LensMethod::Bifocal, LensMethod::Zoom}) {
+    LensOptions o;
+    o.grid = 40;
+    o.method = m;
+    const LensResult r = run_lens(in, o);
+    CHECK(r.stats.magnification_center == doctest::Approx(2.0).epsilon(0.02));  // direct search on a closed form
+    CHECK(r.stats.iterations == 0);
+  }
+}
+
+TEST_CASE("square boundary keeps the output size and does not fold") {
+  const LensInput in = input_with(checkerboard(100, 80, 5), {"circle:50,40,20"});
+  LensOptions o;
+  o.grid = 30;
+  o.height = 1.0;
+  o.boundary = LensBoundary::Square;
+  const LensResult r = run_lens(in, o);
+  CHECK(r.image.width == 100);
+  CHECK(r.image.height == 80);
+  CHECK(r.stats.flipped_triangles == 0);
+}
+
+TEST_CASE("bad options and inputs name the problem") {
+  const LensInput in = input_with(checkerboard(64, 64, 4), {"circle:32,32,10"});
+  const auto fails = [&](LensOptions o, const std::string& text) {
+    CHECK_THROWS_WITH_AS(run_lens(in, o), doctest::Contains(text.c_str()), Error);
+  };
+  LensOptions o;
+  o.magnification = 1.0;
+  fails(o, "magnification must be > 1");
+  o = {};
+  o.magnification = 1000;
+  fails(o, "at most 16");
+  o = {};
+  o.grid = 3;
+  fails(o, "grid must be at least 4");
+  o = {};
+  o.alpha = 2;
+  fails(o, "alpha must be in [0, 1]");
+  o = {};
+  o.band = 0;
+  fails(o, "band must be in");
+  CHECK_THROWS_WITH_AS(run_lens(input_with(checkerboard(64, 64, 4), {}), LensOptions{}), doctest::Contains("at least one ROI"), Error);
+  CHECK_THROWS_WITH_AS(run_lens(input_with(checkerboard(64, 64, 4), {"circle:300,30,5"}), LensOptions{}),
+                       doctest::Contains("outside the 64x64 image"), Error);
+  CHECK_THROWS_WITH_AS(run_lens(input_with(lens::Image{}, {"circle:3,3,1"}), LensOptions{}), doctest::Contains("malformed image"), Error);
+}

@@ -1,0 +1,4 @@
+# SPDX-License-Identifier: MIT
+set(TEST_SOURCES
+  ${CMAKE_CURRENT_LIST_DIR}/lens_job_test.cpp
+)

@@ -1,0 +1,34 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <emscripten/val.h>
+
+#include <string>
+
+namespace volspline::wasm {
+
+/// JS: decodeImage(bytes: Uint8Array|ArrayBuffer, name: string) ->
+///   {ok:true, image: {width, height, channels, pixels: Uint8Array}} or {ok:false, message}
+/// (PNG or JPEG; the message names `name`).
+emscripten::val decode_image(const emscripten::val& bytes, const std::string& name);
+
+/// JS: encodePng(image: {width, height, channels, pixels}) -> {ok:true, bytes: Uint8Array} or
+/// {ok:false, message}.
+emscripten::val encode_png(const emscripten::val& image);
+
+/// JS: lens(image, rois, options, progress) -> {ok:true, stats, positions, texture, triangles, image}
+/// or {ok:false, message}.
+///   image   {width, height, channels (1–4), pixels: Uint8Array, name?}, row-major, interleaved;
+///   rois    array of {shape: 'circle'|'rect'|'polygon', values: [...] (pixels)} or of texts
+///           "circle:CX,CY,R" / "rect:X,Y,W,H" / "polygon:X1,Y1,..." (see core/lens/roi.h);
+///   options plain object, every key optional (defaults of pipeline::LensOptions): method
+///           ('metric'|'fisheye'|'bifocal'|'zoom'), magnification, height, alpha, grid,
+///           boundary ('pinned'|'square'), band, tol_rel, max_iterations, render (boolean);
+///   progress optional function (stage, fraction) -> boolean, false cancels ("cancelled").
+/// Output: stats with the keys of pipeline::LensStats; positions and texture Float32Array (2 per
+/// vertex, output and input pixel coordinates); triangles Uint32Array (3 per triangle); image as
+/// the input image object, or null when options.render is false.
+emscripten::val lens(const emscripten::val& image, const emscripten::val& rois, const emscripten::val& options,
+                     const emscripten::val& progress);
+
+}  // namespace volspline::wasm
