@@ -75,16 +75,7 @@ double dot(int n, const double* a, const double* b) {
   return acc.total();
 }
 
-double direction_spmv(const CsrMatrix& a, const double* z, const double* scale, double beta,
-                      double* p, double* q) {
-  if (scale) {
-    return direction_spmv_impl(
-        a,
-        [z, scale](int begin, int end, double beta, double* __restrict p) {
-          for (int j = begin; j < end; ++j) p[j] = scale[j] * z[j] + beta * p[j];
-        },
-        beta, p, q);
-  }
+double direction_spmv(const CsrMatrix& a, const double* z, double beta, double* p, double* q) {
   return direction_spmv_impl(
       a,
       [z](int begin, int end, double beta, double* __restrict p) {
@@ -95,7 +86,7 @@ double direction_spmv(const CsrMatrix& a, const double* z, const double* scale, 
 
 double update(int n, double alpha, const double* __restrict p, const double* __restrict q,
               const double* __restrict scale, double* __restrict x, double* __restrict r,
-              double* rz) {
+              double* __restrict z, double* rz) {
   Sum4 rr_acc;
   if (scale) {
     Sum4 rz_acc;
@@ -104,17 +95,21 @@ double update(int n, double alpha, const double* __restrict p, const double* __r
       for (int j = 0; j < 4; ++j) {
         x[i + j] += alpha * p[i + j];
         const double ri = r[i + j] - alpha * q[i + j];
+        const double zi = scale[i + j] * ri;
         r[i + j] = ri;
+        z[i + j] = zi;
         rr_acc.s[j] += ri * ri;
-        rz_acc.s[j] += ri * ri * scale[i + j];
+        rz_acc.s[j] += ri * zi;
       }
     }
     for (; i < n; ++i) {
       x[i] += alpha * p[i];
       const double ri = r[i] - alpha * q[i];
+      const double zi = scale[i] * ri;
       r[i] = ri;
+      z[i] = zi;
       rr_acc.s[0] += ri * ri;
-      rz_acc.s[0] += ri * ri * scale[i];
+      rz_acc.s[0] += ri * zi;
     }
     *rz = rz_acc.total();
     return rr_acc.total();

@@ -33,12 +33,12 @@ namespace detail {
 double residual(const CsrMatrix& a, const double* b, const double* x, double* r);
 /// Returns a·b with a fixed summation order.
 double dot(int n, const double* a, const double* b);
-/// p = scale∘z + beta·p (scale null: p = z + beta·p), q = A p; returns p·q.
-double direction_spmv(const CsrMatrix& a, const double* z, const double* scale, double beta,
-                      double* p, double* q);
-/// x += alpha·p, r −= alpha·q; returns r·r, and r·(scale∘r) in *rz when scale is not null.
+/// p = z + beta·p, q = A p; returns p·q.
+double direction_spmv(const CsrMatrix& a, const double* z, double beta, double* p, double* q);
+/// x += alpha·p, r −= alpha·q; returns r·r. When scale is not null also z = scale∘r and
+/// *rz = r·z (Jacobi).
 double update(int n, double alpha, const double* p, const double* q, const double* scale,
-              double* x, double* r, double* rz);
+              double* x, double* r, double* z, double* rz);
 /// As update, then y = L⁻¹ r (forward substitution with IC(0)); returns r·r.
 double update_forward(const IncompleteCholesky0& ic, double alpha, const double* p,
                       const double* q, double* x, double* r, double* y);
@@ -203,15 +203,9 @@ class ConjugateGradient {
           info = SolverInfo::NumericalIssue;
           break;
         }
-        double pq;
-        if constexpr (std::is_same_v<Preconditioner, IdentityPreconditioner>) {
-          pq = detail::direction_spmv(a, r_.data(), nullptr, beta, p_.data(), q_.data());
-        } else if constexpr (std::is_same_v<Preconditioner, JacobiPreconditioner>) {
-          pq = detail::direction_spmv(a, r_.data(), preconditioner_.inverse_diagonal().data(),
-                                      beta, p_.data(), q_.data());
-        } else {
-          pq = detail::direction_spmv(a, z_.data(), nullptr, beta, p_.data(), q_.data());
-        }
+        const double* z =
+            std::is_same_v<Preconditioner, IdentityPreconditioner> ? r_.data() : z_.data();
+        const double pq = detail::direction_spmv(a, z, beta, p_.data(), q_.data());
         if (!(pq > 0.0) || !std::isfinite(pq)) {
           info = SolverInfo::NumericalIssue;
           break;
@@ -219,16 +213,19 @@ class ConjugateGradient {
         const double alpha = rz / pq;
         double rz_new = 0.0;
         if constexpr (std::is_same_v<Preconditioner, IdentityPreconditioner>) {
-          rr = detail::update(n, alpha, p_.data(), q_.data(), nullptr, x, r_.data(), nullptr);
+          rr = detail::update(n, alpha, p_.data(), q_.data(), nullptr, x, r_.data(), nullptr,
+                              nullptr);
           rz_new = rr;
         } else if constexpr (std::is_same_v<Preconditioner, JacobiPreconditioner>) {
           rr = detail::update(n, alpha, p_.data(), q_.data(),
-                              preconditioner_.inverse_diagonal().data(), x, r_.data(), &rz_new);
+                              preconditioner_.inverse_diagonal().data(), x, r_.data(), z_.data(),
+                              &rz_new);
         } else if constexpr (std::is_same_v<Preconditioner, IncompleteCholesky0>) {
           rr = detail::update_forward(preconditioner_, alpha, p_.data(), q_.data(), x,
                                       r_.data(), z_.data());
         } else {
-          rr = detail::update(n, alpha, p_.data(), q_.data(), nullptr, x, r_.data(), nullptr);
+          rr = detail::update(n, alpha, p_.data(), q_.data(), nullptr, x, r_.data(), nullptr,
+                              nullptr);
         }
         ++iter;
         if (!std::isfinite(rr)) break;
