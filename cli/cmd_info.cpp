@@ -43,8 +43,11 @@ int run_info(const std::vector<std::string>& argv) {
     j["components"] = r.num_components;
     j["consistently_oriented"] = r.consistently_oriented;
     j["degenerate_faces"] = r.num_degenerate_faces;
+    j["unreferenced_vertices"] = r.num_unreferenced_vertices;
+    j["flipped_faces"] = r.num_flipped_faces;
     j["euler_characteristic"] = r.euler_characteristic;
     j["genus"] = r.genus >= 0 ? nlohmann::ordered_json(r.genus) : nlohmann::ordered_json(nullptr);
+    j["signed_volume"] = r.signed_volume;
     j["bbox_min"] = {r.bbox_min.x(), r.bbox_min.y(), r.bbox_min.z()};
     j["bbox_max"] = {r.bbox_max.x(), r.bbox_max.y(), r.bbox_max.z()};
     std::printf("%s\n", j.dump(2).c_str());
@@ -60,11 +63,16 @@ int run_info(const std::vector<std::string>& argv) {
   std::printf("components           %d\n", r.num_components);
   std::printf("oriented             %s\n", r.consistently_oriented ? "yes" : "no");
   std::printf("degenerate faces     %d\n", r.num_degenerate_faces);
+  if (r.num_unreferenced_vertices > 0)
+    std::printf("unreferenced verts   %d\n", r.num_unreferenced_vertices);
+  if (!r.consistently_oriented)
+    std::printf("flipped faces        %d (reoriented to match their neighbours)\n", r.num_flipped_faces);
   std::printf("euler characteristic %d\n", r.euler_characteristic);
   if (r.genus >= 0)
     std::printf("genus                %d\n", r.genus);
   else
-    std::printf("genus                undefined (open or several components)\n");
+    std::printf("genus                undefined (%d components)\n", r.num_components);
+  if (r.closed) std::printf("signed volume        %.9g\n", r.signed_volume);
   std::printf("bbox min             %.9g %.9g %.9g\n", r.bbox_min.x(), r.bbox_min.y(), r.bbox_min.z());
   std::printf("bbox max             %.9g %.9g %.9g\n", r.bbox_max.x(), r.bbox_max.y(), r.bbox_max.z());
   return 0;

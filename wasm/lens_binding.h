@@ -24,7 +24,8 @@ emscripten::val encode_png(const emscripten::val& image);
 ///   options plain object, every key optional (defaults of pipeline::LensOptions): method
 ///           ('metric'|'fisheye'|'bifocal'|'zoom'), magnification, height, alpha, grid,
 ///           boundary ('pinned'|'square'), band, tol_rel, max_iterations, render (boolean);
-///   progress optional function (stage, fraction) -> boolean, false cancels ("cancelled").
+///   progress function (stage, fraction) -> boolean or undefined/null (all four arguments are
+///           required by Embind), false cancels ("cancelled");
 /// Output: stats with the keys of pipeline::LensStats; positions and texture Float32Array (2 per
 /// vertex, output and input pixel coordinates); triangles Uint32Array (3 per triangle); image as
 /// the input image object, or null when options.render is false.

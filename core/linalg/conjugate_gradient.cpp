@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "core/linalg/conjugate_gradient.h"
 
+#include <algorithm>
+#include <vector>
+
 namespace volspline::linalg::detail {
 
 namespace {
@@ -12,57 +15,79 @@ struct Sum4 {
   double total() const { return (s[0] + s[1]) + (s[2] + s[3]); }
 };
 
-// Rows per block of the lagged direction update: the slice of p that a block reads stays in
-// cache between its update and its use, and the update itself is a contiguous, vectorizable loop.
-constexpr int kBlockRows = 512;
+}  // namespace
 
-template <class Direction>
-double direction_spmv_impl(const CsrMatrix& a, Direction direction, double beta,
-                           double* __restrict p, double* __restrict q) {
+SymmetricMatrix symmetric_from_upper(const CsrMatrix& a) {
   const int n = a.rows();
-  const int* offsets = a.row_offsets().data();
-  const int* cols = a.col_indices().data();
-  const double* vals = a.values().data();
-  int updated = 0;
+  const std::vector<int>& off = a.row_offsets();
+  const std::vector<int>& col = a.col_indices();
+  const std::vector<double>& val = a.values();
+  SymmetricMatrix s;
+  s.diagonal = Eigen::VectorXd::Zero(n);
+  std::vector<int> offsets(n + 1, 0);
+  std::vector<int> cols;
+  std::vector<double> vals;
+  cols.reserve(a.nnz() / 2 + 1);
+  vals.reserve(a.nnz() / 2 + 1);
+  for (int i = 0; i < n; ++i) {
+    for (int k = off[i]; k < off[i + 1]; ++k) {
+      if (col[k] == i) {
+        s.diagonal[i] = val[k];
+      } else if (col[k] > i) {
+        cols.push_back(col[k]);
+        vals.push_back(val[k]);
+      }
+    }
+    offsets[i + 1] = static_cast<int>(cols.size());
+  }
+  s.strict_upper =
+      CsrMatrix::from_arrays(n, n, std::move(offsets), std::move(cols), std::move(vals));
+  return s;
+}
+
+double symmetric_spmv(const SymmetricMatrix& a, const double* __restrict p,
+                      double* __restrict q) {
+  const int n = a.strict_upper.rows();
+  const int* offsets = a.strict_upper.row_offsets().data();
+  const int* cols = a.strict_upper.col_indices().data();
+  const double* vals = a.strict_upper.values().data();
+  const double* diag = a.diagonal.data();
   double pq = 0.0;
-  for (int block = 0; block < n; block += kBlockRows) {
-    const int block_end = std::min(n, block + kBlockRows);
-    // Entries of p up to the last column this block reads (and its own rows, for p·q) must be
-    // new before the block's SpMV.
-    int need = block_end;
-    for (int i = block; i < block_end; ++i) {
-      if (offsets[i + 1] > offsets[i]) need = std::max(need, cols[offsets[i + 1] - 1] + 1);
+  // Row i gathers its upper part and scatters its transpose into later rows; when row i is
+  // done, every contribution to q[i] (from rows < i by scatter, its own by gather) is in.
+  for (int i = 0; i < n; ++i) {
+    const double pi = p[i];
+    double sum = q[i] + diag[i] * pi;
+    for (int k = offsets[i]; k < offsets[i + 1]; ++k) {
+      const int j = cols[k];
+      const double v = vals[k];
+      sum += v * p[j];
+      q[j] += v * pi;
     }
-    if (need > updated) {
-      direction(updated, need, beta, p);
-      updated = need;
-    }
-    for (int i = block; i < block_end; ++i) {
-      double sum = 0.0;
-      for (int k = offsets[i]; k < offsets[i + 1]; ++k) sum += vals[k] * p[cols[k]];
-      q[i] = sum;
-      pq += p[i] * sum;
-    }
+    q[i] = sum;
+    pq += pi * sum;
   }
   return pq;
 }
 
-}  // namespace
-
-double residual(const CsrMatrix& a, const double* b, const double* x, double* r) {
-  const int n = a.rows();
-  const int* offsets = a.row_offsets().data();
-  const int* cols = a.col_indices().data();
-  const double* vals = a.values().data();
-  double rr = 0.0;
-  for (int i = 0; i < n; ++i) {
-    double sum = 0.0;
-    for (int k = offsets[i]; k < offsets[i + 1]; ++k) sum += vals[k] * x[cols[k]];
-    const double ri = b[i] - sum;
-    r[i] = ri;
-    rr += ri * ri;
+double residual(const SymmetricMatrix& a, const double* b, const double* x, double* r) {
+  const int n = a.strict_upper.rows();
+  std::fill(r, r + n, 0.0);
+  symmetric_spmv(a, x, r);
+  Sum4 acc;
+  int i = 0;
+  for (; i + 4 <= n; i += 4) {
+    for (int j = 0; j < 4; ++j) {
+      const double ri = b[i + j] - r[i + j];
+      r[i + j] = ri;
+      acc.s[j] += ri * ri;
+    }
   }
-  return rr;
+  for (; i < n; ++i) {
+    r[i] = b[i] - r[i];
+    acc.s[0] += r[i] * r[i];
+  }
+  return acc.total();
 }
 
 double dot(int n, const double* a, const double* b) {
@@ -75,18 +100,24 @@ double dot(int n, const double* a, const double* b) {
   return acc.total();
 }
 
-double direction_spmv(const CsrMatrix& a, const double* z, double beta, double* p, double* q) {
-  return direction_spmv_impl(
-      a,
-      [z](int begin, int end, double beta, double* __restrict p) {
-        for (int j = begin; j < end; ++j) p[j] = z[j] + beta * p[j];
-      },
-      beta, p, q);
+void new_direction(int n, const double* __restrict z, const double* __restrict scale,
+                   double beta, double* __restrict p, double* __restrict q) {
+  if (scale) {
+    for (int i = 0; i < n; ++i) {
+      p[i] = scale[i] * z[i] + beta * p[i];
+      q[i] = 0.0;
+    }
+  } else {
+    for (int i = 0; i < n; ++i) {
+      p[i] = z[i] + beta * p[i];
+      q[i] = 0.0;
+    }
+  }
 }
 
 double update(int n, double alpha, const double* __restrict p, const double* __restrict q,
               const double* __restrict scale, double* __restrict x, double* __restrict r,
-              double* __restrict z, double* rz) {
+              double* rz) {
   Sum4 rr_acc;
   if (scale) {
     Sum4 rz_acc;
@@ -95,21 +126,17 @@ double update(int n, double alpha, const double* __restrict p, const double* __r
       for (int j = 0; j < 4; ++j) {
         x[i + j] += alpha * p[i + j];
         const double ri = r[i + j] - alpha * q[i + j];
-        const double zi = scale[i + j] * ri;
         r[i + j] = ri;
-        z[i + j] = zi;
         rr_acc.s[j] += ri * ri;
-        rz_acc.s[j] += ri * zi;
+        rz_acc.s[j] += ri * ri * scale[i + j];
       }
     }
     for (; i < n; ++i) {
       x[i] += alpha * p[i];
       const double ri = r[i] - alpha * q[i];
-      const double zi = scale[i] * ri;
       r[i] = ri;
-      z[i] = zi;
       rr_acc.s[0] += ri * ri;
-      rz_acc.s[0] += ri * zi;
+      rz_acc.s[0] += ri * ri * scale[i];
     }
     *rz = rz_acc.total();
     return rr_acc.total();

@@ -25,20 +25,29 @@ enum class SolverInfo {
 
 namespace detail {
 
-// Fused kernels of the CG iteration (conjugate_gradient.cpp). All arrays have n = a.rows()
-// entries. "Lagged" means the direction update p = z + beta·p runs just ahead of the SpMV row
-// that first needs it, so p is streamed once per iteration instead of twice.
+// Kernels of the CG iteration (conjugate_gradient.cpp). All arrays have n entries.
+// The SpMV dominates the run time (streaming the matrix), so the solver keeps only the
+// diagonal and the strict upper triangle: half the bytes per product of a full CSR matrix.
 
+/// Symmetric matrix as its diagonal plus strict upper triangle.
+struct SymmetricMatrix {
+  Eigen::VectorXd diagonal;  ///< n entries
+  CsrMatrix strict_upper;    ///< n×n, entries with col > row
+};
+/// Diagonal and strict upper triangle of the square matrix a (the lower triangle is ignored).
+SymmetricMatrix symmetric_from_upper(const CsrMatrix& a);
+/// q += A p (q zeroed by the caller for q = A p); returns p·q.
+double symmetric_spmv(const SymmetricMatrix& a, const double* p, double* q);
 /// r = b − A x; returns r·r.
-double residual(const CsrMatrix& a, const double* b, const double* x, double* r);
+double residual(const SymmetricMatrix& a, const double* b, const double* x, double* r);
 /// Returns a·b with a fixed summation order.
 double dot(int n, const double* a, const double* b);
-/// p = z + beta·p, q = A p; returns p·q.
-double direction_spmv(const CsrMatrix& a, const double* z, double beta, double* p, double* q);
-/// x += alpha·p, r −= alpha·q; returns r·r. When scale is not null also z = scale∘r and
-/// *rz = r·z (Jacobi).
+/// p = scale∘z + beta·p (scale null: p = z + beta·p) and q = 0.
+void new_direction(int n, const double* z, const double* scale, double beta, double* p,
+                   double* q);
+/// x += alpha·p, r −= alpha·q; returns r·r, and r·(scale∘r) in *rz when scale is not null.
 double update(int n, double alpha, const double* p, const double* q, const double* scale,
-              double* x, double* r, double* z, double* rz);
+              double* x, double* r, double* rz);
 /// As update, then y = L⁻¹ r (forward substitution with IC(0)); returns r·r.
 double update_forward(const IncompleteCholesky0& ic, double alpha, const double* p,
                       const double* q, double* x, double* r, double* y);
@@ -47,11 +56,13 @@ double backward_dot(const IncompleteCholesky0& ic, const double* r, double* y);
 
 }  // namespace detail
 
-/// Preconditioned conjugate gradients for a symmetric positive definite CsrMatrix stored in
-/// full (both triangles), after Eigen's ConjugateGradient<…, Lower|Upper, …>.
+/// Preconditioned conjugate gradients for a symmetric positive definite CsrMatrix, after
+/// Eigen's ConjugateGradient (same iteration and stopping rule).
 ///
-/// Usage: compute(A) once (stores a pointer to A, so A must outlive the solves and keep its
-/// values, then builds the preconditioner), then solve(b) / solve(b, x0) any number of times.
+/// Usage: compute(A) once (copies the diagonal and upper triangle of A, so A may be destroyed
+/// afterwards, and builds the preconditioner), then solve(b) / solve(b, x0) any number of
+/// times. Symmetry is a precondition: the iteration reads only the diagonal and the upper
+/// triangle (as Eigen's Upper mode) and IncompleteCholesky0 only the lower one.
 /// Stopping: ‖r‖ ≤ tolerance·‖b‖ as Eigen, where r is the recursive residual; on that event the
 /// true residual b − A x is recomputed and CG restarts from x if it is still too large, so
 /// Success always means the true relative residual is within tolerance. b = 0 gives x = 0.
@@ -67,11 +78,12 @@ class ConjugateGradient {
   /// Same as compute(a).
   explicit ConjugateGradient(const CsrMatrix& a) { compute(a); }
 
-  /// Stores &a (a: square n×n, symmetric positive definite, full storage) and computes the
-  /// preconditioner. Allocates all work vectors so that solves do not allocate in iterations.
+  /// a: square n×n, symmetric positive definite, both triangles stored. Copies its diagonal
+  /// and upper triangle, computes the preconditioner and allocates all work vectors, so that
+  /// solves do not allocate in iterations.
   ConjugateGradient& compute(const CsrMatrix& a) {
     assert(a.rows() == a.cols());
-    matrix_ = &a;
+    matrix_ = detail::symmetric_from_upper(a);
     preconditioner_.compute(a);
     const int n = a.rows();
     r_.resize(n);
@@ -124,15 +136,18 @@ class ConjugateGradient {
     return *this;
   }
   int max_iterations() const {
-    return max_iterations_ >= 0 ? max_iterations_ : 2 * (matrix_ ? matrix_->rows() : 0);
+    return max_iterations_ >= 0 ? max_iterations_ : 2 * size();
   }
 
   const Preconditioner& preconditioner() const { return preconditioner_; }
 
+  /// n of the last compute (0 before).
+  int size() const { return static_cast<int>(matrix_.diagonal.size()); }
+
  private:
   template <class Rhs, class Dest>
   void solve_columns(const Eigen::MatrixBase<Rhs>& b, Dest& x) {
-    assert(matrix_ && b.rows() == matrix_->rows());
+    assert(b.rows() == size());
     info_ = SolverInfo::Success;
     iterations_ = 0;
     residual_ = 0.0;
@@ -154,8 +169,7 @@ class ConjugateGradient {
     if constexpr (std::is_same_v<Preconditioner, IdentityPreconditioner>) {
       return rr;
     } else if constexpr (std::is_same_v<Preconditioner, JacobiPreconditioner>) {
-      const double* inv = preconditioner_.inverse_diagonal().data();
-      for (Eigen::Index i = 0; i < r_.size(); ++i) z_[i] = inv[i] * r_[i];
+      z_ = preconditioner_.inverse_diagonal().cwiseProduct(r_);
       return detail::dot(static_cast<int>(r_.size()), r_.data(), z_.data());
     } else {
       preconditioner_.solve(r_.data(), z_.data());
@@ -165,8 +179,8 @@ class ConjugateGradient {
 
   // Algorithm: Hestenes–Stiefel PCG with Eigen's stopping rule; see the class comment.
   SolverInfo solve_one(const double* b, double* x) {
-    const CsrMatrix& a = *matrix_;
-    const int n = a.rows();
+    const detail::SymmetricMatrix& a = matrix_;
+    const int n = size();
     last_iterations_ = 0;
     last_residual_ = 0.0;
     const double bb = detail::dot(n, b, b);
@@ -203,9 +217,15 @@ class ConjugateGradient {
           info = SolverInfo::NumericalIssue;
           break;
         }
-        const double* z =
-            std::is_same_v<Preconditioner, IdentityPreconditioner> ? r_.data() : z_.data();
-        const double pq = detail::direction_spmv(a, z, beta, p_.data(), q_.data());
+        if constexpr (std::is_same_v<Preconditioner, IdentityPreconditioner>) {
+          detail::new_direction(n, r_.data(), nullptr, beta, p_.data(), q_.data());
+        } else if constexpr (std::is_same_v<Preconditioner, JacobiPreconditioner>) {
+          detail::new_direction(n, r_.data(), preconditioner_.inverse_diagonal().data(), beta,
+                                p_.data(), q_.data());
+        } else {
+          detail::new_direction(n, z_.data(), nullptr, beta, p_.data(), q_.data());
+        }
+        const double pq = detail::symmetric_spmv(a, p_.data(), q_.data());
         if (!(pq > 0.0) || !std::isfinite(pq)) {
           info = SolverInfo::NumericalIssue;
           break;
@@ -213,19 +233,16 @@ class ConjugateGradient {
         const double alpha = rz / pq;
         double rz_new = 0.0;
         if constexpr (std::is_same_v<Preconditioner, IdentityPreconditioner>) {
-          rr = detail::update(n, alpha, p_.data(), q_.data(), nullptr, x, r_.data(), nullptr,
-                              nullptr);
+          rr = detail::update(n, alpha, p_.data(), q_.data(), nullptr, x, r_.data(), nullptr);
           rz_new = rr;
         } else if constexpr (std::is_same_v<Preconditioner, JacobiPreconditioner>) {
           rr = detail::update(n, alpha, p_.data(), q_.data(),
-                              preconditioner_.inverse_diagonal().data(), x, r_.data(), z_.data(),
-                              &rz_new);
+                              preconditioner_.inverse_diagonal().data(), x, r_.data(), &rz_new);
         } else if constexpr (std::is_same_v<Preconditioner, IncompleteCholesky0>) {
           rr = detail::update_forward(preconditioner_, alpha, p_.data(), q_.data(), x,
                                       r_.data(), z_.data());
         } else {
-          rr = detail::update(n, alpha, p_.data(), q_.data(), nullptr, x, r_.data(), nullptr,
-                              nullptr);
+          rr = detail::update(n, alpha, p_.data(), q_.data(), nullptr, x, r_.data(), nullptr);
         }
         ++iter;
         if (!std::isfinite(rr)) break;
@@ -251,7 +268,7 @@ class ConjugateGradient {
     return info;
   }
 
-  const CsrMatrix* matrix_ = nullptr;
+  detail::SymmetricMatrix matrix_;
   Preconditioner preconditioner_;
   double tolerance_ = 1e-10;
   int max_iterations_ = -1;

@@ -24,16 +24,17 @@ constexpr double kAutoPolynomialBytes = 256.0 * 1024 * 1024;
 // monomial m = (4 a + b) 4 + c, K values each.
 template <int K>
 inline void horner3(const double* coef, const double* s, double* out) {
-  double t2[4][K];
-  for (int a = 0; a < 4; ++a) {
-    double t1[4][K];
-    for (int b = 0; b < 4; ++b) {
+  for (int d = 0; d < K; ++d) out[d] = 0.0;
+  for (int a = 3; a >= 0; --a) {
+    double acc[K] = {};
+    for (int b = 3; b >= 0; --b) {
       const double* q = coef + (4 * a + b) * 4 * K;
-      for (int d = 0; d < K; ++d) t1[b][d] = ((q[3 * K + d] * s[2] + q[2 * K + d]) * s[2] + q[K + d]) * s[2] + q[d];
+      for (int d = 0; d < K; ++d) {
+        acc[d] = acc[d] * s[1] + (((q[3 * K + d] * s[2] + q[2 * K + d]) * s[2] + q[K + d]) * s[2] + q[d]);
+      }
     }
-    for (int d = 0; d < K; ++d) t2[a][d] = ((t1[3][d] * s[1] + t1[2][d]) * s[1] + t1[1][d]) * s[1] + t1[0][d];
+    for (int d = 0; d < K; ++d) out[d] = out[d] * s[0] + acc[d];
   }
-  for (int d = 0; d < K; ++d) out[d] = ((t2[3][d] * s[0] + t2[2][d]) * s[0] + t2[1][d]) * s[0] + t2[0][d];
 }
 
 // As horner3, plus the gradient with respect to (s0, s1, s2): grad[a][d].
@@ -61,6 +62,12 @@ inline void horner3_gradient(const double* coef, const double* s, double* out, d
     grad[1][d] = ((t2_1[3][d] * s[0] + t2_1[2][d]) * s[0] + t2_1[1][d]) * s[0] + t2_1[0][d];
     grad[2][d] = ((t2_2[3][d] * s[0] + t2_2[2][d]) * s[0] + t2_2[1][d]) * s[0] + t2_2[0][d];
   }
+}
+
+// Kept out of line so the hot lookup stays small.
+[[noreturn]] __attribute__((noinline, cold)) void throw_outside_domain(int axis, double t, double lo, double hi) {
+  throw Error("T-spline: parameter " + std::string(kAxisName[axis]) + " = " + std::to_string(t) +
+              " is outside the domain [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
 }
 
 int break_index(const std::vector<double>& breaks, double t) {
@@ -179,7 +186,17 @@ void TSpline::build_grid() {
     b.erase(std::unique(b.begin(), b.end()), b.end());
     inverse_widths_[a].resize(b.size() - 1);
     for (size_t k = 0; k + 1 < b.size(); ++k) inverse_widths_[a][k] = 1.0 / (b[k + 1] - b[k]);
-    num_cells *= long(b.size() - 1);
+    // Uniform bins over the axis, each holding the grid interval of its start, so locate()
+    // needs a table lookup and a step or two instead of a binary search.
+    const int m = int(b.size() - 1);
+    const int num_bins = std::min(4 * m + 1, 1 << 20);
+    bin_scale_[a] = num_bins / (b.back() - b.front());
+    bin_first_[a].resize(num_bins);
+    for (int bin = 0; bin < num_bins; ++bin) {
+      const double x = b.front() + bin / bin_scale_[a];
+      bin_first_[a][bin] = std::min(m - 1, static_cast<int>(std::upper_bound(b.begin(), b.end(), x) - b.begin()) - 1);
+    }
+    num_cells *= long(m);
     if (num_cells > kMaxCells) {
       throw Error("T-spline: the knot-line grid has more than " + std::to_string(kMaxCells) + " cells");
     }
@@ -291,12 +308,14 @@ int TSpline::locate(const Eigen::Vector3d& uvw, double* local, int* k) const {
   for (int a = 0; a < 3; ++a) {
     const std::vector<double>& b = breaks_[a];
     const double t = uvw[a];
-    if (!(t >= b.front() && t <= b.back())) {
-      throw Error("T-spline: parameter " + std::string(kAxisName[a]) + " = " + std::to_string(t) +
-                  " is outside the domain [" + std::to_string(b.front()) + ", " + std::to_string(b.back()) + "]");
-    }
+    if (!(t >= b.front() && t <= b.back())) throw_outside_domain(a, t, b.front(), b.back());
     // The last cell is closed at the domain end.
-    k[a] = static_cast<int>(std::upper_bound(b.begin() + 1, b.end() - 1, t) - b.begin()) - 1;
+    const int m = int(b.size() - 1);
+    const std::vector<int>& bins = bin_first_[a];
+    int j = bins[std::min(static_cast<int>((t - b.front()) * bin_scale_[a]), int(bins.size()) - 1)];
+    while (j + 1 < m && b[j + 1] <= t) ++j;
+    while (j > 0 && b[j] > t) --j;
+    k[a] = j;
     local[a] = (t - b[k[a]]) * inverse_widths_[a][k[a]];
   }
   return k[0] + int(breaks_[0].size() - 1) * (k[1] + int(breaks_[1].size() - 1) * k[2]);
@@ -451,34 +470,14 @@ Eigen::MatrixXd TSpline::jacobian(const Eigen::Vector3d& uvw, TSplineForm form) 
 }
 
 Eigen::MatrixXd TSpline::evaluate_batch(const Eigen::MatrixX3d& uvw, TSplineForm form) const {
-  const Eigen::Index n = uvw.rows();
-  Eigen::MatrixXd out(n, dimension_);
-  std::vector<std::uint64_t> keys(static_cast<size_t>(n));
-  for (Eigen::Index i = 0; i < n; ++i) {
-    double s[3];
-    int k[3];
+  Eigen::MatrixXd out(uvw.rows(), dimension_);
+  double value[4];
+  for (Eigen::Index i = 0; i < uvw.rows(); ++i) {
     try {
-      keys[i] = (std::uint64_t(locate(uvw.row(i).transpose(), s, k)) << 32) | std::uint64_t(i);
+      evaluate_to(uvw.row(i).transpose(), form, value);
     } catch (const Error& e) {
       throw Error("row " + std::to_string(i) + ": " + e.what());
     }
-  }
-  // Visit the parameters cell by cell so each cell's data is loaded once; the values do not
-  // depend on the order.
-  if (cells_.size() <= 4 * size_t(n)) {
-    std::vector<std::uint32_t> start(cells_.size() + 1, 0);
-    for (std::uint64_t key : keys) ++start[(key >> 32) + 1];
-    for (size_t c = 0; c < cells_.size(); ++c) start[c + 1] += start[c];
-    std::vector<std::uint64_t> sorted(keys.size());
-    for (std::uint64_t key : keys) sorted[start[key >> 32]++] = key;
-    keys.swap(sorted);
-  } else {
-    std::sort(keys.begin(), keys.end());
-  }
-  double value[4];
-  for (std::uint64_t key : keys) {
-    const Eigen::Index i = static_cast<Eigen::Index>(key & 0xffffffffu);
-    evaluate_to(uvw.row(i).transpose(), form, value);
     for (int d = 0; d < dimension_; ++d) out(i, d) = value[d];
   }
   return out;

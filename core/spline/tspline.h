@@ -102,8 +102,7 @@ class TSpline {
   Eigen::VectorXd derivative(const Eigen::Vector3d& uvw, const std::array<int, 3>& order) const;
   /// Σ w_i B_i(uvw): 1 everywhere for a semi-standard spline. Throws like evaluate_to.
   double weight_sum(const Eigen::Vector3d& uvw) const;
-  /// F at each row of uvw (m×3, m < 2^32), returns m×D; the rows are visited grouped by grid
-  /// cell (cache-friendly), results equal evaluate(). Throws like evaluate_to, naming the row.
+  /// F at each row of uvw (m×3), returns m×D. Throws like evaluate_to, naming the row.
   Eigen::MatrixXd evaluate_batch(const Eigen::MatrixX3d& uvw, TSplineForm form = TSplineForm::SemiStandard) const;
 
   /// Blending functions whose support contains uvw: their indices (increasing) and the partial
@@ -143,6 +142,8 @@ class TSpline {
   std::vector<double> weighted_points_;  // n×D row-major w_i p_i
   std::array<std::vector<double>, 3> breaks_;
   std::array<std::vector<double>, 3> inverse_widths_;
+  std::array<std::vector<int>, 3> bin_first_;  // grid interval containing each uniform bin's start
+  std::array<double, 3> bin_scale_{};          // bins per unit parameter
   std::array<std::vector<std::array<double, 4>>, 3> pieces_;  // power form in s ∈ [0, 1]
   std::vector<Cell> cells_;
   std::vector<std::uint32_t> cell_pieces_;

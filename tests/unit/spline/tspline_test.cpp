@@ -18,6 +18,7 @@ using volspline::spline::BsplineVolume;
 using volspline::spline::from_bspline_volume;
 using volspline::spline::LocalKnots;
 using volspline::spline::TSpline;
+using volspline::spline::TSplineAcceleration;
 using volspline::spline::TSplineForm;
 
 namespace {
@@ -52,7 +53,7 @@ std::vector<Eigen::Vector3d> random_parameters(const Eigen::Vector3d& lo, const 
 // A T-spline with no tensor structure: random knot vectors drawn from a small set of values
 // (with repeats), random positive weights. Not semi-standard, and parts of the box may be
 // uncovered.
-TSpline random_tspline(int n, int dimension, unsigned seed) {
+TSpline random_tspline(int n, int dimension, unsigned seed, TSplineAcceleration acceleration) {
   std::mt19937 rng(seed);
   std::uniform_int_distribution<int> pick(0, 6);
   std::uniform_real_distribution<double> weight(0.5, 2.0);
@@ -73,15 +74,20 @@ TSpline random_tspline(int n, int dimension, unsigned seed) {
     weights[i] = weight(rng);
     for (int d = 0; d < dimension; ++d) points(i, d) = normal(rng);
   }
-  return TSpline(knots, weights, points);
+  return TSpline(knots, weights, points, acceleration);
 }
+
+const TSplineAcceleration kAccelerations[] = {TSplineAcceleration::CellPolynomials, TSplineAcceleration::FunctionLists};
 
 }  // namespace
 
 TEST_CASE("T-spline of a full tensor grid equals the B-spline volume") {
-  for (int dimension = 1; dimension <= 4; ++dimension) {
+  for (int run = 0; run < 8; ++run) {
+    const int dimension = 1 + run / 2;
+    const TSplineAcceleration acceleration = kAccelerations[run % 2];
     const BsplineVolume volume = random_volume(dimension, 10 + dimension);
-    const TSpline spline = from_bspline_volume(volume);
+    const TSpline spline = from_bspline_volume(volume, acceleration);
+    CHECK(spline.has_cell_polynomials() == (acceleration == TSplineAcceleration::CellPolynomials));
     CHECK(spline.num_functions() == volume.control_points().rows());
     CHECK(spline.dimension() == dimension);
     CHECK(spline.domain_min() == volume.domain_min());
@@ -108,7 +114,8 @@ TEST_CASE("T-spline of a full tensor grid equals the B-spline volume") {
 }
 
 TEST_CASE("grid evaluation equals the brute-force sum over all blending functions") {
-  const TSpline spline = random_tspline(60, 3, 5);
+ for (const TSplineAcceleration acceleration : kAccelerations) {
+  const TSpline spline = random_tspline(60, 3, 5, acceleration);
   CHECK(spline.num_cells() > 1);
   std::vector<Eigen::Vector3d> params = random_parameters(spline.domain_min(), spline.domain_max(), 400, 6);
   // Parameters on knot lines, where the half-open convention matters.
@@ -134,10 +141,12 @@ TEST_CASE("grid evaluation equals the brute-force sum over all blending function
     CHECK(std::is_sorted(ids.begin(), ids.end()));
     for (size_t m = 0; m < ids.size(); ++m) CHECK(std::abs(values[m] - spline.blending_function(ids[m], p)) < 1e-12);
   }
+ }
 }
 
 TEST_CASE("semi-standard and rational Jacobians match finite differences") {
-  const TSpline spline = random_tspline(80, 3, 8);
+ for (const TSplineAcceleration acceleration : kAccelerations) {
+  const TSpline spline = random_tspline(80, 3, 8, acceleration);
   const double h = 1e-6;
   int checked = 0;
   for (const Eigen::Vector3d& p : random_parameters(spline.domain_min(), spline.domain_max(), 300, 9)) {
@@ -161,15 +170,21 @@ TEST_CASE("semi-standard and rational Jacobians match finite differences") {
     }
   }
   CHECK(checked > 100);
+ }
 }
 
 TEST_CASE("set_points keeps the grid and changes F") {
   const BsplineVolume volume = random_volume(3, 1);
+  for (const TSplineAcceleration acceleration : kAccelerations) {
+    TSpline spline = from_bspline_volume(volume, acceleration);
+    const Eigen::MatrixXd doubled = 2.0 * spline.points();
+    spline.set_points(doubled);
+    const Eigen::Vector3d p(0.4, 0.2, 3.05);
+    CHECK((spline.evaluate(p) - 2.0 * volume.evaluate(p)).norm() < 1e-12);
+    CHECK((spline.evaluate(p, TSplineForm::Rational) - 2.0 * volume.evaluate(p)).norm() < 1e-12);
+    CHECK(std::abs(spline.weight_sum(p) - 1.0) < 1e-12);
+  }
   TSpline spline = from_bspline_volume(volume);
-  const Eigen::MatrixXd doubled = 2.0 * spline.points();
-  spline.set_points(doubled);
-  const Eigen::Vector3d p(0.4, 0.2, 3.05);
-  CHECK((spline.evaluate(p) - 2.0 * volume.evaluate(p)).norm() < 1e-12);
   CHECK_THROWS_WITH_AS(spline.set_points(Eigen::MatrixXd::Zero(3, 3)),
                        ("T-spline: new control points are 3x3, expected " + std::to_string(spline.num_functions()) + "x3").c_str(),
                        Error);

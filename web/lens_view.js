@@ -1,0 +1,173 @@
+// SPDX-License-Identifier: MIT
+// WebGL2 view of the lens result: the flattened mesh (output pixel positions) textured with the
+// input image (texture coordinates in input pixels), the ROI circle drawn on an overlay canvas.
+// Pointer input moves the ROI (drag inside) or resizes it (drag its rim); every change calls
+// onChange(roi) so the page can re-run the job. Until a result arrives the plain image is shown.
+import { createProgram } from './gl_util.js';
+
+const VERTEX = `#version 300 es
+in vec2 position;   // output pixels
+in vec2 texcoord;   // input pixels
+uniform vec2 size;  // image width, height
+out vec2 uv;
+void main() {
+  uv = texcoord / size;
+  vec2 clip = position / size * 2.0 - 1.0;
+  gl_Position = vec4(clip.x, -clip.y, 0.0, 1.0);
+}`;
+
+const FRAGMENT = `#version 300 es
+precision highp float;
+in vec2 uv;
+uniform sampler2D image;
+out vec4 colour;
+void main() { colour = texture(image, uv); }`;
+
+export class LensView {
+  /// `canvas`: WebGL2 canvas; `overlay`: a 2D canvas stacked over it with the same CSS size.
+  constructor(canvas, overlay, onChange) {
+    this.canvas = canvas;
+    this.overlay = overlay;
+    this.onChange = onChange;
+    const gl = canvas.getContext('webgl2', { antialias: true, preserveDrawingBuffer: true });
+    if (!gl) throw new Error('WebGL2 is not available in this browser');
+    this.gl = gl;
+    this.program = createProgram(gl, VERTEX, FRAGMENT);
+    this.vao = gl.createVertexArray();
+    this.buffers = { position: gl.createBuffer(), texcoord: gl.createBuffer(), triangles: gl.createBuffer() };
+    this.texture = gl.createTexture();
+    this.count = 0;
+    this.image = null;
+    this.roi = null;
+    this.installControls();
+  }
+
+  /// Sets the input image {width, height, channels, pixels} and shows it undeformed.
+  setImage(image) {
+    const gl = this.gl;
+    const n = image.width * image.height;
+    const rgba = new Uint8Array(4 * n);
+    for (let i = 0; i < n; i++) {
+      const s = i * image.channels, p = image.pixels;
+      if (image.channels >= 3) { rgba[4 * i] = p[s]; rgba[4 * i + 1] = p[s + 1]; rgba[4 * i + 2] = p[s + 2]; }
+      else { rgba[4 * i] = rgba[4 * i + 1] = rgba[4 * i + 2] = p[s]; }
+      rgba[4 * i + 3] = image.channels === 4 ? p[s + 3] : image.channels === 2 ? p[s + 1] : 255;
+    }
+    gl.bindTexture(gl.TEXTURE_2D, this.texture);
+    gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA8, image.width, image.height, 0, gl.RGBA, gl.UNSIGNED_BYTE, rgba);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.LINEAR);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.LINEAR);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE);
+    this.image = { width: image.width, height: image.height };
+    for (const c of [this.canvas, this.overlay]) { c.width = image.width; c.height = image.height; }
+    this.canvas.parentElement.style.aspectRatio = `${image.width} / ${image.height}`;
+    this.canvas.parentElement.style.setProperty('--aspect', String(image.width / image.height));
+    const w = image.width, h = image.height;
+    const corners = new Float32Array([0, 0, w, 0, w, h, 0, h]);
+    this.setMesh(corners, corners, new Uint32Array([0, 1, 2, 0, 2, 3]));
+  }
+
+  /// Shows a deformation: positions and texture Float32Array (2 per vertex, pixels), triangles Uint32Array.
+  setMesh(positions, texture, triangles) {
+    const gl = this.gl;
+    gl.useProgram(this.program);
+    gl.bindVertexArray(this.vao);
+    for (const [name, data] of [['position', positions], ['texcoord', texture]]) {
+      gl.bindBuffer(gl.ARRAY_BUFFER, this.buffers[name]);
+      gl.bufferData(gl.ARRAY_BUFFER, data, gl.DYNAMIC_DRAW);
+      const loc = gl.getAttribLocation(this.program, name);
+      gl.enableVertexAttribArray(loc);
+      gl.vertexAttribPointer(loc, 2, gl.FLOAT, false, 0, 0);
+    }
+    gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, this.buffers.triangles);
+    gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, triangles, gl.DYNAMIC_DRAW);
+    gl.bindVertexArray(null);
+    this.count = triangles.length;
+    this.draw();
+  }
+
+  /// Sets the ROI circle {cx, cy, r} (input pixels) without calling onChange.
+  setRoi(roi) { this.roi = { ...roi }; this.drawOverlay(); }
+
+  draw() {
+    const gl = this.gl;
+    if (!this.image) return;
+    gl.viewport(0, 0, this.canvas.width, this.canvas.height);
+    gl.clearColor(0, 0, 0, 1);
+    gl.clear(gl.COLOR_BUFFER_BIT);
+    gl.useProgram(this.program);
+    gl.uniform2f(gl.getUniformLocation(this.program, 'size'), this.image.width, this.image.height);
+    gl.activeTexture(gl.TEXTURE0);
+    gl.bindTexture(gl.TEXTURE_2D, this.texture);
+    gl.uniform1i(gl.getUniformLocation(this.program, 'image'), 0);
+    gl.bindVertexArray(this.vao);
+    gl.drawElements(gl.TRIANGLES, this.count, gl.UNSIGNED_INT, 0);
+    gl.bindVertexArray(null);
+  }
+
+  drawOverlay() {
+    const ctx = this.overlay.getContext('2d');
+    ctx.clearRect(0, 0, this.overlay.width, this.overlay.height);
+    if (!this.roi || !this.image) return;
+    const scale = this.image.width / (this.overlay.clientWidth || this.image.width);
+    ctx.lineWidth = 2 * scale;
+    ctx.setLineDash([6 * scale, 4 * scale]);
+    ctx.strokeStyle = 'rgba(255, 200, 0, 0.9)';
+    ctx.beginPath();
+    ctx.arc(this.roi.cx, this.roi.cy, this.roi.r, 0, 2 * Math.PI);
+    ctx.stroke();
+    ctx.setLineDash([]);
+    ctx.fillStyle = 'rgba(255, 200, 0, 0.9)';
+    ctx.beginPath();
+    ctx.arc(this.roi.cx + this.roi.r, this.roi.cy, 5 * scale, 0, 2 * Math.PI);
+    ctx.fill();
+  }
+
+  /// Input pixel coordinates of a pointer event.
+  toImage(e) {
+    const rect = this.overlay.getBoundingClientRect();
+    return [(e.clientX - rect.left) / rect.width * this.image.width, (e.clientY - rect.top) / rect.height * this.image.height];
+  }
+
+  installControls() {
+    const o = this.overlay;
+    let drag = null;
+    o.addEventListener('pointerdown', (e) => {
+      if (!this.image || !this.roi) return;
+      const [x, y] = this.toImage(e);
+      const d = Math.hypot(x - this.roi.cx, y - this.roi.cy);
+      const grab = 10 * this.image.width / o.getBoundingClientRect().width;
+      if (Math.abs(d - this.roi.r) <= grab) drag = { mode: 'resize' };
+      else if (d < this.roi.r) drag = { mode: 'move', dx: this.roi.cx - x, dy: this.roi.cy - y };
+      else return;
+      o.setPointerCapture(e.pointerId);
+      e.preventDefault();
+    });
+    o.addEventListener('pointermove', (e) => {
+      if (!this.image || !this.roi) return;
+      const [x, y] = this.toImage(e);
+      if (!drag) {
+        const d = Math.hypot(x - this.roi.cx, y - this.roi.cy);
+        const grab = 10 * this.image.width / o.getBoundingClientRect().width;
+        o.style.cursor = Math.abs(d - this.roi.r) <= grab ? 'ew-resize' : d < this.roi.r ? 'move' : 'default';
+        return;
+      }
+      const { width, height } = this.image;
+      if (drag.mode === 'move') {
+        this.roi.cx = Math.min(width - 1, Math.max(1, x + drag.dx));
+        this.roi.cy = Math.min(height - 1, Math.max(1, y + drag.dy));
+      } else {
+        this.roi.r = Math.max(4, Math.min(0.5 * Math.min(width, height), Math.hypot(x - this.roi.cx, y - this.roi.cy)));
+      }
+      this.drawOverlay();
+      this.onChange({ ...this.roi }, true);
+    });
+    const end = () => {
+      if (drag) { drag = null; this.onChange({ ...this.roi }, false); }
+    };
+    o.addEventListener('pointerup', end);
+    o.addEventListener('pointercancel', end);
+  }
+}

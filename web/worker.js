@@ -1,0 +1,83 @@
+// SPDX-License-Identifier: MIT
+// The Web Worker that owns the WebAssembly core. Only this file loads volspline.mjs.
+// Messages in:  {type:'init', cancel: SharedArrayBuffer|null}
+//               {type:'run', id, job, args}
+// Messages out: {type:'ready', version, jobs} | {type:'fatal', message}
+//               {type:'progress', id, stage, fraction} | {type:'result', id, result, ms}
+// Every job result is the core's {ok, ...} object; typed arrays in it are transferred, not copied.
+import createVolspline from './volspline.mjs';
+
+let core = null;
+let cancelFlag = null;  // Int32Array over a SharedArrayBuffer: 1 asks the running job to stop
+const images = new Map();  // decoded images by key, so live lens runs do not resend pixels
+
+const transferables = (value, out = []) => {
+  if (ArrayBuffer.isView(value)) out.push(value.buffer);
+  else if (value && typeof value === 'object') for (const v of Object.values(value)) transferables(v, out);
+  return out;
+};
+
+const jobs = {
+  meshInfo: ({ bytes, name }) => core.meshInfo(bytes, name),
+  // Decodes once and keeps the image under `key`; returns it for the page's texture.
+  setImage: ({ key, bytes, name }) => {
+    const r = core.decodeImage(bytes, name);
+    if (!r.ok) return r;
+    r.image.name = name;
+    images.set(key, r.image);
+    const copy = { ...r.image, pixels: r.image.pixels.slice() };
+    return { ok: true, image: copy };
+  },
+  lens: ({ key, rois, options }, progress) => {
+    const image = images.get(key);
+    if (!image) return { ok: false, message: 'no image loaded' };
+    return core.lens(image, rois, options, progress);
+  },
+  // Runs the lens with the core rasterizer and returns the PNG bytes.
+  lensPng: ({ key, rois, options }, progress) => {
+    const image = images.get(key);
+    if (!image) return { ok: false, message: 'no image loaded' };
+    const r = core.lens(image, rois, { ...options, render: true }, progress);
+    if (!r.ok) return r;
+    const png = core.encodePng(r.image);
+    return png.ok ? { ok: true, bytes: png.bytes, stats: r.stats } : png;
+  },
+};
+
+function run({ id, job, args }) {
+  if (!jobs[job]) return { ok: false, message: `unknown job '${job}'` };
+  if (cancelFlag) Atomics.store(cancelFlag, 0, 0);
+  let last = 0;
+  const progress = (stage, fraction) => {
+    const now = performance.now();
+    if (now - last > 50 || fraction >= 1) {  // throttle: the page repaints at most ~20 times a second
+      last = now;
+      postMessage({ type: 'progress', id, stage, fraction });
+    }
+    return !(cancelFlag && Atomics.load(cancelFlag, 0) === 1);
+  };
+  try {
+    return jobs[job](args, progress);
+  } catch (e) {
+    // The bindings never throw for bad data; this is a JS-side bug or a wasm trap.
+    return { ok: false, message: 'internal error: ' + (e && e.message ? e.message : String(e)) };
+  }
+}
+
+onmessage = async (event) => {
+  const msg = event.data;
+  if (msg.type === 'init') {
+    cancelFlag = msg.cancel ? new Int32Array(msg.cancel) : null;
+    try {
+      core = await createVolspline();
+      const available = Object.keys(jobs);
+      postMessage({ type: 'ready', version: core.version(), jobs: available });
+    } catch (e) {
+      postMessage({ type: 'fatal', message: 'the WebAssembly core did not load: ' + e });
+    }
+  } else if (msg.type === 'run') {
+    const t0 = performance.now();
+    const result = run(msg);
+    postMessage({ type: 'result', id: msg.id, result, ms: performance.now() - t0 }, transferables(result));
+  }
+};
