@@ -129,6 +129,8 @@ int run_lens(const std::vector<std::string>& argv_in) {
     j["magnification_per_roi"] = s.magnification_per_roi;
     j["distortion_sum"] = s.distortion_sum;
     j["distortion_max"] = s.distortion_max;
+    j["distortion_sum_focus"] = s.distortion_sum_focus;
+    j["distortion_max_focus"] = s.distortion_max_focus;
     j["flipped_triangles"] = s.flipped_triangles;
     j["iterations"] = s.iterations;
     j["converged"] = s.converged;

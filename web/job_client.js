@@ -70,6 +70,7 @@ export class JobClient {
     return new Promise((resolve) => {
       const id = this.nextId++;
       this.current = { id, resolve, onProgress };
+      if (this.flag) Atomics.store(this.flag, 0, 0);  // cleared here, not in the worker: a cancel may precede the start
       for (const l of this.listeners) l('busy');
       this.worker.postMessage({ type: 'run', id, job, args }, transfer);
     });

@@ -46,7 +46,6 @@ const jobs = {
 
 function run({ id, job, args }) {
   if (!jobs[job]) return { ok: false, message: `unknown job '${job}'` };
-  if (cancelFlag) Atomics.store(cancelFlag, 0, 0);
   let last = 0;
   const progress = (stage, fraction) => {
     const now = performance.now();

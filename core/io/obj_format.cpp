@@ -12,6 +12,7 @@
 namespace volspline::io {
 
 mesh::TriangleMesh parse_obj(const std::string& bytes, const std::string& name) {
+  if (bytes.empty()) throw Error(name + ": empty file");
   MeshTextScanner scan(bytes, name);
   MeshBuilder builder;
   // Corners are resolved against the final vertex count, so remember where each triangle came from.

@@ -5,7 +5,6 @@
 #include <cmath>
 
 #include <Eigen/Geometry>
-#include <Eigen/LU>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
@@ -19,12 +18,14 @@ double ms_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-// Per-triangle constants: the inverse of the standard triangle's edge matrix and, per edge
-// (0→1, 1→2, 2→0), its weight and its vector in the standard triangle.
+// Per-triangle constants of an active triangle (one with a free vertex): its vertices, the
+// inverse of the standard triangle's edge matrix and, per edge (0→1, 1→2, 2→0), its weight and
+// its vector in the standard triangle.
 struct StandardTriangle {
-  Eigen::Matrix2d edges_inverse;
+  int v[3];
+  double inv00, inv01, inv10, inv11;
   double weight[3];
-  Eigen::Vector2d rest[3];
+  double rest_x[3], rest_y[3];
 };
 
 }  // namespace
@@ -45,30 +46,34 @@ FlattenResult flatten_lens(const mesh::Positions& xyz, const mesh::Triangles& tr
   if (num_free == 0) return result;
 
   // Step 1: standard 2D triangles T^d: v0 = (0,0), v1 = (|e1|, 0), v2 = (|e3|cosθ, |e3|sinθ).
-  std::vector<StandardTriangle> standard(m);
+  // A triangle with three pinned vertices neither enters W nor changes, so only active ones are kept.
+  std::vector<StandardTriangle> standard;
+  standard.reserve(std::size_t(m) / 2);
   std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(std::size_t(m) * 12);
+  triplets.reserve(std::size_t(num_free) * 14);
   Eigen::MatrixX2d pinned_rhs = Eigen::MatrixX2d::Zero(num_free, 2);
   for (int t = 0; t < m; ++t) {
     const int v[3] = {triangles(t, 0), triangles(t, 1), triangles(t, 2)};
+    if (free_id[v[0]] < 0 && free_id[v[1]] < 0 && free_id[v[2]] < 0) continue;
     const Eigen::Vector3d e1 = xyz.row(v[1]) - xyz.row(v[0]), e3 = xyz.row(v[2]) - xyz.row(v[0]);
     const double l1 = e1.norm(), l3 = e3.norm();
     const double cos_t = e1.dot(e3) / (l1 * l3), sin_t = e1.cross(e3).norm() / (l1 * l3);
-    const Eigen::Vector2d p[3] = {{0, 0}, {l1, 0}, {l3 * cos_t, l3 * sin_t}};
-    StandardTriangle& s = standard[t];
-    Eigen::Matrix2d edges;
-    edges << p[1] - p[0], p[2] - p[0];
-    s.edges_inverse = edges.inverse();
+    const double px[3] = {0, l1, l3 * cos_t}, py[3] = {0, 0, l3 * sin_t};
+    StandardTriangle s;
+    for (int k = 0; k < 3; ++k) s.v[k] = v[k];
+    const double det = px[1] * py[2] - px[2] * py[1];
+    s.inv00 = py[2] / det, s.inv01 = -px[2] / det, s.inv10 = -py[1] / det, s.inv11 = px[1] / det;
     const double area = 0.5 * l1 * l3 * sin_t;
     const double h = (xyz(v[0], 2) + xyz(v[1], 2) + xyz(v[2], 2)) / (3.0 * options.height_unit);
     for (int e = 0; e < 3; ++e) {
       const int i = e, j = (e + 1) % 3, k = (e + 2) % 3;
-      const Eigen::Vector2d a = p[i] - p[k], b = p[j] - p[k];
-      const double cot = a.dot(b) / std::abs(a.x() * b.y() - a.y() * b.x());
+      const double ax = px[i] - px[k], ay = py[i] - py[k], bx = px[j] - px[k], by = py[j] - py[k];
+      const double cot = (ax * bx + ay * by) / std::abs(ax * by - ay * bx);
       // §6.4 weights: w_ij = (1 + h_k)·A_k·cotθ, θ opposite the edge in T_k.
       const double w = (1.0 + h) * area * cot;
       s.weight[e] = w;
-      s.rest[e] = p[j] - p[i];
+      s.rest_x[e] = px[j] - px[i];
+      s.rest_y[e] = py[j] - py[i];
       const int vi = v[i], vj = v[j], fi = free_id[vi], fj = free_id[vj];
       if (fi >= 0) triplets.emplace_back(fi, fi, w);
       if (fj >= 0) triplets.emplace_back(fj, fj, w);
@@ -81,12 +86,14 @@ FlattenResult flatten_lens(const mesh::Positions& xyz, const mesh::Triangles& tr
         pinned_rhs.row(fj) += w * start.row(vi);
       }
     }
+    standard.push_back(s);
   }
   Eigen::SparseMatrix<double> W(num_free, num_free);
   W.setFromTriplets(triplets.begin(), triplets.end());
   result.ms_setup = ms_since(t_setup);
 
-  // Algorithm 5: W depends only on the lens mesh, so it is factorized once and reused.
+  // Algorithm 5: W depends only on the lens mesh, so it is factorized once and reused; the x and
+  // y columns of Eq. 6.3 share the factorization.
   const auto t_factor = std::chrono::steady_clock::now();
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> solver;
   solver.compute(W);
@@ -97,7 +104,8 @@ FlattenResult flatten_lens(const mesh::Positions& xyz, const mesh::Triangles& tr
   const auto t_iterate = std::chrono::steady_clock::now();
   Eigen::MatrixX2d& x = result.positions;
   Eigen::MatrixX2d rhs(num_free, 2), solution(num_free, 2);
-  std::vector<Eigen::Matrix2d> metric(m);
+  const std::size_t num_active = standard.size();
+  std::vector<double> metric_a(num_active), metric_b(num_active);  // M = [a −b; b a] per triangle
   double previous_energy = 0;
   for (int it = 0; it < options.max_iterations; ++it) {
     // Local step (§6.4.1). J maps T^d onto the current triangle; its closest rotation (the polar
@@ -106,39 +114,44 @@ FlattenResult flatten_lens(const mesh::Positions& xyz, const mesh::Triangles& tr
     // J is the exact affine Jacobian rather than Eq. 6.5's unweighted edge sum, so the local step
     // minimizes the cot-weighted Eq. 6.2 per triangle exactly and the energy never increases.
     rhs = pinned_rhs;
-    for (int t = 0; t < m; ++t) {
-      const int v0 = triangles(t, 0), v1 = triangles(t, 1), v2 = triangles(t, 2);
-      Eigen::Matrix2d current;
-      current << (x.row(v1) - x.row(v0)).transpose(), (x.row(v2) - x.row(v0)).transpose();
-      const Eigen::Matrix2d J = current * standard[t].edges_inverse;
-      const double a = 0.5 * (J(0, 0) + J(1, 1)), b = 0.5 * (J(1, 0) - J(0, 1));
+    for (std::size_t t = 0; t < num_active; ++t) {
+      const StandardTriangle& s = standard[t];
+      const double c0x = x(s.v[1], 0) - x(s.v[0], 0), c0y = x(s.v[1], 1) - x(s.v[0], 1);
+      const double c1x = x(s.v[2], 0) - x(s.v[0], 0), c1y = x(s.v[2], 1) - x(s.v[0], 1);
+      const double j00 = c0x * s.inv00 + c1x * s.inv10, j01 = c0x * s.inv01 + c1x * s.inv11;
+      const double j10 = c0y * s.inv00 + c1y * s.inv10, j11 = c0y * s.inv01 + c1y * s.inv11;
+      double a = 0.5 * (j00 + j11), b = 0.5 * (j10 - j01);
       const double sigma1 = std::hypot(a, b);
-      Eigen::Matrix2d M = Eigen::Matrix2d::Identity();
       if (sigma1 > 0) {
         const double sigma = options.alpha * (sigma1 - 1.0) + 1.0;  // Eq. 6.8
-        M << a, -b, b, a;
-        M *= sigma / sigma1;
+        a *= sigma / sigma1;
+        b *= sigma / sigma1;
+      } else {
+        a = 1.0, b = 0.0;
       }
-      metric[t] = M;
-      const int v[3] = {v0, v1, v2};
+      metric_a[t] = a, metric_b[t] = b;
       for (int e = 0; e < 3; ++e) {
-        const Eigen::RowVector2d r = standard[t].weight[e] * (M * standard[t].rest[e]).transpose();
-        const int fi = free_id[v[e]], fj = free_id[v[(e + 1) % 3]];
-        if (fi >= 0) rhs.row(fi) -= r;
-        if (fj >= 0) rhs.row(fj) += r;
+        const double w = s.weight[e];
+        const double rx = w * (a * s.rest_x[e] - b * s.rest_y[e]), ry = w * (b * s.rest_x[e] + a * s.rest_y[e]);
+        const int fi = free_id[s.v[e]], fj = free_id[s.v[(e + 1) % 3]];
+        if (fi >= 0) rhs(fi, 0) -= rx, rhs(fi, 1) -= ry;
+        if (fj >= 0) rhs(fj, 0) += rx, rhs(fj, 1) += ry;
       }
     }
     // Global step: Eq. 6.3 with the pre-factorized W.
     solution = solver.solve(rhs);
     for (int v = 0; v < n; ++v)
-      if (free_id[v] >= 0) x.row(v) = solution.row(free_id[v]);
+      if (free_id[v] >= 0) x(v, 0) = solution(free_id[v], 0), x(v, 1) = solution(free_id[v], 1);
 
-    double energy = 0;  // Eq. 6.2
-    for (int t = 0; t < m; ++t) {
-      const int v[3] = {triangles(t, 0), triangles(t, 1), triangles(t, 2)};
+    double energy = 0;  // Eq. 6.2 (inactive triangles are rigidly in place and add zero)
+    for (std::size_t t = 0; t < num_active; ++t) {
+      const StandardTriangle& s = standard[t];
+      const double a = metric_a[t], b = metric_b[t];
       for (int e = 0; e < 3; ++e) {
-        const Eigen::Vector2d d = (x.row(v[(e + 1) % 3]) - x.row(v[e])).transpose() - metric[t] * standard[t].rest[e];
-        energy += standard[t].weight[e] * d.squaredNorm();
+        const int i = s.v[e], j = s.v[(e + 1) % 3];
+        const double dx = x(j, 0) - x(i, 0) - (a * s.rest_x[e] - b * s.rest_y[e]);
+        const double dy = x(j, 1) - x(i, 1) - (b * s.rest_x[e] + a * s.rest_y[e]);
+        energy += s.weight[e] * (dx * dx + dy * dy);
       }
     }
     result.iterations = it + 1;

@@ -2,6 +2,7 @@
 #include "core/lens/lens_measures.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <complex>
 #include <limits>
@@ -23,6 +24,12 @@ double corner_angle(const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return
 
 ShapeDistortion measure_distortion(const Eigen::MatrixX2d& output, const Eigen::MatrixX2d& texture,
                                    const mesh::Triangles& triangles) {
+  return measure_distortion(output, texture, triangles, std::vector<char>(std::size_t(triangles.rows()), 0));
+}
+
+ShapeDistortion measure_distortion(const Eigen::MatrixX2d& output, const Eigen::MatrixX2d& texture,
+                                   const mesh::Triangles& triangles, const std::vector<char>& focus) {
+  assert(focus.size() == std::size_t(triangles.rows()));
   ShapeDistortion d;
   for (int t = 0; t < triangles.rows(); ++t) {
     const int v[3] = {triangles(t, 0), triangles(t, 1), triangles(t, 2)};
@@ -46,6 +53,11 @@ ShapeDistortion measure_distortion(const Eigen::MatrixX2d& output, const Eigen::
     }
     d.sum += e_i;
     d.max = std::max(d.max, e_i);
+    if (focus[t]) {
+      d.sum_focus += e_i;
+      d.max_focus = std::max(d.max_focus, e_i);
+      ++d.focus_triangles;
+    }
   }
   return d;
 }

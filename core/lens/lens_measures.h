@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "core/mesh/triangle_mesh.h"
@@ -12,6 +14,9 @@ struct ShapeDistortion {
   double sum = 0;             ///< Σ over triangles of E_i
   double max = 0;             ///< max over triangles of E_i
   int flipped_triangles = 0;  ///< output triangles with non-positive signed area
+  double sum_focus = 0;       ///< Σ of E_i over the focus triangles only (0 without a focus mask)
+  double max_focus = 0;       ///< max of E_i over the focus triangles only
+  int focus_triangles = 0;    ///< number of focus triangles
 };
 
 /// Per-triangle distortion E_i = Σ_j ‖e_j − M_i e_j^d‖² / Σ_j ‖e_j‖² (Eq. 6.9) with e^d the
@@ -22,6 +27,11 @@ struct ShapeDistortion {
 /// output, texture: n×2 pixels; triangles: m×3. A degenerate or flipped output triangle scores 1.
 ShapeDistortion measure_distortion(const Eigen::MatrixX2d& output, const Eigen::MatrixX2d& texture,
                                    const mesh::Triangles& triangles);
+
+/// As above, and also over the focus region: `focus` has one flag per triangle (m entries),
+/// non-zero for a triangle of the focus (e.g. its texture centroid inside a ROI).
+ShapeDistortion measure_distortion(const Eigen::MatrixX2d& output, const Eigen::MatrixX2d& texture,
+                                   const mesh::Triangles& triangles, const std::vector<char>& focus);
 
 /// Linear magnification around `centre` (texture space, pixels): sqrt(Σ output area / Σ texture
 /// area) over the triangles whose texture centroid lies within `radius` pixels of the centre

@@ -84,12 +84,19 @@ LensMesh build_lens_mesh(const std::vector<RoiField>& rois, int width, int heigh
     std::unordered_map<std::uint64_t, int> midpoint;
     std::vector<Eigen::Vector3d> added;
     const auto key = [n](int a, int b) { return std::uint64_t(std::min(a, b)) * n + std::max(a, b); };
+    // Only triangles with a stretched edge consult the midpoint map below (most of the grid is flat).
+    const auto stretched = [&](int a, int b) {
+      const double dz = m.xyz(b, 2) - m.xyz(a, 2);
+      if (dz == 0.0) return false;
+      const double planar2 = (m.xyz.row(b).head<2>() - m.xyz.row(a).head<2>()).squaredNorm();
+      return planar2 >= planar_min * planar_min && planar2 + dz * dz > options.stretch_max * options.stretch_max * planar2;
+    };
+    std::vector<char> touched(static_cast<std::size_t>(m.triangles.rows()), 0);
     for (int t = 0; t < m.triangles.rows(); ++t)
       for (int e = 0; e < 3; ++e) {
         const int a = m.triangles(t, e), b = m.triangles(t, (e + 1) % 3);
-        const Eigen::Vector3d d = m.xyz.row(b) - m.xyz.row(a);
-        const double planar = d.head<2>().norm();
-        if (planar < planar_min || d.norm() <= options.stretch_max * planar) continue;
+        if (!stretched(a, b)) continue;
+        touched[t] = 1;
         if (midpoint.emplace(key(a, b), n + static_cast<int>(added.size())).second)
           added.push_back(0.5 * (m.xyz.row(a) + m.xyz.row(b)).transpose());
       }
@@ -105,9 +112,9 @@ LensMesh build_lens_mesh(const std::vector<RoiField>& rois, int width, int heigh
     out.reserve(m.triangles.rows() * 2);
     for (int t = 0; t < m.triangles.rows(); ++t) {
       int v[3] = {m.triangles(t, 0), m.triangles(t, 1), m.triangles(t, 2)};
-      int mid[3];
+      int mid[3] = {-1, -1, -1};
       int count = 0;
-      for (int e = 0; e < 3; ++e) {
+      for (int e = 0; e < 3 && touched[t]; ++e) {
         auto it = midpoint.find(key(v[e], v[(e + 1) % 3]));
         mid[e] = it == midpoint.end() ? -1 : it->second;
         count += mid[e] >= 0;

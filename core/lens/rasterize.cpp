@@ -16,13 +16,19 @@ constexpr double kSubpixel = 1 << kSubpixelBits;
 void sample_bilinear(const Image& image, double u, double v, std::uint8_t* out) {
   const double fx = std::clamp(u - 0.5, 0.0, double(image.width - 1));
   const double fy = std::clamp(v - 0.5, 0.0, double(image.height - 1));
-  const int x0 = std::min(static_cast<int>(fx), image.width - 1), y0 = std::min(static_cast<int>(fy), image.height - 1);
+  const int x0 = static_cast<int>(fx), y0 = static_cast<int>(fy);
   const int x1 = std::min(x0 + 1, image.width - 1), y1 = std::min(y0 + 1, image.height - 1);
   const double tx = fx - x0, ty = fy - y0;
-  for (int c = 0; c < image.channels; ++c) {
-    const double top = (1 - tx) * image.at(x0, y0, c) + tx * image.at(x1, y0, c);
-    const double bottom = (1 - tx) * image.at(x0, y1, c) + tx * image.at(x1, y1, c);
-    out[c] = static_cast<std::uint8_t>(std::clamp((1 - ty) * top + ty * bottom + 0.5, 0.0, 255.0));
+  const int ch = image.channels;
+  const std::uint8_t* p00 = &image.pixels[(std::size_t(y0) * image.width + x0) * ch];
+  const std::uint8_t* p01 = &image.pixels[(std::size_t(y0) * image.width + x1) * ch];
+  const std::uint8_t* p10 = &image.pixels[(std::size_t(y1) * image.width + x0) * ch];
+  const std::uint8_t* p11 = &image.pixels[(std::size_t(y1) * image.width + x1) * ch];
+  for (int c = 0; c < ch; ++c) {
+    const double top = p00[c] + tx * (p01[c] - p00[c]);
+    const double bottom = p10[c] + tx * (p11[c] - p10[c]);
+    // The value lies in [0, 255] as a convex blend of bytes, so no clamp is needed.
+    out[c] = static_cast<std::uint8_t>(top + ty * (bottom - top) + 0.5);
   }
 }
 
@@ -64,32 +70,53 @@ Image render_textured_mesh(const Image& texture_image, const Eigen::MatrixX2d& o
       // Top-left rule, antisymmetric in the edge direction so exactly one of two neighbours owns it.
       bias[k] = (dy[k] < 0 || (dy[k] == 0 && dx[k] > 0)) ? 0 : -1;
     }
-    const Eigen::Vector2d t0 = texture.row(triangles(t, 0)).transpose();
-    const Eigen::Vector2d t1 = texture.row(triangles(t, 1)).transpose();
-    const Eigen::Vector2d t2 = texture.row(triangles(t, 2)).transpose();
+    // Texture coordinates are affine in the pixel position: uv = t2 + w0·(t0 − t2) + w1·(t1 − t2)
+    // with w0 = e1/area2, w1 = e2/area2, so a scanline only adds constant steps.
+    const int i0 = triangles(t, 0), i1 = triangles(t, 1), i2 = triangles(t, 2);
+    const double inv_area2 = 1.0 / double(area2);
+    const double d0u = (texture(i0, 0) - texture(i2, 0)) * inv_area2, d0v = (texture(i0, 1) - texture(i2, 1)) * inv_area2;
+    const double d1u = (texture(i1, 0) - texture(i2, 0)) * inv_area2, d1v = (texture(i1, 1) - texture(i2, 1)) * inv_area2;
+    const double t2u = texture(i2, 0), t2v = texture(i2, 1);
+    // An unmoved triangle (the pinned context) samples every pixel at its own centre, where the
+    // bilinear blend is the pixel itself: copy instead.
+    bool identity = true;
+    for (int k = 0; k < 3 && identity; ++k)
+      identity = output(triangles(t, k), 0) == texture(triangles(t, k), 0) &&
+                 output(triangles(t, k), 1) == texture(triangles(t, k), 1);
+    identity = identity && texture_image.width == width && texture_image.height == height;
     for (int py = y_begin; py <= y_end; ++py) {
       const std::int64_t PY = (std::int64_t(py) << kSubpixelBits) + (1 << (kSubpixelBits - 1));
-      for (int px = x_begin; px <= x_end; ++px) {
-        const std::int64_t PX = (std::int64_t(px) << kSubpixelBits) + (1 << (kSubpixelBits - 1));
-        std::int64_t e[3];
-        bool inside = true;
-        for (int k = 0; k < 3 && inside; ++k) {
-          e[k] = dx[k] * (PY - Y[k]) - dy[k] * (PX - X[k]);
-          inside = e[k] + bias[k] >= 0;
+      const std::int64_t PX = (std::int64_t(x_begin) << kSubpixelBits) + (1 << (kSubpixelBits - 1));
+      std::int64_t e[3], step[3];
+      for (int k = 0; k < 3; ++k) {
+        e[k] = dx[k] * (PY - Y[k]) - dy[k] * (PX - X[k]) + bias[k];  // biased: inside iff all ≥ 0
+        step[k] = -dy[k] * std::int64_t(kSubpixel);
+      }
+      std::uint8_t* row = &image.pixels[std::size_t(py) * width * ch];
+      int* row_count = &covered[std::size_t(py) * width];
+      for (int px = x_begin; px <= x_end; ++px, e[0] += step[0], e[1] += step[1], e[2] += step[2]) {
+        if ((e[0] | e[1] | e[2]) < 0) continue;  // some edge value negative
+        if (identity) {
+          const std::uint8_t* src = &texture_image.pixels[(std::size_t(py) * width + px) * ch];
+          for (int c = 0; c < ch; ++c) row[std::size_t(px) * ch + c] = src[c];
+          ++row_count[px];
+          continue;
         }
-        if (!inside) continue;
-        const double w0 = double(e[1]) / double(area2), w1 = double(e[2]) / double(area2);
-        const Eigen::Vector2d uv = w0 * t0 + w1 * t1 + (1.0 - w0 - w1) * t2;
-        const std::size_t pixel = std::size_t(py) * width + px;
-        sample_bilinear(texture_image, uv.x(), uv.y(), &image.pixels[pixel * ch]);
-        ++covered[pixel];
+        const double e1 = double(e[1] - bias[1]), e2 = double(e[2] - bias[2]);
+        sample_bilinear(texture_image, t2u + e1 * d0u + e2 * d1u, t2v + e1 * d0v + e2 * d1v, row + std::size_t(px) * ch);
+        ++row_count[px];
       }
     }
   }
   for (int py = 0; py < height; ++py)
     for (int px = 0; px < width; ++px) {
       const std::size_t pixel = std::size_t(py) * width + px;
-      if (!covered[pixel]) sample_bilinear(texture_image, px + 0.5, py + 0.5, &image.pixels[pixel * ch]);
+      if (covered[pixel]) continue;
+      if (px < texture_image.width && py < texture_image.height) {
+        for (int c = 0; c < ch; ++c) image.pixels[pixel * ch + c] = texture_image.at(px, py, c);
+      } else {
+        sample_bilinear(texture_image, px + 0.5, py + 0.5, &image.pixels[pixel * ch]);
+      }
     }
   return image;
 }

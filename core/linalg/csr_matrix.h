@@ -6,14 +6,9 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
-namespace volspline::linalg {
+#include "core/linalg/triplet.h"
 
-/// One entry (row, col, value) of a sparse matrix under assembly; 0-based indices.
-struct Triplet {
-  int row = 0;
-  int col = 0;
-  double value = 0.0;
-};
+namespace volspline::linalg {
 
 /// Sparse matrix in compressed sparse row form.
 ///

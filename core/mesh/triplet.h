@@ -1,14 +1,11 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include "core/linalg/triplet.h"
+
 namespace volspline::mesh {
 
-/// One entry of a sparse matrix given as a list of triplets; duplicates are meant to be summed
-/// by whoever assembles the matrix (e.g. linalg::CsrMatrix).
-struct Triplet {
-  int row = 0;
-  int col = 0;
-  double value = 0.0;
-};
+/// Mesh operators are assembled as linalg triplets so they go straight into linalg::CsrMatrix.
+using Triplet = linalg::Triplet;
 
 }  // namespace volspline::mesh

@@ -50,8 +50,10 @@ struct LensInput {
 
 /// Numbers reported by the lens job (the stats JSON keys).
 struct LensStats {
-  double distortion_sum = 0;       ///< Eq. 6.9 over the grid triangles (lens_measures.h)
+  double distortion_sum = 0;       ///< Eq. 6.9 over all grid triangles, the whole image (lens_measures.h)
   double distortion_max = 0;
+  double distortion_sum_focus = 0; ///< Eq. 6.9 over the focus: grid triangles whose texture centroid is inside a ROI
+  double distortion_max_focus = 0;
   double magnification_center = 0; ///< measured, mean over the ROIs
   std::vector<double> magnification_per_roi;
   int flipped_triangles = 0;       ///< output triangles with non-positive area (grid triangles)

@@ -129,9 +129,10 @@ Samples stack(const std::vector<Eigen::Vector3d>& uvw, const std::vector<Eigen::
 }
 
 spline::TSplineFitReport fit(spline::TSpline& ts, const Samples& samples, const Eigen::MatrixX3d& prior,
-                             const Mesh2SplineOptions& options) {
+                             const Mesh2SplineOptions& options, int laplacian_nodes) {
   spline::TSplineFitOptions fit_options;
   fit_options.smoothing = options.smoothing;
+  fit_options.laplacian_nodes = laplacian_nodes;
   if (options.fit == Mesh2SplineFit::Grid)
     return spline::fit_tspline(ts, samples.uvw, samples.xyz, prior, fit_options);
   return spline::fit_tspline_meshless(ts, samples.uvw, samples.xyz, prior, fit_options);
@@ -206,6 +207,12 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
     sample_uvw.push_back(surface_map.uvw.row(v).transpose());
     sample_xyz.push_back(hm.vertex_position(v));
   }
+  // Face centroids too: they pin the spline between the vertices of coarse meshes.
+  for (int f = 0; f < hm.num_faces(); ++f) {
+    const auto c = hm.face_vertices(f);
+    sample_uvw.push_back((surface_map.uvw.row(c[0]) + surface_map.uvw.row(c[1]) + surface_map.uvw.row(c[2])).transpose() / 3.0);
+    sample_xyz.push_back((hm.vertex_position(c[0]) + hm.vertex_position(c[1]) + hm.vertex_position(c[2])) / 3.0);
+  }
   if (options.fit == Mesh2SplineFit::Grid) {
     param::VolumetricGridOptions grid_options;
     grid_options.nodes = nodes;
@@ -245,7 +252,7 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
   Eigen::VectorXd errors;
   for (int level = 0;; ++level) {
     progress.report("fit level " + std::to_string(level), 0.3 + 0.4 * level / (options.max_levels + 1));
-    fit(ts, samples, prior, options);
+    fit(ts, samples, prior, options, longest_nodes);
     errors = sample_errors(ts, samples);
     stats.levels = level;
     if (rms(errors) <= target || level >= options.max_levels) break;
@@ -314,13 +321,15 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
     stats.hausdorff_rel = max_d / diagonal;
     stats.rms_geo_rel = std::sqrt(sum2 / count) / diagonal;
 
-    const int nj = 25;
+    // Cell centres of a 24³ lattice: along the cuboid's edges any map of a cube onto a smooth
+    // surface is degenerate (the three tangents are coplanar, det J = 0), so no exact edge point.
+    const int nj = 24;
     int negative = 0;
     double min_q = 1.0;
     for (int k = 0; k < nj; ++k)
       for (int j = 0; j < nj; ++j)
         for (int i = 0; i < nj; ++i) {
-          const Eigen::Vector3d uvw(double(i) / (nj - 1), double(j) / (nj - 1), double(k) / (nj - 1));
+          const Eigen::Vector3d uvw((i + 0.5) / nj, (j + 0.5) / nj, (k + 0.5) / nj);
           const Eigen::Matrix3d jac = ts.jacobian(uvw);
           const double scale = jac.col(0).norm() * jac.col(1).norm() * jac.col(2).norm();
           const double q = scale > 0.0 ? jac.determinant() / scale : -1.0;
@@ -348,7 +357,7 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
       spline::TSpline u = uniform_tspline(cells_for(dims, n));
       const Eigen::MatrixX3d p = greville_prior(u, locator);
       u.set_points(p);
-      fit(u, samples, p, options);
+      fit(u, samples, p, options, longest_nodes);
       *points = u.num_functions();
       return rms(sample_errors(u, samples)) / diagonal;
     };

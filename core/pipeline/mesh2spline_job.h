@@ -45,7 +45,7 @@ struct Mesh2SplineStats {
   double rms_geo_rel = 0;          ///< RMS of the same two-sided distances / bbox diagonal
   int control_points = 0;
   int levels = 0;                  ///< refinement levels done after level 0
-  double min_scaled_jacobian = 0;  ///< over a 25³ lattice of the spline domain
+  double min_scaled_jacobian = 0;  ///< at the cell centres of a 24³ lattice of the domain
   double negative_jacobian_fraction = 0;
   double semi_standard_max_error = 0;  ///< max |Σ w_i B_i − 1| at 10⁵ random parameters
   int cuboids = 1;

@@ -52,29 +52,53 @@ int RefinementGrid::leaf_of(const Eigen::Vector3d& uvw) const {
   return id;
 }
 
+void RefinementGrid::collect_planes(int id, int axis, const Eigen::Vector3d& anchor,
+                                    std::vector<double>& planes) const {
+  const Node& node = nodes_[id];
+  for (int b = 0; b < 3; ++b)
+    if (b != axis && (anchor(b) < node.lo(b) || anchor(b) > node.hi(b))) return;
+  if (node.first_child < 0) {
+    planes.push_back(node.lo(axis));
+    planes.push_back(node.hi(axis));
+    return;
+  }
+  for (int c = 0; c < 8; ++c) collect_planes(node.first_child + c, axis, anchor, planes);
+}
+
+LocalKnots RefinementGrid::ray_knots(const BlendingKnots& knots, int axis) const {
+  // §4.2.2 ray tracing: from the anchor (the central knots), the first two faces of the T-mesh
+  // crossed in each direction along `axis`; at the domain ends the boundary knots repeat.
+  const Eigen::Vector3d anchor(knots[0][2], knots[1][2], knots[2][2]);
+  std::vector<double> planes;
+  const int roots = cells_[0] * cells_[1] * cells_[2];
+  for (int id = 0; id < roots; ++id) collect_planes(id, axis, anchor, planes);
+  std::sort(planes.begin(), planes.end());
+  planes.erase(std::unique(planes.begin(), planes.end()), planes.end());
+  const double centre = anchor(axis);
+  LocalKnots r;
+  r[2] = centre;
+  auto above = std::upper_bound(planes.begin(), planes.end(), centre);
+  for (int k = 3; k <= 4; ++k) {
+    r[k] = above != planes.end() ? *above : std::min(hi_(axis), std::max(centre, r[k - 1]));
+    if (above != planes.end()) ++above;
+  }
+  auto below = std::lower_bound(planes.begin(), planes.end(), centre);
+  for (int k = 1; k >= 0; --k) {
+    if (below != planes.begin()) {
+      --below;
+      r[k] = *below;
+    } else {
+      r[k] = std::max(lo_(axis), std::min(centre, r[k + 1]));
+    }
+  }
+  return r;
+}
+
 TSpline RefinementGrid::split(const TSpline& spline, const std::vector<int>& leaf_ids) {
-  const int n = spline.num_functions();
-  std::vector<NewKnots> new_knots(n);
   for (int id : leaf_ids) {
     assert(nodes_[id].first_child < 0);
-    const Eigen::Vector3d lo = nodes_[id].lo, hi = nodes_[id].hi;
-    const Eigen::Vector3d mid = 0.5 * (lo + hi);
-    for (int i = 0; i < n; ++i) {
-      const BlendingKnots& knots = spline.knots()[i];
-      bool overlaps = true;
-      for (int a = 0; a < 3 && overlaps; ++a)
-        overlaps = knots[a][0] < hi(a) && knots[a][4] > lo(a);
-      if (!overlaps) continue;
-      for (int a = 0; a < 3; ++a) {
-        const LocalKnots& r = knots[a];
-        // Eq. 4.8 needs r0 < k < r4; an existing knot would only raise its multiplicity.
-        if (!(r[0] < mid(a) && mid(a) < r[4])) continue;
-        if (std::find(r.begin(), r.end(), mid(a)) != r.end()) continue;
-        auto& list = new_knots[i][a];
-        if (std::find(list.begin(), list.end(), mid(a)) == list.end()) list.push_back(mid(a));
-      }
-    }
-    Node parent = nodes_[id];
+    const Node parent = nodes_[id];
+    const Eigen::Vector3d mid = 0.5 * (parent.lo + parent.hi);
     nodes_[id].first_child = static_cast<int>(nodes_.size());
     for (int c = 0; c < 8; ++c) {
       Node child;
@@ -89,9 +113,18 @@ TSpline RefinementGrid::split(const TSpline& spline, const std::vector<int>& lea
     num_leaves_ += 7;
     max_level_ = std::max(max_level_, parent.level + 1);
   }
-  for (auto& knots : new_knots)
-    for (auto& list : knots) std::sort(list.begin(), list.end());
-  return refine_blending_functions(spline, new_knots);
+  // §4.3.3 steps 2–3: every blending function takes the knots its ray-traced vector R* in the
+  // refined T-mesh has and its own R lacks (Eq. 4.8/4.9), until nothing changes.
+  auto required = [this](const BlendingKnots& knots) {
+    NewKnots add;
+    for (int a = 0; a < 3; ++a) {
+      const LocalKnots& r = knots[a];
+      for (double k : ray_knots(knots, a))
+        if (r[0] < k && k < r[4] && std::find(r.begin(), r.end(), k) == r.end()) add[a].push_back(k);
+    }
+    return add;
+  };
+  return refine_until_no_new_knot(spline, required);
 }
 
 }  // namespace volspline::spline

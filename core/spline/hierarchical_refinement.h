@@ -29,16 +29,22 @@ class RefinementGrid {
   /// Leaf containing uvw (closed at the domain's upper faces); uvw is clamped into the domain.
   int leaf_of(const Eigen::Vector3d& uvw) const;
 
-  /// Splits the given leaves into 8 (Algorithm 4 `Subdivision`) and returns `spline` refined so
-  /// that its blending functions resolve the new cells: the midpoint knots of every split cell
-  /// are inserted (Table 4.1, Eq. 4.8/4.9) into each blending function whose support overlaps
-  /// the cell, which keeps F and Σ w_i B_i unchanged.
-  /// Deviation from §4.3.3: the blending functions are split directly instead of ray-tracing a
-  /// 3D T-mesh; the result is the same kind of point-based, semi-standard spline without the
-  /// bookkeeping of T-junction faces. Asserts every id is a leaf.
+  /// Splits the given leaves into 8 (Algorithm 4 `Subdivision`) and returns `spline` refined
+  /// (§4.3.3): every blending function whose ray-traced knot vector R* in the new T-mesh has
+  /// knots its own R lacks is split by knot insertion (Table 4.1, Eq. 4.8/4.9), repeatedly,
+  /// which keeps F and Σ w_i B_i unchanged. Knots of R that R* lacks are kept (the thesis
+  /// would add T-mesh vertices for them; the point-based spline needs no such bookkeeping).
+  /// Asserts every id is a leaf.
   TSpline split(const TSpline& spline, const std::vector<int>& leaf_ids);
 
+  /// Ray-traced knot vector R* (§4.2.2) along `axis` from the anchor (knots[a][2] per axis) of a
+  /// blending function in the current cells: the two nearest cell faces on each side touching
+  /// the ray; the domain ends repeat as boundary knots (§4.3.1).
+  LocalKnots ray_knots(const BlendingKnots& knots, int axis) const;
+
  private:
+  void collect_planes(int id, int axis, const Eigen::Vector3d& anchor, std::vector<double>& planes) const;
+
   struct Node {
     Eigen::Vector3d lo, hi;
     int level = 0;

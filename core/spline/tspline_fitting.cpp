@@ -72,7 +72,7 @@ void add_laplacian_rows(RowBuilder& builder, int nodes_requested, double scale,
 TSplineFitReport solve_stacked(TSpline& spline, const std::vector<int>& unknown_ids,
                                std::vector<linalg::Triplet>& triplets, Eigen::MatrixXd& rhs,
                                int rows, const Eigen::MatrixX3d& prior, double regularization,
-                               double tolerance) {
+                               double tolerance, int max_iterations) {
   const int n = static_cast<int>(unknown_ids.size());
   TSplineFitReport report;
   report.unknowns = n;
@@ -95,6 +95,7 @@ TSplineFitReport solve_stacked(TSpline& spline, const std::vector<int>& unknown_
   const linalg::NormalEquations normal = linalg::normal_equations(a, rhs);
   linalg::ConjugateGradient<linalg::IncompleteCholesky0> cg;
   cg.set_tolerance(tolerance);
+  cg.set_max_iterations(max_iterations);
   cg.compute(normal.ata);
   Eigen::MatrixXd x0(n, 3);
   for (int c = 0; c < n; ++c) x0.row(c) = spline.points().row(unknown_ids[c]);
@@ -148,7 +149,7 @@ TSplineFitReport fit_tspline(TSpline& spline, const Eigen::MatrixX3d& uvw,
   Eigen::MatrixXd rhs(rows, 3);
   for (int r = 0; r < rows; ++r) rhs.row(r) = rhs_rows[r];
   return solve_stacked(spline, ids, triplets, rhs, rows, prior, options.regularization,
-                       options.tolerance);
+                       options.tolerance, options.max_iterations);
 }
 
 TSplineFitReport fit_tspline_meshless(TSpline& spline, const Eigen::MatrixX3d& uvw,
@@ -180,7 +181,7 @@ TSplineFitReport fit_tspline_meshless(TSpline& spline, const Eigen::MatrixX3d& u
       rhs.row(rows++) = xyz.row(s) - known;
     }
     report = solve_stacked(spline, boundary_ids, triplets, rhs, rows, prior,
-                           options.regularization, options.tolerance);
+                           options.regularization, options.tolerance, options.max_iterations);
   }
   // Step 2, Eq. 4.6/4.7: interior control points from the discrete Laplacian of F.
   {
@@ -192,7 +193,7 @@ TSplineFitReport fit_tspline_meshless(TSpline& spline, const Eigen::MatrixX3d& u
     Eigen::MatrixXd rhs(rows, 3);
     for (int r = 0; r < rows; ++r) rhs.row(r) = -known[r];
     const TSplineFitReport interior = solve_stacked(spline, interior_ids, triplets, rhs, rows, prior,
-                                                    options.regularization, options.tolerance);
+                                                    options.regularization, options.tolerance, options.max_iterations);
     report.cg_iterations = std::max(report.cg_iterations, interior.cg_iterations);
     report.converged = report.converged && interior.converged;
     report.rows += interior.rows;

@@ -52,7 +52,7 @@ TEST_CASE("mesh_io: broken test files name the file") {
   const std::string dir = VOLSPLINE_SOURCE_DIR "/tests/data/meshes/";
   CHECK(has(error_of([&] { read_mesh(dir + "truncated.off"); }), dir + "truncated.off: truncated"));
   CHECK(has(error_of([&] { read_mesh(dir + "nan_coordinate.obj"); }), dir + "nan_coordinate.obj:5: NaN"));
-  CHECK(has(error_of([&] { read_mesh(dir + "empty.obj"); }), dir + "empty.obj: no vertices"));
+  CHECK(has(error_of([&] { read_mesh(dir + "empty.obj"); }), dir + "empty.obj: empty file"));
   CHECK(has(error_of([&] { read_mesh(dir + "wrong_index.off"); }), dir + "wrong_index.off:8: face index 4 out of range (4 vertices)"));
   CHECK(read_mesh(dir + "nonmanifold_edge.off").num_faces() == 3);  // readable; the mesh module rejects it
 }

@@ -59,6 +59,7 @@ TEST_CASE("obj: errors name the file, line and problem") {
   CHECK(has(error_of([] { parse_obj("v 0 x 0\n", "t.obj"); }), "t.obj:1: bad y coordinate 'x'"));
   CHECK(has(error_of([] { parse_obj("v 0 0 0\nv 1 0 0\nf 1 2\n", "t.obj"); }), "t.obj:3: face with 2 corners"));
   CHECK(has(error_of([] { parse_obj("v 0 0 0\nf 1 a 1\n", "t.obj"); }), "t.obj:2: bad face corner 'a'"));
-  CHECK(has(error_of([] { parse_obj("", "e.obj"); }), "e.obj: no vertices"));
+  CHECK(has(error_of([] { parse_obj("", "e.obj"); }), "e.obj: empty file"));
+  CHECK(has(error_of([] { parse_obj("# nothing\n", "e.obj"); }), "e.obj: no vertices"));
   CHECK(has(error_of([] { parse_obj("v 0 0 0\nv 1 0 0\n", "e.obj"); }), "e.obj: no faces"));
 }

@@ -45,3 +45,25 @@ TEST_CASE("baselines: fisheye and bifocal magnify the centre by the parameter, f
   }
   CHECK(measure_distortion(baseline_positions(BaselineKind::Fisheye, tex, lenses, 2.0), tex, g.triangles).flipped_triangles == 0);
 }
+
+TEST_CASE("focus mask splits the distortion: a similarity inside, a shear outside") {
+  const LensMesh g = build_grid(40, 40, 11);
+  const Eigen::MatrixX2d tex = g.xyz.leftCols<2>();
+  Eigen::MatrixX2d out = 2.0 * tex;
+  std::vector<char> focus(std::size_t(g.triangles.rows()), 0);
+  for (int v = 0; v < tex.rows(); ++v)
+    if (tex(v, 0) > 20) out(v, 0) += 0.8 * (tex(v, 0) - 20) + 0.5 * tex(v, 1);  // shear right of x = 20
+  for (int t = 0; t < g.triangles.rows(); ++t) {
+    bool left = true;
+    for (int k = 0; k < 3; ++k) left = left && tex(g.triangles(t, k), 0) <= 20;
+    focus[t] = left;
+  }
+  const ShapeDistortion d = measure_distortion(out, tex, g.triangles, focus);
+  CHECK(d.focus_triangles == g.triangles.rows() / 2);
+  CHECK(d.max_focus < 1e-12);  // a pure scaling in the focus
+  CHECK(d.max > 0.01);
+  CHECK(d.sum_focus < 1e-10);
+  const ShapeDistortion whole = measure_distortion(out, tex, g.triangles);
+  CHECK(whole.sum == doctest::Approx(d.sum).epsilon(1e-12));
+  CHECK(whole.focus_triangles == 0);
+}

@@ -217,3 +217,18 @@ TEST_CASE("several right-hand sides are solved column by column") {
   CHECK(cg.iterations() == 0);
   CHECK(warm == x);
 }
+
+TEST_CASE("compute copies what it needs: the matrix may go away") {
+  ConjugateGradient<linalg::IncompleteCholesky0> cg;
+  Eigen::VectorXd expected;
+  {
+    const CsrMatrix a = linalg::testing::grid_laplacian(4, 4, 4);
+    cg.compute(a);
+    expected = a.to_dense().ldlt().solve(Eigen::VectorXd::Ones(64));
+  }
+  CHECK(cg.size() == 64);
+  const Eigen::VectorXd x = cg.solve(Eigen::VectorXd::Ones(64));
+  CHECK(cg.info() == SolverInfo::Success);
+  // Tolerance: residual 1e-10 times a condition number below 10.
+  CHECK((x - expected).norm() <= 1e-9 * expected.norm());
+}

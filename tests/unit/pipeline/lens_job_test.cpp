@@ -118,3 +118,37 @@ TEST_CASE("bad options and inputs name the problem") {
                        doctest::Contains("outside the 64x64 image"), Error);
   CHECK_THROWS_WITH_AS(run_lens(input_with(lens::Image{}, {"circle:3,3,1"}), LensOptions{}), doctest::Contains("malformed image"), Error);
 }
+
+TEST_CASE("focus distortion is part of the whole-image distortion") {
+  const LensInput in = input_with(checkerboard(160, 160, 8), {"circle:80,80,30"});
+  for (LensMethod m : {LensMethod::Metric, LensMethod::Fisheye, LensMethod::Bifocal}) {
+    LensOptions o;
+    o.grid = 40;
+    o.method = m;
+    o.render = false;
+    const LensStats s = run_lens(in, o).stats;
+    CHECK(s.distortion_max_focus <= s.distortion_max);
+    CHECK(s.distortion_sum_focus <= s.distortion_sum);
+    CHECK(s.distortion_sum_focus > 0);  // a magnifying lens changes shapes somewhere in the focus
+  }
+}
+
+TEST_CASE("metric lens: lower whole-image distortion_max than fisheye and bifocal at its measured magnification") {
+  // The acceptance criterion on a small grid: same ROI, same free band, same magnification.
+  const LensInput in = input_with(checkerboard(200, 200, 8), {"circle:100,90,30"});
+  LensOptions o;
+  o.grid = 60;
+  o.render = false;
+  const LensStats metric = run_lens(in, o).stats;
+  REQUIRE(metric.flipped_triangles == 0);
+  for (LensMethod m : {LensMethod::Fisheye, LensMethod::Bifocal}) {
+    LensOptions b = o;
+    b.method = m;
+    b.magnification = metric.magnification_center;
+    const LensStats base = run_lens(in, b).stats;
+    INFO("baseline " << int(m) << " max " << base.distortion_max << " metric " << metric.distortion_max);
+    CHECK(base.magnification_center == doctest::Approx(metric.magnification_center).epsilon(0.02));
+    CHECK(metric.distortion_max < base.distortion_max);
+    CHECK(metric.distortion_sum < base.distortion_sum);
+  }
+}
