@@ -5,6 +5,7 @@
 #   2. native Debug build under AddressSanitizer + UndefinedBehaviorSanitizer: the same tests
 #   3. libFuzzer targets (clang): the saved corpus, then a short bounded run per reader
 #   4. WebAssembly build (em++): the core called from node
+#   5. the static site in headless Chromium (playwright-core): upload, run, view, errors
 # Ends with one line "N passed, M failed" counting the stages.
 set -uo pipefail
 cd "$(dirname "$0")/.."
@@ -47,10 +48,20 @@ wasm() {
   node --no-experimental-fetch tests/wasm/node_smoke_test.cjs build/wasm/wasm/volspline_node.cjs "$ROOT" "$ROOT/../shared/data"
 }
 
+web_e2e() {
+  export NODE_PATH=/usr/share/nodejs
+  bash tests/setup_deps.sh --web &&
+  emcmake cmake -S . -B build/wasm -DCMAKE_BUILD_TYPE=Release -DEigen3_DIR=/usr/share/eigen3/cmake >/dev/null &&
+  cmake --build build/wasm -j"$JOBS" --target volspline_site &&
+  (cd tests/e2e && npm ci --no-audit --no-fund) &&
+  node tests/e2e/run_e2e.cjs build/wasm/site --shared-data "$ROOT/../shared/data" --artifacts tests/artifacts
+}
+
 stage native-release native
 stage asan-ubsan sanitized
 stage fuzz fuzz
 stage wasm-node wasm
+stage web-e2e web_e2e
 
 [ -n "$failures" ] && echo "failed stages:$failures"
 echo "$passed passed, $failed failed"

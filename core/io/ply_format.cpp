@@ -267,7 +267,8 @@ mesh::TriangleMesh read_data(const PlyHeader& header, const MeshLayout& layout, 
           continue;
         }
         const double count_value = next_value(property.count_type, element, item);
-        if (count_value < 0 || count_value != std::floor(count_value))
+        // ASCII data can hold any number here; the largest count type is uint32.
+        if (!(count_value >= 0 && count_value <= 4294967295.0) || count_value != std::floor(count_value))
           throw Error(name + ": " + element.name + " " + std::to_string(item) + ": bad list length");
         const auto count = static_cast<std::int64_t>(count_value);
         const bool indices = is_face && pid == layout.indices;

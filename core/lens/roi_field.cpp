@@ -11,6 +11,8 @@ namespace {
 
 constexpr double kFar = 1e30;
 constexpr double kUnset = 1e20;
+// Medial-axis cells closer to the boundary than this fraction of the inscribed radius are dropped.
+constexpr double kAxisPrune = 0.6;
 
 // Exact 1D squared Euclidean distance transform of f (lower envelope of parabolas); cells
 // without a source carry kUnset, a large finite value, so the envelope stays well defined.
@@ -153,7 +155,9 @@ RoiField RoiField::build(const Roi& roi, int width, int height, double reach_rel
           if (!inside[n]) continue;
           climb = std::max(climb, (b[n] - b[c]) / std::sqrt(double(di * di + dj * dj)));
         }
-      axis[c] = climb < 0.8;
+      // Pruned: branches running into convex corners (b → 0) would raise the full lens height
+      // right at the boundary, a cliff that folds; §6.3.1 wants the central path only.
+      axis[c] = climb < 0.8 && b[c] >= kAxisPrune * b[deepest];
     }
   axis[deepest] = 1;
   const std::vector<double> a = distance_transform(axis, cols, rows);

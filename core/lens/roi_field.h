@@ -11,7 +11,9 @@ namespace volspline::lens {
 
 /// Distance fields of one ROI (§6.3.1 step 1): the normalized distance to the ROI's medial axis
 /// inside, and the distance to the ROI outside. Circles are exact; other shapes are sampled on a
-/// one-pixel raster over the ROI's bounding box and read back bilinearly.
+/// one-pixel raster over the ROI's bounding box (exact Euclidean distance transforms) and read
+/// back bilinearly. The raster medial axis is pruned to the points at least 0.6 inscribed radii
+/// from the boundary, so branches into convex corners do not lift the lens at the boundary.
 class RoiField {
  public:
   /// Builds the fields of a validated ROI on a width × height image. The outside distance is kept

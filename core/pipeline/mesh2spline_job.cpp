@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <random>
+#include <cstdio>
 #include <string>
 
 #include <Eigen/LU>
@@ -252,8 +253,10 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
   Eigen::VectorXd errors;
   for (int level = 0;; ++level) {
     progress.report("fit level " + std::to_string(level), 0.3 + 0.4 * level / (options.max_levels + 1));
-    fit(ts, samples, prior, options, longest_nodes);
+    auto dbg0 = Clock::now();
+    auto rep = fit(ts, samples, prior, options, longest_nodes);
     errors = sample_errors(ts, samples);
+    std::fprintf(stderr, "DBG level %d cp %d maxpercell %d cells %d fit %.3f rms %.5f it %d conv %d\n", level, ts.num_functions(), ts.max_functions_per_cell(), ts.num_cells(), std::chrono::duration<double>(Clock::now()-dbg0).count(), rms(errors)/diagonal, rep.cg_iterations, rep.converged);
     stats.levels = level;
     if (rms(errors) <= target || level >= options.max_levels) break;
     // FittingError(g) of Algorithm 4: the worst sample error inside each leaf cell.
@@ -263,10 +266,17 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
       const int leaf = refinement.leaf_of(samples.uvw.row(s).transpose());
       cell_error[leaf] = std::max(cell_error[leaf], errors(s));
     }
+    // Split the cells whose worst sample exceeds twice the rms target, at most the worst 25% of
+    // the cells per level (ties by id), so refinement stays where the error is.
     std::vector<int> marked;
     for (int leaf : leaves)
-      if (cell_error[leaf] > target) marked.push_back(leaf);
+      if (cell_error[leaf] > 2.0 * target) marked.push_back(leaf);
     if (marked.empty()) break;
+    std::stable_sort(marked.begin(), marked.end(),
+                     [&](int a, int b) { return cell_error[a] > cell_error[b]; });
+    const std::size_t quota = std::max<std::size_t>(1, leaves.size() / 4);
+    if (marked.size() > quota) marked.resize(quota);
+    std::sort(marked.begin(), marked.end());
     spline::RefinementGrid next_grid = refinement;
     spline::TSpline refined = next_grid.split(ts, marked);
     if (refined.num_functions() > options.max_control_points) break;

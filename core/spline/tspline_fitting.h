@@ -17,7 +17,7 @@ struct TSplineFitOptions {
   /// Tikhonov weight pulling each control point towards its prior, relative to the mean
   /// diagonal of the normal matrix (unitless > 0): keeps the system SPD when blending
   /// functions are linearly dependent or unsampled.
-  double regularization = 1e-5;
+  double regularization = 1e-3;
   /// Nodes per axis of the uniform parameter grid carrying the Eq. 4.7 rows; 0 = automatic
   /// (twice the number of knot intervals plus one, between 9 and 65).
   int laplacian_nodes = 0;

@@ -123,6 +123,10 @@ TEST_CASE("ply: errors name the file and problem") {
             "i.ply: face 0: index 5 out of range (3 vertices)"));
   CHECK(has(error_of([&] { parse_ply(head + "0 0 0 1\n1 0 0 2\n0 1 0 3\n2 0 1\n", "i.ply"); }),
             "i.ply: face 0 has 2 vertices"));
+  CHECK(has(error_of([&] { parse_ply(head + "0 0 0 1\n1 0 0 2\n0 1 0 3\n2.2e22 0 1 2\n", "l.ply"); }),
+            "l.ply: face 0: bad list length"));  // fuzz regression: huge ascii list length
+  CHECK(has(error_of([&] { parse_ply(head + "0 0 0 1\n1 0 0 2\n0 1 0 3\n3.5 0 1 2\n", "l.ply"); }),
+            "l.ply: face 0: bad list length"));
   CHECK(has(error_of([&] { parse_ply(head + "0 0 0 1\n1 0 0 2\n0 1 0 3\n3 0 1 x\n", "i.ply"); }),
             "i.ply:16: bad number 'x' in face 0"));
 
