@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "core/io/mesh_text_scanner.h"
 
+#include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <utility>
 
 #include "core/common/error.h"
@@ -96,6 +98,22 @@ bool parse_double_token(std::string_view token, double& value) {
   if (!token.empty() && token[0] == '+') token.remove_prefix(1);
   if (token.empty()) return false;
   const char* end = token.data() + token.size();
+#ifdef __EMSCRIPTEN__
+  // Emscripten 3.1.6's libc++ has no double from_chars; strtod on a bounded copy rounds the
+  // same way (correctly) and the core never changes the C locale.
+  (void)end;
+  if (token.size() > 400) return false;
+  char copy[401];
+  token.copy(copy, token.size());
+  copy[token.size()] = '\0';
+  // strtod also takes hex floats and leading blanks, which from_chars rejects.
+  for (const char c : token)
+    if (c == 'x' || c == 'X' || std::isspace(static_cast<unsigned char>(c))) return false;
+  char* stop = nullptr;
+  value = std::strtod(copy, &stop);
+  if (stop != copy + token.size()) return false;
+  return true;
+#else
   const auto result = std::from_chars(token.data(), end, value);
   // Out-of-range magnitudes become ±inf or 0 like strtod, so they are reported as infinite.
   if (result.ec == std::errc::result_out_of_range && result.ptr == end) {
@@ -107,6 +125,7 @@ bool parse_double_token(std::string_view token, double& value) {
     return true;
   }
   return result.ec == std::errc() && result.ptr == end;
+#endif
 }
 
 bool parse_int_token(std::string_view token, std::int64_t& value) {

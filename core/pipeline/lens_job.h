@@ -64,7 +64,7 @@ struct LensStats {
   int vertices = 0;                ///< output mesh vertices
   int triangles = 0;               ///< output mesh triangles
   double ms_total = 0;             ///< whole job, calibration and rendering included
-  double ms_calibration = 0;       ///< search of h0 for the requested magnification
+  double ms_calibration = 0;       ///< search of h0 (coarse-grid secant, plus at most one final-grid correction run)
   double ms_mesh = 0;              ///< lens mesh and texture of the final run
   double ms_factorize = 0;         ///< one sparse factorization of the final run
   double ms_per_iteration = 0;     ///< mean local+global iteration of the final run

@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cassert>
 
-#include "core/spline/tspline_refinement.h"
+#include <map>
+
+#include "core/spline/knot_insertion.h"
 
 namespace volspline::spline {
 
@@ -114,17 +116,69 @@ TSpline RefinementGrid::split(const TSpline& spline, const std::vector<int>& lea
     max_level_ = std::max(max_level_, parent.level + 1);
   }
   // §4.3.3 steps 2–3: every blending function takes the knots its ray-traced vector R* in the
-  // refined T-mesh has and its own R lacks (Eq. 4.8/4.9), until nothing changes.
-  auto required = [this](const BlendingKnots& knots) {
-    NewKnots add;
-    for (int a = 0; a < 3; ++a) {
-      const LocalKnots& r = knots[a];
-      for (double k : ray_knots(knots, a))
-        if (r[0] < k && k < r[4] && std::find(r.begin(), r.end(), k) == r.end()) add[a].push_back(k);
-    }
-    return add;
+  // refined T-mesh has and its own R lacks (Eq. 4.8/4.9), until nothing changes; then blending
+  // functions with identical knots are collected into one with the total weight. Done on plain
+  // arrays so that the evaluation grid of the spline is built once.
+  struct Function {
+    BlendingKnots knots;
+    double weight;
+    Eigen::Vector3d weighted_point;  // w p, so that merging is a plain sum
   };
-  return refine_until_no_new_knot(spline, required);
+  std::vector<Function> work;
+  work.reserve(spline.num_functions());
+  for (int i = 0; i < spline.num_functions(); ++i)
+    work.push_back({spline.knots()[i], spline.weights()(i),
+                    spline.weights()(i) * spline.points().row(i).transpose()});
+  std::vector<Function> done;
+  std::map<BlendingKnots, int> index;  // knots -> position in `done`
+  while (!work.empty()) {
+    Function f = std::move(work.back());
+    work.pop_back();
+    int axis = -1;
+    double knot = 0.0;
+    for (int a = 0; a < 3 && axis < 0; ++a) {
+      const LocalKnots& r = f.knots[a];
+      for (double k : ray_knots(f.knots, a))
+        if (r[0] < k && k < r[4] && std::find(r.begin(), r.end(), k) == r.end()) {
+          axis = a;
+          knot = k;
+          break;
+        }
+    }
+    if (axis < 0) {
+      const auto found = index.find(f.knots);
+      if (found == index.end()) {
+        index.emplace(f.knots, static_cast<int>(done.size()));
+        done.push_back(std::move(f));
+      } else {
+        done[found->second].weight += f.weight;
+        done[found->second].weighted_point += f.weighted_point;
+      }
+      continue;
+    }
+    const BlendingSplit split = split_blending_function(f.knots, axis, knot);
+    // Eq. 4.9: w B = (w c1) B1 + (w c2) B2, with the same control point.
+    if (split.second_coefficient > 0.0)
+      work.push_back({split.second, f.weight * split.second_coefficient,
+                      split.second_coefficient * f.weighted_point});
+    if (split.first_coefficient > 0.0)
+      work.push_back({split.first, f.weight * split.first_coefficient,
+                      split.first_coefficient * f.weighted_point});
+  }
+  // Deterministic order: sorted by knot vectors.
+  std::vector<BlendingKnots> knots;
+  Eigen::VectorXd weights(static_cast<Eigen::Index>(done.size()));
+  Eigen::MatrixXd points(static_cast<Eigen::Index>(done.size()), 3);
+  knots.reserve(done.size());
+  int row = 0;
+  for (const auto& [k, position] : index) {
+    const Function& f = done[position];
+    knots.push_back(k);
+    weights(row) = f.weight;
+    points.row(row) = (f.weighted_point / f.weight).transpose();
+    ++row;
+  }
+  return TSpline(std::move(knots), std::move(weights), std::move(points));
 }
 
 }  // namespace volspline::spline

@@ -4,7 +4,8 @@
 'use strict';
 const path = require('path');
 const fs = require('fs');
-const [modulePath, sourceDir, dataDir] = process.argv.slice(2);
+const [modulePath, sourceArg, dataDir] = process.argv.slice(2);
+const sourceDir = path.resolve(sourceArg);
 const createVolspline = require(path.resolve(modulePath));
 
 let passed = 0;

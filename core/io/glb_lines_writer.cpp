@@ -1,0 +1,143 @@
+// SPDX-License-Identifier: MIT
+#include "core/io/glb_lines_writer.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/io/file_bytes.h"
+
+namespace volspline::io {
+
+namespace {
+
+Eigen::Vector3d face_uvw(int face, double s, double t, const Eigen::Vector3d& lo,
+                         const Eigen::Vector3d& hi) {
+  const int a = face / 2;
+  Eigen::Vector3d unit;
+  unit(a) = face % 2;
+  unit((a + 1) % 3) = s;
+  unit((a + 2) % 3) = t;
+  return lo + unit.cwiseProduct(hi - lo);
+}
+
+template <class T>
+void append_bytes(std::string& bin, const std::vector<T>& data) {
+  const std::size_t begin = bin.size();
+  bin.resize(begin + data.size() * sizeof(T));
+  if (!data.empty()) std::memcpy(&bin[begin], data.data(), data.size() * sizeof(T));
+  while (bin.size() % 4) bin.push_back('\0');
+}
+
+void append_u32(std::string& out, std::uint32_t x) {
+  for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((x >> (8 * i)) & 0xff));
+}
+
+}  // namespace
+
+std::string serialize_spline_glb(const spline::TSpline& spline, int samples, int lines) {
+  assert(spline.dimension() == 3 && samples >= 2 && lines >= 2);
+  const Eigen::Vector3d lo = spline.domain_min(), hi = spline.domain_max();
+  std::vector<float> surface_xyz, line_xyz;
+  std::vector<std::uint32_t> surface_index;
+  const int m = samples;
+  for (int face = 0; face < 6; ++face) {
+    const std::uint32_t base = static_cast<std::uint32_t>(surface_xyz.size() / 3);
+    for (int j = 0; j < m; ++j)
+      for (int i = 0; i < m; ++i) {
+        const Eigen::Vector3d p = spline.evaluate(face_uvw(face, double(i) / (m - 1), double(j) / (m - 1), lo, hi));
+        for (int d = 0; d < 3; ++d) surface_xyz.push_back(static_cast<float>(p(d)));
+      }
+    // Outward orientation: (s, t) is counter-clockwise seen from outside on odd faces.
+    const bool flip = face % 2 == 0;
+    for (int j = 0; j + 1 < m; ++j)
+      for (int i = 0; i + 1 < m; ++i) {
+        const std::uint32_t a = base + i + m * j, b = a + 1, c = a + m + 1, d = a + m;
+        const std::uint32_t tri[6] = {a, b, c, a, c, d};
+        for (int k = 0; k < 6; k += 3) {
+          surface_index.push_back(tri[k]);
+          surface_index.push_back(flip ? tri[k + 2] : tri[k + 1]);
+          surface_index.push_back(flip ? tri[k + 1] : tri[k + 2]);
+        }
+      }
+    // Iso-parameter lines: `lines` lines of constant s and of constant t, each as segments.
+    const int steps = 4 * (m - 1);
+    for (int dir = 0; dir < 2; ++dir)
+      for (int l = 0; l < lines; ++l) {
+        const double fixed = double(l) / (lines - 1);
+        for (int q = 0; q < steps; ++q)
+          for (int e = 0; e < 2; ++e) {
+            const double moving = double(q + e) / steps;
+            const Eigen::Vector3d p = spline.evaluate(
+                dir == 0 ? face_uvw(face, fixed, moving, lo, hi) : face_uvw(face, moving, fixed, lo, hi));
+            for (int d = 0; d < 3; ++d) line_xyz.push_back(static_cast<float>(p(d)));
+          }
+      }
+  }
+  auto bounds = [](const std::vector<float>& xyz, bool upper) {
+    nlohmann::json out = nlohmann::json::array();
+    for (int d = 0; d < 3; ++d) {
+      float v = upper ? -std::numeric_limits<float>::max() : std::numeric_limits<float>::max();
+      for (std::size_t i = d; i < xyz.size(); i += 3) v = upper ? std::max(v, xyz[i]) : std::min(v, xyz[i]);
+      out.push_back(v);
+    }
+    return out;
+  };
+  std::string bin;
+  const std::size_t off_surface = bin.size();
+  append_bytes(bin, surface_xyz);
+  const std::size_t off_index = bin.size();
+  append_bytes(bin, surface_index);
+  const std::size_t off_lines = bin.size();
+  append_bytes(bin, line_xyz);
+
+  nlohmann::ordered_json gltf;
+  gltf["asset"] = {{"version", "2.0"}, {"generator", "volspline"}};
+  gltf["scene"] = 0;
+  gltf["scenes"] = {{{"nodes", {0}}}};
+  gltf["nodes"] = {{{"mesh", 0}, {"name", "tspline_boundary"}}};
+  gltf["materials"] = {
+      {{"name", "surface"}, {"doubleSided", true},
+       {"pbrMetallicRoughness", {{"baseColorFactor", {0.8, 0.8, 0.82, 1.0}}, {"metallicFactor", 0.0}, {"roughnessFactor", 0.8}}}},
+      {{"name", "iso_lines"},
+       {"pbrMetallicRoughness", {{"baseColorFactor", {0.05, 0.05, 0.1, 1.0}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}}}};
+  gltf["meshes"] = {{{"primitives",
+                      {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}, {"material", 0}, {"mode", 4}},
+                       {{"attributes", {{"POSITION", 2}}}, {"material", 1}, {"mode", 1}}}}}};
+  gltf["buffers"] = {{{"byteLength", bin.size()}}};
+  gltf["bufferViews"] = {
+      {{"buffer", 0}, {"byteOffset", off_surface}, {"byteLength", surface_xyz.size() * 4}, {"target", 34962}},
+      {{"buffer", 0}, {"byteOffset", off_index}, {"byteLength", surface_index.size() * 4}, {"target", 34963}},
+      {{"buffer", 0}, {"byteOffset", off_lines}, {"byteLength", line_xyz.size() * 4}, {"target", 34962}}};
+  gltf["accessors"] = {
+      {{"bufferView", 0}, {"componentType", 5126}, {"count", surface_xyz.size() / 3}, {"type", "VEC3"},
+       {"min", bounds(surface_xyz, false)}, {"max", bounds(surface_xyz, true)}},
+      {{"bufferView", 1}, {"componentType", 5125}, {"count", surface_index.size()}, {"type", "SCALAR"}},
+      {{"bufferView", 2}, {"componentType", 5126}, {"count", line_xyz.size() / 3}, {"type", "VEC3"},
+       {"min", bounds(line_xyz, false)}, {"max", bounds(line_xyz, true)}}};
+  std::string json = gltf.dump();
+  while (json.size() % 4) json.push_back(' ');
+
+  std::string out;
+  append_u32(out, 0x46546C67);  // "glTF"
+  append_u32(out, 2);
+  append_u32(out, static_cast<std::uint32_t>(12 + 8 + json.size() + 8 + bin.size()));
+  append_u32(out, static_cast<std::uint32_t>(json.size()));
+  append_u32(out, 0x4E4F534A);  // "JSON"
+  out += json;
+  append_u32(out, static_cast<std::uint32_t>(bin.size()));
+  append_u32(out, 0x004E4942);  // "BIN\0"
+  out += bin;
+  return out;
+}
+
+void write_spline_glb(const std::string& path, const spline::TSpline& spline, int samples, int lines) {
+  write_file_atomic(path, serialize_spline_glb(spline, samples, lines));
+}
+
+}  // namespace volspline::io
