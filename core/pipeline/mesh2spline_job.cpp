@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <random>
-#include <cstdio>
 #include <string>
 
 #include <Eigen/LU>
@@ -253,10 +252,8 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
   Eigen::VectorXd errors;
   for (int level = 0;; ++level) {
     progress.report("fit level " + std::to_string(level), 0.3 + 0.4 * level / (options.max_levels + 1));
-    auto dbg0 = Clock::now();
-    auto rep = fit(ts, samples, prior, options, longest_nodes);
+    fit(ts, samples, prior, options, longest_nodes);
     errors = sample_errors(ts, samples);
-    std::fprintf(stderr, "DBG level %d cp %d maxpercell %d cells %d fit %.3f rms %.5f it %d conv %d\n", level, ts.num_functions(), ts.max_functions_per_cell(), ts.num_cells(), std::chrono::duration<double>(Clock::now()-dbg0).count(), rms(errors)/diagonal, rep.cg_iterations, rep.converged);
     stats.levels = level;
     if (rms(errors) <= target || level >= options.max_levels) break;
     // FittingError(g) of Algorithm 4: the worst sample error inside each leaf cell.

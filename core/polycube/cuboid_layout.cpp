@@ -71,18 +71,21 @@ double min_pair_distance(const mesh::HalfedgeMesh& mesh, const Corners& corners)
   return best;
 }
 
-// Vertices extremal along the 8 box diagonals of `frame` (columns = axes) scaled by `extent`;
+// Vertices extremal along the 8 box diagonals of `frame` (columns = axes) scaled by `extent`
+// (nearest: the vertices nearest to the corners of the box of half-sides 2·extent instead);
 // false if two diagonals pick the same vertex.
 bool extremal_corners(const mesh::HalfedgeMesh& mesh, const Eigen::Vector3d& centre,
-                      const Eigen::Matrix3d& frame, const Eigen::Vector3d& extent,
+                      const Eigen::Matrix3d& frame, const Eigen::Vector3d& extent, bool nearest,
                       Corners& corners) {
   for (int c = 0; c < num_cube_corners; ++c) {
     const Eigen::Vector3d direction = frame * corner_signs(c).cwiseProduct(extent);
     double best = -std::numeric_limits<double>::infinity();
     int best_id = -1;
+    const Eigen::Vector3d target = centre + 2.0 * direction;
     for (int v = 0; v < mesh.num_vertices(); ++v) {
       if (mesh.vertex_halfedge(v) == mesh::no_id) continue;
-      const double score = (mesh.vertex_position(v) - centre).dot(direction);
+      const double score = nearest ? -(mesh.vertex_position(v) - target).squaredNorm()
+                                   : (mesh.vertex_position(v) - centre).dot(direction);
       if (score > best) {
         best = score;
         best_id = v;
@@ -94,7 +97,7 @@ bool extremal_corners(const mesh::HalfedgeMesh& mesh, const Eigen::Vector3d& cen
   return static_cast<int>(distinct.size()) == num_cube_corners;
 }
 
-Corners automatic_corners(const mesh::HalfedgeMesh& mesh) {
+Corners automatic_corners(const mesh::HalfedgeMesh& mesh, bool nearest) {
   // Area-weighted moments make the frame independent of the sampling density.
   const std::vector<double> areas = mesh::face_areas(mesh);
   std::vector<double> vertex_weight(mesh.num_vertices(), 0.0);
@@ -123,43 +126,50 @@ Corners automatic_corners(const mesh::HalfedgeMesh& mesh) {
   if (pca.determinant() < 0.0) pca.col(2) = -pca.col(2);
   extent = extent.cwiseMax(1e-9 * extent.maxCoeff());
 
-  Corners best{};
-  double best_score = -1.0;
-  auto consider = [&](const Eigen::Matrix3d& frame) {
-    Corners corners;
-    if (!extremal_corners(mesh, centre, frame, extent, corners)) return;
-    const double score = min_pair_distance(mesh, corners);
-    if (score > best_score) {
-      best_score = score;
-      best = corners;
-    }
-  };
-  consider(pca);
-  const double step = 15.0 * 3.14159265358979323846 / 180.0;
+  // Candidate frames: the PCA frame, 15°-step rotations about its axes and 2×12 rotations
+  // about well-spread axes (for nearly isotropic shapes, whose PCA axes are arbitrary); each
+  // is refined by Procrustes fits of the box to its corners (a rotated cube then snaps onto
+  // its own corners). The corners farthest apart (no slivers) win; ties keep the first.
+  std::vector<Eigen::Matrix3d> frames = {pca};
+  const double degree = 3.14159265358979323846 / 180.0;
   for (int axis = 0; axis < 3; ++axis)
     for (int k = 1; k < 6; ++k)
-      consider(pca * Eigen::AngleAxisd(k * step, Eigen::Vector3d::Unit(axis)).toRotationMatrix());
+      frames.push_back(pca * Eigen::AngleAxisd(15.0 * k * degree, Eigen::Vector3d::Unit(axis)).toRotationMatrix());
+  for (int i = 0; i < 12; ++i) {
+    const double z = 1.0 - (2.0 * i + 1.0) / 12.0;
+    const double phi = i * 137.50776405 * degree;
+    const Eigen::Vector3d axis(std::sqrt(1 - z * z) * std::cos(phi), std::sqrt(1 - z * z) * std::sin(phi), z);
+    for (double angle : {25.0, 50.0})
+      frames.push_back(pca * Eigen::AngleAxisd(angle * degree, axis).toRotationMatrix());
+  }
+  Corners best{};
+  double best_score = -1.0;
+  for (const Eigen::Matrix3d& start : frames) {
+    Corners current;
+    if (!extremal_corners(mesh, centre, start, extent, nearest, current)) continue;
+    double score = min_pair_distance(mesh, current);
+    for (int iteration = 0; iteration < 8; ++iteration) {
+      Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
+      for (int c = 0; c < num_cube_corners; ++c)
+        h += corner_signs(c).cwiseProduct(extent) * (mesh.vertex_position(current[c]) - centre).transpose();
+      Eigen::JacobiSVD<Eigen::Matrix3d> svd(h, Eigen::ComputeFullU | Eigen::ComputeFullV);
+      Eigen::Matrix3d fix = Eigen::Matrix3d::Identity();
+      fix(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
+      const Eigen::Matrix3d frame = svd.matrixV() * fix * svd.matrixU().transpose();
+      Corners next;
+      if (!extremal_corners(mesh, centre, frame, extent, nearest, next)) break;
+      const double next_score = min_pair_distance(mesh, next);
+      if (next == current || next_score <= score) break;
+      current = next;
+      score = next_score;
+    }
+    if (score > best_score) {
+      best_score = score;
+      best = current;
+    }
+  }
   if (best_score < 0.0)
     throw Error("mesh '" + mesh.source_name() + "': cannot find 8 distinct cuboid corners");
-
-  // Procrustes refinement: rotate the box to fit the corners found, pick again (a rotated cube
-  // then snaps onto its own corners whatever the start frame).
-  for (int iteration = 0; iteration < 8; ++iteration) {
-    Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
-    for (int c = 0; c < num_cube_corners; ++c)
-      h += corner_signs(c).cwiseProduct(extent) *
-           (mesh.vertex_position(best[c]) - centre).transpose();
-    Eigen::JacobiSVD<Eigen::Matrix3d> svd(h, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    Eigen::Matrix3d fix = Eigen::Matrix3d::Identity();
-    fix(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
-    const Eigen::Matrix3d frame = svd.matrixV() * fix * svd.matrixU().transpose();
-    Corners corners;
-    if (!extremal_corners(mesh, centre, frame, extent, corners)) break;
-    const double score = min_pair_distance(mesh, corners);
-    if (corners == best || score <= best_score) break;
-    best = corners;
-    best_score = score;
-  }
   return best;
 }
 
@@ -354,43 +364,13 @@ bool trace_layout(const mesh::HalfedgeMesh& mesh, const std::vector<double>& len
   return true;
 }
 
-}  // namespace
-
-CuboidLayout compute_cuboid_layout(const mesh::HalfedgeMesh& mesh,
-                                   const CuboidLayoutOptions& options) {
-  const std::string name = "mesh '" + mesh.source_name() + "'";
-  CuboidLayout layout;
-  if (options.corners.empty()) {
-    layout.corners = automatic_corners(mesh);
-  } else {
-    if (options.corners.size() != num_cube_corners)
-      throw Error(name + ": expected 8 corner vertex ids, got " +
-                  std::to_string(options.corners.size()));
-    std::set<int> seen;
-    for (int c = 0; c < num_cube_corners; ++c) {
-      const int v = options.corners[c];
-      if (v < 0 || v >= mesh.num_vertices() || mesh.vertex_halfedge(v) == mesh::no_id)
-        throw Error(name + ": corner " + std::to_string(c) + " is vertex " + std::to_string(v) +
-                    ", not a vertex of the mesh");
-      if (!seen.insert(v).second)
-        throw Error(name + ": corner vertex " + std::to_string(v) + " is listed twice");
-      layout.corners[c] = v;
-    }
-    const Eigen::Vector3d p0 = mesh.vertex_position(layout.corners[0]);
-    Eigen::Matrix3d m;
-    m << mesh.vertex_position(layout.corners[1]) - p0, mesh.vertex_position(layout.corners[2]) - p0,
-        mesh.vertex_position(layout.corners[4]) - p0;
-    if (m.determinant() <= 0.0)
-      throw Error(name + ": corners are in mirrored (left-handed) order; corner c must sit at "
-                  "(c&1, c>>1&1, c>>2&1) of a right-handed box");
-  }
-
-  Eigen::Vector3d lo = mesh.positions().colwise().minCoeff();
-  Eigen::Vector3d hi = mesh.positions().colwise().maxCoeff();
+// Traces the poly-edges for the given corners, trying the band along each cube axis (longest
+// first); false with the reasons if none works.
+bool layout_with_corners(const mesh::HalfedgeMesh& mesh, CuboidLayout& layout, std::string* why) {
+  const Eigen::Vector3d lo = mesh.positions().colwise().minCoeff();
+  const Eigen::Vector3d hi = mesh.positions().colwise().maxCoeff();
   const double diagonal = (hi - lo).norm();
   layout.min_corner_distance_rel = diagonal > 0.0 ? min_pair_distance(mesh, layout.corners) / diagonal : 0.0;
-
-  // Try the longest cube axis first for the band; fall back to the others.
   std::array<double, 3> axis_length{};
   for (int e = 0; e < num_cube_edges; ++e) {
     const auto ends = cube_edge_corners(e);
@@ -404,13 +384,60 @@ CuboidLayout compute_cuboid_layout(const mesh::HalfedgeMesh& mesh,
   std::string reasons;
   for (int axis : order) {
     CuboidLayout attempt = layout;
-    std::string why;
-    if (trace_layout(mesh, length, axis, attempt, &why)) return attempt;
+    std::string reason;
+    if (trace_layout(mesh, length, axis, attempt, &reason)) {
+      layout = std::move(attempt);
+      return true;
+    }
     reasons += (reasons.empty() ? "" : "; ") + std::string("band along axis ") +
-               std::to_string(axis) + ": " + why;
+               std::to_string(axis) + ": " + reason;
   }
-  throw Error(name + ": cannot lay out a cuboid: " + reasons +
-              " (try other corners with --corners)");
+  *why = reasons;
+  return false;
+}
+
+}  // namespace
+
+CuboidLayout compute_cuboid_layout(const mesh::HalfedgeMesh& mesh,
+                                   const CuboidLayoutOptions& options) {
+  const std::string name = "mesh '" + mesh.source_name() + "'";
+  if (options.corners.empty()) {
+    // Extremal corners first; the box-corner choice is the fallback when their paths cannot be
+    // laid out (e.g. corners on long limbs).
+    std::string reasons;
+    for (bool nearest : {false, true}) {
+      CuboidLayout layout;
+      layout.corners = automatic_corners(mesh, nearest);
+      std::string why;
+      if (layout_with_corners(mesh, layout, &why)) return layout;
+      reasons += (reasons.empty() ? "" : "; ") + why;
+    }
+    throw Error(name + ": cannot lay out a cuboid: " + reasons + " (try other corners with --corners)");
+  }
+  CuboidLayout layout;
+  if (options.corners.size() != num_cube_corners)
+    throw Error(name + ": expected 8 corner vertex ids, got " + std::to_string(options.corners.size()));
+  std::set<int> seen;
+  for (int c = 0; c < num_cube_corners; ++c) {
+    const int v = options.corners[c];
+    if (v < 0 || v >= mesh.num_vertices() || mesh.vertex_halfedge(v) == mesh::no_id)
+      throw Error(name + ": corner " + std::to_string(c) + " is vertex " + std::to_string(v) +
+                  ", not a vertex of the mesh");
+    if (!seen.insert(v).second)
+      throw Error(name + ": corner vertex " + std::to_string(v) + " is listed twice");
+    layout.corners[c] = v;
+  }
+  const Eigen::Vector3d p0 = mesh.vertex_position(layout.corners[0]);
+  Eigen::Matrix3d m;
+  m << mesh.vertex_position(layout.corners[1]) - p0, mesh.vertex_position(layout.corners[2]) - p0,
+      mesh.vertex_position(layout.corners[4]) - p0;
+  if (m.determinant() <= 0.0)
+    throw Error(name + ": corners are in mirrored (left-handed) order; corner c must sit at "
+                "(c&1, c>>1&1, c>>2&1) of a right-handed box");
+  std::string why;
+  if (!layout_with_corners(mesh, layout, &why))
+    throw Error(name + ": cannot lay out a cuboid: " + why + " (try other corners with --corners)");
+  return layout;
 }
 
 }  // namespace volspline::polycube

@@ -43,10 +43,11 @@ struct CuboidLayoutOptions {
 
 /// Lays a cuboid onto a closed genus-0 mesh.
 ///
-/// Automatic corners: in a right-handed PCA frame of the vertices (and 15°-step rotations of
-/// it, then refined by Procrustes fits of a box to the chosen corners) the vertices extremal in
-/// the 8 diagonal directions scaled by the principal extents; the frame whose corners are
-/// farthest apart (no slivers) wins. This depends only on the shape, not on its pose.
+/// Automatic corners: in a right-handed, area-weighted PCA frame and 39 fixed rotations of it
+/// (each refined by Procrustes fits of the box to its corners), the vertices extremal in the 8
+/// diagonal directions scaled by the principal extents; the frame whose corners are farthest
+/// apart (no slivers) wins. Only the shape matters, not its pose. If those corners cannot be
+/// laid out, the vertices nearest to the box corners are tried instead.
 /// Poly-edges: Dijkstra shortest paths, made disjoint by forbidding used vertices: first the
 /// two loops around the ends of the longest cube axis, then the 4 long edges inside the annulus
 /// between the loops, so the 12 paths always cut the sphere into 6 disks in cube order.

@@ -5,4 +5,6 @@ set(TEST_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/knot_insertion_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/tspline_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/tspline_refinement_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/tspline_fitting_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/hierarchical_refinement_test.cpp
 )

@@ -1,0 +1,60 @@
+// SPDX-License-Identifier: MIT
+// mesh2spline whole-job time (read + job, one thread), median of 5 runs, on a closed genus-0
+// mesh (default: bunny_closed), plus the measures of the last run and, as the reference
+// measured in the same run, the uniform tensor B-spline reaching the same rms_rel.
+// usage: bench_mesh2spline [MESH] [--fit grid|meshless]
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "core/io/mesh_io.h"
+#include "core/pipeline/mesh2spline_job.h"
+
+int main(int argc, char** argv) {
+  using namespace volspline;
+  std::string path = std::string(VOLSPLINE_SHARED_DATA) + "/meshes/bunny_closed.obj";
+  pipeline::Mesh2SplineOptions options;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--fit" && i + 1 < argc)
+      options.fit = std::string(argv[++i]) == "meshless" ? pipeline::Mesh2SplineFit::Meshless
+                                                          : pipeline::Mesh2SplineFit::Grid;
+    else
+      path = a;
+  }
+  try {
+    std::vector<double> seconds;
+    pipeline::Mesh2SplineStats stats;
+    for (int run = 0; run < 5; ++run) {
+      const auto start = std::chrono::steady_clock::now();
+      const mesh::TriangleMesh mesh = io::read_mesh(path);
+      const auto result = pipeline::run_mesh2spline(mesh, path, options);
+      seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+      stats = result.stats;
+    }
+    std::sort(seconds.begin(), seconds.end());
+    pipeline::Mesh2SplineOptions reference = options;
+    reference.compare_uniform = true;
+    const auto compared = pipeline::run_mesh2spline(io::read_mesh(path), path, reference);
+    std::printf("{\n  \"bench\": \"mesh2spline\",\n  \"mesh\": \"%s\",\n  \"fit\": \"%s\",\n", path.c_str(),
+                options.fit == pipeline::Mesh2SplineFit::Grid ? "grid" : "meshless");
+    std::printf("  \"median_s\": %.4f,\n  \"min_s\": %.4f,\n  \"max_s\": %.4f,\n", seconds[2], seconds[0], seconds[4]);
+    std::printf("  \"rms_rel\": %.6g,\n  \"max_rel\": %.6g,\n  \"hausdorff_rel\": %.6g,\n  \"rms_geo_rel\": %.6g,\n",
+                stats.rms_rel, stats.max_rel, stats.hausdorff_rel, stats.rms_geo_rel);
+    std::printf("  \"control_points\": %d,\n  \"levels\": %d,\n  \"min_scaled_jacobian\": %.6g,\n", stats.control_points,
+                stats.levels, stats.min_scaled_jacobian);
+    std::printf("  \"negative_jacobian_fraction\": %.6g,\n  \"semi_standard_max_error\": %.3g,\n",
+                stats.negative_jacobian_fraction, stats.semi_standard_max_error);
+    std::printf("  \"uniform_control_points\": %d,\n  \"uniform_rms_rel\": %.6g,\n  \"stage_s\": {",
+                compared.stats.uniform_control_points, compared.stats.uniform_rms_rel);
+    for (std::size_t i = 0; i < stats.times_s.size(); ++i)
+      std::printf("%s\"%s\": %.4f", i ? ", " : "", stats.times_s[i].first.c_str(), stats.times_s[i].second);
+    std::printf("}\n}\n");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_mesh2spline: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

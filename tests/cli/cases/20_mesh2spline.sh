@@ -1,0 +1,28 @@
+# mesh2spline and eval: outputs, stats keys, round trip, bad input.
+expect 0 "$BIN" mesh2spline --help
+contains "$TMP/out" "mesh2spline MESH -o OUT.json"
+expect 0 "$BIN" mesh2spline "$DATA/meshes/sphere.off" -o "$TMP/s.json" --vtk "$TMP/s.vtu" --glb "$TMP/s.glb" --stats-json "$TMP/s_stats.json" --quiet
+for key in rms_rel max_rel hausdorff_rel rms_geo_rel control_points levels min_scaled_jacobian negative_jacobian_fraction semi_standard_max_error times_s; do
+  contains "$TMP/s_stats.json" "\"$key\""
+done
+contains "$TMP/s.vtu" "scaled_jacobian"
+contains "$TMP/s.json" "volspline-tspline"
+if [ "$(head -c 4 "$TMP/s.glb")" = "glTF" ]; then ok; else bad "s.glb is not a GLB file"; fi
+expect 0 "$BIN" eval "$TMP/s.json" --uvw 0.5,0.5,0.5
+expect 2 "$BIN" eval "$TMP/s.json" --uvw 0.5,0.5
+contains "$TMP/err" "three comma-separated numbers"
+expect 2 "$BIN" eval "$TMP/s.json" --uvw 2,0.5,0.5
+expect 0 "$BIN" mesh2spline "$DATA/meshes/cube.off" -o "$TMP/c.json" --fit meshless --quiet
+expect 2 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/t.json" --quiet
+contains "$TMP/err" "genus 1"
+printf 'OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n' > "$TMP/open.off"
+expect 2 "$BIN" mesh2spline "$TMP/open.off" -o "$TMP/o.json" --quiet
+contains "$TMP/err" "not closed"
+printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 nan 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n' > "$TMP/nan.off"
+expect 2 "$BIN" mesh2spline "$TMP/nan.off" -o "$TMP/n.json" --quiet
+expect 2 "$BIN" mesh2spline "$DATA/meshes/sphere.off" --quiet
+contains "$TMP/err" "needs -o"
+expect 2 "$BIN" mesh2spline "$DATA/meshes/sphere.off" -o "$TMP/x.json" --fit magic --quiet
+printf '1 2 3\n' > "$TMP/corners.txt"
+expect 2 "$BIN" mesh2spline "$DATA/meshes/sphere.off" -o "$TMP/x.json" --corners "$TMP/corners.txt" --quiet
+contains "$TMP/err" "expected 8 vertex ids"

@@ -1,0 +1,88 @@
+// SPDX-License-Identifier: MIT
+#include "core/param/cuboid_surface_map.h"
+
+#include <doctest/doctest.h>
+
+#include "core/common/error.h"
+#include "core/param/cuboid_surface_locator.h"
+#include "test_meshes.h"
+
+using namespace volspline;
+
+TEST_CASE("cube face coordinates round-trip") {
+  for (int f = 0; f < 6; ++f) {
+    const Eigen::Vector3d p = param::cube_face_point(f, 0.25, 0.75);
+    CHECK(p(f / 2) == f % 2);
+    const Eigen::Vector2d st = param::cube_face_coordinates(f, p);
+    CHECK(st.x() == 0.25);
+    CHECK(st.y() == 0.75);
+  }
+}
+
+TEST_CASE("the surface map of a subdivided cube is the identity up to scale") {
+  const auto m = mesh::HalfedgeMesh::build(test::subdivided_cube(4), "cube");
+  const auto layout = polycube::compute_cuboid_layout(m);
+  for (auto weights : {param::SurfaceWeights::MeanValue, param::SurfaceWeights::Cotan}) {
+    param::CuboidSurfaceMapOptions options;
+    options.weights = weights;
+    const auto map = param::compute_cuboid_surface_map(m, layout, options);
+    CHECK(map.num_flipped == 0);
+    // The layout's labelling may differ from the xyz axes by a cube symmetry, so compare
+    // distances: the map is an isometry up to the factor 1/2 (uniform grid, harmonic weights
+    // reproduce linear functions; tolerance from the CG residual).
+    for (int i = 0; i < m.num_vertices(); ++i) {
+      for (int j = 0; j < m.num_vertices(); j += 7) {
+        const double dx = (m.vertex_position(i) - m.vertex_position(j)).norm();
+        const double du = (map.uvw.row(i) - map.uvw.row(j)).norm();
+        CHECK(du == doctest::Approx(dx / 2).epsilon(1e-7));
+      }
+    }
+    const param::CuboidSurfaceLocator locator(m, map);
+    for (int i = 0; i < m.num_vertices(); ++i) {
+      const Eigen::Vector3d x = locator.locate_uvw(map.uvw.row(i).transpose());
+      CHECK((x - m.vertex_position(i)).norm() < 1e-7);
+    }
+  }
+}
+
+TEST_CASE("the surface map of a sphere is bijective and on the cube surface") {
+  const auto m = mesh::HalfedgeMesh::build(test::cube_sphere(8), "sphere");
+  const auto layout = polycube::compute_cuboid_layout(m);
+  const auto map = param::compute_cuboid_surface_map(m, layout);
+  CHECK(map.num_flipped == 0);
+  for (int i = 0; i < m.num_vertices(); ++i) {
+    const Eigen::Vector3d p = map.uvw.row(i).transpose();
+    CHECK(p.minCoeff() >= 0.0);
+    CHECK(p.maxCoeff() <= 1.0);
+    CHECK(std::min(p.minCoeff(), 1.0 - p.maxCoeff()) == 0.0);
+  }
+  // Inverse lookup of a face centroid parameter gives a point on the sphere (within the chord
+  // error of the 8×8 faces).
+  const param::CuboidSurfaceLocator locator(m, map);
+  for (int f = 0; f < 6; ++f) {
+    const double r = locator.locate(f, 0.37, 0.61).norm();
+    CHECK(r > 0.97);
+    CHECK(r <= 1.0 + 1e-12);
+  }
+}
+
+TEST_CASE("cotan weights on a mesh with very obtuse triangles are reported, not silently wrong") {
+  // A sphere whose vertices are pulled towards one pole has skinny triangles; either the map is
+  // bijective or the error names the flipped triangles.
+  auto sphere = test::cube_sphere(6);
+  for (int i = 0; i < sphere.num_vertices(); ++i) sphere.positions(i, 2) = std::pow(std::abs(sphere.positions(i, 2)), 0.2) * (sphere.positions(i, 2) < 0 ? -1 : 1);
+  const auto m = mesh::HalfedgeMesh::build(sphere, "squashed");
+  const auto layout = polycube::compute_cuboid_layout(m);
+  param::CuboidSurfaceMapOptions options;
+  options.weights = param::SurfaceWeights::Cotan;
+  try {
+    const auto map = param::compute_cuboid_surface_map(m, layout, options);
+    CHECK(map.num_flipped == 0);
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    CHECK((what.find("not bijective") != std::string::npos || what.find("SPD") != std::string::npos));
+    CHECK(what.find("squashed") != std::string::npos);
+  }
+  // Mean-value weights are positive: always bijective.
+  CHECK(param::compute_cuboid_surface_map(m, layout).num_flipped == 0);
+}

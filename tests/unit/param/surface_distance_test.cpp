@@ -1,0 +1,37 @@
+// SPDX-License-Identifier: MIT
+#include "core/param/surface_distance.h"
+
+#include <random>
+
+#include <doctest/doctest.h>
+
+#include "test_meshes.h"
+
+using namespace volspline;
+
+TEST_CASE("closest point on a triangle: regions") {
+  const Eigen::Vector3d a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  CHECK((param::closest_point_on_triangle({0.2, 0.2, 5}, a, b, c) - Eigen::Vector3d(0.2, 0.2, 0)).norm() < 1e-15);
+  CHECK((param::closest_point_on_triangle({-1, -1, 0}, a, b, c) - a).norm() < 1e-15);
+  CHECK((param::closest_point_on_triangle({2, -1, 0}, a, b, c) - b).norm() < 1e-15);
+  CHECK((param::closest_point_on_triangle({0.5, -1, 0}, a, b, c) - Eigen::Vector3d(0.5, 0, 0)).norm() < 1e-15);
+  CHECK((param::closest_point_on_triangle({1, 1, 0}, a, b, c) - Eigen::Vector3d(0.5, 0.5, 0)).norm() < 1e-15);
+}
+
+TEST_CASE("bucketed distance equals brute force") {
+  const auto mesh = test::cube_sphere(5);
+  const param::SurfaceDistance distance(mesh);
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  for (int s = 0; s < 200; ++s) {
+    const Eigen::Vector3d p(u(rng), u(rng), u(rng));
+    double brute = 1e300;
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+      const Eigen::Vector3d q = param::closest_point_on_triangle(
+          p, mesh.positions.row(mesh.triangles(f, 0)).transpose(), mesh.positions.row(mesh.triangles(f, 1)).transpose(),
+          mesh.positions.row(mesh.triangles(f, 2)).transpose());
+      brute = std::min(brute, (q - p).norm());
+    }
+    CHECK(distance.distance(p) == doctest::Approx(brute).epsilon(1e-12));
+  }
+}

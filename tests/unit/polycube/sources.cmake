@@ -1,0 +1,4 @@
+# SPDX-License-Identifier: MIT
+set(TEST_SOURCES
+  ${CMAKE_CURRENT_LIST_DIR}/cuboid_layout_test.cpp
+)
