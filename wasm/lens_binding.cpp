@@ -112,6 +112,8 @@ val stats_to_js(const pipeline::LensStats& s) {
   val out = val::object();
   out.set("distortion_sum", s.distortion_sum);
   out.set("distortion_max", s.distortion_max);
+  out.set("distortion_sum_focus", s.distortion_sum_focus);
+  out.set("distortion_max_focus", s.distortion_max_focus);
   out.set("magnification_center", s.magnification_center);
   val per_roi = val::array();
   for (double m : s.magnification_per_roi) per_roi.call<void>("push", m);

@@ -226,6 +226,7 @@ const lensTab = {
     const rows = [
       ['method', method], ['magnification_center', fmt(s.magnification_center)],
       ['distortion_sum', fmt(s.distortion_sum)], ['distortion_max', fmt(s.distortion_max)],
+      ['distortion_max_focus', fmt(s.distortion_max_focus)],
       ['flipped_triangles', s.flipped_triangles], ['iterations', s.iterations], ['converged', s.converged ? 'yes' : 'no'],
       ['ms_per_iteration', fmt(s.ms_per_iteration, 3)], ['ms_total', fmt(s.ms_total, 3)],
       ['ms_calibration', fmt(s.ms_calibration, 3)], ['ms_factorize', fmt(s.ms_factorize, 3)],
