@@ -1,3 +1,4 @@
 # SPDX-License-Identifier: MIT
 list(APPEND VOLSPLINE_CORE_SOURCES
+  ${CMAKE_CURRENT_LIST_DIR}/volume.cpp
 )
