@@ -13,6 +13,14 @@ for m in samples/meshes/*.off; do
   echo "== volspline info $m"
   "$VS" info "$m"
 done
+for m in samples/meshes/sphere.off samples/meshes/bimba.off; do
+  name=$(basename "$m" .off)
+  echo "== volspline mesh2spline $m"
+  "$VS" mesh2spline "$m" -o "$OUT/$name.json" --vtk "$OUT/$name.vtu" --glb "$OUT/$name.glb" \
+      --stats-json "$OUT/${name}_stats.json" --max-levels 2
+  cat "$OUT/${name}_stats.json"; echo
+  "$VS" eval "$OUT/$name.json" --uvw 0.5,0.5,0.5
+done
 for img in samples/images/*.png; do
   [ -f "$img" ] || continue
   name=$(basename "$img" .png)
