@@ -2,8 +2,8 @@
 # SPDX-License-Identifier: MIT
 # The test command: installs what is missing, builds every configuration and runs every test.
 #   1. native Release build: unit tests, CLI integration tests (ctest)
-#   2. native Debug build under AddressSanitizer + UndefinedBehaviorSanitizer: the same tests
-#   3. libFuzzer targets (clang): the saved corpus, then a short bounded run per reader
+#   2. clang Debug build under AddressSanitizer + UndefinedBehaviorSanitizer: the same tests
+#   3. libFuzzer targets from that build: the saved corpus, then a short bounded run per reader
 #   4. WebAssembly build (em++): the core called from node
 #   5. the static site in headless Chromium (playwright-core): upload, run, view, errors
 # Ends with one line "N passed, M failed" counting the stages.
@@ -28,18 +28,18 @@ native() {
   cmake --build build/release -j"$JOBS" &&
   ctest --test-dir build/release --output-on-failure -j"$JOBS"
 }
+# One clang Debug build serves both the sanitizer run and the fuzzers: ASan+UBSan everywhere, and
+# the core also carries libFuzzer's coverage instrumentation (harmless for the tests).
 sanitized() {
-  cmake -S . -B build/asan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-g -O1" \
-        -DVOLSPLINE_SANITIZE=ON -DVOLSPLINE_BENCH=OFF >/dev/null &&
-  cmake --build build/asan -j"$JOBS" &&
+  CC=clang CXX=clang++ cmake -S . -B build/sanitize -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-g -O1" \
+        -DVOLSPLINE_SANITIZE=ON -DVOLSPLINE_FUZZ=ON -DVOLSPLINE_BENCH=OFF >/dev/null &&
+  cmake --build build/sanitize -j"$JOBS" &&
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    ctest --test-dir build/asan --output-on-failure -j"$JOBS"
+    ctest --test-dir build/sanitize --output-on-failure -j"$JOBS"
 }
 fuzz() {
-  CC=clang CXX=clang++ cmake -S . -B build/fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVOLSPLINE_FUZZ=ON \
-        -DVOLSPLINE_BENCH=OFF >/dev/null &&
-  cmake --build build/fuzz -j"$JOBS" --target fuzz_targets &&
-  bash tests/fuzz/run_fuzz.sh build/fuzz "$FUZZ_SECONDS"
+  cmake --build build/sanitize -j"$JOBS" --target fuzz_targets &&
+  bash tests/fuzz/run_fuzz.sh build/sanitize "$FUZZ_SECONDS"
 }
 wasm() {
   export NODE_PATH=/usr/share/nodejs

@@ -4,9 +4,13 @@
 # usage: tests/setup_deps.sh [--web]   (--web adds chromium and npm for the browser tests)
 set -euo pipefail
 packages=(cmake make g++ clang libclang-rt-14-dev libeigen3-dev doctest-dev libtinygltf-dev libstb-dev
-          nlohmann-json3-dev emscripten nodejs)
-if [ "${1:-}" = "--web" ]; then packages+=(chromium npm); fi
+          nlohmann-json3-dev emscripten)
+if [ "${1:-}" = "--web" ]; then packages+=(chromium); fi
 missing=()
+# node and npm may come from another source (e.g. a nodejs build that bundles npm): look for the
+# commands, and install Debian's packages only when they are absent.
+command -v node >/dev/null 2>&1 || missing+=(nodejs)
+if [ "${1:-}" = "--web" ]; then command -v npm >/dev/null 2>&1 || missing+=(npm); fi
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done

@@ -22,4 +22,9 @@ EMSCRIPTEN_BINDINGS(volspline) {
   emscripten::function("decodeImage", &volspline::wasm::decode_image);
   emscripten::function("encodePng", &volspline::wasm::encode_png);
   emscripten::function("lens", &volspline::wasm::lens);
+  emscripten::class_<volspline::wasm::LensSessionBinding>("LensSession")
+      .constructor<>()
+      .function("run", &volspline::wasm::LensSessionBinding::run)
+      .function("counters", &volspline::wasm::LensSessionBinding::counters)
+      .function("clear", &volspline::wasm::LensSessionBinding::clear);
 }

@@ -7,6 +7,7 @@
 #include "core/common/error.h"
 #include "core/io/image_io.h"
 #include "core/pipeline/lens_job.h"
+#include "core/pipeline/lens_session.h"
 #include "wasm/guarded.h"
 #include "wasm/js_values.h"
 
@@ -165,28 +166,69 @@ val encode_png(const val& image) {
   });
 }
 
+namespace {
+
+// Parses the JS arguments, runs `job(input, options, progress)` and converts its LensResult.
+template <class Job>
+val run_lens_js(const val& image, const val& rois, const val& options, const val& progress, Job&& job) {
+  pipeline::LensInput input;
+  input.name = "image";
+  if (!image.isUndefined() && !image.isNull() && image.typeOf().as<std::string>() == "object")
+    input.name = string_option(image, "name", "image");
+  input.image = image_from_js(image, "image '" + input.name + "'");
+  if (!rois.isArray()) throw Error("lens: rois must be an array");
+  const int n = rois["length"].as<int>();
+  for (int i = 0; i < n; ++i) input.rois.push_back(roi_from_js(rois[i], i));
+  const pipeline::LensResult result = job(input, lens_options_from_js(options), progress_from_js(progress));
+
+  val out = val::object();
+  out.set("ok", true);
+  out.set("stats", stats_to_js(result.stats));
+  out.set("positions", points2_to_js(result.positions));
+  out.set("texture", points2_to_js(result.texture));
+  const std::vector<std::uint32_t> triangles(result.triangles.data(), result.triangles.data() + result.triangles.size());
+  out.set("triangles", uint32_array(triangles.data(), triangles.size()));
+  out.set("image", result.image.pixels.empty() ? val::null() : image_to_js(result.image));
+  return out;
+}
+
+val counters_to_js(const pipeline::LensSessionCounters& c) {
+  val out = val::object();
+  out.set("runs", c.runs);
+  out.set("mesh_builds", c.mesh_builds);
+  out.set("mesh_reuses", c.mesh_reuses);
+  out.set("calibrations", c.calibrations);
+  out.set("calibration_reuses", c.calibration_reuses);
+  return out;
+}
+
+}  // namespace
+
 val lens(const val& image, const val& rois, const val& options, const val& progress) {
   return guarded([&] {
-    pipeline::LensInput input;
-    input.name = "image";
-    if (!image.isUndefined() && !image.isNull() && image.typeOf().as<std::string>() == "object")
-      input.name = string_option(image, "name", "image");
-    input.image = image_from_js(image, "image '" + input.name + "'");
-    if (!rois.isArray()) throw Error("lens: rois must be an array");
-    const int n = rois["length"].as<int>();
-    for (int i = 0; i < n; ++i) input.rois.push_back(roi_from_js(rois[i], i));
-    const pipeline::LensResult result = pipeline::run_lens(input, lens_options_from_js(options), progress_from_js(progress));
+    return run_lens_js(image, rois, options, progress,
+                       [](const pipeline::LensInput& in, const pipeline::LensOptions& o, const pipeline::Progress& p) {
+                         return pipeline::run_lens(in, o, p);
+                       });
+  });
+}
 
-    val out = val::object();
-    out.set("ok", true);
-    out.set("stats", stats_to_js(result.stats));
-    out.set("positions", points2_to_js(result.positions));
-    out.set("texture", points2_to_js(result.texture));
-    const std::vector<std::uint32_t> triangles(result.triangles.data(), result.triangles.data() + result.triangles.size());
-    out.set("triangles", uint32_array(triangles.data(), triangles.size()));
-    out.set("image", result.image.pixels.empty() ? val::null() : image_to_js(result.image));
+LensSessionBinding::LensSessionBinding() : session_(std::make_unique<pipeline::LensSession>()) {}
+LensSessionBinding::~LensSessionBinding() = default;
+
+val LensSessionBinding::run(const val& image, const val& rois, const val& options, const val& progress) {
+  return guarded([&] {
+    val out = run_lens_js(image, rois, options, progress,
+                          [this](const pipeline::LensInput& in, const pipeline::LensOptions& o, const pipeline::Progress& p) {
+                            return session_->run(in, o, p);
+                          });
+    out.set("session", counters_to_js(session_->counters()));
     return out;
   });
 }
+
+val LensSessionBinding::counters() const { return counters_to_js(session_->counters()); }
+
+void LensSessionBinding::clear() { session_->clear(); }
 
 }  // namespace volspline::wasm

@@ -3,6 +3,7 @@
 
 #include <emscripten/val.h>
 
+#include <memory>
 #include <string>
 
 namespace volspline::wasm {
@@ -31,5 +32,36 @@ emscripten::val encode_png(const emscripten::val& image);
 /// the input image object, or null when options.render is false.
 emscripten::val lens(const emscripten::val& image, const emscripten::val& rois, const emscripten::val& options,
                      const emscripten::val& progress);
+
+}  // namespace volspline::wasm
+
+namespace volspline::pipeline {
+class LensSession;
+}
+
+namespace volspline::wasm {
+
+/// JS class LensSession (pipeline::LensSession), for live interaction:
+///   const s = new LensSession();
+///   s.run(image, rois, options, progress) -> exactly what lens(...) returns for the same arguments,
+///       plus `session` (the counters below); the lens mesh, texture, factorization and calibrated
+///       h0 of earlier runs are reused, so a new α at a given height only re-runs the iterations;
+///   s.counters() -> {runs, mesh_builds, mesh_reuses, calibrations, calibration_reuses};
+///   s.clear() drops the caches; s.delete() frees the session (Embind objects are not collected).
+class LensSessionBinding {
+ public:
+  LensSessionBinding();
+  ~LensSessionBinding();
+  /// See the class comment; never throws ({ok:false, message} on failure).
+  emscripten::val run(const emscripten::val& image, const emscripten::val& rois, const emscripten::val& options,
+                      const emscripten::val& progress);
+  /// {runs, mesh_builds, mesh_reuses, calibrations, calibration_reuses}.
+  emscripten::val counters() const;
+  /// Drops every cached mesh, factorization and calibration.
+  void clear();
+
+ private:
+  std::unique_ptr<pipeline::LensSession> session_;
+};
 
 }  // namespace volspline::wasm

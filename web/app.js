@@ -155,7 +155,8 @@ const lensTab = {
   roi: null,
   calibrated: null,   // {magnification, grid, height}: reuse h0 while only the ROI or α changes
   pending: false, running: false,
-  lastFrame: 0, frameMs: [],
+  lastFrame: 0, frameMs: [],  // intervals between live results shown (the frame time while dragging)
+  frameLog: [],               // per live result: {ms (interval or 0), ms_total, ms_worker}; read by the e2e test
   result: null,
 
   options() {
@@ -172,7 +173,7 @@ const lensTab = {
     const key = `${name}#${Date.now()}`;
     const r = await runJob('setImage', { key, bytes: bytes.slice(), name });
     if (!r.ok) { if (r.message !== 'cancelled') showError(r.message); return; }
-    Object.assign(this, { key, bytes, name, generation: jobs.generation, calibrated: null, frameMs: [] });
+    Object.assign(this, { key, bytes, name, generation: jobs.generation, calibrated: null, frameMs: [], reuses: 0 });
     const { width, height } = r.image;
     this.roi = { cx: width / 2, cy: height / 2, r: Math.max(4, Math.round(Math.min(width, height) / 6)) };
     this.view.setImage(r.image);
@@ -209,8 +210,11 @@ const lensTab = {
       if (o.method === 'metric' && !options.height) this.calibrated = { magnification: o.magnification, grid: o.grid, height: r.stats.height };
       this.view.setMesh(r.positions, r.texture, r.triangles);
       const now = performance.now();
-      if (this.live && this.lastFrame) { this.frameMs.push(now - this.lastFrame); if (this.frameMs.length > 60) this.frameMs.shift(); }
+      const interval = this.live && this.lastFrame ? now - this.lastFrame : 0;
+      if (interval) { this.frameMs.push(interval); if (this.frameMs.length > 60) this.frameMs.shift(); }
+      if (this.live) { this.frameLog.push({ ms: interval, ms_total: r.stats.ms_total, ms_worker: r.ms_worker }); if (this.frameLog.length > 1000) this.frameLog.shift(); }
       this.lastFrame = now;
+      this.showTiming(r);
       this.result = { image: this.name, roi, options: { ...o, height: r.stats.height || undefined }, stats: r.stats };
       this.showStats(r.stats, o.method);
       $('lens-download-png').disabled = $('lens-download-json').disabled = false;
@@ -219,6 +223,17 @@ const lensTab = {
       if (this.pending) this.runOnce();
       else if (!this.live) this.lastFrame = 0;
     }
+  },
+
+  /// The readout over the image: the core's ms_total of the last run, the worker round trip and,
+  /// while dragging or sliding, the median frame time of the recent live updates.
+  showTiming(r) {
+    const median = (a) => { const b = [...a].sort((x, y) => x - y); return b.length ? b[b.length >> 1] : 0; };
+    let text = `last run ${r.stats.ms_total.toFixed(1)} ms (worker ${r.ms_worker.toFixed(1)} ms)`;
+    if (r.session) text += r.session.mesh_reuses > (this.reuses ?? 0) ? ' · factorization reused' : '';
+    this.reuses = r.session ? r.session.mesh_reuses : 0;
+    if (this.frameMs.length) { const m = median(this.frameMs); text += ` · frame ${m.toFixed(1)} ms (${(1000 / m).toFixed(0)} fps)`; }
+    $('lens-timing').textContent = text;
   },
 
   showStats(s, method) {

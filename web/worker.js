@@ -10,6 +10,13 @@ import createVolspline from './volspline.mjs';
 let core = null;
 let cancelFlag = null;  // Int32Array over a SharedArrayBuffer: 1 asks the running job to stop
 const images = new Map();  // decoded images by key, so live lens runs do not resend pixels
+// One core LensSession per image key: it keeps the lens mesh, texture, factorization and calibrated
+// h0 between runs, so an α change at a known height only re-runs the flattening iterations.
+const sessions = new Map();
+const sessionFor = (key) => {
+  if (!sessions.has(key)) sessions.set(key, new core.LensSession());
+  return sessions.get(key);
+};
 
 const transferables = (value, out = []) => {
   if (ArrayBuffer.isView(value)) out.push(value.buffer);
@@ -24,6 +31,9 @@ const jobs = {
     const r = core.decodeImage(bytes, name);
     if (!r.ok) return r;
     r.image.name = name;
+    for (const session of sessions.values()) session.delete();  // Embind objects are freed by hand
+    sessions.clear();
+    images.clear();  // the page shows one image at a time
     images.set(key, r.image);
     const copy = { ...r.image, pixels: r.image.pixels.slice() };
     return { ok: true, image: copy };
@@ -31,13 +41,13 @@ const jobs = {
   lens: ({ key, rois, options }, progress) => {
     const image = images.get(key);
     if (!image) return { ok: false, message: 'no image loaded' };
-    return core.lens(image, rois, options, progress);
+    return sessionFor(key).run(image, rois, options, progress);
   },
   // Runs the lens with the core rasterizer and returns the PNG bytes.
   lensPng: ({ key, rois, options }, progress) => {
     const image = images.get(key);
     if (!image) return { ok: false, message: 'no image loaded' };
-    const r = core.lens(image, rois, { ...options, render: true }, progress);
+    const r = sessionFor(key).run(image, rois, { ...options, render: true }, progress);
     if (!r.ok) return r;
     const png = core.encodePng(r.image);
     return png.ok ? { ok: true, bytes: png.bytes, stats: r.stats } : png;

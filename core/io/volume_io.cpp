@@ -2,6 +2,7 @@
 #include "core/io/volume_io.h"
 
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -306,10 +307,7 @@ DataLayout parse_nrrd_header(const std::string& bytes, const std::string& name) 
 
 SampleType vtk_type(const std::string& text, const std::string& name) {
   const std::string t = lower(text);
-  if (t == "unsigned_char" || t == "bit") {
-    if (t == "bit") throw Error(name + ": unsupported sample type 'bit'");
-    return SampleType::UInt8;
-  }
+  if (t == "unsigned_char") return SampleType::UInt8;
   if (t == "char") return SampleType::Int8;
   if (t == "unsigned_short") return SampleType::UInt16;
   if (t == "short") return SampleType::Int16;

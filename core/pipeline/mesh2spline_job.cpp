@@ -26,6 +26,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Meshes with at least this many vertices are fitted at their vertices only (no face centroids).
+constexpr int kDenseMeshVertices = 8000;
+
 void check_options(const Mesh2SplineOptions& o) {
   auto fail = [](const std::string& what) { throw Error("mesh2spline: " + what); };
   if (!(o.max_rms_rel > 0.0) || !std::isfinite(o.max_rms_rel))
@@ -133,6 +136,7 @@ spline::TSplineFitReport fit(spline::TSpline& ts, const Samples& samples, const 
   spline::TSplineFitOptions fit_options;
   fit_options.smoothing = options.smoothing;
   fit_options.laplacian_nodes = laplacian_nodes;
+  fit_options.tolerance = 1e-8;  // far below the fitting error; 1e-10 only costs iterations
   if (options.fit == Mesh2SplineFit::Grid)
     return spline::fit_tspline(ts, samples.uvw, samples.xyz, prior, fit_options);
   return spline::fit_tspline_meshless(ts, samples.uvw, samples.xyz, prior, fit_options);
@@ -152,7 +156,7 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
   check_options(options);
   Mesh2SplineStats stats;
   auto stage_start = Clock::now();
-  auto lap = [&](const char* stage) {
+  auto lap = [&](const std::string& stage) {
     const auto now = Clock::now();
     stats.times_s.emplace_back(stage, std::chrono::duration<double>(now - stage_start).count());
     stage_start = now;
@@ -207,8 +211,11 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
     sample_uvw.push_back(surface_map.uvw.row(v).transpose());
     sample_xyz.push_back(hm.vertex_position(v));
   }
-  // Face centroids too: they pin the spline between the vertices of coarse meshes.
-  for (int f = 0; f < hm.num_faces(); ++f) {
+  // Face centroids too: they pin the spline between the vertices of coarse meshes. Dense meshes
+  // need none (their vertices already sample every spline cell), and each sample costs
+  // (overlapping functions)² in the normal equations.
+  const bool add_centroids = static_cast<int>(sample_uvw.size()) < kDenseMeshVertices;
+  for (int f = 0; add_centroids && f < hm.num_faces(); ++f) {
     const auto c = hm.face_vertices(f);
     sample_uvw.push_back((surface_map.uvw.row(c[0]) + surface_map.uvw.row(c[1]) + surface_map.uvw.row(c[2])).transpose() / 3.0);
     sample_xyz.push_back((hm.vertex_position(c[0]) + hm.vertex_position(c[1]) + hm.vertex_position(c[2])) / 3.0);
@@ -254,28 +261,40 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
     progress.report("fit level " + std::to_string(level), 0.3 + 0.4 * level / (options.max_levels + 1));
     fit(ts, samples, prior, options, longest_nodes);
     errors = sample_errors(ts, samples);
+    lap("fit_level_" + std::to_string(level));
     stats.levels = level;
     if (rms(errors) <= target || level >= options.max_levels) break;
-    // FittingError(g) of Algorithm 4: the worst sample error inside each leaf cell.
+    // FittingError(g) of Algorithm 4: the worst sample error inside each leaf cell, and the
+    // cell's share of the squared error.
     const std::vector<int> leaves = refinement.leaves();
     std::vector<double> cell_error(leaves.empty() ? 0 : leaves.back() + 1, 0.0);
+    std::vector<double> cell_sse(cell_error.size(), 0.0);
     for (Eigen::Index s = 0; s < samples.uvw.rows(); ++s) {
       const int leaf = refinement.leaf_of(samples.uvw.row(s).transpose());
       cell_error[leaf] = std::max(cell_error[leaf], errors(s));
+      cell_sse[leaf] += errors(s) * errors(s);
     }
-    // Split the cells whose worst sample exceeds twice the rms target, at most the worst 25% of
-    // the cells per level (ties by id), so refinement stays where the error is.
+    // Candidates: cells whose worst sample exceeds twice the rms target. Of these, the fewest
+    // (largest squared error first, ties by id) that hold twice the squared error the rms target
+    // asks to remove (bulk marking), and at most 25% of the cells per level, so refinement stays
+    // where the error is and stops widening once the target is near.
     std::vector<int> marked;
     for (int leaf : leaves)
       if (cell_error[leaf] > 2.0 * target) marked.push_back(leaf);
     if (marked.empty()) break;
     std::stable_sort(marked.begin(), marked.end(),
-                     [&](int a, int b) { return cell_error[a] > cell_error[b]; });
+                     [&](int a, int b) { return cell_sse[a] > cell_sse[b]; });
+    const double total_sse = errors.squaredNorm();
+    const double excess = total_sse - target * target * static_cast<double>(errors.size());
+    std::size_t count = 0;
+    for (double held = 0.0; count < marked.size() && held < 2.0 * excess; ++count)
+      held += cell_sse[marked[count]];
     const std::size_t quota = std::max<std::size_t>(1, leaves.size() / 4);
-    if (marked.size() > quota) marked.resize(quota);
+    marked.resize(std::min({std::max<std::size_t>(count, 1), quota, marked.size()}));
     std::sort(marked.begin(), marked.end());
     spline::RefinementGrid next_grid = refinement;
     spline::TSpline refined = next_grid.split(ts, marked);
+    lap("refine_level_" + std::to_string(level));
     if (refined.num_functions() > options.max_control_points) break;
     ts = std::move(refined);
     refinement = std::move(next_grid);
@@ -285,7 +304,6 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
   stats.control_points = ts.num_functions();
   stats.rms_rel = rms(errors) / diagonal;
   stats.max_rel = errors.size() ? errors.maxCoeff() / diagonal : 0.0;
-  lap("fit");
 
   // Measures.
   progress.report("measures", 0.75);

@@ -5,6 +5,7 @@ set(TEST_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/lens_mesh_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/lens_texture_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/flatten_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/lens_flattener_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/lens_measures_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/rasterize_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/image_io_test.cpp

@@ -44,6 +44,40 @@ module.exports = function (vs, { check }) {
     check(again.ok && Math.abs(again.stats.magnification_center - s.magnification_center) < 1e-9, 'explicit height reproduces the magnification');
   }
 
+  // LensSession: the same results as lens(), with the mesh and factorization reused across α.
+  {
+    const session = new vs.LensSession();
+    const same = (a, b) => a.ok && b.ok && a.positions.length === b.positions.length &&
+      a.positions.every((v, i) => v === b.positions[i]) && a.texture.every((v, i) => v === b.texture[i]) &&
+      a.triangles.every((v, i) => v === b.triangles[i]) && a.stats.distortion_sum === b.stats.distortion_sum &&
+      a.stats.iterations === b.stats.iterations && a.stats.height === b.stats.height;
+    const calibrated = session.run(image, [roi], { magnification: 2, grid: 24, render: false }, undefined);
+    check(same(calibrated, vs.lens(image, [roi], { magnification: 2, grid: 24, render: false }, undefined)),
+          'LensSession.run equals lens() for a calibrated request');
+    check(calibrated.ok && calibrated.session.calibrations === 1 && calibrated.session.mesh_builds >= 2, 'LensSession counts its calibration');
+    const h = calibrated.ok ? calibrated.stats.height : 1;
+    const first = session.run(image, [roi], { magnification: 2, grid: 24, height: h, alpha: 0, render: false }, null);
+    const builds = first.ok ? first.session.mesh_builds : -1;
+    for (const alpha of [0.5, 1]) {
+      const live = session.run(image, [roi], { magnification: 2, grid: 24, height: h, alpha, render: false }, null);
+      check(same(live, vs.lens(image, [roi], { magnification: 2, grid: 24, height: h, alpha, render: false }, null)),
+            `LensSession α = ${alpha} equals lens()`);
+      check(live.ok && live.session.mesh_builds === builds && live.stats.ms_factorize === 0, `LensSession α = ${alpha} reuses the factorization`);
+    }
+    const moved = session.run(image, [{ shape: 'circle', values: [30, 24, 10] }], { grid: 24, height: h, render: true }, null);
+    check(moved.ok && moved.session.mesh_builds === builds + 1 && moved.image && moved.image.width === width, 'LensSession rebuilds for a moved ROI and renders');
+    const wrong = session.run(image, [roi], { alpha: 3 }, null);
+    check(wrong.ok === false && /alpha/.test(wrong.message), 'LensSession bad option: ' + JSON.stringify(wrong.message));
+    const stopped = session.run(image, [roi], { grid: 24 }, () => false);
+    check(stopped.ok === false && stopped.message === 'cancelled', 'LensSession run can be cancelled');
+    const c = session.counters();
+    check(c.runs === 5 && c.mesh_reuses >= 2, 'LensSession counters(): ' + JSON.stringify(c));
+    session.clear();
+    const cleared = session.run(image, [roi], { grid: 24, height: h, render: false }, null);
+    check(cleared.ok && cleared.session.mesh_builds === c.mesh_builds + 1, 'LensSession.clear() drops the caches');
+    session.delete();
+  }
+
   for (const method of ['fisheye', 'bifocal', 'zoom']) {
     const r = vs.lens(image, ['circle:32,24,10'], { method, magnification: 2, grid: 24, render: false }, null);
     check(r.ok && r.stats.iterations === 0 && r.stats.baseline_parameter > 1, method + ' baseline ok');

@@ -1,0 +1,414 @@
+// SPDX-License-Identifier: MIT
+#include "core/pipeline/lens_session.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <memory>
+
+#include <Eigen/Geometry>
+
+#include "core/common/error.h"
+#include "core/lens/baseline_lens.h"
+#include "core/lens/lens_flattener.h"
+#include "core/lens/lens_measures.h"
+#include "core/lens/lens_mesh.h"
+#include "core/lens/lens_texture.h"
+#include "core/lens/rasterize.h"
+#include "core/lens/roi_field.h"
+
+namespace volspline::pipeline {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// Radius (texture pixels) around a ROI centre over which the magnification is measured.
+double measure_radius(const lens::RoiField& roi) { return 0.15 * roi.inscribed_radius(); }
+
+// Grid resolution of the h0 search: coarse enough to be cheap, fine enough to resolve the centre.
+constexpr int kCalibrationGrid = 48;
+// Final-grid magnification error (relative) above which the coarse h0 gets one secant correction.
+constexpr double kCalibrationTolRel = 0.03;
+
+struct Deformation {
+  Eigen::MatrixX2d positions, texture;
+  mesh::Triangles triangles, grid_triangles;
+  int iterations = 0;
+  bool converged = true;
+  double ms_mesh = 0, ms_factorize = 0, ms_iterations = 0;
+};
+
+// What a metric run needs besides the ROI fields and options to share a lens mesh.
+struct MeshKey {
+  int width = 0, height = 0, grid = 0;
+  double h0 = 0, band = 0;
+  LensBoundary boundary = LensBoundary::Pinned;
+  std::vector<lens::Roi> rois;
+};
+
+bool same_rois(const std::vector<lens::Roi>& a, const std::vector<lens::Roi>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const lens::Roi &x = a[i], &y = b[i];
+    if (x.shape != y.shape || x.values != y.values || x.mask.width != y.mask.width || x.mask.height != y.mask.height ||
+        x.mask.channels != y.mask.channels || x.mask.pixels != y.mask.pixels)
+      return false;
+  }
+  return true;
+}
+
+bool same_mesh(const MeshKey& a, const MeshKey& b) {
+  return a.width == b.width && a.height == b.height && a.grid == b.grid && a.h0 == b.h0 && a.band == b.band &&
+         a.boundary == b.boundary && same_rois(a.rois, b.rois);
+}
+
+// A lens mesh ready to flatten: texture, start positions and the factorized Eq. 6.3 matrix.
+struct PreparedMesh {
+  MeshKey key;
+  Eigen::MatrixX2d texture, start;
+  mesh::Triangles triangles, grid_triangles;
+  double scale = 1.0;
+  Eigen::RowVector2d mid;
+  lens::LensFlattener flattener;
+  double ms_mesh = 0;
+};
+
+// The options of a metric request that decide its final h0 (calibration and fold-free search).
+struct CalibrationKey {
+  MeshKey mesh;  // h0 unused
+  double magnification = 0, height = 0, alpha = 0, tol_rel = 0;
+  int max_iterations = 0;
+  double h0 = 0;  // the answer
+};
+
+bool same_calibration(const CalibrationKey& a, const CalibrationKey& b) {
+  return same_mesh(a.mesh, b.mesh) && a.magnification == b.magnification && a.height == b.height &&
+         a.alpha == b.alpha && a.tol_rel == b.tol_rel && a.max_iterations == b.max_iterations;
+}
+
+// Cache bounds: a handful of meshes (calibration visits 3–6 heights), and at most this many
+// vertices in total so a 2000-grid run does not pin hundreds of MB (the newest mesh is always kept).
+constexpr std::size_t kMaxMeshes = 8;
+constexpr long long kMaxCachedVertices = 1500000;
+constexpr std::size_t kMaxCalibrations = 16;
+
+std::shared_ptr<const PreparedMesh> prepare_mesh(const std::vector<lens::RoiField>& rois, const MeshKey& key) {
+  auto p = std::make_shared<PreparedMesh>();
+  p->key = key;
+  const auto t_mesh = Clock::now();
+  lens::LensMeshOptions mesh_options;
+  mesh_options.grid = key.grid;
+  mesh_options.height_rel = key.h0;
+  mesh_options.band_rel = key.band;
+  mesh_options.pin_context = key.boundary == LensBoundary::Pinned;
+  const lens::LensMesh lens_mesh = lens::build_lens_mesh(rois, key.width, key.height, mesh_options);
+  p->texture = lens::harmonic_texture(lens_mesh);
+  p->ms_mesh = ms_since(t_mesh);
+
+  p->start = lens_mesh.xyz.leftCols<2>();
+  p->mid = Eigen::RowVector2d(0.5 * key.width, 0.5 * key.height);
+  if (key.boundary == LensBoundary::Square) {
+    // §6.4 boundary control: the border sits on the square scaled by √(A_lens/A_image).
+    double area = 0;
+    for (int t = 0; t < lens_mesh.triangles.rows(); ++t) {
+      const Eigen::Vector3d a = lens_mesh.xyz.row(lens_mesh.triangles(t, 0));
+      const Eigen::Vector3d b = lens_mesh.xyz.row(lens_mesh.triangles(t, 1));
+      const Eigen::Vector3d c = lens_mesh.xyz.row(lens_mesh.triangles(t, 2));
+      area += 0.5 * (b - a).cross(c - a).norm();
+    }
+    p->scale = std::sqrt(area / (double(key.width) * key.height));
+    for (int v = 0; v < p->start.rows(); ++v) p->start.row(v) = p->mid + p->scale * (p->start.row(v) - p->mid);
+  }
+  // §6.4 weights (1 + h_k)·A_k·cotθ with h_k the mean z in pixels, as printed: the raised focus then
+  // outweighs the flat context, which absorbs the transition (normalizing h by the image size made
+  // (1 + h) ≈ 1 and left the distortion inside the focus).
+  p->flattener.compute(lens_mesh.xyz, lens_mesh.triangles, lens_mesh.pinned, 1.0);
+  p->triangles = lens_mesh.triangles;
+  p->grid_triangles = lens_mesh.grid_triangles;
+  return p;
+}
+
+// Iterations of Algorithm 5 on a prepared mesh (the only per-α work).
+Deformation flatten_prepared(const PreparedMesh& p, bool built, const LensOptions& options, const Progress& progress) {
+  lens::FlattenOptions flatten_options;
+  flatten_options.alpha = options.alpha;
+  flatten_options.tol_rel = options.tol_rel;
+  flatten_options.max_iterations = options.max_iterations;
+  lens::FlattenResult flat = p.flattener.flatten(p.start, flatten_options, progress);
+  if (p.scale != 1.0)
+    for (int v = 0; v < flat.positions.rows(); ++v)
+      flat.positions.row(v) = p.mid + (flat.positions.row(v) - p.mid) / p.scale;
+  Deformation d;
+  d.positions = std::move(flat.positions);
+  d.texture = p.texture;
+  d.triangles = p.triangles;
+  d.grid_triangles = p.grid_triangles;
+  d.iterations = flat.iterations;
+  d.converged = flat.converged;
+  d.ms_mesh = built ? p.ms_mesh : 0.0;
+  d.ms_factorize = built ? flat.ms_factorize : 0.0;
+  d.ms_iterations = flat.ms_iterations;
+  return d;
+}
+
+std::vector<double> magnifications(const Deformation& d, const std::vector<lens::RoiField>& rois) {
+  std::vector<double> out;
+  for (const lens::RoiField& roi : rois)
+    out.push_back(lens::measure_magnification(d.positions, d.texture, d.grid_triangles, roi.centre(), measure_radius(roi)));
+  return out;
+}
+
+double mean(const std::vector<double>& values) {
+  double s = 0;
+  for (double v : values) s += v;
+  return values.empty() ? 0.0 : s / values.size();
+}
+
+// Secant search in log–log space for the parameter whose measured magnification is the target;
+// the relation is monotone increasing. Returns the best parameter found and the last log–log slope.
+struct SearchResult {
+  double parameter = 1.0;
+  double slope = 1.0;
+};
+template <class Measure>
+SearchResult search_parameter(Measure measure, double target, double p0, double p1, int max_steps, double tol_rel) {
+  double lp0 = std::log(p0), lp1 = std::log(p1);
+  double lm0 = std::log(std::max(measure(p0), 1e-6)), lm1 = std::log(std::max(measure(p1), 1e-6));
+  const double lt = std::log(target);
+  double best = std::abs(lm0 - lt) < std::abs(lm1 - lt) ? p0 : p1;
+  double best_err = std::min(std::abs(lm0 - lt), std::abs(lm1 - lt));
+  double slope = 1.0;
+  for (int step = 0; step < max_steps && best_err > tol_rel; ++step) {
+    slope = (lm1 - lm0) / (lp1 - lp0);
+    if (!(slope > 1e-3)) slope = 1e-3;
+    const double lp2 = std::clamp(lp1 + (lt - lm1) / slope, lp1 - 2.0, lp1 + 2.0);
+    const double lm2 = std::log(std::max(measure(std::exp(lp2)), 1e-6));
+    lp0 = lp1, lm0 = lm1, lp1 = lp2, lm1 = lm2;
+    if (std::abs(lm2 - lt) < best_err) best_err = std::abs(lm2 - lt), best = std::exp(lp2);
+  }
+  return {best, slope};
+}
+
+void validate(const LensInput& input, const LensOptions& o) {
+  const auto bad = [](const std::string& what) { throw Error(what); };
+  if (input.image.width <= 0 || input.image.height <= 0 || input.image.channels < 1 || input.image.channels > 4 ||
+      input.image.pixels.size() != std::size_t(input.image.width) * input.image.height * input.image.channels)
+    bad("'" + input.name + "': empty or malformed image");
+  if (input.image.width < 2 || input.image.height < 2) bad("'" + input.name + "': image must be at least 2x2 pixels");
+  if (input.rois.empty()) bad("lens: at least one ROI is needed (--roi)");
+  if (!(o.magnification > 1.0)) bad("lens: magnification must be > 1, got " + std::to_string(o.magnification));
+  if (!(o.magnification <= 16.0)) bad("lens: magnification must be at most 16, got " + std::to_string(o.magnification));
+  if (!(o.height >= 0.0 && o.height <= 50.0)) bad("lens: height must be in (0, 50] ROI radii, got " + std::to_string(o.height));
+  if (!(o.alpha >= 0.0 && o.alpha <= 1.0)) bad("lens: alpha must be in [0, 1], got " + std::to_string(o.alpha));
+  if (o.grid < 4) bad("lens: grid must be at least 4, got " + std::to_string(o.grid));
+  if (o.grid > 2000) bad("lens: grid must be at most 2000, got " + std::to_string(o.grid));
+  if (!(o.band > 0.0 && o.band <= 10.0)) bad("lens: band must be in (0, 10], got " + std::to_string(o.band));
+  if (!(o.tol_rel > 0.0 && o.tol_rel < 1.0)) bad("lens: tol_rel must be in (0, 1), got " + std::to_string(o.tol_rel));
+  if (o.max_iterations < 1 || o.max_iterations > 100000)
+    bad("lens: max_iterations must be in [1, 100000], got " + std::to_string(o.max_iterations));
+  for (const lens::Roi& roi : input.rois) lens::validate_roi(roi, input.image.width, input.image.height);
+}
+
+}  // namespace
+
+struct LensSession::Cache {
+  std::deque<std::shared_ptr<const PreparedMesh>> meshes;  // most recently used first
+  std::deque<CalibrationKey> calibrations;                 // most recent first
+
+  // One metric run at height h: the cached mesh and factorization if any, else a new one.
+  Deformation run_metric(const std::vector<lens::RoiField>& rois, const MeshKey& key, const LensOptions& options,
+                         const Progress& progress, LensSessionCounters& counters) {
+    for (std::size_t i = 0; i < meshes.size(); ++i) {
+      if (!same_mesh(meshes[i]->key, key)) continue;
+      std::shared_ptr<const PreparedMesh> hit = meshes[i];
+      meshes.erase(meshes.begin() + static_cast<std::ptrdiff_t>(i));
+      meshes.push_front(hit);
+      ++counters.mesh_reuses;
+      return flatten_prepared(*hit, false, options, progress);
+    }
+    std::shared_ptr<const PreparedMesh> made = prepare_mesh(rois, key);
+    ++counters.mesh_builds;
+    meshes.push_front(made);
+    long long vertices = 0;
+    for (const auto& m : meshes) vertices += m->texture.rows();
+    while (meshes.size() > 1 && (meshes.size() > kMaxMeshes || vertices > kMaxCachedVertices)) {
+      vertices -= meshes.back()->texture.rows();
+      meshes.pop_back();
+    }
+    return flatten_prepared(*made, true, options, progress);
+  }
+};
+
+LensSession::LensSession() : cache_(std::make_unique<Cache>()) {}
+LensSession::~LensSession() = default;
+LensSession::LensSession(LensSession&&) noexcept = default;
+LensSession& LensSession::operator=(LensSession&&) noexcept = default;
+
+void LensSession::clear() { cache_ = std::make_unique<Cache>(); }
+
+const LensSessionCounters& LensSession::counters() const { return counters_; }
+
+LensResult LensSession::run(const LensInput& input, const LensOptions& options, const Progress& progress) {
+  const auto t_total = Clock::now();
+  validate(input, options);
+  const int width = input.image.width, height = input.image.height;
+  std::vector<lens::RoiField> rois;
+  for (const lens::Roi& roi : input.rois) rois.push_back(lens::RoiField::build(roi, width, height, options.band));
+  progress.report("lens mesh", 0.0);
+
+  LensResult result;
+  LensStats& s = result.stats;
+  Deformation d;
+  if (options.method == LensMethod::Metric) {
+    MeshKey base;
+    base.width = width, base.height = height, base.band = options.band, base.boundary = options.boundary;
+    base.rois = input.rois;
+    const auto run_metric = [&](int grid, double h, const Progress& p) {
+      MeshKey key = base;
+      key.grid = grid;
+      key.h0 = h;
+      return cache_->run_metric(rois, key, options, p, counters_);
+    };
+    CalibrationKey request;
+    request.mesh = base;
+    request.magnification = options.magnification, request.height = options.height, request.alpha = options.alpha;
+    request.tol_rel = options.tol_rel, request.max_iterations = options.max_iterations;
+    request.mesh.grid = options.grid;
+    const auto known = std::find_if(cache_->calibrations.begin(), cache_->calibrations.end(),
+                                    [&](const CalibrationKey& k) { return same_calibration(k, request); });
+    if (known != cache_->calibrations.end()) {
+      // The same request was answered before: its final h0 gives the same deformation at once.
+      ++counters_.calibration_reuses;
+      s.height = known->h0;
+      d = run_metric(options.grid, known->h0, progress);
+    } else {
+      double h0 = options.height;
+      double calibration_slope = 0;  // log–log slope of the magnification in h0 (0: not calibrated)
+      if (h0 <= 0) {
+        const auto t_cal = Clock::now();
+        const Progress quiet;
+        const auto measure_at = [&](int grid) {
+          return [&, grid](double h) {
+            const Deformation trial = run_metric(grid, h, quiet);
+            const int grid_vertices = static_cast<int>(trial.grid_triangles.maxCoeff()) + 1;
+            const lens::ShapeDistortion dist = lens::measure_distortion(
+                trial.positions.topRows(grid_vertices), trial.texture.topRows(grid_vertices), trial.grid_triangles);
+            // A folding height counts as overshoot, so the search settles on the tallest clean lens.
+            return dist.flipped_triangles > 0 ? 4.0 * options.magnification : mean(magnifications(trial, rois));
+          };
+        };
+        // A 1-D secant on a coarse grid (3–5 cheap runs), not the whole pipeline at full size.
+        const int coarse = std::min(options.grid, kCalibrationGrid);
+        const SearchResult found = search_parameter(measure_at(coarse), options.magnification, 1.0, 1.4, 3, 0.01);
+        h0 = found.parameter;
+        calibration_slope = found.slope;
+        s.ms_calibration = ms_since(t_cal);
+      }
+      const auto fold_free_run = [&](double& h) {
+        Deformation out = run_metric(options.grid, h, progress);
+        // Thesis §6.5 repairs rare fold-overs with [77]; we lower h0 until the flattening is fold-free.
+        for (int attempt = 0; attempt < 6; ++attempt) {
+          const int grid_vertices = static_cast<int>(out.grid_triangles.maxCoeff()) + 1;
+          const lens::ShapeDistortion check = lens::measure_distortion(
+              out.positions.topRows(grid_vertices), out.texture.topRows(grid_vertices), out.grid_triangles);
+          if (check.flipped_triangles == 0) break;
+          h *= 0.8;
+          out = run_metric(options.grid, h, progress);
+        }
+        return out;
+      };
+      d = fold_free_run(h0);
+      if (calibration_slope > 0 && options.grid > kCalibrationGrid) {
+        // The coarse grid resolves the centre less well: one secant step on the final grid with the
+        // coarse slope, kept only if it lands closer to the request.
+        const double lt = std::log(options.magnification);
+        const double error = lt - std::log(std::max(mean(magnifications(d, rois)), 1e-6));
+        if (std::abs(error) > kCalibrationTolRel) {
+          const auto t_fix = Clock::now();
+          double h1 = h0 * std::exp(std::clamp(error / std::clamp(calibration_slope, 0.2, 5.0), -1.0, 1.0));
+          Deformation retry = fold_free_run(h1);
+          if (std::abs(lt - std::log(std::max(mean(magnifications(retry, rois)), 1e-6))) < std::abs(error)) {
+            d = std::move(retry);
+            h0 = h1;
+          }
+          s.ms_calibration += ms_since(t_fix);
+        }
+      }
+      s.height = h0;
+      ++counters_.calibrations;
+      request.h0 = h0;
+      cache_->calibrations.push_front(std::move(request));
+      if (cache_->calibrations.size() > kMaxCalibrations) cache_->calibrations.pop_back();
+    }
+  } else {
+    const lens::LensMesh grid = lens::build_grid(width, height, options.grid);
+    d.texture = grid.xyz.leftCols<2>();
+    d.triangles = grid.triangles;
+    d.grid_triangles = grid.grid_triangles;
+    std::vector<lens::RadialLens> lenses;
+    for (const lens::RoiField& roi : rois) {
+      // Baselines are radial: a disc of the ROI's area at its centre, free out to the same band.
+      lenses.push_back({roi.centre(), roi.equivalent_radius(), (1.0 + options.band) * roi.equivalent_radius()});
+    }
+    const lens::BaselineKind kind = options.method == LensMethod::Fisheye   ? lens::BaselineKind::Fisheye
+                                    : options.method == LensMethod::Bifocal ? lens::BaselineKind::Bifocal
+                                                                            : lens::BaselineKind::Zoom;
+    const auto measure = [&](double m) {
+      Deformation trial = d;
+      trial.positions = lens::baseline_positions(kind, d.texture, lenses, std::max(m, 1.0 + 1e-9));
+      return mean(magnifications(trial, rois));
+    };
+    const double m = search_parameter(measure, options.magnification, options.magnification,
+                                      options.magnification * 1.1, 12, 0.002).parameter;
+    d.positions = lens::baseline_positions(kind, d.texture, lenses, m);
+    s.baseline_parameter = m;
+  }
+
+  s.magnification_per_roi = magnifications(d, rois);
+  s.magnification_center = mean(s.magnification_per_roi);
+  const int grid_vertices = static_cast<int>(d.grid_triangles.maxCoeff()) + 1;
+  // Focus: grid triangles whose content (texture centroid) lies inside a ROI; the rest is the
+  // transition and the context. The whole-image numbers stay the headline.
+  std::vector<char> focus(static_cast<std::size_t>(d.grid_triangles.rows()), 0);
+  for (int t = 0; t < d.grid_triangles.rows(); ++t) {
+    const Eigen::Vector2d c = (d.texture.row(d.grid_triangles(t, 0)) + d.texture.row(d.grid_triangles(t, 1)) +
+                               d.texture.row(d.grid_triangles(t, 2))).transpose() / 3.0;
+    for (const lens::RoiField& roi : rois) focus[t] = focus[t] || roi.axis_distance(c.x(), c.y()) < 1.0;
+  }
+  const lens::ShapeDistortion distortion = lens::measure_distortion(
+      d.positions.topRows(grid_vertices), d.texture.topRows(grid_vertices), d.grid_triangles, focus);
+  s.distortion_sum = distortion.sum;
+  s.distortion_max = distortion.max;
+  s.distortion_sum_focus = distortion.sum_focus;
+  s.distortion_max_focus = distortion.max_focus;
+  s.flipped_triangles = distortion.flipped_triangles;
+  s.iterations = d.iterations;
+  s.converged = d.converged;
+  s.ms_mesh = d.ms_mesh;
+  s.ms_factorize = d.ms_factorize;
+  s.ms_per_iteration = d.iterations > 0 ? d.ms_iterations / d.iterations : 0.0;
+  s.vertices = static_cast<int>(d.positions.rows());
+  s.triangles = static_cast<int>(d.triangles.rows());
+
+  if (options.render) {
+    progress.report("render", 0.0);
+    const auto t_render = Clock::now();
+    result.image = lens::render_textured_mesh(input.image, d.positions, d.texture, d.triangles, width, height);
+    s.ms_render = ms_since(t_render);
+  }
+  result.positions = std::move(d.positions);
+  result.texture = std::move(d.texture);
+  result.triangles = std::move(d.triangles);
+  s.ms_total = ms_since(t_total);
+  progress.report("done", 1.0);
+  ++counters_.runs;
+  return result;
+}
+
+}  // namespace volspline::pipeline

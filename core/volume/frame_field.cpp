@@ -1,0 +1,291 @@
+// SPDX-License-Identifier: MIT
+#include "core/volume/frame_field.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+
+#include "core/common/error.h"
+
+namespace volspline::volume {
+
+namespace {
+
+// A cube rotation as a signed permutation: (g b)_r = sign[r] * b_{perm[r]}.
+struct SignedPermutation {
+  std::array<int, 3> perm;
+  std::array<double, 3> sign;
+};
+
+std::array<SignedPermutation, 24> make_signed_permutations() {
+  std::array<SignedPermutation, 24> result{};
+  std::array<int, 3> perm{0, 1, 2};
+  int count = 0;
+  do {
+    // Parity of the permutation: the number of inversions.
+    int inversions = 0;
+    for (int i = 0; i < 3; ++i)
+      for (int j = i + 1; j < 3; ++j) inversions += perm[i] > perm[j];
+    for (int signs = 0; signs < 8; ++signs) {
+      const std::array<double, 3> sign{(signs & 1) ? -1.0 : 1.0, (signs & 2) ? -1.0 : 1.0, (signs & 4) ? -1.0 : 1.0};
+      const double det = sign[0] * sign[1] * sign[2] * (inversions % 2 ? -1.0 : 1.0);
+      if (det > 0) result[count++] = {perm, sign};
+    }
+  } while (std::next_permutation(perm.begin(), perm.end()));
+  return result;
+}
+
+const std::array<SignedPermutation, 24>& signed_permutations() {
+  static const std::array<SignedPermutation, 24> table = make_signed_permutations();
+  return table;
+}
+
+// Index of the cube rotation g maximizing tr(a^T g b), i.e. minimizing ||a - g b||_F^2, and that maximum.
+int best_match(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b, double& score) {
+  const Eigen::Matrix3d d = a * b.transpose();  // d(r, q) = a_r . b_q
+  const auto& table = signed_permutations();
+  int best = 0;
+  score = -1e300;
+  for (int g = 0; g < 24; ++g) {
+    const auto& sp = table[g];
+    const double s = sp.sign[0] * d(0, sp.perm[0]) + sp.sign[1] * d(1, sp.perm[1]) + sp.sign[2] * d(2, sp.perm[2]);
+    if (s > score) {
+      score = s;
+      best = g;
+    }
+  }
+  return best;
+}
+
+Eigen::Matrix3d apply(const SignedPermutation& sp, const Eigen::Matrix3d& b) {
+  Eigen::Matrix3d result;
+  for (int r = 0; r < 3; ++r) result.row(r) = sp.sign[r] * b.row(sp.perm[r]);
+  return result;
+}
+
+double distance_from_score(double score) { return std::max(0.0, 6.0 - 2.0 * score); }
+
+// Neighbour ids of voxel (x, y, z) in the 6-neighbourhood, in a fixed order; returns the count.
+int neighbours(const FrameField& f, int x, int y, int z, std::array<std::size_t, 6>& out) {
+  const std::size_t id = static_cast<std::size_t>(x) + static_cast<std::size_t>(f.nx) * (y + static_cast<std::size_t>(f.ny) * z);
+  const std::size_t sy = f.nx;
+  const std::size_t sz = static_cast<std::size_t>(f.nx) * f.ny;
+  int n = 0;
+  if (x > 0) out[n++] = id - 1;
+  if (x + 1 < f.nx) out[n++] = id + 1;
+  if (y > 0) out[n++] = id - sy;
+  if (y + 1 < f.ny) out[n++] = id + sy;
+  if (z > 0) out[n++] = id - sz;
+  if (z + 1 < f.nz) out[n++] = id + sz;
+  return n;
+}
+
+double local_energy(const Eigen::Matrix3d& frame, const FrameField& f, const std::array<std::size_t, 6>& ids, int n) {
+  double energy = 0.0;
+  for (int k = 0; k < n; ++k) {
+    double score = 0.0;
+    best_match(frame, f.frames[ids[k]], score);
+    energy += distance_from_score(score);
+  }
+  return energy;
+}
+
+// Index of the frame row closest to the line of unit vector `normal`, and the sign that points it along normal.
+int closest_axis(const Eigen::Matrix3d& frame, const Eigen::Vector3d& normal, double& sign) {
+  int axis = 0;
+  for (int a = 1; a < 3; ++a)
+    if (std::abs(frame.row(a).dot(normal)) > std::abs(frame.row(axis).dot(normal))) axis = a;
+  sign = frame.row(axis).dot(normal) < 0 ? -1.0 : 1.0;
+  return axis;
+}
+
+// Smallest rotation of the whole frame taking its closest axis onto the normal's line (§5.2.2).
+Eigen::Matrix3d project_to_constraint(const Eigen::Matrix3d& frame, const Eigen::Vector3d& normal) {
+  double sign = 1.0;
+  const int axis = closest_axis(frame, normal, sign);
+  const Eigen::Matrix3d q =
+      Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d(frame.row(axis)), sign * normal).toRotationMatrix();
+  return frame * q.transpose();
+}
+
+// Rotation R maximizing tr(R^T m): polar decomposition of m via SVD, reflection removed.
+Eigen::Matrix3d polar_rotation(const Eigen::Matrix3d& m) {
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(m, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d u = svd.matrixU();
+  const Eigen::Matrix3d v = svd.matrixV();
+  if ((u * v.transpose()).determinant() < 0) u.col(2) = -u.col(2);
+  return u * v.transpose();
+}
+
+// Rotation R with row `axis` = fixed (unit) maximizing tr(R^T m): a 1D rotation about `fixed`
+// solved in closed form.
+Eigen::Matrix3d constrained_rotation(const Eigen::Matrix3d& m, int axis, const Eigen::Vector3d& fixed) {
+  const int b = (axis + 1) % 3;
+  const int c = (axis + 2) % 3;
+  const Eigen::Vector3d helper = std::abs(fixed.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d t1 = fixed.cross(helper).normalized();
+  const Eigen::Vector3d t2 = fixed.cross(t1);
+  // Row b = cos(t) t1 + sin(t) t2, row c = fixed x row b = cos(t) t2 - sin(t) t1.
+  const Eigen::Vector3d mb = m.row(b).transpose();
+  const Eigen::Vector3d mc = m.row(c).transpose();
+  const double along_cos = t1.dot(mb) + t2.dot(mc);
+  const double along_sin = t2.dot(mb) - t1.dot(mc);
+  const double theta = std::atan2(along_sin, along_cos);
+  Eigen::Matrix3d r;
+  r.row(axis) = fixed.transpose();
+  r.row(b) = (std::cos(theta) * t1 + std::sin(theta) * t2).transpose();
+  r.row(c) = (std::cos(theta) * t2 - std::sin(theta) * t1).transpose();
+  return r;
+}
+
+}  // namespace
+
+const std::array<Eigen::Matrix3d, 24>& cube_group_rotations() {
+  static const std::array<Eigen::Matrix3d, 24> rotations = [] {
+    std::array<Eigen::Matrix3d, 24> result;
+    const auto& table = signed_permutations();
+    for (int g = 0; g < 24; ++g) result[g] = apply(table[g], Eigen::Matrix3d::Identity());
+    return result;
+  }();
+  return rotations;
+}
+
+double frame_distance_squared(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b, Eigen::Matrix3d* best) {
+  double score = 0.0;
+  const int g = best_match(a, b, score);
+  if (best) *best = cube_group_rotations()[g];
+  return distance_from_score(score);
+}
+
+double frame_smoothness_energy(const FrameField& field) {
+  // Eq. 5.6 over the 6-neighbour edges, each counted once, with jump matching.
+  double energy = 0.0;
+  const std::size_t sy = field.nx;
+  const std::size_t sz = static_cast<std::size_t>(field.nx) * field.ny;
+  for (int z = 0; z < field.nz; ++z)
+    for (int y = 0; y < field.ny; ++y)
+      for (int x = 0; x < field.nx; ++x) {
+        const std::size_t id = x + sy * (y + static_cast<std::size_t>(field.ny) * z);
+        const Eigen::Matrix3d& frame = field.frames[id];
+        if (x + 1 < field.nx) energy += frame_distance_squared(frame, field.frames[id + 1]);
+        if (y + 1 < field.ny) energy += frame_distance_squared(frame, field.frames[id + sy]);
+        if (z + 1 < field.nz) energy += frame_distance_squared(frame, field.frames[id + sz]);
+      }
+  return energy;
+}
+
+FrameSmoothingResult smooth_frame_field(const FrameField& initial, const std::vector<FrameConstraint>& constraints,
+                                        const FrameSmoothingOptions& options, const pipeline::Progress& progress) {
+  if (options.max_iterations < 1)
+    throw Error("frame smoothing: max_iterations must be >= 1, got " + std::to_string(options.max_iterations));
+  if (!(options.energy_decrease_tol_rel >= 0))
+    throw Error("frame smoothing: energy_decrease_tol_rel must be >= 0");
+  if (initial.nx < 1 || initial.ny < 1 || initial.nz < 1)
+    throw Error("frame smoothing: grid dimensions must be positive");
+  const std::size_t n = static_cast<std::size_t>(initial.nx) * initial.ny * initial.nz;
+  if (initial.frames.size() != n)
+    throw Error("frame smoothing: " + std::to_string(initial.frames.size()) + " frames for a grid of " + std::to_string(n) + " voxels");
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Matrix3d& f = initial.frames[i];
+    if (!f.allFinite() || (f * f.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-6 || f.determinant() < 0)
+      throw Error("frame smoothing: frame of voxel " + std::to_string(i) + " is not a rotation");
+  }
+  // Per voxel: index into `normals` or -1.
+  std::vector<int> constraint_of(n, -1);
+  std::vector<Eigen::Vector3d> normals;
+  for (const FrameConstraint& c : constraints) {
+    if (c.voxel_id >= n)
+      throw Error("frame smoothing: constraint voxel " + std::to_string(c.voxel_id) + " is outside the grid of " + std::to_string(n) + " voxels");
+    if (!c.normal.allFinite() || !(c.normal.norm() > 0))
+      throw Error("frame smoothing: constraint normal of voxel " + std::to_string(c.voxel_id) + " is zero or not finite");
+    if (constraint_of[c.voxel_id] >= 0)
+      throw Error("frame smoothing: voxel " + std::to_string(c.voxel_id) + " has more than one constraint");
+    constraint_of[c.voxel_id] = static_cast<int>(normals.size());
+    normals.push_back(c.normal.normalized());
+  }
+
+  FrameSmoothingResult result;
+  FrameField& field = result.field;
+  field = initial;
+  for (std::size_t i = 0; i < n; ++i)
+    if (constraint_of[i] >= 0) field.frames[i] = project_to_constraint(field.frames[i], normals[constraint_of[i]]);
+
+  const auto& table = signed_permutations();
+  double energy = frame_smoothness_energy(field);
+  result.initial_energy = energy;
+  std::array<std::size_t, 6> ids{};
+  // Visit stamps: a voxel whose last update left it unchanged and whose neighbours have not changed
+  // since would get the same result again, so it is skipped (same output, less work).
+  std::uint64_t clock = 1;
+  std::vector<std::uint64_t> changed_at(n, 1);
+  std::vector<std::uint64_t> visited_at(n, 0);
+  for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
+    progress.report("frame smoothing", static_cast<double>(iteration - 1) / options.max_iterations);
+    // §5.2.2, Gauss-Seidel in voxel order for determinism.
+    for (int z = 0; z < field.nz; ++z)
+      for (int y = 0; y < field.ny; ++y)
+        for (int x = 0; x < field.nx; ++x) {
+          const int count = neighbours(field, x, y, z, ids);
+          const std::size_t id = static_cast<std::size_t>(x) + static_cast<std::size_t>(field.nx) * (y + static_cast<std::size_t>(field.ny) * z);
+          ++clock;
+          bool stale = changed_at[id] >= visited_at[id];
+          for (int k = 0; k < count && !stale; ++k) stale = changed_at[ids[k]] > visited_at[id];
+          if (!stale) continue;
+          visited_at[id] = clock;
+          const Eigen::Matrix3d current = field.frames[id];
+          // Jump matching: each neighbour's frame end points are relabelled by the cube rotation that
+          // best fits them to ours; the covariance of the matched end points (+-f_r against +-g f'_r)
+          // is twice the sum of the matched frames, so the registration rotation is its polar factor.
+          Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+          double old_energy = 0.0;
+          for (int k = 0; k < count; ++k) {
+            double score = 0.0;
+            const int g = best_match(current, field.frames[ids[k]], score);
+            covariance += apply(table[g], field.frames[ids[k]]);
+            old_energy += distance_from_score(score);
+          }
+          if (old_energy == 0.0) continue;
+          Eigen::Matrix3d updated;
+          if (constraint_of[id] >= 0) {
+            const Eigen::Vector3d& normal = normals[constraint_of[id]];
+            double sign = 1.0;
+            const int axis = closest_axis(current, normal, sign);
+            // Deviation: the thesis rotates the unconstrained update onto the normal; optimizing with
+            // the axis held fixed gives a frame on the constraint that provably does not raise Eq. 5.6.
+            updated = constrained_rotation(covariance, axis, sign * normal);
+          } else {
+            updated = polar_rotation(covariance);
+          }
+          if (local_energy(updated, field, ids, count) < old_energy) {
+            field.frames[id] = updated;
+            changed_at[id] = clock;
+          }
+        }
+    const double next = frame_smoothness_energy(field);
+    result.energy_per_iteration.push_back(next);
+    result.iterations = iteration;
+    const double decrease = energy - next;
+    energy = next;
+    if (energy == 0.0 || decrease < options.energy_decrease_tol_rel * (energy + decrease)) {
+      result.converged = true;
+      break;
+    }
+  }
+  progress.report("frame smoothing", 1.0);
+  result.final_energy = energy;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (constraint_of[i] < 0) continue;
+    const Eigen::Vector3d& normal = normals[constraint_of[i]];
+    double sign = 1.0;
+    const int axis = closest_axis(field.frames[i], normal, sign);
+    const double cosine = std::min(1.0, std::abs(field.frames[i].row(axis).dot(normal)));
+    result.max_constraint_angle_rad = std::max(result.max_constraint_angle_rad, std::acos(cosine));
+  }
+  return result;
+}
+
+}  // namespace volspline::volume

@@ -1,0 +1,6 @@
+# SPDX-License-Identifier: MIT
+set(TEST_SOURCES
+  ${CMAKE_CURRENT_LIST_DIR}/local_cubic_fit_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/hessian_frames_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/frame_field_test.cpp
+)
