@@ -50,6 +50,7 @@ namespace volspline::wasm {
 ///   s.clear() drops the caches; s.delete() frees the session (Embind objects are not collected).
 class LensSessionBinding {
  public:
+  /// A session with empty caches (JS: new LensSession()).
   LensSessionBinding();
   ~LensSessionBinding();
   /// See the class comment; never throws ({ok:false, message} on failure).

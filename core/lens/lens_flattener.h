@@ -19,6 +19,7 @@ namespace volspline::lens {
 /// compute() followed by one flatten(); both give bit-identical positions.
 class LensFlattener {
  public:
+  /// An empty session (ready() is false until compute()); movable, not copyable.
   LensFlattener();
   ~LensFlattener();
   LensFlattener(LensFlattener&&) noexcept;

@@ -28,6 +28,7 @@ struct LensSessionCounters {
 /// The caches are small (a few meshes, bounded by vertex count). Not thread-safe.
 class LensSession {
  public:
+  /// A session with empty caches; movable, not copyable.
   LensSession();
   ~LensSession();
   LensSession(LensSession&&) noexcept;

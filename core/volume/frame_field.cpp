@@ -44,18 +44,41 @@ const std::array<SignedPermutation, 24>& signed_permutations() {
   return table;
 }
 
+// The 6 permutations in std::next_permutation order and their parity, matching make_signed_permutations.
+constexpr int kPermutations[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+constexpr bool kOddPermutation[6] = {false, true, true, false, false, true};
+
 // Index of the cube rotation g maximizing tr(a^T g b), i.e. minimizing ||a - g b||_F^2, and that maximum.
+// Per permutation the best signs follow the terms' signs; if that breaks det g = +1 the smallest
+// term is flipped. 6 candidates instead of 24; ties keep the first permutation found.
 int best_match(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b, double& score) {
   const Eigen::Matrix3d d = a * b.transpose();  // d(r, q) = a_r . b_q
-  const auto& table = signed_permutations();
   int best = 0;
   score = -1e300;
-  for (int g = 0; g < 24; ++g) {
-    const auto& sp = table[g];
-    const double s = sp.sign[0] * d(0, sp.perm[0]) + sp.sign[1] * d(1, sp.perm[1]) + sp.sign[2] * d(2, sp.perm[2]);
-    if (s > score) {
-      score = s;
-      best = g;
+  for (int p = 0; p < 6; ++p) {
+    const double t[3] = {d(0, kPermutations[p][0]), d(1, kPermutations[p][1]), d(2, kPermutations[p][2])};
+    int bits = 0;
+    double sum = 0.0;
+    int smallest = 0;
+    for (int r = 0; r < 3; ++r) {
+      if (t[r] < 0) bits |= 1 << r;
+      sum += std::abs(t[r]);
+      if (std::abs(t[r]) < std::abs(t[smallest])) smallest = r;
+    }
+    const int negatives = (bits & 1) + ((bits >> 1) & 1) + ((bits >> 2) & 1);
+    if ((negatives % 2 == 1) != kOddPermutation[p]) {
+      bits ^= 1 << smallest;
+      sum -= 2 * std::abs(t[smallest]);
+    }
+    if (sum > score) {
+      score = sum;
+      // Rank of `bits` among the valid sign patterns of this parity, as make_signed_permutations lists them.
+      int rank = 0;
+      for (int other = 0; other < bits; ++other) {
+        const int count = (other & 1) + ((other >> 1) & 1) + ((other >> 2) & 1);
+        rank += (count % 2 == 1) == kOddPermutation[p];
+      }
+      best = 4 * p + rank;
     }
   }
   return best;

@@ -32,7 +32,7 @@ const std::array<Eigen::Matrix3d, 24>& cube_group_rotations();
 
 /// Jump-matched squared distance between two frames (Eq. 5.6 term of one edge):
 /// min over the 24 cube rotations g of ||a - g b||_F^2. Symmetric in a and b; in [0, 6].
-/// If `best` is given it receives the minimizing g (lowest index on ties).
+/// If `best` is given it receives a minimizing g (a fixed choice on ties).
 double frame_distance_squared(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b, Eigen::Matrix3d* best = nullptr);
 
 /// Eq. 5.6 with jump matching: the sum of frame_distance_squared over all 6-neighbour voxel pairs.
