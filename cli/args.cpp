@@ -40,7 +40,8 @@ int Args::get_int(const std::string& name, int fallback) const {
 Args parse_args(const std::vector<std::string>& argv, const std::vector<OptionSpec>& specs) {
   Args args;
   for (size_t i = 0; i < argv.size(); ++i) {
-    const std::string& token = argv[i];
+    // "-o" is the one short option: the conventional spelling of "--output".
+    const std::string token = argv[i] == "-o" ? std::string("--output") : argv[i];
     if (token == "-h" || token == "--help") {
       args.options["help"].push_back("");
       continue;

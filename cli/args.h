@@ -37,7 +37,8 @@ struct Args {
   int get_int(const std::string& name, int fallback) const;
 };
 
-/// Parses argv (without program and command names) against the specs; "--help"/"-h" sets "help".
+/// Parses argv (without program and command names) against the specs; "--help"/"-h" sets "help",
+/// "-o" stands for "--output".
 /// Accepts "--name value" and "--name=value". Throws UsageError on unknown or incomplete options.
 Args parse_args(const std::vector<std::string>& argv, const std::vector<OptionSpec>& specs);
 

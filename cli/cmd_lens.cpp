@@ -58,10 +58,7 @@ int run_lens(const std::vector<std::string>& argv_in) {
       {"mesh-out", "FILE", "flattened textured mesh, .obj (with texture coordinates) or .glb (geometry)"},
   };
   for (const auto& spec : common_job_options()) specs.push_back(spec);
-  std::vector<std::string> argv = argv_in;
-  for (auto& token : argv)
-    if (token == "-o") token = "--output";
-  const Args args = parse_args(argv, specs);
+  const Args args = parse_args(argv_in, specs);
   if (args.has("help")) {
     std::fputs(format_help("volspline lens IMAGE.png -o OUT.png --roi SPEC [--roi SPEC ...] [options]",
                            "Focus+context magnification lens (thesis ch. 6): the ROIs are lifted to a 3D lens\n"

@@ -56,11 +56,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
       {"compare-uniform", "", "also fit uniform B-splines to the same rms_rel (stats: uniform_control_points)"},
   };
   for (const auto& common : common_job_options()) specs.push_back(common);
-  // The parser knows long options only; -o is the conventional short form of --output.
-  std::vector<std::string> arguments = argv;
-  for (auto& a : arguments)
-    if (a == "-o") a = "--output";
-  const Args args = parse_args(arguments, specs);
+  const Args args = parse_args(argv, specs);
   if (args.has("help")) {
     std::fputs(format_help("volspline mesh2spline MESH -o OUT.json [options]",
                            "Maps a closed genus-0 triangle mesh (OBJ, OFF, PLY, STL, glTF/GLB) to one cuboid and\n"
