@@ -87,7 +87,9 @@ TEST_CASE("frame_field: jump-matched distance is zero across cube rotations, sym
 }
 
 TEST_CASE("frame_field: smoothing a perturbed constant field never raises Eq. 5.6 and returns to near-constant") {
-  const FrameField field = perturbed_constant_field(6, 0.6, 11);
+  // Perturbations well inside the basin of the constant field: larger ones may settle in a smooth
+  // twist, an equally valid local minimum of Eq. 5.6, which this test does not want to pin down.
+  const FrameField field = perturbed_constant_field(6, 0.3, 11);
   FrameSmoothingOptions options;
   options.max_iterations = 60;
   options.energy_decrease_tol_rel = 1e-4;
