@@ -18,6 +18,18 @@ void append_number(std::string& out, double x) {
   out += buffer;
 }
 
+/// One "x y z" line per vector, 9 significant digits (a sampled view, not a round-trip format).
+void append_vectors(std::string& out, const std::vector<Eigen::Vector3d>& vectors) {
+  for (const auto& p : vectors) {
+    append_number(out, p.x());
+    out += ' ';
+    append_number(out, p.y());
+    out += ' ';
+    append_number(out, p.z());
+    out += '\n';
+  }
+}
+
 }  // namespace
 
 std::string serialize_spline_vtu(const spline::TSpline& spline, const std::array<int, 3>& cells) {
@@ -42,24 +54,10 @@ std::string serialize_spline_vtu(const spline::TSpline& spline, const std::array
   out += "<Piece NumberOfPoints=\"" + std::to_string(num_points) + "\" NumberOfCells=\"" +
          std::to_string(num_cells) + "\">\n";
   out += "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (const auto& p : xyz) {
-    append_number(out, p.x());
-    out += ' ';
-    append_number(out, p.y());
-    out += ' ';
-    append_number(out, p.z());
-    out += '\n';
-  }
+  append_vectors(out, xyz);
   out += "</DataArray>\n</Points>\n";
   out += "<PointData>\n<DataArray type=\"Float64\" Name=\"uvw\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (const auto& p : uvw) {
-    append_number(out, p.x());
-    out += ' ';
-    append_number(out, p.y());
-    out += ' ';
-    append_number(out, p.z());
-    out += '\n';
-  }
+  append_vectors(out, uvw);
   out += "</DataArray>\n</PointData>\n";
   std::string connectivity, offsets, types, quality;
   // VTK_HEXAHEDRON corner order: bottom face counter-clockwise, then top face.
