@@ -47,11 +47,14 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
       {"vtk", "OUT.vtu", "hex mesh sampled from the spline with per-cell scaled Jacobian"},
       {"glb", "OUT.glb", "boundary surface of the spline with iso-parameter lines"},
       {"max-rms", "R", "stop refining at rms_rel <= R (fraction of the bbox diagonal; default 0.002)"},
+      {"max-surface-error", "R", "also refine until every surface sample is within R of the mesh (fraction of the bbox diagonal; default 0.005)"},
       {"max-control-points", "N", "no refinement beyond N control points (default 50000)"},
       {"max-levels", "L", "refinement levels after level 0 (default 4)"},
       {"fit", "grid|meshless", "grid: volumetric grid map + fit (§3.4.2); meshless: §4.3.2 (default grid)"},
       {"corners", "FILE", "8 corner vertex ids (cube corner c at (c&1, c>>1&1, c>>2&1)); default automatic"},
       {"weights", "meanvalue|cotan", "surface map weights (default meanvalue)"},
+      {"area-balance", "N", "stretch-reweighting rounds of the surface map, 0 = plain Floater map (default 4)"},
+      {"repair-jacobian", "Q", "move interior control points until the scaled Jacobian is >= Q (0 = off, default; slow)"},
       {"initial-cells", "N", "spline cells along the longest cuboid axis at level 0 (default 4)"},
       {"compare-uniform", "", "also fit uniform B-splines to the same rms_rel (stats: uniform_control_points)"},
   };
@@ -73,6 +76,9 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
 
   pipeline::Mesh2SplineOptions options;
   options.max_rms_rel = args.get_double("max-rms", options.max_rms_rel);
+  options.max_surface_error_rel = args.get_double("max-surface-error", options.max_surface_error_rel);
+  options.area_balance_iterations = args.get_int("area-balance", options.area_balance_iterations);
+  options.min_scaled_jacobian = args.get_double("repair-jacobian", options.min_scaled_jacobian);
   options.max_control_points = args.get_int("max-control-points", options.max_control_points);
   options.max_levels = args.get_int("max-levels", options.max_levels);
   options.initial_cells = args.get_int("initial-cells", options.initial_cells);
@@ -119,6 +125,8 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
     j["semi_standard_max_error"] = s.semi_standard_max_error;
     j["cuboids"] = s.cuboids;
     j["flipped_triangles"] = s.flipped_triangles;
+    j["negative_jacobian_fraction_fit"] = s.negative_jacobian_fraction_fit;
+    j["repaired_control_points"] = s.repaired_control_points;
     j["grid_inverted_hexes"] = s.grid_inverted_hexes;
     j["grid_min_scaled_jacobian"] = s.grid_min_scaled_jacobian;
     j["samples"] = s.samples;

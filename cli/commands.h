@@ -13,5 +13,6 @@ int run_info(const std::vector<std::string>& argv);
 int run_lens(const std::vector<std::string>& argv);
 int run_mesh2spline(const std::vector<std::string>& argv);
 int run_eval(const std::vector<std::string>& argv);
+int run_vol2spline(const std::vector<std::string>& argv);
 
 }  // namespace volspline::cli

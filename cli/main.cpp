@@ -23,6 +23,7 @@ const char* kUsage =
     "  mesh2spline MESH   closed genus-0 triangle mesh -> trivariate T-spline (thesis ch. 3, 4)\n"
     "  eval SPLINE        evaluate a spline JSON file at --uvw u,v,w\n"
     "  lens IMAGE         focus+context magnification lens on an image (thesis ch. 6)\n"
+    "  vol2spline VOLUME  scalar volume -> trivariate T-spline of (X, Y, Z, density) (thesis ch. 5)\n"
     "\n"
     "Run 'volspline <command> --help' for the options of a command.\n"
     "  --version          print the version\n";
@@ -37,6 +38,7 @@ const Command kCommands[] = {
     {"mesh2spline", volspline::cli::run_mesh2spline},
     {"eval", volspline::cli::run_eval},
     {"lens", volspline::cli::run_lens},
+    {"vol2spline", volspline::cli::run_vol2spline},
 };
 
 }  // namespace

@@ -8,7 +8,10 @@
 
 #include "core/common/version.h"
 #include "wasm/lens_binding.h"
+#include "wasm/mesh2spline_binding.h"
 #include "wasm/mesh_info_binding.h"
+#include "wasm/vol2spline_binding.h"
+#include "wasm/volume_binding.h"
 
 namespace {
 
@@ -22,6 +25,10 @@ EMSCRIPTEN_BINDINGS(volspline) {
   emscripten::function("decodeImage", &volspline::wasm::decode_image);
   emscripten::function("encodePng", &volspline::wasm::encode_png);
   emscripten::function("lens", &volspline::wasm::lens);
+  emscripten::function("mesh2spline", &volspline::wasm::mesh2spline);
+  emscripten::function("splineCut", &volspline::wasm::spline_cut);
+  emscripten::function("loadVolume", &volspline::wasm::load_volume);
+  emscripten::function("vol2spline", &volspline::wasm::vol2spline);
   emscripten::class_<volspline::wasm::LensSessionBinding>("LensSession")
       .constructor<>()
       .function("run", &volspline::wasm::LensSessionBinding::run)

@@ -38,6 +38,19 @@ export class LensView {
     this.program = createProgram(gl, VERTEX, FRAGMENT);
     this.vao = gl.createVertexArray();
     this.buffers = { position: gl.createBuffer(), texcoord: gl.createBuffer(), triangles: gl.createBuffer() };
+    this.uploaded = {};  // the arrays last sent to each buffer
+    this.uniforms = { size: gl.getUniformLocation(this.program, 'size'), image: gl.getUniformLocation(this.program, 'image') };
+    // The attribute layout never changes: set it once on the vertex array.
+    gl.bindVertexArray(this.vao);
+    for (const name of ['position', 'texcoord']) {
+      gl.bindBuffer(gl.ARRAY_BUFFER, this.buffers[name]);
+      const loc = gl.getAttribLocation(this.program, name);
+      gl.enableVertexAttribArray(loc);
+      gl.vertexAttribPointer(loc, 2, gl.FLOAT, false, 0, 0);
+    }
+    gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, this.buffers.triangles);
+    gl.bindVertexArray(null);
+    this.onFrame = null;  // called after each drawn frame
     this.texture = gl.createTexture();
     this.count = 0;
     this.image = null;
@@ -72,23 +85,45 @@ export class LensView {
     this.setMesh(corners, corners, new Uint32Array([0, 1, 2, 0, 2, 3]));
   }
 
-  /// Shows a deformation: positions and texture Float32Array (2 per vertex, pixels), triangles Uint32Array.
+  /// Shows a deformation: positions and texture Float32Array (2 per vertex, pixels), triangles
+  /// Uint32Array. Drawn at the next animation frame (several calls in one frame draw once); only
+  /// the arrays that changed are uploaded, in place when their size is unchanged.
   setMesh(positions, texture, triangles) {
+    this.next = { positions, texture, triangles };
+    this.requestDraw();
+  }
+
+  requestDraw() {
+    if (this.frame) return;
+    this.frame = requestAnimationFrame(() => {
+      this.frame = 0;
+      if (this.next) { this.upload(this.next); this.next = null; }
+      this.draw();
+      this.onFrame?.();
+    });
+  }
+
+  upload({ positions, texture, triangles }) {
     const gl = this.gl;
-    gl.useProgram(this.program);
+    const same = (a, b) => {
+      if (!a || a.length !== b.length) return false;
+      for (let i = 0; i < a.length; i++) if (a[i] !== b[i]) return false;
+      return true;
+    };
     gl.bindVertexArray(this.vao);
-    for (const [name, data] of [['position', positions], ['texcoord', texture]]) {
-      gl.bindBuffer(gl.ARRAY_BUFFER, this.buffers[name]);
-      gl.bufferData(gl.ARRAY_BUFFER, data, gl.DYNAMIC_DRAW);
-      const loc = gl.getAttribLocation(this.program, name);
-      gl.enableVertexAttribArray(loc);
-      gl.vertexAttribPointer(loc, 2, gl.FLOAT, false, 0, 0);
-    }
-    gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, this.buffers.triangles);
-    gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, triangles, gl.DYNAMIC_DRAW);
+    const put = (target, name, data) => {
+      const old = this.uploaded[name];
+      if (same(old, data)) return;
+      gl.bindBuffer(target, this.buffers[name]);
+      if (old && old.length === data.length) gl.bufferSubData(target, 0, data);
+      else gl.bufferData(target, data, gl.DYNAMIC_DRAW);
+      this.uploaded[name] = data;
+    };
+    put(gl.ARRAY_BUFFER, 'position', positions);
+    put(gl.ARRAY_BUFFER, 'texcoord', texture);
+    put(gl.ELEMENT_ARRAY_BUFFER, 'triangles', triangles);
     gl.bindVertexArray(null);
     this.count = triangles.length;
-    this.draw();
   }
 
   /// Sets the ROI circle {cx, cy, r} (input pixels) without calling onChange.
@@ -101,10 +136,10 @@ export class LensView {
     gl.clearColor(0, 0, 0, 1);
     gl.clear(gl.COLOR_BUFFER_BIT);
     gl.useProgram(this.program);
-    gl.uniform2f(gl.getUniformLocation(this.program, 'size'), this.image.width, this.image.height);
+    gl.uniform2f(this.uniforms.size, this.image.width, this.image.height);
     gl.activeTexture(gl.TEXTURE0);
     gl.bindTexture(gl.TEXTURE_2D, this.texture);
-    gl.uniform1i(gl.getUniformLocation(this.program, 'image'), 0);
+    gl.uniform1i(this.uniforms.image, 0);
     gl.bindVertexArray(this.vao);
     gl.drawElements(gl.TRIANGLES, this.count, gl.UNSIGNED_INT, 0);
     gl.bindVertexArray(null);

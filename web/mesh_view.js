@@ -1,32 +1,63 @@
 // SPDX-License-Identifier: MIT
-// WebGL2 view of a triangle mesh with orbit controls: drag to rotate, wheel to zoom,
-// shift-drag or right-drag to pan, double-click to reset. Flat shading from screen-space
-// derivatives (no normals needed), optional wireframe overlay.
+// WebGL2 view of the mesh tab with orbit controls: drag to rotate, wheel to zoom, shift-drag or
+// right-drag to pan, double-click to reset. Layers, each shown or hidden by name:
+//   input     the input mesh (lit triangles) and its wireframe ('wireframe')
+//   boundary  the spline's boundary surface and its iso-parameter lines ('lines')
+//   control   the control points (drawn over everything)
+//   cut       the cut through the volume, coloured by scaled Jacobian
+// The boundary and its lines are cut away on the far side of the cut (uvw[axis] > position), so
+// the cut is visible inside the solid. Flat shading from screen-space derivatives.
 import { createProgram, mat4 } from './gl_util.js';
 
 const VERTEX = `#version 300 es
 in vec3 position;
+in vec3 uvw;
+in float scalar;
 uniform mat4 view_projection;
 uniform mat4 view;
+uniform float point_size;
 out vec3 view_position;
+out vec3 v_uvw;
+out float v_scalar;
 void main() {
   view_position = (view * vec4(position, 1.0)).xyz;
+  v_uvw = uvw;
+  v_scalar = scalar;
+  gl_PointSize = point_size;
   gl_Position = view_projection * vec4(position, 1.0);
 }`;
 
+// Scaled Jacobian colours: ≤ 0 (folded) red; 0 → 1 from orange through yellow and green to blue.
 const FRAGMENT = `#version 300 es
 precision highp float;
 in vec3 view_position;
+in vec3 v_uvw;
+in float v_scalar;
 uniform vec4 colour;
 uniform bool lit;
+uniform bool use_scalar;
+uniform int cut_axis;      // -1: no cut-away
+uniform float cut_position;
 out vec4 out_colour;
+vec3 quality(float q) {
+  if (q <= 0.0) return vec3(0.85, 0.1, 0.1);
+  vec3 c0 = vec3(0.95, 0.45, 0.1), c1 = vec3(0.98, 0.85, 0.2), c2 = vec3(0.3, 0.75, 0.35), c3 = vec3(0.2, 0.4, 0.85);
+  if (q < 0.33) return mix(c0, c1, q / 0.33);
+  if (q < 0.67) return mix(c1, c2, (q - 0.33) / 0.34);
+  return mix(c2, c3, (q - 0.67) / 0.33);
+}
 void main() {
-  if (!lit) { out_colour = colour; return; }
+  if (cut_axis >= 0 && v_uvw[cut_axis] > cut_position + 1e-4) discard;
+  vec3 base = use_scalar ? quality(v_scalar) : colour.rgb;
+  if (!lit) { out_colour = vec4(base, colour.a); return; }
   vec3 n = normalize(cross(dFdx(view_position), dFdy(view_position)));
   vec3 l = normalize(vec3(0.4, 0.6, 1.0));
   float diffuse = abs(dot(n, l));
-  out_colour = vec4(colour.rgb * (0.25 + 0.75 * diffuse), colour.a);
+  out_colour = vec4(base * (0.3 + 0.7 * diffuse), colour.a);
 }`;
+
+/// Legend colours of the scaled Jacobian (CSS), matching the shader.
+export const QUALITY_GRADIENT = 'linear-gradient(to right, rgb(242,115,26) 0%, rgb(250,217,51) 33%, rgb(77,191,89) 67%, rgb(51,102,217) 100%)';
 
 export class MeshView {
   /// `canvas`: the element to draw into. Throws an Error if WebGL2 is unavailable.
@@ -36,30 +67,67 @@ export class MeshView {
     if (!gl) throw new Error('WebGL2 is not available in this browser');
     this.gl = gl;
     this.program = createProgram(gl, VERTEX, FRAGMENT);
-    this.uniforms = Object.fromEntries(['view_projection', 'view', 'colour', 'lit'].map((n) => [n, gl.getUniformLocation(this.program, n)]));
-    this.vao = gl.createVertexArray();
-    this.buffers = { position: gl.createBuffer(), triangles: gl.createBuffer(), lines: gl.createBuffer() };
-    this.counts = { triangles: 0, lines: 0 };
-    this.wireframe = true;
+    this.uniforms = Object.fromEntries(['view_projection', 'view', 'colour', 'lit', 'use_scalar', 'cut_axis', 'cut_position', 'point_size']
+      .map((n) => [n, gl.getUniformLocation(this.program, n)]));
+    this.attributes = Object.fromEntries(['position', 'uvw', 'scalar'].map((n) => [n, gl.getAttribLocation(this.program, n)]));
+    this.layers = {};   // name -> {vao, buffers, count, mode, indexed}
+    this.visible = { input: true, wireframe: true, boundary: true, lines: true, control: true, cut: true };
+    this.cut = null;    // {axis, position} while a cut is shown
     this.resetCamera([0, 0, 0], 1);
     this.installControls();
-    new ResizeObserver(() => this.draw()).observe(canvas);
+    new ResizeObserver(() => this.requestDraw()).observe(canvas);
   }
 
-  /// Shows a mesh: positions Float32Array (3 per vertex), triangles Uint32Array (3 per face),
-  /// bbox_min/bbox_max [x,y,z]. The camera is reset to frame the bounding box.
-  setMesh(positions, triangles, bboxMin, bboxMax) {
+  /// Replaces layer `name`: positions Float32Array (3 per vertex); optional uvw Float32Array
+  /// (3 per vertex, fractions of the domain), scalar Float32Array (1 per vertex), indices
+  /// Uint32Array; mode 'triangles' | 'lines' | 'points'. Null positions remove the layer.
+  setLayer(name, { positions, uvw = null, scalar = null, indices = null, mode = 'triangles' } = {}) {
     const gl = this.gl;
-    gl.bindVertexArray(this.vao);
-    gl.bindBuffer(gl.ARRAY_BUFFER, this.buffers.position);
-    gl.bufferData(gl.ARRAY_BUFFER, positions, gl.STATIC_DRAW);
-    const loc = gl.getAttribLocation(this.program, 'position');
-    gl.enableVertexAttribArray(loc);
-    gl.vertexAttribPointer(loc, 3, gl.FLOAT, false, 0, 0);
+    const old = this.layers[name];
+    if (old) {
+      gl.deleteVertexArray(old.vao);
+      for (const b of old.buffers) gl.deleteBuffer(b);
+      delete this.layers[name];
+    }
+    if (!positions) { this.requestDraw(); return; }
+    const vao = gl.createVertexArray();
+    const buffers = [];
+    gl.bindVertexArray(vao);
+    const attribute = (loc, data, size, fallback) => {
+      if (loc < 0) return;
+      if (data) {
+        const b = gl.createBuffer();
+        buffers.push(b);
+        gl.bindBuffer(gl.ARRAY_BUFFER, b);
+        gl.bufferData(gl.ARRAY_BUFFER, data, gl.STATIC_DRAW);
+        gl.enableVertexAttribArray(loc);
+        gl.vertexAttribPointer(loc, size, gl.FLOAT, false, 0, 0);
+      } else {
+        gl.disableVertexAttribArray(loc);
+        if (size === 3) gl.vertexAttrib3f(loc, ...fallback); else gl.vertexAttrib1f(loc, fallback);
+      }
+    };
+    attribute(this.attributes.position, positions, 3, [0, 0, 0]);
+    attribute(this.attributes.uvw, uvw, 3, [0, 0, 0]);
+    attribute(this.attributes.scalar, scalar, 1, 0);
+    if (indices) {
+      const b = gl.createBuffer();
+      buffers.push(b);
+      gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, b);
+      gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, indices, gl.STATIC_DRAW);
+    }
     gl.bindVertexArray(null);
-    gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, this.buffers.triangles);
-    gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, triangles, gl.STATIC_DRAW);
-    this.counts.triangles = triangles.length;
+    const glMode = { triangles: gl.TRIANGLES, lines: gl.LINES, points: gl.POINTS }[mode];
+    this.layers[name] = { vao, buffers, count: indices ? indices.length : positions.length / 3, mode: glMode, indexed: !!indices, hasUvw: !!uvw, hasScalar: !!scalar };
+    this.requestDraw();
+  }
+
+  /// Shows an input mesh (positions Float32Array, triangles Uint32Array) and its wireframe, drops
+  /// every spline layer and frames the bounding box bbox_min/bbox_max [x,y,z].
+  setMesh(positions, triangles, bboxMin, bboxMax) {
+    for (const name of ['boundary', 'lines', 'control', 'cut']) this.setLayer(name, {});
+    this.cut = null;
+    this.setLayer('input', { positions, indices: triangles });
     // Unique edges for the wireframe, keyed by (min, max) vertex pair.
     const seen = new Set();
     const lines = [];
@@ -70,18 +138,63 @@ export class MeshView {
         if (!seen.has(key)) { seen.add(key); lines.push(a, b); }
       }
     }
-    gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, this.buffers.lines);
-    gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, new Uint32Array(lines), gl.STATIC_DRAW);
-    this.counts.lines = lines.length;
+    this.setLayer('wireframe', { positions, indices: new Uint32Array(lines), mode: 'lines' });
     const centre = [0, 1, 2].map((k) => 0.5 * (bboxMin[k] + bboxMax[k]));
     const radius = 0.5 * Math.hypot(...[0, 1, 2].map((k) => bboxMax[k] - bboxMin[k])) || 1;
     this.resetCamera(centre, radius);
   }
 
+  /// Shows a mesh2spline result: r.boundary {positions, uvw, triangles}, r.lines {positions, uvw},
+  /// r.control_points, and r.cut (see setCut). The input mesh stays as a faint wireframe.
+  setSpline(r) {
+    this.boundarySamples = { positions: r.boundary.positions, uvw: r.boundary.uvw };
+    this.cut = null;  // the first cut turns the camera towards it
+    this.setLayer('boundary', { positions: r.boundary.positions, uvw: r.boundary.uvw, indices: r.boundary.triangles });
+    this.setLayer('lines', { positions: r.lines.positions, uvw: r.lines.uvw, mode: 'lines' });
+    this.setLayer('control', { positions: r.control_points, mode: 'points' });
+    this.setCut(r.cut);
+  }
+
+  /// Shows a cut {axis, position, positions, triangles, scaled_jacobian}, or none for null.
+  setCut(cut) {
+    const turn = cut && (!this.cut || this.cut.axis !== cut.axis);
+    this.cut = cut ? { axis: cut.axis, position: cut.position } : null;
+    this.setLayer('cut', cut ? { positions: cut.positions, scalar: cut.scaled_jacobian, indices: cut.triangles } : {});
+    if (turn) this.faceCut(cut);
+  }
+
+  /// Turns the camera to look at the cut from the cut-away side, a little from the side so the
+  /// solid still looks solid. Uses the boundary samples kept by setSpline.
+  faceCut(cut) {
+    const b = this.boundarySamples;
+    if (!b) return;
+    const mean = (positions, keep) => {
+      const m = [0, 0, 0];
+      let n = 0;
+      for (let i = 0; i < positions.length / 3; i++) {
+        if (!keep(i)) continue;
+        for (let k = 0; k < 3; k++) m[k] += positions[3 * i + k];
+        n++;
+      }
+      return n ? m.map((x) => x / n) : null;
+    };
+    const removed = mean(b.positions, (i) => b.uvw[3 * i + cut.axis] > cut.position + 0.05);
+    const centre = mean(cut.positions, () => true);
+    if (!removed || !centre) return;
+    const d = removed.map((x, k) => x - centre[k]);
+    if (Math.hypot(...d) < 1e-9 * this.camera.radius) return;
+    // About 35–50° off the cut's normal: never straight on, so the cut reads as a section.
+    this.camera.yaw = Math.atan2(d[0], d[2]) + 0.6;
+    this.camera.pitch = Math.max(-0.9, Math.min(0.9, Math.atan2(d[1], Math.hypot(d[0], d[2])) + 0.3));
+    this.requestDraw();
+  }
+
+  get hasSpline() { return !!this.layers.boundary; }
+
   resetCamera(target, radius) {
     this.home = { target: [...target], radius };
     this.camera = { target: [...target], radius, distance: 2.8 * radius, yaw: 0.6, pitch: 0.35 };
-    this.draw();
+    this.requestDraw();
   }
 
   installControls() {
@@ -132,9 +245,25 @@ export class MeshView {
     return [right, up];
   }
 
+  /// Coalesces redraws into the next animation frame.
   requestDraw() {
     if (this.pending) return;
     this.pending = requestAnimationFrame(() => { this.pending = 0; this.draw(); });
+  }
+
+  drawLayer(name, { colour, lit = false, cutAway = false, pointSize = 1 }) {
+    const layer = this.layers[name];
+    if (!layer || !layer.count) return;
+    const gl = this.gl, u = this.uniforms;
+    gl.uniform4f(u.colour, ...colour);
+    gl.uniform1i(u.lit, lit ? 1 : 0);
+    gl.uniform1i(u.use_scalar, layer.hasScalar ? 1 : 0);
+    gl.uniform1i(u.cut_axis, cutAway && this.cut && layer.hasUvw && this.visible.cut ? this.cut.axis : -1);
+    gl.uniform1f(u.cut_position, this.cut ? this.cut.position : 0);
+    gl.uniform1f(u.point_size, pointSize);
+    gl.bindVertexArray(layer.vao);
+    if (layer.indexed) gl.drawElements(layer.mode, layer.count, gl.UNSIGNED_INT, 0);
+    else gl.drawArrays(layer.mode, 0, layer.count);
   }
 
   draw() {
@@ -145,7 +274,7 @@ export class MeshView {
     gl.viewport(0, 0, w, h);
     gl.clearColor(0.96, 0.97, 0.98, 1);
     gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
-    if (!this.counts.triangles) return;
+    if (!Object.keys(this.layers).length) return;
     const cam = this.camera;
     const view = mat4.lookAt(this.eye(), cam.target);
     const near = Math.max(cam.distance - 2 * cam.radius, cam.distance * 0.01), far = cam.distance + 2 * cam.radius;
@@ -153,20 +282,23 @@ export class MeshView {
     gl.useProgram(this.program);
     gl.uniformMatrix4fv(this.uniforms.view_projection, false, mat4.multiply(projection, view));
     gl.uniformMatrix4fv(this.uniforms.view, false, view);
-    gl.bindVertexArray(this.vao);
     gl.enable(gl.DEPTH_TEST);
+    const v = this.visible, spline = this.hasSpline;
     gl.enable(gl.POLYGON_OFFSET_FILL);
     gl.polygonOffset(1, 1);
-    gl.uniform1i(this.uniforms.lit, 1);
-    gl.uniform4f(this.uniforms.colour, 0.42, 0.62, 0.85, 1);
-    gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, this.buffers.triangles);
-    gl.drawElements(gl.TRIANGLES, this.counts.triangles, gl.UNSIGNED_INT, 0);
+    // With a spline shown, the input mesh is context only: its wireframe, no surface.
+    if (v.input && !spline) this.drawLayer('input', { colour: [0.42, 0.62, 0.85, 1], lit: true });
+    if (v.boundary) this.drawLayer('boundary', { colour: [0.8, 0.8, 0.82, 1], lit: true, cutAway: true });
+    if (v.cut) this.drawLayer('cut', { colour: [1, 1, 1, 1], lit: true });
     gl.disable(gl.POLYGON_OFFSET_FILL);
-    if (this.wireframe && this.counts.lines) {
-      gl.uniform1i(this.uniforms.lit, 0);
-      gl.uniform4f(this.uniforms.colour, 0.1, 0.18, 0.3, 1);
-      gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, this.buffers.lines);
-      gl.drawElements(gl.LINES, this.counts.lines, gl.UNSIGNED_INT, 0);
+    if (v.boundary && v.lines) this.drawLayer('lines', { colour: [0.05, 0.05, 0.15, 1], cutAway: true });
+    if (v.control) this.drawLayer('control', { colour: [0.85, 0.1, 0.45, 1], pointSize: Math.max(2, 3 * dpr) });
+    if (v.input && v.wireframe) {
+      // Over a spline the input mesh is faint context: blended, and not hiding what is behind.
+      if (spline) { gl.enable(gl.BLEND); gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA); gl.depthMask(false); }
+      this.drawLayer('wireframe', { colour: spline ? [0.3, 0.45, 0.7, 0.35] : [0.1, 0.18, 0.3, 1] });
+      gl.disable(gl.BLEND);
+      gl.depthMask(true);
     }
     gl.bindVertexArray(null);
   }

@@ -26,6 +26,10 @@ const transferables = (value, out = []) => {
 
 const jobs = {
   meshInfo: ({ bytes, name }) => core.meshInfo(bytes, name),
+  mesh2spline: ({ bytes, name, options }, progress) => core.mesh2spline(bytes, name, options, progress),
+  splineCut: ({ json, axis, position, samples }) => core.splineCut(json, axis, position, samples),
+  loadVolume: ({ bytes, name, layout }) => core.loadVolume(bytes, name, layout ?? null),
+  vol2spline: ({ volume, name, options }, progress) => core.vol2spline(volume, name, options, progress),
   // Decodes once and keeps the image under `key`; returns it for the page's texture.
   setImage: ({ key, bytes, name }) => {
     const r = core.decodeImage(bytes, name);
@@ -54,6 +58,9 @@ const jobs = {
   },
 };
 
+// Jobs that need a binding which older builds of the core may lack.
+const bindingOf = { mesh2spline: 'mesh2spline', splineCut: 'splineCut', loadVolume: 'loadVolume', vol2spline: 'vol2spline' };
+
 function run({ id, job, args }) {
   if (!jobs[job]) return { ok: false, message: `unknown job '${job}'` };
   let last = 0;
@@ -79,7 +86,8 @@ onmessage = async (event) => {
     cancelFlag = msg.cancel ? new Int32Array(msg.cancel) : null;
     try {
       core = await createVolspline();
-      const available = Object.keys(jobs);
+      // A job is offered only if this build of the core has its binding.
+      const available = Object.keys(jobs).filter((j) => !(j in bindingOf) || typeof core[bindingOf[j]] === 'function');
       postMessage({ type: 'ready', version: core.version(), jobs: available });
     } catch (e) {
       postMessage({ type: 'fatal', message: 'the WebAssembly core did not load: ' + e });

@@ -2,7 +2,10 @@
 #include "core/param/cuboid_surface_map.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
+
+#include <Eigen/Geometry>
 
 #include "core/common/error.h"
 #include "core/linalg/conjugate_gradient.h"
@@ -67,46 +70,92 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
   for (int f = 0; f < mesh.num_faces(); ++f)
     for (int v : mesh.face_vertices(f))
       if (!fixed[v]) vertex_face[v] = layout.face_region[f];
-
+  std::vector<std::vector<int>> face_interior(polycube::num_cube_faces);
   std::vector<int> local(n, -1);
-  for (int face = 0; face < polycube::num_cube_faces; ++face) {
-    std::vector<int> interior;
-    for (int v = 0; v < n; ++v)
-      if (vertex_face[v] == face) {
-        local[v] = static_cast<int>(interior.size());
-        interior.push_back(v);
-      }
-    const int m = static_cast<int>(interior.size());
-    if (m == 0) continue;
-    std::vector<linalg::Triplet> triplets;
-    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(m, 2);
-    for (int i = 0; i < m; ++i) {
-      const int v = interior[i];
-      double diagonal = 0.0;
-      for (int h : mesh.vertex_outgoing(v)) {
-        const int j = mesh.halfedge_vertex(h);
-        const double w = weight[h];
-        diagonal += w;
-        if (fixed[j])
-          rhs.row(i) += w * cube_face_coordinates(face, map.uvw.row(j).transpose()).transpose();
-        else
-          triplets.push_back({i, local[j], -w});
-      }
-      triplets.push_back({i, i, diagonal > 0.0 ? diagonal : 1.0});
+  for (int v = 0; v < n; ++v)
+    if (vertex_face[v] >= 0) {
+      local[v] = static_cast<int>(face_interior[vertex_face[v]].size());
+      face_interior[vertex_face[v]].push_back(v);
     }
-    const linalg::CsrMatrix a = linalg::CsrMatrix::from_triplets(m, m, triplets);
-    linalg::ConjugateGradient<linalg::IncompleteCholesky0> cg;
-    cg.set_tolerance(options.tolerance);
-    cg.compute(a);
-    // Warm start at the square's centre: the solution lies inside the square.
-    const Eigen::MatrixXd st = cg.solve(rhs, Eigen::MatrixXd::Constant(m, 2, 0.5));
-    if (cg.info() == linalg::SolverInfo::NumericalIssue)
-      throw Error("mesh '" + mesh.source_name() + "': the harmonic map of cuboid face " +
-                  std::to_string(face) + " has no SPD system (negative cotan weights?)");
-    map.cg_iterations = std::max(map.cg_iterations, cg.iterations());
-    for (int i = 0; i < m; ++i)
-      map.uvw.row(interior[i]) = cube_face_point(face, st(i, 0), st(i, 1)).transpose();
-    for (int v : interior) local[v] = -1;
+
+  auto solve = [&](const std::vector<double>& weight) {
+    for (int face = 0; face < polycube::num_cube_faces; ++face) {
+      const std::vector<int>& interior = face_interior[face];
+      const int m = static_cast<int>(interior.size());
+      if (m == 0) continue;
+      std::vector<linalg::Triplet> triplets;
+      Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(m, 2);
+      Eigen::MatrixXd x0(m, 2);
+      for (int i = 0; i < m; ++i) {
+        const int v = interior[i];
+        x0.row(i) = cube_face_coordinates(face, map.uvw.row(v).transpose()).transpose();
+        double diagonal = 0.0;
+        for (int h : mesh.vertex_outgoing(v)) {
+          const int j = mesh.halfedge_vertex(h);
+          const double w = weight[h];
+          diagonal += w;
+          if (fixed[j])
+            rhs.row(i) += w * cube_face_coordinates(face, map.uvw.row(j).transpose()).transpose();
+          else
+            triplets.push_back({i, local[j], -w});
+        }
+        triplets.push_back({i, i, diagonal > 0.0 ? diagonal : 1.0});
+      }
+      const linalg::CsrMatrix a = linalg::CsrMatrix::from_triplets(m, m, triplets);
+      linalg::ConjugateGradient<linalg::IncompleteCholesky0> cg;
+      cg.set_tolerance(options.tolerance);
+      cg.compute(a);
+      const Eigen::MatrixXd st = cg.solve(rhs, x0);
+      if (cg.info() == linalg::SolverInfo::NumericalIssue)
+        throw Error("mesh '" + mesh.source_name() + "': the harmonic map of cuboid face " +
+                    std::to_string(face) + " has no SPD system (negative cotan weights?)");
+      map.cg_iterations = std::max(map.cg_iterations, cg.iterations());
+      for (int i = 0; i < m; ++i)
+        map.uvw.row(interior[i]) = cube_face_point(face, st(i, 0), st(i, 1)).transpose();
+    }
+  };
+  // Warm start at the square's centre: the solution lies inside the square.
+  for (int v = 0; v < n; ++v)
+    if (vertex_face[v] >= 0) map.uvw.row(v) = cube_face_point(vertex_face[v], 0.5, 0.5).transpose();
+  solve(weight);
+
+  // Area balancing (after Yoshizawa, Belyaev & Seidel 2004, stretch minimization): a Tutte map
+  // squeezes protrusions (ears, limbs) into tiny parameter areas that no spline cell can
+  // resolve; dividing each edge weight by the local area stretch of the current map makes those
+  // springs weaker, so the region takes more parameter area. Weights stay positive, so every
+  // iterate is still a bijective convex-combination map.
+  std::vector<double> face_area(polycube::num_cube_faces, 0.0);
+  std::vector<double> surface_area(mesh.num_faces());
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const auto c = mesh.face_vertices(f);
+    surface_area[f] = 0.5 * (mesh.vertex_position(c[1]) - mesh.vertex_position(c[0]))
+                                .cross(mesh.vertex_position(c[2]) - mesh.vertex_position(c[0]))
+                                .norm();
+    face_area[layout.face_region[f]] += surface_area[f];
+  }
+  for (int iteration = 0; iteration < options.area_balance_iterations; ++iteration) {
+    std::vector<double> vertex_surface(n, 0.0), vertex_param(n, 0.0);
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+      const int face = layout.face_region[f];
+      const auto c = mesh.face_vertices(f);
+      const Eigen::Vector2d p0 = cube_face_coordinates(face, map.uvw.row(c[0]).transpose());
+      const Eigen::Vector2d d1 = cube_face_coordinates(face, map.uvw.row(c[1]).transpose()) - p0;
+      const Eigen::Vector2d d2 = cube_face_coordinates(face, map.uvw.row(c[2]).transpose()) - p0;
+      const double param_area = 0.5 * std::abs(d1.x() * d2.y() - d1.y() * d2.x());
+      for (int v : c) {
+        vertex_surface[v] += face_area[face] > 0.0 ? surface_area[f] / face_area[face] : 0.0;
+        vertex_param[v] += param_area;
+      }
+    }
+    std::vector<double> stretch(n, 1.0);  // √(surface share / parameter share), clamped
+    for (int v = 0; v < n; ++v)
+      if (vertex_param[v] > 0.0 && vertex_surface[v] > 0.0)
+        stretch[v] = std::clamp(std::sqrt(vertex_surface[v] / vertex_param[v]), 0.2, 5.0);
+    for (int h = 0; h < mesh.num_halfedges(); ++h) {
+      const int i = mesh.halfedge_vertex(mesh.halfedge_twin(h)), j = mesh.halfedge_vertex(h);
+      weight[h] /= 0.5 * (stretch[i] + stretch[j]);
+    }
+    solve(weight);
   }
 
   int first_flipped = -1;

@@ -18,6 +18,9 @@ enum class SurfaceWeights {
 struct CuboidSurfaceMapOptions {
   SurfaceWeights weights = SurfaceWeights::MeanValue;
   double tolerance = 1e-10;  ///< relative CG residual of each solve (unitless)
+  /// Stretch-reweighting rounds that give squeezed parts more parameter area (0 = the plain
+  /// Tutte/Floater map), in [0, 20]; every round is still a convex-combination map.
+  int area_balance_iterations = 0;
 };
 
 /// Map of a closed genus-0 surface onto the boundary of the unit cube (thesis §3.4.1).

@@ -5,8 +5,10 @@
 #include <chrono>
 #include <cmath>
 #include <random>
+#include <set>
 #include <string>
 
+#include <Eigen/Cholesky>
 #include <Eigen/LU>
 
 #include "core/common/error.h"
@@ -18,6 +20,7 @@
 #include "core/polycube/cuboid_layout.h"
 #include "core/spline/bspline_volume.h"
 #include "core/spline/hierarchical_refinement.h"
+#include "core/spline/jacobian_repair.h"
 #include "core/spline/tspline_fitting.h"
 
 namespace volspline::pipeline {
@@ -35,11 +38,17 @@ void check_options(const Mesh2SplineOptions& o) {
     fail("--max-rms must be a positive number, got " + std::to_string(o.max_rms_rel));
   if (o.max_control_points < 64) fail("--max-control-points must be ≥ 64");
   if (o.max_levels < 0 || o.max_levels > 10) fail("--max-levels must be in [0, 10]");
+  if (o.area_balance_iterations < 0 || o.area_balance_iterations > 20)
+    fail("area balance iterations must be in [0, 20]");
   if (o.initial_cells < 1 || o.initial_cells > 64) fail("initial cells must be in [1, 64]");
   if (o.grid_nodes != 0 && (o.grid_nodes < 5 || o.grid_nodes > 256))
     fail("grid nodes must be 0 (auto) or in [5, 256]");
   if (!(o.smoothing >= 0.0) || !std::isfinite(o.smoothing)) fail("smoothing must be ≥ 0");
+  if (!(o.min_scaled_jacobian >= 0.0 && o.min_scaled_jacobian <= 0.5))
+    fail("the Jacobian repair target must be in [0, 0.5]");
   if (o.threads < 1) fail("--threads must be ≥ 1");
+  if (!(o.max_surface_error_rel > 0.0) || !std::isfinite(o.max_surface_error_rel))
+    fail("the surface error target must be a positive number");
   if (o.measure_samples < 8 || o.measure_samples > 512) fail("measure samples must be in [8, 512]");
 }
 
@@ -106,7 +115,10 @@ spline::TSpline uniform_tspline(const std::array<int, 3>& cells) {
     knots[a] = spline::boundary_restricted_knots(grid);
     count *= cells[a] + 3;
   }
-  return spline::from_bspline_volume(spline::BsplineVolume(knots, Eigen::MatrixXd::Zero(count, 3)));
+  // Function lists: the job changes the control points after every fit and evaluates a few
+  // 10⁵ points, so per-cell polynomials would be rebuilt more often than they pay off.
+  return spline::from_bspline_volume(spline::BsplineVolume(knots, Eigen::MatrixXd::Zero(count, 3)),
+                                     spline::TSplineAcceleration::FunctionLists);
 }
 
 std::array<int, 3> cells_for(const Eigen::Vector3d& dims, int longest_cells) {
@@ -118,25 +130,54 @@ std::array<int, 3> cells_for(const Eigen::Vector3d& dims, int longest_cells) {
 
 struct Samples {
   Eigen::MatrixX3d uvw, xyz;
+  std::vector<char> on_boundary;  // uvw on the boundary of [0,1]³ (a surface sample, Eq. 4.4)
 };
 
 Samples stack(const std::vector<Eigen::Vector3d>& uvw, const std::vector<Eigen::Vector3d>& xyz) {
   Samples s;
   s.uvw.resize(uvw.size(), 3);
   s.xyz.resize(xyz.size(), 3);
+  s.on_boundary.resize(uvw.size());
   for (std::size_t i = 0; i < uvw.size(); ++i) {
     s.uvw.row(i) = uvw[i].transpose();
     s.xyz.row(i) = xyz[i].transpose();
+    s.on_boundary[i] = (uvw[i].array() <= 0.0).any() || (uvw[i].array() >= 1.0).any();
   }
   return s;
 }
 
+// Surface samples of the exact surface map on the boundary faces of a refinement cell: k×k
+// points per boundary face of the cell, so every boundary leaf holds surface samples however
+// fine it is (the mesh vertices leave stretched parts of the map unsampled).
+void add_cell_surface_samples(const param::CuboidSurfaceLocator& locator, const Eigen::Vector3d& lo,
+                              const Eigen::Vector3d& hi, int k, std::vector<Eigen::Vector3d>& uvw,
+                              std::vector<Eigen::Vector3d>& xyz) {
+  for (int a = 0; a < 3; ++a)
+    for (int side = 0; side < 2; ++side) {
+      if (side == 0 ? lo(a) > 0.0 : hi(a) < 1.0) continue;
+      const int b = (a + 1) % 3, c = (a + 2) % 3;
+      for (int j = 0; j < k; ++j)
+        for (int i = 0; i < k; ++i) {
+          Eigen::Vector3d p;
+          p(a) = side;
+          p(b) = lo(b) + (hi(b) - lo(b)) * (i + 0.5) / k;
+          p(c) = lo(c) + (hi(c) - lo(c)) * (j + 0.5) / k;
+          uvw.push_back(p);
+          xyz.push_back(locator.locate_uvw(p));
+        }
+    }
+}
+
+// free_functions: empty = all control points.
 spline::TSplineFitReport fit(spline::TSpline& ts, const Samples& samples, const Eigen::MatrixX3d& prior,
-                             const Mesh2SplineOptions& options, int laplacian_nodes) {
+                             const Mesh2SplineOptions& options, int laplacian_nodes,
+                             const std::vector<int>& free_functions = {}) {
   spline::TSplineFitOptions fit_options;
   fit_options.smoothing = options.smoothing;
   fit_options.laplacian_nodes = laplacian_nodes;
   fit_options.tolerance = 1e-8;  // far below the fitting error; 1e-10 only costs iterations
+  if (options.fit == Mesh2SplineFit::Grid && !free_functions.empty())
+    return spline::fit_tspline_local(ts, samples.uvw, samples.xyz, prior, free_functions, fit_options);
   if (options.fit == Mesh2SplineFit::Grid)
     return spline::fit_tspline(ts, samples.uvw, samples.xyz, prior, fit_options);
   return spline::fit_tspline_meshless(ts, samples.uvw, samples.xyz, prior, fit_options);
@@ -145,6 +186,78 @@ spline::TSplineFitReport fit(spline::TSpline& ts, const Samples& samples, const 
 Eigen::VectorXd sample_errors(const spline::TSpline& ts, const Samples& samples) {
   const Eigen::MatrixXd f = ts.evaluate_batch(samples.uvw);
   return (f - samples.xyz).rowwise().norm();
+}
+
+// Blending functions of `refined` that are new or whose support overlaps a split cell: the
+// only ones whose least-squares optimum moves much after a local refinement (the refined
+// spline reproduces the previous fit, which was optimal elsewhere). Increasing ids.
+std::vector<int> functions_to_refit(const spline::TSpline& refined, const spline::TSpline& previous,
+                                    const spline::RefinementGrid& grid, const std::vector<int>& split_cells) {
+  constexpr int kBuckets = 16;
+  std::vector<std::vector<int>> buckets(kBuckets * kBuckets * kBuckets);
+  auto bucket_range = [](double lo, double hi, int& first, int& last) {
+    first = std::clamp(static_cast<int>(lo * kBuckets), 0, kBuckets - 1);
+    last = std::clamp(static_cast<int>(hi * kBuckets), 0, kBuckets - 1);
+  };
+  for (std::size_t c = 0; c < split_cells.size(); ++c) {
+    std::array<int, 3> first, last;
+    for (int a = 0; a < 3; ++a)
+      bucket_range(grid.cell_min(split_cells[c])(a), grid.cell_max(split_cells[c])(a), first[a], last[a]);
+    for (int k = first[2]; k <= last[2]; ++k)
+      for (int j = first[1]; j <= last[1]; ++j)
+        for (int i = first[0]; i <= last[0]; ++i) buckets[i + kBuckets * (j + kBuckets * k)].push_back(static_cast<int>(c));
+  }
+  std::set<spline::BlendingKnots> old_knots(previous.knots().begin(), previous.knots().end());
+  std::vector<int> ids;
+  for (int f = 0; f < refined.num_functions(); ++f) {
+    const spline::BlendingKnots& r = refined.knots()[f];
+    bool free = old_knots.count(r) == 0;
+    std::array<int, 3> first, last;
+    for (int a = 0; a < 3; ++a) bucket_range(r[a][0], r[a][4], first[a], last[a]);
+    for (int k = first[2]; k <= last[2] && !free; ++k)
+      for (int j = first[1]; j <= last[1] && !free; ++j)
+        for (int i = first[0]; i <= last[0] && !free; ++i)
+          for (int c : buckets[i + kBuckets * (j + kBuckets * k)]) {
+            const Eigen::Vector3d& lo = grid.cell_min(split_cells[c]);
+            const Eigen::Vector3d& hi = grid.cell_max(split_cells[c]);
+            bool overlap = true;
+            for (int a = 0; a < 3 && overlap; ++a) overlap = r[a][0] < hi(a) && lo(a) < r[a][4];
+            if (overlap) {
+              free = true;
+              break;
+            }
+          }
+    if (free) ids.push_back(f);
+  }
+  return ids;
+}
+
+// Distance from x to the spline's boundary surface near the boundary parameter uvw: Gauss–
+// Newton on the two in-face parameters (clamped to the face), a few steps from uvw.
+double surface_projection_distance(const spline::TSpline& ts, Eigen::Vector3d uvw, const Eigen::Vector3d& x) {
+  int axis = 0;
+  for (int a = 0; a < 3; ++a)
+    if (uvw(a) <= 0.0 || uvw(a) >= 1.0) axis = a;
+  const int b = (axis + 1) % 3, c = (axis + 2) % 3;
+  Eigen::Vector3d f = ts.evaluate(uvw);
+  double best = (f - x).norm();
+  for (int iteration = 0; iteration < 6; ++iteration) {
+    const Eigen::Matrix3d jac = ts.jacobian(uvw);
+    Eigen::Matrix<double, 3, 2> t;
+    t << jac.col(b), jac.col(c);
+    const Eigen::Matrix2d normal = t.transpose() * t;
+    if (!(std::abs(normal.determinant()) > 1e-300)) break;
+    const Eigen::Vector2d step = normal.ldlt().solve(t.transpose() * (x - f));
+    Eigen::Vector3d next = uvw;
+    next(b) = std::clamp(next(b) + step(0), 0.0, 1.0);
+    next(c) = std::clamp(next(c) + step(1), 0.0, 1.0);
+    const Eigen::Vector3d fn = ts.evaluate(next);
+    if ((fn - x).norm() >= best) break;
+    uvw = next;
+    f = fn;
+    best = (f - x).norm();
+  }
+  return best;
 }
 
 double rms(const Eigen::VectorXd& e) { return e.size() ? std::sqrt(e.squaredNorm() / e.size()) : 0.0; }
@@ -193,6 +306,7 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
   progress.report("surface map", 0.1);
   param::CuboidSurfaceMapOptions map_options;
   map_options.weights = options.weights;
+  map_options.area_balance_iterations = options.area_balance_iterations;
   const param::CuboidSurfaceMap surface_map = param::compute_cuboid_surface_map(hm, layout, map_options);
   stats.flipped_triangles = surface_map.num_flipped;
   const param::CuboidSurfaceLocator locator(hm, surface_map);
@@ -244,66 +358,106 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
         }
     }
   }
-  const Samples samples = stack(sample_uvw, sample_xyz);
-  stats.samples = static_cast<int>(samples.uvw.rows());
+  // §4.3.1 boundary restricted control grid, Algorithm 4 hierarchical fitting.
+  const std::array<int, 3> cells = cells_for(dims, options.initial_cells);
+  spline::RefinementGrid refinement(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), cells);
+  for (int leaf : refinement.leaves())
+    add_cell_surface_samples(locator, refinement.cell_min(leaf), refinement.cell_max(leaf), 2, sample_uvw, sample_xyz);
+  Samples samples = stack(sample_uvw, sample_xyz);
   lap("volumetric_map");
 
-  // §4.3.1 boundary restricted control grid, Algorithm 4 hierarchical fitting.
   progress.report("fit", 0.3);
-  const std::array<int, 3> cells = cells_for(dims, options.initial_cells);
   spline::TSpline ts = uniform_tspline(cells);
   Eigen::MatrixX3d prior = greville_prior(ts, locator);
   ts.set_points(prior);
-  spline::RefinementGrid refinement(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), cells);
   const double target = options.max_rms_rel * diagonal;
+  const double surface_target = options.max_surface_error_rel * diagonal;
   Eigen::VectorXd errors;
+  std::vector<int> refit;  // control points to re-fit after a refinement (empty: all)
   for (int level = 0;; ++level) {
     progress.report("fit level " + std::to_string(level), 0.3 + 0.4 * level / (options.max_levels + 1));
-    fit(ts, samples, prior, options, longest_nodes);
+    fit(ts, samples, prior, options, longest_nodes, refit);
     errors = sample_errors(ts, samples);
     lap("fit_level_" + std::to_string(level));
     stats.levels = level;
-    if (rms(errors) <= target || level >= options.max_levels) break;
-    // FittingError(g) of Algorithm 4: the worst sample error inside each leaf cell, and the
-    // cell's share of the squared error.
+    // FittingError(g) of Algorithm 4: the worst sample error inside each leaf cell, the worst
+    // surface sample error, and the cell's share of the squared error.
     const std::vector<int> leaves = refinement.leaves();
     std::vector<double> cell_error(leaves.empty() ? 0 : leaves.back() + 1, 0.0);
+    std::vector<double> cell_surface_error(cell_error.size(), 0.0);
     std::vector<double> cell_sse(cell_error.size(), 0.0);
+    double surface_max = 0.0;
     for (Eigen::Index s = 0; s < samples.uvw.rows(); ++s) {
       const int leaf = refinement.leaf_of(samples.uvw.row(s).transpose());
       cell_error[leaf] = std::max(cell_error[leaf], errors(s));
       cell_sse[leaf] += errors(s) * errors(s);
+      if (samples.on_boundary[s]) {
+        cell_surface_error[leaf] = std::max(cell_surface_error[leaf], errors(s));
+        surface_max = std::max(surface_max, errors(s));
+      }
     }
-    // Candidates: cells whose worst sample exceeds twice the rms target. Of these, the fewest
-    // (largest squared error first, ties by id) that hold twice the squared error the rms target
-    // asks to remove (bulk marking), and at most 25% of the cells per level, so refinement stays
-    // where the error is and stops widening once the target is near.
+    const bool rms_done = rms(errors) <= target;
+    if ((rms_done && surface_max <= surface_target) || level >= options.max_levels) break;
+    // Candidates for the rms: cells whose worst sample exceeds twice the rms target. Of these,
+    // the fewest (largest squared error first, ties by id) that hold twice the squared error
+    // the rms target asks to remove (bulk marking), and at most 25% of the cells per level, so
+    // refinement stays where the error is and stops widening once the target is near.
     std::vector<int> marked;
+    if (!rms_done) {
+      for (int leaf : leaves)
+        if (cell_error[leaf] > 2.0 * target) marked.push_back(leaf);
+      std::stable_sort(marked.begin(), marked.end(),
+                       [&](int a, int b) { return cell_sse[a] > cell_sse[b]; });
+      const double total_sse = errors.squaredNorm();
+      const double excess = total_sse - target * target * static_cast<double>(errors.size());
+      std::size_t count = 0;
+      for (double held = 0.0; count < marked.size() && held < 2.0 * excess; ++count)
+        held += cell_sse[marked[count]];
+      const std::size_t quota = std::max<std::size_t>(1, leaves.size() / 4);
+      marked.resize(std::min({std::max<std::size_t>(count, 1), quota, marked.size()}));
+    }
+    // The rms alone leaves small badly fitted surface parts (ears, tips) that dominate the
+    // Hausdorff distance: every cell whose worst surface sample misses the surface target is
+    // refined too (a 2D set of cells, so it does not blow up the control points).
     for (int leaf : leaves)
-      if (cell_error[leaf] > 2.0 * target) marked.push_back(leaf);
-    if (marked.empty()) break;
-    std::stable_sort(marked.begin(), marked.end(),
-                     [&](int a, int b) { return cell_sse[a] > cell_sse[b]; });
-    const double total_sse = errors.squaredNorm();
-    const double excess = total_sse - target * target * static_cast<double>(errors.size());
-    std::size_t count = 0;
-    for (double held = 0.0; count < marked.size() && held < 2.0 * excess; ++count)
-      held += cell_sse[marked[count]];
-    const std::size_t quota = std::max<std::size_t>(1, leaves.size() / 4);
-    marked.resize(std::min({std::max<std::size_t>(count, 1), quota, marked.size()}));
+      if (cell_surface_error[leaf] > surface_target) marked.push_back(leaf);
     std::sort(marked.begin(), marked.end());
+    marked.erase(std::unique(marked.begin(), marked.end()), marked.end());
+    if (marked.empty()) break;
     spline::RefinementGrid next_grid = refinement;
-    spline::TSpline refined = next_grid.split(ts, marked);
+    spline::TSpline refined = next_grid.split(ts, marked, spline::TSplineAcceleration::FunctionLists);
     lap("refine_level_" + std::to_string(level));
     if (refined.num_functions() > options.max_control_points) break;
+    refit = functions_to_refit(refined, ts, next_grid, marked);
     ts = std::move(refined);
     refinement = std::move(next_grid);
+    for (int leaf : refinement.leaves())
+      if (refinement.cell_level(leaf) == level + 1)
+        add_cell_surface_samples(locator, refinement.cell_min(leaf), refinement.cell_max(leaf), 2, sample_uvw,
+                                 sample_xyz);
+    samples = stack(sample_uvw, sample_xyz);
     // The refined spline equals the previous fit: it is the prior of the next level.
     prior = ts.points();
   }
   stats.control_points = ts.num_functions();
+  stats.samples = static_cast<int>(samples.uvw.rows());
   stats.rms_rel = rms(errors) / diagonal;
   stats.max_rel = errors.size() ? errors.maxCoeff() / diagonal : 0.0;
+
+  // The harmonic grid folds where the cuboid is squeezed into ears and the fit copies the folds:
+  // repair them with the interior control points only (the boundary and its fit stay as they are).
+  if (options.min_scaled_jacobian > 0.0) {
+    progress.report("Jacobian repair", 0.7);
+    spline::JacobianRepairOptions repair_options;
+    repair_options.min_scaled_jacobian = options.min_scaled_jacobian;
+    const spline::JacobianRepairReport repair = spline::repair_jacobian(ts, repair_options);
+    stats.negative_jacobian_fraction_fit = double(repair.initial_negative) / repair.points;
+    stats.repaired_control_points = repair.moved_points;
+    errors = sample_errors(ts, samples);
+    stats.rms_rel = rms(errors) / diagonal;
+    stats.max_rel = errors.size() ? errors.maxCoeff() / diagonal : 0.0;
+    lap("jacobian_repair");
+  }
 
   // Measures.
   progress.report("measures", 0.75);
@@ -336,9 +490,33 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
       sum2 += d * d;
       ++count;
     }
+    // The uniform lattice is coarse where the surface map is compressed (ears, tips): there the
+    // spline surface is also sampled on the boundary faces of every refined leaf cell.
+    for (int leaf : refinement.leaves()) {
+      if (refinement.cell_level(leaf) == 0) continue;
+      std::vector<Eigen::Vector3d> uvw, unused;
+      const Eigen::Vector3d lo_cell = refinement.cell_min(leaf), hi_cell = refinement.cell_max(leaf);
+      for (int a = 0; a < 3; ++a)
+        for (int side = 0; side < 2; ++side) {
+          if (side == 0 ? lo_cell(a) > 0.0 : hi_cell(a) < 1.0) continue;
+          for (int j = 0; j <= 2; ++j)
+            for (int i = 0; i <= 2; ++i) {
+              Eigen::Vector3d p = lo_cell;
+              p(a) = side;
+              p((a + 1) % 3) += (hi_cell((a + 1) % 3) - lo_cell((a + 1) % 3)) * i / 2.0;
+              p((a + 2) % 3) += (hi_cell((a + 2) % 3) - lo_cell((a + 2) % 3)) * j / 2.0;
+              const double d = to_mesh.distance(ts.evaluate(p));
+              max_d = std::max(max_d, d);
+            }
+        }
+    }
+    // Mesh → spline: the distance to the lattice triangles, or, where less, to the spline
+    // surface point found by Gauss–Newton from the vertex's own surface parameter (the lattice
+    // triangles cut corners where the map is compressed; the projection is on the surface).
     for (int v = 0; v < hm.num_vertices(); ++v) {
       if (hm.vertex_halfedge(v) == mesh::no_id) continue;
-      const double d = to_spline.distance(hm.vertex_position(v));
+      const Eigen::Vector3d x = hm.vertex_position(v);
+      const double d = std::min(to_spline.distance(x), surface_projection_distance(ts, surface_map.uvw.row(v).transpose(), x));
       max_d = std::max(max_d, d);
       sum2 += d * d;
       ++count;
@@ -363,6 +541,7 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
         }
     stats.min_scaled_jacobian = min_q;
     stats.negative_jacobian_fraction = double(negative) / (nj * nj * nj);
+    if (options.min_scaled_jacobian == 0.0) stats.negative_jacobian_fraction_fit = stats.negative_jacobian_fraction;
 
     std::mt19937_64 rng(options.seed);
     double worst = 0.0;

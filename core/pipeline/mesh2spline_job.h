@@ -23,14 +23,23 @@ enum class Mesh2SplineFit {
 /// Options of the mesh2spline job; every field is checked on entry (volspline::Error).
 struct Mesh2SplineOptions {
   double max_rms_rel = 0.002;       ///< stop when rms_rel ≤ this (fraction of bbox diagonal), > 0
+  /// refine cells until every surface sample is within this of the mesh (fraction of the bbox
+  /// diagonal), > 0; the Hausdorff distance is bounded by the surface error, the rms is not
+  double max_surface_error_rel = 0.005;
   int max_control_points = 50000;   ///< no refinement step beyond this many control points, ≥ 64
   int max_levels = 4;               ///< refinement levels after level 0, in [0, 10]
   Mesh2SplineFit fit = Mesh2SplineFit::Grid;
   std::vector<int> corners;         ///< 8 corner vertex ids, or empty for the automatic layout
   param::SurfaceWeights weights = param::SurfaceWeights::MeanValue;
+  int area_balance_iterations = 4;  ///< surface map stretch-reweighting rounds (§3.4.1 deviation), [0, 20]
   int initial_cells = 4;            ///< spline cells along the longest cuboid axis at level 0, [1, 64]
   int grid_nodes = 0;               ///< volumetric grid nodes along the longest axis; 0 = auto; else [5, 256]
   double smoothing = 1e-4;          ///< weight of the Eq. 4.7 fairing rows (grid fit), ≥ 0
+  /// After the fit, interior control points move until the scaled Jacobian is at least this at a
+  /// 48³ lattice (boundary control points stay, so the surface fit is untouched); 0 = no repair
+  /// (default: the repair is slow and moves the interior away from the grid samples), else in
+  /// (0, 0.5]
+  double min_scaled_jacobian = 0.0;
   int threads = 1;                  ///< accepted for the CLI; the job runs on one thread, ≥ 1
   std::uint64_t seed = 1;           ///< seeds the random parameters of semi_standard_max_error
   bool compare_uniform = false;     ///< also fit uniform tensor B-splines to the same rms_rel
@@ -52,6 +61,10 @@ struct Mesh2SplineStats {
   int flipped_triangles = 0;           ///< of the surface map (0: bijective)
   int grid_inverted_hexes = 0;         ///< of the volumetric grid map (grid fit)
   double grid_min_scaled_jacobian = 1; ///< of the volumetric grid map (grid fit)
+  /// before the Jacobian repair, at the repair's 47³ lattice (without repair: the same as
+  /// negative_jacobian_fraction)
+  double negative_jacobian_fraction_fit = 0;
+  int repaired_control_points = 0;            ///< interior control points the repair moved
   int samples = 0;
   double min_corner_distance_rel = 0;  ///< closest cuboid corner pair / bbox diagonal
   std::array<int, 8> corners{};        ///< corner vertex ids used

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 
 #include <map>
 
@@ -72,8 +73,21 @@ LocalKnots RefinementGrid::ray_knots(const BlendingKnots& knots, int axis) const
   // crossed in each direction along `axis`; at the domain ends the boundary knots repeat.
   const Eigen::Vector3d anchor(knots[0][2], knots[1][2], knots[2][2]);
   std::vector<double> planes;
-  const int roots = cells_[0] * cells_[1] * cells_[2];
-  for (int id = 0; id < roots; ++id) collect_planes(id, axis, anchor, planes);
+  // Only the roots whose closed box holds the anchor in the two other axes meet the ray.
+  std::array<std::array<int, 2>, 3> range;
+  for (int b = 0; b < 3; ++b) {
+    if (b == axis) {
+      range[b] = {0, cells_[b] - 1};
+      continue;
+    }
+    const double t = (anchor(b) - lo_(b)) / (hi_(b) - lo_(b)) * cells_[b];
+    const int i = std::clamp(static_cast<int>(std::floor(t)), 0, cells_[b] - 1);
+    range[b] = {std::max(0, i - 1), std::min(cells_[b] - 1, i + 1)};
+  }
+  for (int k = range[2][0]; k <= range[2][1]; ++k)
+    for (int j = range[1][0]; j <= range[1][1]; ++j)
+      for (int i = range[0][0]; i <= range[0][1]; ++i)
+        collect_planes(i + cells_[0] * (j + cells_[1] * k), axis, anchor, planes);
   std::sort(planes.begin(), planes.end());
   planes.erase(std::unique(planes.begin(), planes.end()), planes.end());
   const double centre = anchor(axis);
@@ -96,7 +110,8 @@ LocalKnots RefinementGrid::ray_knots(const BlendingKnots& knots, int axis) const
   return r;
 }
 
-TSpline RefinementGrid::split(const TSpline& spline, const std::vector<int>& leaf_ids) {
+TSpline RefinementGrid::split(const TSpline& spline, const std::vector<int>& leaf_ids,
+                              TSplineAcceleration acceleration) {
   for (int id : leaf_ids) {
     assert(nodes_[id].first_child < 0);
     const Node parent = nodes_[id];
@@ -178,7 +193,7 @@ TSpline RefinementGrid::split(const TSpline& spline, const std::vector<int>& lea
     points.row(row) = (f.weighted_point / f.weight).transpose();
     ++row;
   }
-  return TSpline(std::move(knots), std::move(weights), std::move(points));
+  return TSpline(std::move(knots), std::move(weights), std::move(points), acceleration);
 }
 
 }  // namespace volspline::spline

@@ -34,8 +34,9 @@ class RefinementGrid {
   /// knots its own R lacks is split by knot insertion (Table 4.1, Eq. 4.8/4.9), repeatedly,
   /// which keeps F and Σ w_i B_i unchanged. Knots of R that R* lacks are kept (the thesis
   /// would add T-mesh vertices for them; the point-based spline needs no such bookkeeping).
-  /// Asserts every id is a leaf.
-  TSpline split(const TSpline& spline, const std::vector<int>& leaf_ids);
+  /// Asserts every id is a leaf. `acceleration` is that of the returned spline.
+  TSpline split(const TSpline& spline, const std::vector<int>& leaf_ids,
+                TSplineAcceleration acceleration = TSplineAcceleration::Auto);
 
   /// Ray-traced knot vector R* (§4.2.2) along `axis` from the anchor (knots[a][2] per axis) of a
   /// blending function in the current cells: the two nearest cell faces on each side touching

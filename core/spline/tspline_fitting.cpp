@@ -21,18 +21,23 @@ struct RowBuilder {
   std::vector<int> ids;
   std::vector<double> values;
 
-  void add(const Eigen::Vector3d& uvw, double scale, int row, std::vector<linalg::Triplet>& out,
+  // Returns true if some unknown column got an entry.
+  bool add(const Eigen::Vector3d& uvw, double scale, int row, std::vector<linalg::Triplet>& out,
            Eigen::RowVector3d& known) {
     spline.basis_at(uvw, {0, 0, 0}, ids, values);
+    bool any = false;
     for (std::size_t k = 0; k < ids.size(); ++k) {
       const double v = scale * spline.weights()(ids[k]) * values[k];
       if (v == 0.0) continue;
       const int col = column_of[ids[k]];
-      if (col >= 0)
+      if (col >= 0) {
         out.push_back({row, col, v});
-      else
+        any = true;
+      } else {
         known += v * spline.points().row(ids[k]);
+      }
     }
+    return any;
   }
 };
 
@@ -59,11 +64,13 @@ void add_laplacian_rows(RowBuilder& builder, int nodes_requested, double scale,
     for (int j = 1; j + 1 < n[1]; ++j)
       for (int i = 1; i + 1 < n[0]; ++i) {
         Eigen::RowVector3d rhs = Eigen::RowVector3d::Zero();
-        builder.add(point(i, j, k), scale, rows, triplets, rhs);
+        bool any = builder.add(point(i, j, k), scale, rows, triplets, rhs);
         const std::array<std::array<int, 3>, 6> nbrs = {{{i - 1, j, k}, {i + 1, j, k},
                                                          {i, j - 1, k}, {i, j + 1, k},
                                                          {i, j, k - 1}, {i, j, k + 1}}};
-        for (const auto& nb : nbrs) builder.add(point(nb[0], nb[1], nb[2]), -scale / 6.0, rows, triplets, rhs);
+        for (const auto& nb : nbrs)
+          any = builder.add(point(nb[0], nb[1], nb[2]), -scale / 6.0, rows, triplets, rhs) || any;
+        if (!any) continue;  // only fixed control points: a constant row
         known.push_back(rhs);
         ++rows;
       }
@@ -163,24 +170,24 @@ bool touches_domain_boundary(const BlendingKnots& knots, const Eigen::Vector3d& 
   return false;
 }
 
-TSplineFitReport fit_tspline(TSpline& spline, const Eigen::MatrixX3d& uvw,
-                             const Eigen::MatrixX3d& xyz, const Eigen::MatrixX3d& prior,
-                             const TSplineFitOptions& options) {
-  assert(spline.dimension() == 3 && uvw.rows() == xyz.rows());
-  const int n = spline.num_functions();
-  std::vector<int> column_of(n), ids(n);
-  for (int i = 0; i < n; ++i) column_of[i] = ids[i] = i;
+namespace {
+
+// Eq. 3.5/3.6 (+ Eq. 4.7 fairing) for the control points ids (column_of: index → column or −1).
+TSplineFitReport fit_columns(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
+                             const Eigen::MatrixX3d& prior, const std::vector<int>& ids,
+                             const std::vector<int>& column_of, const TSplineFitOptions& options) {
   RowBuilder builder{spline, column_of, {}, {}};
   std::vector<linalg::Triplet> triplets;
   triplets.reserve(static_cast<std::size_t>(uvw.rows()) * 64);
   std::vector<Eigen::RowVector3d> rhs_rows;
   rhs_rows.reserve(uvw.rows());
   int rows = 0;
-  // Eq. 3.5: one row per sample.
+  // Eq. 3.5: one row per sample that some unknown reaches.
   for (Eigen::Index s = 0; s < uvw.rows(); ++s) {
-    Eigen::RowVector3d unused = Eigen::RowVector3d::Zero();
-    builder.add(uvw.row(s).transpose(), 1.0, rows++, triplets, unused);
-    rhs_rows.push_back(xyz.row(s));
+    Eigen::RowVector3d known = Eigen::RowVector3d::Zero();
+    if (!builder.add(uvw.row(s).transpose(), 1.0, rows, triplets, known)) continue;
+    rhs_rows.push_back(xyz.row(s) - known);
+    ++rows;
   }
   if (options.smoothing > 0.0) {
     std::vector<Eigen::RowVector3d> known;
@@ -193,6 +200,32 @@ TSplineFitReport fit_tspline(TSpline& spline, const Eigen::MatrixX3d& uvw,
   for (int r = 0; r < rows; ++r) rhs.row(r) = rhs_rows[r];
   return solve_stacked(spline, ids, triplets, rhs, rows, prior, options.regularization,
                        options.tolerance, options.max_iterations);
+}
+
+}  // namespace
+
+TSplineFitReport fit_tspline(TSpline& spline, const Eigen::MatrixX3d& uvw,
+                             const Eigen::MatrixX3d& xyz, const Eigen::MatrixX3d& prior,
+                             const TSplineFitOptions& options) {
+  assert(spline.dimension() == 3 && uvw.rows() == xyz.rows());
+  const int n = spline.num_functions();
+  std::vector<int> column_of(n), ids(n);
+  for (int i = 0; i < n; ++i) column_of[i] = ids[i] = i;
+  return fit_columns(spline, uvw, xyz, prior, ids, column_of, options);
+}
+
+TSplineFitReport fit_tspline_local(TSpline& spline, const Eigen::MatrixX3d& uvw,
+                                   const Eigen::MatrixX3d& xyz, const Eigen::MatrixX3d& prior,
+                                   const std::vector<int>& free_functions,
+                                   const TSplineFitOptions& options) {
+  assert(spline.dimension() == 3 && uvw.rows() == xyz.rows());
+  std::vector<int> column_of(spline.num_functions(), -1);
+  for (std::size_t c = 0; c < free_functions.size(); ++c) {
+    assert(free_functions[c] >= 0 && free_functions[c] < spline.num_functions());
+    assert(column_of[free_functions[c]] < 0);
+    column_of[free_functions[c]] = static_cast<int>(c);
+  }
+  return fit_columns(spline, uvw, xyz, prior, free_functions, column_of, options);
 }
 
 TSplineFitReport fit_tspline_meshless(TSpline& spline, const Eigen::MatrixX3d& uvw,

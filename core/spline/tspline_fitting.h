@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -42,6 +43,17 @@ struct TSplineFitReport {
 TSplineFitReport fit_tspline(TSpline& spline, const Eigen::MatrixX3d& uvw,
                              const Eigen::MatrixX3d& xyz, const Eigen::MatrixX3d& prior,
                              const TSplineFitOptions& options = {});
+
+/// fit_tspline restricted to the control points of `free_functions` (indices into the spline,
+/// increasing, no repeats), the others fixed: the rows are the samples and Eq. 4.7 nodes on
+/// which some free blending function is non-zero, the fixed part moves to the right-hand side.
+/// After a local refinement the refined spline equals the previous fit, so re-fitting only the
+/// functions near the split cells is a block step of the same least-squares problem (the rest
+/// already fits). Same inputs and preconditions as fit_tspline; asserts the indices are valid.
+TSplineFitReport fit_tspline_local(TSpline& spline, const Eigen::MatrixX3d& uvw,
+                                   const Eigen::MatrixX3d& xyz, const Eigen::MatrixX3d& prior,
+                                   const std::vector<int>& free_functions,
+                                   const TSplineFitOptions& options = {});
 
 /// True iff blending function `knots` is non-zero somewhere on the boundary of the domain
 /// [lo, hi] (a "bd-control-point" of §4.3.1: 4 equal knots at a domain end along some axis).

@@ -2,7 +2,7 @@
 expect 0 "$BIN" mesh2spline --help
 contains "$TMP/out" "mesh2spline MESH -o OUT.json"
 expect 0 "$BIN" mesh2spline "$DATA/meshes/sphere.off" -o "$TMP/s.json" --vtk "$TMP/s.vtu" --glb "$TMP/s.glb" --stats-json "$TMP/s_stats.json" --quiet
-for key in rms_rel max_rel hausdorff_rel rms_geo_rel control_points levels min_scaled_jacobian negative_jacobian_fraction semi_standard_max_error times_s; do
+for key in rms_rel max_rel hausdorff_rel rms_geo_rel control_points levels min_scaled_jacobian negative_jacobian_fraction negative_jacobian_fraction_fit repaired_control_points semi_standard_max_error times_s; do
   contains "$TMP/s_stats.json" "\"$key\""
 done
 contains "$TMP/s.vtu" "scaled_jacobian"
@@ -26,3 +26,7 @@ expect 2 "$BIN" mesh2spline "$DATA/meshes/sphere.off" -o "$TMP/x.json" --fit mag
 printf '1 2 3\n' > "$TMP/corners.txt"
 expect 2 "$BIN" mesh2spline "$DATA/meshes/sphere.off" -o "$TMP/x.json" --corners "$TMP/corners.txt" --quiet
 contains "$TMP/err" "expected 8 vertex ids"
+expect 2 "$BIN" mesh2spline "$DATA/meshes/sphere.off" -o "$TMP/x.json" --max-surface-error 0 --quiet
+contains "$TMP/err" "surface error target"
+expect 2 "$BIN" mesh2spline "$DATA/meshes/sphere.off" -o "$TMP/x.json" --repair-jacobian 0.9 --quiet
+contains "$TMP/err" "Jacobian repair target"

@@ -69,6 +69,23 @@ TEST_CASE("mesh2spline accepts an inward-oriented mesh by flipping it") {
   CHECK(pipeline::run_mesh2spline(m, "inward", options).stats.negative_jacobian_fraction == 0.0);
 }
 
+TEST_CASE("mesh2spline refines until the surface samples meet the surface target, not only the rms") {
+  pipeline::Mesh2SplineOptions options;
+  options.initial_cells = 1;
+  options.max_levels = 1;
+  options.measure_samples = 8;
+  options.max_rms_rel = 0.5;  // met by any fit: only the surface target can ask for a level
+  options.max_surface_error_rel = 0.5;
+  const auto loose = pipeline::run_mesh2spline(test::cube_sphere(6), "sphere", options);
+  CHECK(loose.stats.levels == 0);
+  options.max_surface_error_rel = 1e-4;
+  const auto tight = pipeline::run_mesh2spline(test::cube_sphere(6), "sphere", options);
+  CHECK(tight.stats.levels == 1);
+  CHECK(tight.stats.control_points > loose.stats.control_points);
+  CHECK(tight.stats.hausdorff_rel < loose.stats.hausdorff_rel);
+  CHECK(tight.stats.semi_standard_max_error <= 1e-12);
+}
+
 TEST_CASE("mesh2spline refuses bad input with a clear message") {
   auto open = test::subdivided_cube(2);
   open.triangles.conservativeResize(open.num_faces() - 1, 3);

@@ -7,4 +7,7 @@ set(TEST_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/tspline_refinement_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/tspline_fitting_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/hierarchical_refinement_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/density_fitting_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/sparsified_cholesky_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/jacobian_repair_test.cpp
 )

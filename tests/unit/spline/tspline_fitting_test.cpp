@@ -57,6 +57,30 @@ TEST_CASE("a sampled trivariate B-spline is recovered by the least-squares fit")
   CHECK((fitted.points() - truth.points()).cwiseAbs().maxCoeff() < 1e-6);
 }
 
+TEST_CASE("the local fit recovers the free control points and leaves the others alone") {
+  const spline::BsplineVolume volume = random_volume(3, 13);
+  const spline::TSpline truth = spline::from_bspline_volume(volume);
+  const Eigen::MatrixX3d uvw = random_parameters(3000, 7, false);
+  const Eigen::MatrixX3d xyz = truth.evaluate_batch(uvw);
+  spline::TSpline fitted = truth;
+  Eigen::MatrixXd start = truth.points();
+  std::vector<int> free_functions;
+  for (int i = 0; i < truth.num_functions(); i += 3) {
+    free_functions.push_back(i);
+    start.row(i).setZero();
+  }
+  fitted.set_points(start);
+  spline::TSplineFitOptions options;
+  options.smoothing = 0.0;
+  options.regularization = 1e-12;
+  const auto report = spline::fit_tspline_local(fitted, uvw, xyz, start, free_functions, options);
+  CHECK(report.converged);
+  CHECK(report.unknowns == static_cast<int>(free_functions.size()));
+  // The fixed control points are the true ones, so the free ones are recovered exactly (CG).
+  CHECK((fitted.points() - truth.points()).cwiseAbs().maxCoeff() < 1e-6);
+  for (int i = 1; i < truth.num_functions(); i += 3) CHECK(fitted.points().row(i) == truth.points().row(i));
+}
+
 TEST_CASE("boundary blending functions are those with 4 equal end knots") {
   const Eigen::Vector3d lo(0, 0, 0), hi(1, 1, 1);
   spline::BlendingKnots inner = {{{0, 0.25, 0.5, 0.75, 1}, {0, 0.25, 0.5, 0.75, 1}, {0, 0.25, 0.5, 0.75, 1}}};

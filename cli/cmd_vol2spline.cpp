@@ -1,0 +1,314 @@
+// SPDX-License-Identifier: MIT
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/args.h"
+#include "cli/commands.h"
+#include "cli/progress_bar.h"
+#include "core/io/file_bytes.h"
+#include "core/io/spline_json.h"
+#include "core/io/volume_io.h"
+#include "core/pipeline/vol2spline_job.h"
+
+namespace volspline::cli {
+
+namespace {
+
+std::vector<std::string> split_commas(const std::string& text) {
+  std::vector<std::string> parts;
+  std::string part;
+  std::istringstream in(text);
+  while (std::getline(in, part, ',')) parts.push_back(part);
+  return parts;
+}
+
+double parse_number(const std::string& text, const std::string& option) {
+  std::size_t used = 0;
+  double x = 0.0;
+  try {
+    x = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size() || !std::isfinite(x))
+    throw UsageError("--" + option + ": '" + text + "' is not a number");
+  return x;
+}
+
+std::array<double, 3> parse_triple(const std::string& text, const std::string& option) {
+  const std::vector<std::string> parts = split_commas(text);
+  if (parts.size() != 3) throw UsageError("--" + option + " needs three comma-separated numbers, got '" + text + "'");
+  return {parse_number(parts[0], option), parse_number(parts[1], option), parse_number(parts[2], option)};
+}
+
+// Corner voxels: one "x y z" voxel coordinate triple per line.
+std::vector<std::size_t> read_corners(const std::string& path, const volume::Volume& v) {
+  std::istringstream in(io::read_file_bytes(path));
+  std::vector<long long> numbers;
+  std::string token;
+  while (in >> token) {
+    std::size_t used = 0;
+    long long x = -1;
+    try {
+      x = std::stoll(token, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != token.size() || x < 0)
+      throw Error("corners file '" + path + "': '" + token + "' is not a voxel coordinate");
+    numbers.push_back(x);
+  }
+  if (numbers.empty() || numbers.size() % 3 != 0)
+    throw Error("corners file '" + path + "': expected lines of 'x y z' voxel coordinates");
+  std::vector<std::size_t> ids;
+  for (std::size_t i = 0; i < numbers.size(); i += 3) {
+    if (numbers[i] >= v.nx || numbers[i + 1] >= v.ny || numbers[i + 2] >= v.nz)
+      throw Error("corners file '" + path + "': voxel (" + std::to_string(numbers[i]) + ", " +
+                  std::to_string(numbers[i + 1]) + ", " + std::to_string(numbers[i + 2]) + ") is outside the " +
+                  std::to_string(v.nx) + "x" + std::to_string(v.ny) + "x" + std::to_string(v.nz) + " volume");
+    ids.push_back(v.index(static_cast<int>(numbers[i]), static_cast<int>(numbers[i + 1]), static_cast<int>(numbers[i + 2])));
+  }
+  return ids;
+}
+
+void append_number(std::string& out, double x) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.9g", x);
+  out += buffer;
+}
+
+std::string vtu_header(std::size_t points, std::size_t cells) {
+  return "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+         "<UnstructuredGrid>\n<Piece NumberOfPoints=\"" + std::to_string(points) + "\" NumberOfCells=\"" +
+         std::to_string(cells) + "\">\n";
+}
+
+void append_points(std::string& out, const volume::Volume& v) {
+  out += "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+  for (int z = 0; z < v.nz; ++z)
+    for (int y = 0; y < v.ny; ++y)
+      for (int x = 0; x < v.nx; ++x) {
+        append_number(out, x * v.spacing.x());
+        out += ' ';
+        append_number(out, y * v.spacing.y());
+        out += ' ';
+        append_number(out, z * v.spacing.z());
+        out += '\n';
+      }
+  out += "</DataArray>\n</Points>\n";
+}
+
+void append_scalars(std::string& out, const std::string& name, const std::vector<double>& values) {
+  out += "<DataArray type=\"Float64\" Name=\"" + name + "\" format=\"ascii\">\n";
+  for (double x : values) {
+    append_number(out, x);
+    out += '\n';
+  }
+  out += "</DataArray>\n";
+}
+
+// Voxel hexes (between voxel centres) with the reconstructed density, the samples, the error and,
+// for the aligned parameterization, the per-voxel uvw.
+std::string density_vtu(const volume::Volume& v, const pipeline::Vol2SplineResult& r) {
+  const std::size_t cells = static_cast<std::size_t>(v.nx - 1) * (v.ny - 1) * (v.nz - 1);
+  std::string out = vtu_header(v.num_voxels(), cells);
+  append_points(out, v);
+  out += "<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+  for (int z = 0; z + 1 < v.nz; ++z)
+    for (int y = 0; y + 1 < v.ny; ++y)
+      for (int x = 0; x + 1 < v.nx; ++x) {
+        const std::size_t c[8] = {v.index(x, y, z),         v.index(x + 1, y, z),     v.index(x + 1, y + 1, z),
+                                  v.index(x, y + 1, z),     v.index(x, y, z + 1),     v.index(x + 1, y, z + 1),
+                                  v.index(x + 1, y + 1, z + 1), v.index(x, y + 1, z + 1)};
+        for (int k = 0; k < 8; ++k) out += std::to_string(c[k]) + (k == 7 ? "\n" : " ");
+      }
+  out += "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
+  for (std::size_t c = 1; c <= cells; ++c) out += std::to_string(8 * c) + "\n";
+  out += "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
+  for (std::size_t c = 0; c < cells; ++c) out += "12\n";
+  out += "</DataArray>\n</Cells>\n<PointData Scalars=\"density\">\n";
+  append_scalars(out, "density", r.reconstruction);
+  std::vector<double> samples(v.samples.begin(), v.samples.end()), error(v.num_voxels());
+  for (std::size_t i = 0; i < error.size(); ++i) error[i] = r.reconstruction[i] - samples[i];
+  append_scalars(out, "sample", samples);
+  append_scalars(out, "error", error);
+  if (r.uvw.rows() == static_cast<Eigen::Index>(v.num_voxels())) {
+    out += "<DataArray type=\"Float64\" Name=\"uvw\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+    for (Eigen::Index i = 0; i < r.uvw.rows(); ++i) {
+      append_number(out, r.uvw(i, 0));
+      out += ' ';
+      append_number(out, r.uvw(i, 1));
+      out += ' ';
+      append_number(out, r.uvw(i, 2));
+      out += '\n';
+    }
+    out += "</DataArray>\n";
+  }
+  out += "</PointData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+  return out;
+}
+
+// One vertex per voxel with its three frame axes f0, f1, f2 as vectors (glyph input).
+std::string frames_vtu(const volume::Volume& v, const volume::FrameField& field) {
+  const std::size_t n = v.num_voxels();
+  std::string out = vtu_header(n, n);
+  append_points(out, v);
+  out += "<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+  for (std::size_t i = 0; i < n; ++i) out += std::to_string(i) + "\n";
+  out += "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
+  for (std::size_t i = 1; i <= n; ++i) out += std::to_string(i) + "\n";
+  out += "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
+  for (std::size_t i = 0; i < n; ++i) out += "1\n";
+  out += "</DataArray>\n</Cells>\n<PointData Vectors=\"f0\">\n";
+  for (int axis = 0; axis < 3; ++axis) {
+    out += "<DataArray type=\"Float64\" Name=\"f" + std::to_string(axis) + "\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+    for (const auto& frame : field.frames) {
+      append_number(out, frame(axis, 0));
+      out += ' ';
+      append_number(out, frame(axis, 1));
+      out += ' ';
+      append_number(out, frame(axis, 2));
+      out += '\n';
+    }
+    out += "</DataArray>\n";
+  }
+  out += "</PointData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+  return out;
+}
+
+}  // namespace
+
+int run_vol2spline(const std::vector<std::string>& argv) {
+  std::vector<OptionSpec> specs = {
+      {"output", "OUT.json", "spline JSON of (X, Y, Z, density), dimension 4 (required; also -o)"},
+      {"vtk", "OUT.vtu", "voxel hexes with the reconstructed density, samples, error (and uvw if aligned)"},
+      {"frames-vtk", "F.vtu", "smoothed frame field: one vertex per voxel with axes f0, f1, f2"},
+      {"dims", "X,Y,Z", "raw volumes: voxels per axis (default: from a name like fuel_64x64x64_uint8.raw)"},
+      {"type", "T", "raw volumes: uint8|int8|uint16|int16|uint32|int32|float32|float64 (default uint8)"},
+      {"spacing", "SX,SY,SZ", "voxel size, overrides the file's (default 1,1,1 for raw)"},
+      {"max-rms", "R", "stop refining at density RMS <= R (fraction of the density range; default 0.005)"},
+      {"max-control-points", "N", "the spline never has more control points (default 50000)"},
+      {"max-levels", "L", "refinement levels after level 0 (default 10)"},
+      {"initial-cells", "N", "level-0 cells along the longest axis (default longest/8)"},
+      {"param", "identity|aligned", "identity: plain voxel grid; aligned: frame-field-aligned (default identity)"},
+      {"clusters", "K", "k-means materials, 2..16 (default automatic)"},
+      {"iso", "V", "classify by the threshold V (sample units) instead of k-means"},
+      {"corners", "FILE", "corner voxels, one 'x y z' per line (aligned; default automatic)"},
+  };
+  for (const auto& common : common_job_options()) specs.push_back(common);
+  const Args args = parse_args(argv, specs);
+  if (args.has("help")) {
+    std::fputs(format_help("volspline vol2spline VOLUME -o OUT.json [options]",
+                           "Fits a trivariate T-spline of (X, Y, Z, density) to a scalar volume (raw, NRRD/NHDR,\n"
+                           "legacy VTK structured points, MetaImage) with adaptive refinement (thesis ch. 5).\n"
+                           "--param aligned first builds the Hessian frame field, classifies materials, smooths the\n"
+                           "frames and computes the field-aligned parameterization. Exit 2 on bad input.",
+                           specs)
+                   .c_str(),
+               stdout);
+    return 0;
+  }
+  if (args.positional.size() != 1) throw UsageError("expects exactly one VOLUME (see --help)");
+  const std::string output = args.get("output");
+  if (output.empty()) throw UsageError("needs -o OUT.json");
+
+  pipeline::Vol2SplineOptions options;
+  options.max_rms_rel = args.get_double("max-rms", options.max_rms_rel);
+  options.max_control_points = args.get_int("max-control-points", options.max_control_points);
+  options.max_levels = args.get_int("max-levels", options.max_levels);
+  options.initial_cells = args.get_int("initial-cells", options.initial_cells);
+  options.threads = args.get_int("threads", options.threads);
+  options.clusters = args.get_int("clusters", options.clusters);
+  if (args.has("iso")) options.iso = args.get_double("iso", 0.0);
+  const std::string param = args.get("param", "identity");
+  if (param == "identity")
+    options.param = pipeline::Vol2SplineParam::Identity;
+  else if (param == "aligned")
+    options.param = pipeline::Vol2SplineParam::Aligned;
+  else
+    throw UsageError("--param must be identity or aligned, got '" + param + "'");
+  options.compute_frames = args.has("frames-vtk");
+
+  io::VolumeReadOptions read;
+  const std::string& path = args.positional[0];
+  if (args.has("dims") || args.has("type")) {
+    io::RawVolumeLayout layout;
+    if (!args.has("dims")) throw UsageError("--type needs --dims X,Y,Z");
+    const std::array<double, 3> dims = parse_triple(args.get("dims"), "dims");
+    for (int a = 0; a < 3; ++a) {
+      if (dims[a] < 1 || dims[a] != std::floor(dims[a]) || dims[a] > 1e5)
+        throw UsageError("--dims needs positive integers, got '" + args.get("dims") + "'");
+      layout.dims[a] = static_cast<int>(dims[a]);
+    }
+    layout.type = io::sample_type_from_name(args.get("type", "uint8"));
+    read.raw_layout = layout;
+  }
+  volume::Volume vol = io::read_volume(path, read);
+  if (args.has("spacing")) {
+    const std::array<double, 3> s = parse_triple(args.get("spacing"), "spacing");
+    for (int a = 0; a < 3; ++a) {
+      if (!(s[a] > 0.0)) throw UsageError("--spacing values must be positive");
+      vol.spacing(a) = s[a];
+    }
+  }
+  if (args.has("corners")) options.corners = read_corners(args.get("corners"), vol);
+
+  ProgressBar bar(!args.has("quiet"));
+  const pipeline::Vol2SplineResult result = pipeline::run_vol2spline(vol, path, options, bar.progress());
+  bar.finish();
+
+  io::write_spline_json(output, result.spline);
+  if (args.has("vtk")) io::write_file_atomic(args.get("vtk"), density_vtu(vol, result));
+  if (args.has("frames-vtk")) io::write_file_atomic(args.get("frames-vtk"), frames_vtu(vol, result.frames));
+  const pipeline::Vol2SplineStats& s = result.stats;
+  if (args.has("stats-json")) {
+    nlohmann::ordered_json j;
+    auto frame_value = [&](double x) {
+      return s.frames_computed ? nlohmann::ordered_json(x) : nlohmann::ordered_json(nullptr);
+    };
+    j["input"] = path;
+    j["param"] = param;
+    j["density_rms_rel"] = s.density_rms_rel;
+    j["density_max_rel"] = s.density_max_rel;
+    j["control_points"] = s.control_points;
+    j["voxels"] = s.voxels;
+    j["patches"] = s.patches;
+    j["corners"] = s.corners;
+    j["levels"] = s.levels;
+    j["clusters"] = s.clusters;
+    j["constraints"] = s.constraints;
+    j["frame_smoothness_initial"] = frame_value(s.frame_smoothness_initial);
+    j["frame_smoothness_final"] = frame_value(s.frame_smoothness_final);
+    j["frame_iterations"] = s.frame_iterations;
+    j["constraint_angle_max_deg"] = frame_value(s.constraint_angle_max_deg);
+    j["min_scaled_jacobian"] = s.min_scaled_jacobian;
+    j["param_min_jacobian"] = s.param_min_jacobian;
+    j["param_inverted_cells"] = s.param_inverted_cells;
+    j["spline_bytes_binary"] = static_cast<long long>(s.control_points) * 4 * 8;
+    nlohmann::ordered_json curve = nlohmann::ordered_json::array();
+    for (const auto& level : s.curve)
+      curve.push_back({{"control_points", level.control_points}, {"density_rms_rel", level.rms_rel},
+                       {"density_max_rel", level.max_rel}, {"cg_iterations", level.cg_iterations}});
+    j["curve"] = curve;
+    nlohmann::ordered_json times;
+    double total = 0.0;
+    for (const auto& [stage, seconds] : s.times_s) {
+      times[stage] = seconds;
+      total += seconds;
+    }
+    times["total"] = total;
+    j["times_s"] = times;
+    io::write_file_atomic(args.get("stats-json"), j.dump(2) + "\n");
+  }
+  if (!args.has("quiet"))
+    std::fprintf(stderr, "vol2spline: %d control points, %d levels, density_rms_rel %.4g, density_max_rel %.4g\n",
+                 s.control_points, s.levels, s.density_rms_rel, s.density_max_rel);
+  return 0;
+}
+
+}  // namespace volspline::cli

@@ -1,0 +1,189 @@
+// SPDX-License-Identifier: MIT
+#include "core/pipeline/vol2spline_job.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include <Eigen/LU>
+
+#include "core/common/error.h"
+#include "core/spline/scattered_density_fitting.h"
+#include "core/volume/corner_detection.h"
+#include "core/volume/field_aligned_param.h"
+#include "core/volume/hessian_frames.h"
+#include "core/volume/local_cubic_fit.h"
+#include "core/volume/material_classification.h"
+
+namespace volspline::pipeline {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+class StageTimer {
+ public:
+  explicit StageTimer(std::vector<std::pair<std::string, double>>& times) : times_(times) {}
+  void lap(const std::string& stage) {
+    const auto now = std::chrono::steady_clock::now();
+    times_.push_back({stage, std::chrono::duration<double>(now - last_).count()});
+    last_ = now;
+  }
+
+ private:
+  std::vector<std::pair<std::string, double>>& times_;
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
+void check_options(const Vol2SplineOptions& o) {
+  if (!(o.max_rms_rel > 0.0) || !std::isfinite(o.max_rms_rel)) throw Error("vol2spline: max_rms_rel must be > 0");
+  if (o.max_control_points < 64) throw Error("vol2spline: max_control_points must be >= 64");
+  if (o.max_levels < 0 || o.max_levels > 20) throw Error("vol2spline: max_levels must be in [0, 20]");
+  if (o.initial_cells < 0 || o.initial_cells > 256) throw Error("vol2spline: initial_cells must be in [0, 256]");
+  if (o.clusters != 0 && (o.clusters < 2 || o.clusters > 16)) throw Error("vol2spline: clusters must be 0 or in [2, 16]");
+  if (o.threads < 1) throw Error("vol2spline: threads must be >= 1");
+}
+
+// Smallest scaled Jacobian det J / (|J_u| |J_v| |J_w|) of the geometry (X, Y, Z) at the cell
+// centres of a 16³ lattice of the domain.
+double spline_min_scaled_jacobian(const spline::TSpline& s) {
+  constexpr int kCells = 16;
+  const Eigen::Vector3d lo = s.domain_min(), hi = s.domain_max();
+  double worst = 1.0;
+  const int d = s.dimension();
+  std::vector<double> value(d), jac(3 * d);
+  for (int k = 0; k < kCells; ++k)
+    for (int j = 0; j < kCells; ++j)
+      for (int i = 0; i < kCells; ++i) {
+        const Eigen::Vector3d t((i + 0.5) / kCells, (j + 0.5) / kCells, (k + 0.5) / kCells);
+        const Eigen::Vector3d uvw = lo + (hi - lo).cwiseProduct(t);
+        s.evaluate_with_jacobian(uvw, spline::TSplineForm::SemiStandard, value.data(), jac.data());
+        Eigen::Matrix3d m;
+        for (int a = 0; a < 3; ++a)
+          for (int r = 0; r < 3; ++r) m(r, a) = jac[r + d * a];
+        const double norms = m.col(0).norm() * m.col(1).norm() * m.col(2).norm();
+        worst = std::min(worst, norms > 0.0 ? m.determinant() / norms : -1.0);
+      }
+  return worst;
+}
+
+}  // namespace
+
+Vol2SplineResult run_vol2spline(const volume::Volume& volume, const std::string& name,
+                                const Vol2SplineOptions& options, const Progress& progress) {
+  check_options(options);
+  if (volume.nx < 2 || volume.ny < 2 || volume.nz < 2)
+    throw Error("vol2spline: volume '" + name + "' needs at least 2 voxels along every axis");
+  if (volume.samples.size() != volume.num_voxels())
+    throw Error("vol2spline: volume '" + name + "' has " + std::to_string(volume.samples.size()) +
+                " samples for " + std::to_string(volume.num_voxels()) + " voxels");
+  Vol2SplineStats stats;
+  stats.voxels = volume.num_voxels();
+  StageTimer timer(stats.times_s);
+  const bool aligned = options.param == Vol2SplineParam::Aligned;
+  const bool frames = aligned || options.compute_frames;
+  volume::FrameField smoothed;
+  Eigen::MatrixX3d uvw;
+  if (frames) {
+    if (volume.nx < 5 || volume.ny < 5 || volume.nz < 5)
+      throw Error("vol2spline: volume '" + name + "' needs at least 5 voxels along every axis for the frame field");
+    progress.report("local cubic fit", 0.0);
+    const volume::LocalCubicFit fit = volume::fit_local_cubics(volume, {}, progress);
+    timer.lap("local_cubic_fit");
+    progress.report("hessian frames", 0.0);
+    volume::FrameField initial{volume.nx, volume.ny, volume.nz, volume::hessian_frames(fit.hessian)};
+    timer.lap("hessian_frames");
+    progress.report("classification", 0.0);
+    volume::ClassificationOptions classification;
+    classification.clusters = options.clusters;
+    classification.iso = options.iso;
+    const volume::MaterialClassification classes = volume::classify_materials(volume, fit, classification);
+    stats.clusters = classes.num_clusters;
+    stats.constraints = static_cast<int>(classes.constraints.size());
+    timer.lap("classification");
+    volume::FrameSmoothingOptions smoothing;
+    smoothing.active = volume::foreground_mask(classes, 2);
+    const volume::FrameSmoothingResult smooth =
+        volume::smooth_frame_field(initial, classes.constraints, smoothing, progress);
+    stats.frames_computed = true;
+    stats.frame_smoothness_initial = smooth.initial_energy;
+    stats.frame_smoothness_final = smooth.final_energy;
+    stats.frame_iterations = smooth.iterations;
+    stats.constraint_angle_max_deg = smooth.max_constraint_angle_rad * 180.0 / kPi;
+    smoothed = smooth.field;
+    timer.lap("frame_smoothing");
+    if (aligned) {
+      progress.report("parameterization", 0.0);
+      volume::FieldAlignedOptions param;
+      if (!options.corners.empty()) {
+        for (std::size_t id : options.corners)
+          if (id >= volume.num_voxels())
+            throw Error("vol2spline: corner voxel " + std::to_string(id) + " is outside volume '" + name + "'");
+        param.corner_selection = volume::CornerSelection::Given;
+        param.corner_voxels = options.corners;
+      }
+      const volume::FieldAlignedParam map = volume::compute_field_aligned_param(volume, smoothed, classes, param, progress);
+      stats.corners = static_cast<int>(map.corner_voxels.size());
+      stats.param_min_jacobian = map.min_jacobian;
+      stats.param_inverted_cells = map.inverted_cells;
+      uvw = map.uvw;
+      timer.lap("parameterization");
+    }
+  }
+  progress.report("fit", 0.0);
+  spline::GridSamples samples;
+  samples.dims = {volume.nx, volume.ny, volume.nz};
+  samples.values.assign(volume.samples.begin(), volume.samples.end());
+  spline::AdaptiveDensityOptions fit;
+  fit.max_rms_rel = options.max_rms_rel;
+  fit.max_control_points = options.max_control_points;
+  fit.max_levels = options.max_levels;
+  fit.initial_cells = options.initial_cells;
+  std::vector<double> reconstruction;
+  std::vector<spline::AdaptiveDensityLevel> curve;
+  spline::GridError error;
+  int levels = 0;
+  auto build = [&]() -> spline::TSpline {
+    if (!aligned) {
+      spline::AdaptiveDensityResult r = spline::fit_density_adaptive(samples, fit, progress);
+      reconstruction = std::move(r.reconstruction);
+      curve = std::move(r.levels);
+      error = r.error;
+      Eigen::MatrixXd points = r.spline.points();
+      for (int a = 0; a < 3; ++a) points.col(a) *= volume.spacing(a);
+      r.spline.set_points(std::move(points));
+      return std::move(r.spline);
+    }
+    // Eq. 5.11: (X, Y, Z, density) over the aligned parameters.
+    Eigen::MatrixXd targets(static_cast<Eigen::Index>(volume.num_voxels()), 4);
+    for (int z = 0; z < volume.nz; ++z)
+      for (int y = 0; y < volume.ny; ++y)
+        for (int x = 0; x < volume.nx; ++x) {
+          const auto v = static_cast<Eigen::Index>(volume.index(x, y, z));
+          targets(v, 0) = x * volume.spacing.x();
+          targets(v, 1) = y * volume.spacing.y();
+          targets(v, 2) = z * volume.spacing.z();
+          targets(v, 3) = volume.samples[static_cast<std::size_t>(v)];
+        }
+    spline::ScatteredDensityResult r = spline::fit_scattered_adaptive(uvw, targets, samples.dims, fit, progress);
+    reconstruction = std::move(r.reconstruction);
+    curve = std::move(r.levels);
+    error = spline::grid_error(samples, reconstruction);
+    return std::move(r.spline);
+  };
+  spline::TSpline result_spline = build();
+  levels = static_cast<int>(curve.size()) - 1;
+  timer.lap("fit");
+  stats.density_rms_rel = error.rms_rel;
+  stats.density_max_rel = error.max_rel;
+  stats.control_points = result_spline.num_functions();
+  stats.levels = levels;
+  stats.curve = curve;
+  stats.min_scaled_jacobian = spline_min_scaled_jacobian(result_spline);
+  timer.lap("measures");
+  progress.report("fit", 1.0);
+  return {std::move(result_spline), std::move(stats), std::move(reconstruction), std::move(smoothed), std::move(uvw)};
+}
+
+}  // namespace volspline::pipeline

@@ -1,0 +1,471 @@
+// SPDX-License-Identifier: MIT
+#include "core/spline/density_fitting.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+#include <Eigen/Cholesky>
+
+#include "core/common/error.h"
+#include "core/linalg/conjugate_gradient.h"
+#include "core/linalg/csr_matrix.h"
+#include "core/spline/sparsified_cholesky.h"
+#include "core/spline/hierarchical_refinement.h"
+
+namespace volspline::spline {
+
+namespace {
+
+const char* const kAxisName[3] = {"x", "y", "z"};
+
+void check_dims(const std::array<int, 3>& dims) {
+  for (int a = 0; a < 3; ++a)
+    if (dims[a] < 2)
+      throw Error(std::string("density fit: the grid needs at least 2 samples along ") + kAxisName[a] +
+                  ", got " + std::to_string(dims[a]));
+}
+
+// Clamped uniform cubic knots with `count` basis functions on [0, length] (§4.3.1 boundary knots).
+std::vector<double> uniform_clamped_knots(int count, double length) {
+  const int intervals = count - 3;
+  std::vector<double> knots;
+  knots.reserve(count + 4);
+  for (int k = 0; k < 3; ++k) knots.push_back(0.0);
+  for (int k = 0; k <= intervals; ++k) knots.push_back(k == intervals ? length : length * k / intervals);
+  for (int k = 0; k < 3; ++k) knots.push_back(length);
+  return knots;
+}
+
+// n×c matrix of the 1D basis at t = 0..n−1.
+Eigen::MatrixXd basis_matrix(const std::vector<double>& knots, int n) {
+  const int c = static_cast<int>(knots.size()) - 4;
+  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(n, c);
+  for (int i = 0; i < c; ++i) {
+    const LocalKnots r = {knots[i], knots[i + 1], knots[i + 2], knots[i + 3], knots[i + 4]};
+    const RightEnd end = r[4] == knots.back() ? RightEnd::Closed : RightEnd::Open;
+    for (int t = 0; t < n; ++t) b(t, i) = cubic_basis(r, static_cast<double>(t), end);
+  }
+  return b;
+}
+
+// Applies the 1D operator op (rows_out × dims[axis]) along `axis` of the x-fastest array `in`.
+std::vector<double> apply_along(const std::vector<double>& in, std::array<int, 3>& dims, int axis,
+                                const Eigen::MatrixXd& op) {
+  assert(op.cols() == dims[axis]);
+  std::array<int, 3> out_dims = dims;
+  out_dims[axis] = static_cast<int>(op.rows());
+  std::vector<double> out(static_cast<std::size_t>(out_dims[0]) * out_dims[1] * out_dims[2], 0.0);
+  const std::size_t stride_in[3] = {1, static_cast<std::size_t>(dims[0]),
+                                    static_cast<std::size_t>(dims[0]) * dims[1]};
+  const std::size_t stride_out[3] = {1, static_cast<std::size_t>(out_dims[0]),
+                                     static_cast<std::size_t>(out_dims[0]) * out_dims[1]};
+  std::array<int, 3> other = out_dims;
+  other[axis] = 1;
+  Eigen::VectorXd line(dims[axis]);
+  for (int k = 0; k < other[2]; ++k)
+    for (int j = 0; j < other[1]; ++j)
+      for (int i = 0; i < other[0]; ++i) {
+        const int ijk[3] = {i, j, k};
+        std::size_t base_in = 0, base_out = 0;
+        for (int a = 0; a < 3; ++a)
+          if (a != axis) {
+            base_in += ijk[a] * stride_in[a];
+            base_out += ijk[a] * stride_out[a];
+          }
+        for (int t = 0; t < dims[axis]; ++t) line(t) = in[base_in + t * stride_in[axis]];
+        const Eigen::VectorXd res = op * line;
+        for (int t = 0; t < out_dims[axis]; ++t) out[base_out + t * stride_out[axis]] = res(t);
+      }
+  dims = out_dims;
+  return out;
+}
+
+// The 1D basis values of every blending function over the integer sample coordinates of its
+// support, with the weight w_i folded into the x factor (so the product is the column w_i B_i).
+struct Supports {
+  std::vector<std::array<int, 3>> lo, hi;          // inclusive sample ranges; hi < lo if empty
+  std::vector<std::array<std::size_t, 3>> offset;  // into values
+  std::vector<double> values;
+
+  bool empty(int i) const { return hi[i][0] < lo[i][0] || hi[i][1] < lo[i][1] || hi[i][2] < lo[i][2]; }
+  const double* at(int i, int a) const { return values.data() + offset[i][a]; }
+};
+
+Supports compute_supports(const TSpline& spline, const std::array<int, 3>& dims) {
+  const int n = spline.num_functions();
+  const Eigen::Vector3d dmax = spline.domain_max();
+  Supports s;
+  s.lo.resize(n);
+  s.hi.resize(n);
+  s.offset.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const BlendingKnots& k = spline.knots()[i];
+    for (int a = 0; a < 3; ++a) {
+      const LocalKnots& r = k[a];
+      const bool closed = r[4] == dmax(a);
+      int lo = static_cast<int>(std::ceil(r[0]));
+      int hi = closed ? static_cast<int>(std::floor(r[4])) : static_cast<int>(std::ceil(r[4])) - 1;
+      lo = std::max(lo, 0);
+      hi = std::min(hi, dims[a] - 1);
+      s.lo[i][a] = lo;
+      s.hi[i][a] = hi;
+      s.offset[i][a] = s.values.size();
+      const double scale = a == 0 ? spline.weights()(i) : 1.0;
+      for (int t = lo; t <= hi; ++t)
+        s.values.push_back(scale * cubic_basis(r, static_cast<double>(t), closed ? RightEnd::Closed : RightEnd::Open));
+    }
+  }
+  return s;
+}
+
+double dot_overlap(const Supports& s, int i, int j, int a, int lo, int hi) {
+  const double* p = s.at(i, a) + (lo - s.lo[i][a]);
+  const double* q = s.at(j, a) + (lo - s.lo[j][a]);
+  double sum = 0.0;
+  for (int t = 0; t <= hi - lo; ++t) sum += p[t] * q[t];
+  return sum;
+}
+
+// Σ_s f(s) w_i B_i(s) over the support of i.
+double project(const Supports& s, int i, const std::vector<double>& f, const std::array<int, 3>& dims) {
+  const int* lo = s.lo[i].data();
+  const int* hi = s.hi[i].data();
+  const double* nx = s.at(i, 0);
+  const double* ny = s.at(i, 1);
+  const double* nz = s.at(i, 2);
+  double total = 0.0;
+  for (int z = lo[2]; z <= hi[2]; ++z) {
+    double plane = 0.0;
+    for (int y = lo[1]; y <= hi[1]; ++y) {
+      const double* row = f.data() + static_cast<std::size_t>(dims[0]) * (y + static_cast<std::size_t>(dims[1]) * z);
+      double line = 0.0;
+      for (int x = lo[0]; x <= hi[0]; ++x) line += row[x] * nx[x - lo[0]];
+      plane += line * ny[y - lo[1]];
+    }
+    total += plane * nz[z - lo[2]];
+  }
+  return total;
+}
+
+std::vector<double> accumulate(const Supports& s, const Eigen::Ref<const Eigen::VectorXd>& coefficients,
+                               const std::array<int, 3>& dims) {
+  std::vector<double> out(static_cast<std::size_t>(dims[0]) * dims[1] * dims[2], 0.0);
+  for (int i = 0; i < static_cast<int>(s.lo.size()); ++i) {
+    if (s.empty(i) || coefficients(i) == 0.0) continue;
+    const int* lo = s.lo[i].data();
+    const int* hi = s.hi[i].data();
+    const double* nx = s.at(i, 0);
+    const double* ny = s.at(i, 1);
+    const double* nz = s.at(i, 2);
+    for (int z = lo[2]; z <= hi[2]; ++z) {
+      const double cz = coefficients(i) * nz[z - lo[2]];
+      if (cz == 0.0) continue;
+      for (int y = lo[1]; y <= hi[1]; ++y) {
+        const double cy = cz * ny[y - lo[1]];
+        double* row = out.data() + static_cast<std::size_t>(dims[0]) * (y + static_cast<std::size_t>(dims[1]) * z);
+        for (int x = lo[0]; x <= hi[0]; ++x) row[x] += cy * nx[x - lo[0]];
+      }
+    }
+  }
+  return out;
+}
+
+// Normal matrix G_ij = Σ_s w_i B_i(s) w_j B_j(s) = Π_a Σ_t N_i^a(t) N_j^a(t) (tensor grid of
+// samples), full symmetric pattern, found through buckets of 8 samples per axis.
+linalg::CsrMatrix gram_matrix(const Supports& s, const std::array<int, 3>& dims, double ridge_rel,
+                              std::vector<double>& ridge) {
+  const int n = static_cast<int>(s.lo.size());
+  constexpr int kBucket = 8;
+  std::array<int, 3> nb;
+  for (int a = 0; a < 3; ++a) nb[a] = (dims[a] + kBucket - 1) / kBucket;
+  std::vector<std::vector<int>> buckets(static_cast<std::size_t>(nb[0]) * nb[1] * nb[2]);
+  for (int i = 0; i < n; ++i) {
+    if (s.empty(i)) continue;
+    for (int z = s.lo[i][2] / kBucket; z <= s.hi[i][2] / kBucket; ++z)
+      for (int y = s.lo[i][1] / kBucket; y <= s.hi[i][1] / kBucket; ++y)
+        for (int x = s.lo[i][0] / kBucket; x <= s.hi[i][0] / kBucket; ++x)
+          buckets[x + nb[0] * (y + static_cast<std::size_t>(nb[1]) * z)].push_back(i);
+  }
+  std::vector<int> stamp(n, -1);
+  std::vector<int> offsets(1, 0), cols;
+  std::vector<double> values;
+  std::vector<std::pair<int, double>> row;
+  for (int i = 0; i < n; ++i) {
+    row.clear();
+    if (!s.empty(i)) {
+      for (int z = s.lo[i][2] / kBucket; z <= s.hi[i][2] / kBucket; ++z)
+        for (int y = s.lo[i][1] / kBucket; y <= s.hi[i][1] / kBucket; ++y)
+          for (int x = s.lo[i][0] / kBucket; x <= s.hi[i][0] / kBucket; ++x)
+            for (int j : buckets[x + nb[0] * (y + static_cast<std::size_t>(nb[1]) * z)]) {
+              if (stamp[j] == i) continue;
+              stamp[j] = i;
+              double product = 1.0;
+              for (int a = 0; a < 3 && product != 0.0; ++a) {
+                const int lo = std::max(s.lo[i][a], s.lo[j][a]);
+                const int hi = std::min(s.hi[i][a], s.hi[j][a]);
+                product = lo > hi ? 0.0 : product * dot_overlap(s, i, j, a, lo, hi);
+              }
+              if (product != 0.0 || j == i) row.push_back({j, product});
+            }
+    }
+    if (row.empty() || std::none_of(row.begin(), row.end(), [i](const auto& e) { return e.first == i; }))
+      row.push_back({i, 0.0});
+    std::sort(row.begin(), row.end());
+    for (const auto& [j, v] : row) {
+      cols.push_back(j);
+      values.push_back(v);
+    }
+    offsets.push_back(static_cast<int>(cols.size()));
+  }
+  // Ridge relative to each diagonal entry (the mean one for unsampled functions): keeps G SPD
+  // and CG fast where refined cells hold about one sample per knot interval (nearly dependent
+  // columns).
+  double trace = 0.0;
+  for (int i = 0; i < n; ++i)
+    for (int k = offsets[i]; k < offsets[i + 1]; ++k)
+      if (cols[k] == i) trace += values[k];
+  const double mean = trace > 0.0 ? trace / n : 1.0;
+  ridge.assign(n, 0.0);
+  for (int i = 0; i < n; ++i)
+    for (int k = offsets[i]; k < offsets[i + 1]; ++k)
+      if (cols[k] == i) {
+        ridge[i] = ridge_rel * (values[k] > 0.0 ? values[k] : mean);
+        values[k] += ridge[i];
+      }
+  return linalg::CsrMatrix::from_arrays(n, n, std::move(offsets), std::move(cols), std::move(values));
+}
+
+}  // namespace
+
+GridError grid_error(const GridSamples& samples, const std::vector<double>& reconstruction) {
+  assert(samples.values.size() == reconstruction.size());
+  GridError e;
+  if (samples.values.empty()) return e;
+  const auto [mn, mx] = std::minmax_element(samples.values.begin(), samples.values.end());
+  const double range = *mx > *mn ? *mx - *mn : 1.0;
+  double sum = 0.0, worst = 0.0;
+  for (std::size_t s = 0; s < reconstruction.size(); ++s) {
+    const double d = reconstruction[s] - samples.values[s];
+    sum += d * d;
+    worst = std::max(worst, std::abs(d));
+  }
+  e.rms_rel = std::sqrt(sum / static_cast<double>(reconstruction.size())) / range;
+  e.max_rel = worst / range;
+  return e;
+}
+
+UniformBsplineFit fit_uniform_bspline(const GridSamples& samples, const std::array<int, 3>& control_points) {
+  check_dims(samples.dims);
+  assert(samples.values.size() == static_cast<std::size_t>(samples.dims[0]) * samples.dims[1] * samples.dims[2]);
+  std::array<std::vector<double>, 3> knots;
+  std::array<Eigen::MatrixXd, 3> basis, pseudo_inverse;
+  for (int a = 0; a < 3; ++a) {
+    if (control_points[a] < 4)
+      throw Error(std::string("uniform B-spline fit: needs at least 4 control points along ") + kAxisName[a]);
+    if (control_points[a] > samples.dims[a])
+      throw Error(std::string("uniform B-spline fit: ") + std::to_string(control_points[a]) +
+                  " control points along " + kAxisName[a] + " but only " + std::to_string(samples.dims[a]) +
+                  " samples");
+    knots[a] = uniform_clamped_knots(control_points[a], samples.dims[a] - 1.0);
+    basis[a] = basis_matrix(knots[a], samples.dims[a]);
+    const Eigen::MatrixXd normal = basis[a].transpose() * basis[a];
+    pseudo_inverse[a] = normal.ldlt().solve(basis[a].transpose());
+  }
+  // (B_z ⊗ B_y ⊗ B_x)⁺ = B_z⁺ ⊗ B_y⁺ ⊗ B_x⁺ for full-column-rank factors.
+  std::array<int, 3> dims = samples.dims;
+  std::vector<double> coef = samples.values;
+  for (int a = 0; a < 3; ++a) coef = apply_along(coef, dims, a, pseudo_inverse[a]);
+  std::vector<double> recon = coef;
+  for (int a = 0; a < 3; ++a) recon = apply_along(recon, dims, a, basis[a]);
+  Eigen::MatrixXd points(static_cast<Eigen::Index>(coef.size()), 1);
+  for (std::size_t i = 0; i < coef.size(); ++i) points(static_cast<Eigen::Index>(i), 0) = coef[i];
+  const GridError error = grid_error(samples, recon);
+  return {BsplineVolume(std::move(knots), std::move(points)), std::move(recon), error};
+}
+
+GridFitReport fit_tspline_to_grid(TSpline& spline, const std::array<int, 3>& dims,
+                                  const std::vector<int>& components,
+                                  const std::vector<const std::vector<double>*>& targets,
+                                  const GridFitOptions& options) {
+  assert(components.size() == targets.size());
+  const int n = spline.num_functions();
+  const int k = static_cast<int>(components.size());
+  const Supports s = compute_supports(spline, dims);
+  std::vector<double> ridge;
+  const linalg::CsrMatrix gram = gram_matrix(s, dims, options.regularization, ridge);
+  Eigen::MatrixXd rhs(n, k), x0(n, k);
+  for (int c = 0; c < k; ++c) {
+    assert(targets[c]->size() == static_cast<std::size_t>(dims[0]) * dims[1] * dims[2]);
+    for (int i = 0; i < n; ++i) {
+      x0(i, c) = spline.points()(i, components[c]);
+      rhs(i, c) = (s.empty(i) ? 0.0 : project(s, i, *targets[c], dims)) + ridge[i] * x0(i, c);
+    }
+  }
+  linalg::ConjugateGradient<SparsifiedCholesky> cg;
+  cg.set_tolerance(options.tolerance);
+  cg.set_max_iterations(options.max_iterations);
+  cg.compute(gram);
+  const Eigen::MatrixXd x = cg.solve(rhs, x0);
+  GridFitReport report;
+  report.unknowns = n;
+  report.cg_iterations = cg.iterations();
+  report.converged = cg.info() == linalg::SolverInfo::Success;
+  report.normal_nonzeros = gram.nnz();
+  Eigen::MatrixXd points = spline.points();
+  for (int c = 0; c < k; ++c) points.col(components[c]) = x.col(c);
+  // Per-cell polynomials would be rebuilt for the new points; the function lists are cheaper.
+  if (spline.has_cell_polynomials())
+    spline = TSpline(spline.knots(), spline.weights(), std::move(points), TSplineAcceleration::FunctionLists);
+  else
+    spline.set_points(std::move(points));
+  return report;
+}
+
+std::vector<double> evaluate_on_grid(const TSpline& spline, int component, const std::array<int, 3>& dims) {
+  const Supports s = compute_supports(spline, dims);
+  return accumulate(s, spline.points().col(component), dims);
+}
+
+AdaptiveDensityResult fit_density_adaptive(const GridSamples& samples, const AdaptiveDensityOptions& options,
+                                           const pipeline::Progress& progress) {
+  check_dims(samples.dims);
+  if (!(options.max_rms_rel > 0.0)) throw Error("density fit: max_rms_rel must be > 0");
+  if (options.max_control_points < 64) throw Error("density fit: max_control_points must be >= 64");
+  if (options.initial_cells < 0) throw Error("density fit: initial_cells must be >= 0");
+  if (!(options.min_cell_width > 0.0)) throw Error("density fit: min_cell_width must be > 0");
+  if (!(options.marking_fraction > 0.0 && options.marking_fraction <= 1.0))
+    throw Error("density fit: marking_fraction must be in (0, 1]");
+  if (options.max_levels < 0) throw Error("density fit: max_levels must be >= 0");
+  if (!(options.min_decrease_rel >= 0.0 && options.min_decrease_rel < 1.0))
+    throw Error("density fit: min_decrease_rel must be in [0, 1)");
+  if (!(options.fit.tolerance > 0.0) || options.fit.max_iterations < 1 || !(options.fit.regularization > 0.0))
+    throw Error("density fit: CG tolerance and regularization must be > 0, max_iterations >= 1");
+  const std::array<int, 3>& dims = samples.dims;
+  const Eigen::Vector3d hi(dims[0] - 1.0, dims[1] - 1.0, dims[2] - 1.0);
+  // Level 0: 2^k uniform cells per axis made by splitting one cell k times, so that every knot
+  // is a dyadic point of the domain and the refinement tree has a single root (ray tracing in
+  // RefinementGrid then only descends the cells along each ray).
+  const int wanted = options.initial_cells > 0 ? options.initial_cells
+                                               : std::max(1, static_cast<int>(std::lround(hi.maxCoeff() / 8.0)));
+  int splits = 0;
+  while ((1 << (splits + 1)) <= wanted && splits < 8) ++splits;
+  auto cube = [](int c) { return static_cast<long long>(c + 3) * (c + 3) * (c + 3); };
+  while (splits > 0 && cube(1 << splits) > options.max_control_points) --splits;
+  progress.report("fit", 0.0);
+  std::array<std::vector<double>, 3> knots;
+  for (int a = 0; a < 3; ++a) knots[a] = {0.0, 0.0, 0.0, 0.0, hi(a), hi(a), hi(a), hi(a)};
+  TSpline current = from_bspline_volume(BsplineVolume(knots, Eigen::MatrixXd::Zero(64, 3)),
+                                        TSplineAcceleration::FunctionLists);
+  RefinementGrid grid(Eigen::Vector3d::Zero(), hi, {1, 1, 1});
+  std::vector<std::vector<int>> history;  // leaves split at each step, to replay on the geometry
+  for (int k = 0; k < splits; ++k) {
+    history.push_back(grid.leaves());
+    current = grid.split(current, history.back(), TSplineAcceleration::FunctionLists);
+  }
+  const std::vector<const std::vector<double>*> density_target = {&samples.values};
+  const GridFitReport first_fit = fit_tspline_to_grid(current, dims, {0}, density_target, options.fit);
+  std::vector<double> recon = evaluate_on_grid(current, 0, dims);
+  GridError error = grid_error(samples, recon);
+  std::vector<AdaptiveDensityLevel> levels;
+  levels.push_back({current.num_functions(), error.rms_rel, error.max_rel, first_fit.cg_iterations, grid.num_leaves()});
+  double growth_per_cell = 0.0;  // control points added per split cell at the last level
+  for (int level = 1; level <= options.max_levels; ++level) {
+    if (error.rms_rel <= options.max_rms_rel) break;
+    // Stalled: the last level bought less than the given relative decrease.
+    if (levels.size() >= 2 && error.rms_rel > (1.0 - options.min_decrease_rel) * levels[levels.size() - 2].rms_rel)
+      break;
+    progress.report("fit", static_cast<double>(level) / (options.max_levels + 1));
+    // Dörfler marking (§4.3.3 refines cells over the threshold; here the cells carrying the
+    // given fraction of the squared error, which spends control points where the RMS is made).
+    std::vector<double> sse_of_node;
+    {
+      std::vector<int> leaf_ids = grid.leaves();
+      int max_id = leaf_ids.empty() ? 0 : leaf_ids.back();
+      sse_of_node.assign(static_cast<std::size_t>(max_id) + 1, 0.0);
+      for (int z = 0; z < dims[2]; ++z)
+        for (int y = 0; y < dims[1]; ++y)
+          for (int x = 0; x < dims[0]; ++x) {
+            const std::size_t v = static_cast<std::size_t>(x) + dims[0] * (static_cast<std::size_t>(y) + static_cast<std::size_t>(dims[1]) * z);
+            const double d = recon[v] - samples.values[v];
+            if (d != 0.0) sse_of_node[grid.leaf_of(Eigen::Vector3d(x, y, z))] += d * d;
+          }
+      std::vector<int> candidates;
+      double total = 0.0;
+      for (int id : leaf_ids) {
+        const Eigen::Vector3d width = grid.cell_max(id) - grid.cell_min(id);
+        if (width.minCoeff() >= 2.0 * options.min_cell_width && sse_of_node[id] > 0.0) {
+          candidates.push_back(id);
+          total += sse_of_node[id];
+        }
+      }
+      std::sort(candidates.begin(), candidates.end(), [&](int a, int b) {
+        return sse_of_node[a] != sse_of_node[b] ? sse_of_node[a] > sse_of_node[b] : a < b;
+      });
+      std::vector<int> marked;
+      double covered = 0.0;
+      for (int id : candidates) {
+        if (covered >= options.marking_fraction * total) break;
+        marked.push_back(id);
+        covered += sse_of_node[id];
+      }
+      if (marked.empty()) break;
+      // Budget: predict the new control points from the last split's cost per cell (splits are
+      // expensive to undo); a level that still ends over budget is retried with fewer cells.
+      if (growth_per_cell > 0.0) {
+        const double room = options.max_control_points - current.num_functions();
+        const std::size_t affordable = static_cast<std::size_t>(std::max(0.0, 0.9 * room / growth_per_cell));
+        if (affordable == 0) break;
+        if (marked.size() > affordable) marked.resize(affordable);
+      }
+      bool accepted = false;
+      while (!marked.empty()) {
+        std::vector<int> sorted_marked = marked;
+        std::sort(sorted_marked.begin(), sorted_marked.end());
+        RefinementGrid trial_grid = grid;
+        TSpline trial = trial_grid.split(current, sorted_marked, TSplineAcceleration::FunctionLists);
+        if (trial.num_functions() <= options.max_control_points) {
+          growth_per_cell = std::max(1.0, static_cast<double>(trial.num_functions() - current.num_functions())) /
+                            static_cast<double>(sorted_marked.size());
+          const GridFitReport report = fit_tspline_to_grid(trial, dims, {0}, density_target, options.fit);
+          history.push_back(sorted_marked);
+          grid = std::move(trial_grid);
+          current = std::move(trial);
+          recon = evaluate_on_grid(current, 0, dims);
+          error = grid_error(samples, recon);
+          levels.push_back({current.num_functions(), error.rms_rel, error.max_rel, report.cg_iterations,
+                            grid.num_leaves()});
+          accepted = true;
+          break;
+        }
+        // Keep the worse half (marked is ranked by error).
+        marked.resize(marked.size() / 2);
+      }
+      if (!accepted) break;
+    }
+  }
+  progress.report("fit", 1.0);
+  // Eq. 5.11 with the identity parameterization: X, Y, Z are the sample positions. The cubic
+  // Bézier cell with control points at thirds reproduces them, and knot insertion keeps F, so
+  // replaying the same splits on it gives their exact control points in the final basis.
+  std::array<std::vector<double>, 3> bezier_knots;
+  Eigen::MatrixXd bezier_points(64, 3);
+  for (int a = 0; a < 3; ++a) bezier_knots[a] = {0.0, 0.0, 0.0, 0.0, hi(a), hi(a), hi(a), hi(a)};
+  for (int k = 0; k < 4; ++k)
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 4; ++i) bezier_points.row(i + 4 * (j + 4 * k)) << hi(0) * i / 3.0, hi(1) * j / 3.0, hi(2) * k / 3.0;
+  TSpline geometry = from_bspline_volume(BsplineVolume(bezier_knots, bezier_points), TSplineAcceleration::FunctionLists);
+  RefinementGrid replay(Eigen::Vector3d::Zero(), hi, {1, 1, 1});
+  for (const std::vector<int>& marked : history) geometry = replay.split(geometry, marked, TSplineAcceleration::FunctionLists);
+  const int n = current.num_functions();
+  assert(geometry.num_functions() == n && geometry.knots() == current.knots());
+  Eigen::MatrixXd points(n, 4);
+  points.leftCols(3) = geometry.points();
+  points.col(3) = current.points().col(0);
+  TSpline out(current.knots(), current.weights(), std::move(points), TSplineAcceleration::FunctionLists);
+  return {std::move(out), std::move(levels), std::move(recon), error, grid.max_level()};
+}
+
+}  // namespace volspline::spline

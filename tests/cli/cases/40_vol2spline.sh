@@ -1,0 +1,31 @@
+# vol2spline: help, outputs and stats keys on the sample volume, bad input exits 2.
+VOL="$SRC/samples/volumes/bucky_32x32x32_uint8.raw"
+expect 0 "$BIN" vol2spline --help
+contains "$TMP/out" "vol2spline VOLUME -o OUT.json"
+expect 0 "$BIN" vol2spline "$VOL" -o "$TMP/v.json" --vtk "$TMP/v.vtu" --stats-json "$TMP/v_stats.json" --max-rms 0.1 --quiet
+for key in density_rms_rel density_max_rel control_points voxels patches corners frame_smoothness_initial frame_smoothness_final constraint_angle_max_deg min_scaled_jacobian curve times_s; do
+  contains "$TMP/v_stats.json" "\"$key\""
+done
+contains "$TMP/v_stats.json" "\"voxels\": 32768"
+contains "$TMP/v.json" "\"dimension\": 4"
+contains "$TMP/v.vtu" "Name=\"density\""
+expect 0 "$BIN" eval "$TMP/v.json" --uvw 15.5,15.5,15.5
+# The same bytes given as a raw file with explicit dims and type.
+cp "$VOL" "$TMP/volume.raw"
+expect 0 "$BIN" vol2spline "$TMP/volume.raw" --dims 32,32,32 --type uint8 --spacing 1,1,2 -o "$TMP/w.json" --max-rms 0.2 --max-levels 1 --quiet
+# Bad input and usage: exit 2 with a message.
+expect 2 "$BIN" vol2spline "$TMP/volume.raw" -o "$TMP/x.json" --quiet
+expect 2 "$BIN" vol2spline "$TMP/volume.raw" --dims 32,32,31 --type uint8 -o "$TMP/x.json" --quiet
+contains "$TMP/err" "volume.raw"
+head -c 1000 "$VOL" > "$TMP/cut_32x32x32_uint8.raw"
+expect 2 "$BIN" vol2spline "$TMP/cut_32x32x32_uint8.raw" -o "$TMP/x.json" --quiet
+contains "$TMP/err" "cut_32x32x32_uint8.raw"
+expect 2 "$BIN" vol2spline "$TMP/missing_8x8x8_uint8.raw" -o "$TMP/x.json" --quiet
+expect 2 "$BIN" vol2spline "$VOL" -o "$TMP/x.json" --param magic --quiet
+contains "$TMP/err" "identity or aligned"
+expect 2 "$BIN" vol2spline "$VOL" --quiet
+contains "$TMP/err" "needs -o"
+expect 2 "$BIN" vol2spline "$VOL" -o "$TMP/x.json" --dims 32,32 --quiet
+contains "$TMP/err" "three comma-separated"
+expect 2 "$BIN" vol2spline "$VOL" -o "$TMP/x.json" --max-rms -1 --quiet
+contains "$TMP/err" "max_rms_rel"

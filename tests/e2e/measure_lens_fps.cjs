@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: MIT
+// Lens frame time while dragging, reproducibly: serves SITE_DIR on a free 127.0.0.1 port, opens
+// camera.png in headless Chromium (SwiftShader), calibrates the metric lens on a grid, then moves
+// the lens with pointer events dispatched by the page every 8 ms (faster than the lens can follow)
+// for SECONDS, ROUNDS times. Reports per round and overall the median interval between frames
+// that showed a new live result, the core's ms_total and the worker round trip.
+// usage: node tests/e2e/measure_lens_fps.cjs SITE_DIR [--grid 100] [--seconds 3] [--rounds 5]
+//        [--image PATH] [--chromium /usr/bin/chromium]
+'use strict';
+const fs = require('fs');
+const path = require('path');
+const { chromium } = require('playwright-core');
+const { serve } = require('../../web/serve.cjs');
+
+const args = process.argv.slice(2);
+const option = (name, fallback) => { const i = args.indexOf(name); return i >= 0 ? args[i + 1] : fallback; };
+const siteDir = args[0];
+const grid = option('--grid', '100');
+const seconds = Number(option('--seconds', '3'));
+const rounds = Number(option('--rounds', '5'));
+const image = option('--image', path.resolve(__dirname, '../../samples/images/camera.png'));
+const median = (a) => { const b = [...a].sort((x, y) => x - y); return b.length ? b[b.length >> 1] : NaN; };
+
+async function main() {
+  let server;
+  const port = await new Promise((resolve) => { server = serve(siteDir, 0, resolve); });
+  const browser = await chromium.launch({
+    executablePath: option('--chromium', '/usr/bin/chromium'), headless: true,
+    args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
+  });
+  const page = await browser.newPage({ viewport: { width: 1400, height: 900 } });
+  await page.goto(`http://127.0.0.1:${port}/#lens`);
+  await page.waitForFunction(() => /^core /.test(document.getElementById('core-version').textContent), null, { timeout: 30000 });
+  await page.selectOption('#lens-grid', grid);
+  await page.setInputFiles('#lens-file', image);
+  await page.waitForFunction(() => window.volspline.lensTab.result && !window.volspline.lensTab.running && !window.volspline.jobs.busy, null, { timeout: 60000 });
+  const box = await page.locator('#lens-overlay').boundingBox();
+  const roi = await page.evaluate(() => ({ ...window.volspline.lensTab.roi, ...window.volspline.lensTab.view.image }));
+  const [px, py] = [box.x + roi.cx / roi.width * box.width, box.y + roi.cy / roi.height * box.height];
+  const out = { grid: Number(grid), seconds, rounds: [] };
+  for (let k = 0; k < rounds; k++) {
+    await page.mouse.move(px, py);
+    await page.mouse.down();
+    const r = await page.evaluate(async ([x0, y0, ms]) => {
+      const { lensTab } = window.volspline;
+      lensTab.frameMs = [];
+      lensTab.frameLog = [];
+      const overlay = document.getElementById('lens-overlay');
+      const t0 = performance.now();
+      let moves = 0;
+      await new Promise((resolve) => {
+        const timer = setInterval(() => {
+          const t = performance.now() - t0;
+          if (t > ms) { clearInterval(timer); resolve(); return; }
+          overlay.dispatchEvent(new PointerEvent('pointermove', { clientX: x0 + 60 * Math.sin(t / 500), clientY: y0 + 30 * Math.sin(t / 350), pointerId: 1, pointerType: 'mouse', buttons: 1, bubbles: true }));
+          moves++;
+        }, 8);
+      });
+      return { moves, log: lensTab.frameLog.map((f) => ({ ...f })) };
+    }, [px, py, 1000 * seconds]);
+    await page.mouse.up();
+    await page.waitForFunction(() => !window.volspline.lensTab.running && !window.volspline.jobs.busy, null, { timeout: 60000 });
+    const intervals = r.log.slice(2).map((f) => f.ms).filter((x) => x > 0);  // the first frames include the press
+    out.rounds.push({ frames: r.log.length, moves: r.moves, frame_ms: median(intervals), core_ms_total: median(r.log.map((f) => f.ms_total)), worker_ms: median(r.log.map((f) => f.ms_worker)) });
+  }
+  out.median_frame_ms = median(out.rounds.map((x) => x.frame_ms));
+  out.fps = 1000 / out.median_frame_ms;
+  out.median_core_ms_total = median(out.rounds.map((x) => x.core_ms_total));
+  out.median_worker_ms = median(out.rounds.map((x) => x.worker_ms));
+  console.log(JSON.stringify(out, null, 2));
+  await browser.close();
+  server.close();
+}
+main().catch((e) => { console.error('measure failed: ' + (e.stack || e)); process.exit(1); });

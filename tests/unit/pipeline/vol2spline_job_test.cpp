@@ -1,0 +1,85 @@
+// SPDX-License-Identifier: MIT
+#include "core/pipeline/vol2spline_job.h"
+
+#include <cmath>
+
+#include <doctest/doctest.h>
+
+#include "core/common/error.h"
+
+using namespace volspline;
+
+namespace {
+
+// A bright ellipsoid on a dark background (two materials), n³ voxels.
+volume::Volume ellipsoid(int n) {
+  volume::Volume v;
+  v.nx = v.ny = v.nz = n;
+  v.spacing = Eigen::Vector3d(1.0, 1.0, 2.0);
+  const double c = 0.5 * (n - 1);
+  for (int z = 0; z < n; ++z)
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const double r = std::sqrt((x - c) * (x - c) / 25.0 + (y - c) * (y - c) / 16.0 + (z - c) * (z - c) / 12.0);
+        v.samples.push_back(static_cast<float>(200.0 / (1.0 + std::exp(8.0 * (r - 1.0)))));
+      }
+  return v;
+}
+
+}  // namespace
+
+TEST_CASE("vol2spline identity: density spline with identity geometry and stats") {
+  const volume::Volume v = ellipsoid(16);
+  pipeline::Vol2SplineOptions options;
+  options.max_rms_rel = 0.02;
+  options.initial_cells = 2;
+  const pipeline::Vol2SplineResult r = pipeline::run_vol2spline(v, "ellipsoid", options);
+  CHECK(r.spline.dimension() == 4);
+  CHECK(r.stats.voxels == 16u * 16u * 16u);
+  CHECK(r.stats.density_rms_rel <= 0.02);
+  CHECK(r.stats.density_rms_rel < r.stats.curve.front().rms_rel);
+  CHECK(r.stats.control_points == r.spline.num_functions());
+  CHECK(r.stats.curve.size() == static_cast<std::size_t>(r.stats.levels + 1));
+  CHECK_FALSE(r.stats.frames_computed);
+  CHECK(r.stats.min_scaled_jacobian == doctest::Approx(1.0).epsilon(1e-6));
+  // X, Y, Z in physical units: voxel (4, 5, 6) with spacing (1, 1, 2).
+  const Eigen::VectorXd f = r.spline.evaluate(Eigen::Vector3d(4, 5, 6));
+  CHECK(f(2) == doctest::Approx(12.0).epsilon(1e-8));
+  CHECK(f(3) == doctest::Approx(r.reconstruction[v.index(4, 5, 6)]).epsilon(1e-9));
+}
+
+TEST_CASE("vol2spline aligned: frame stages run and the fit covers [0, 1]^3") {
+  const volume::Volume v = ellipsoid(14);
+  pipeline::Vol2SplineOptions options;
+  options.param = pipeline::Vol2SplineParam::Aligned;
+  options.max_rms_rel = 0.02;
+  options.initial_cells = 2;
+  options.max_levels = 2;
+  options.clusters = 2;
+  const pipeline::Vol2SplineResult r = pipeline::run_vol2spline(v, "ellipsoid", options);
+  CHECK(r.stats.frames_computed);
+  CHECK(r.stats.frame_smoothness_final <= r.stats.frame_smoothness_initial);
+  CHECK(r.uvw.rows() == 14 * 14 * 14);
+  CHECK(r.spline.domain_min().norm() == 0.0);
+  CHECK(r.spline.domain_max() == Eigen::Vector3d::Ones());
+  CHECK(r.stats.density_rms_rel < 0.1);
+  CHECK(r.frames.frames.size() == v.num_voxels());
+}
+
+TEST_CASE("vol2spline rejects bad options and tiny volumes") {
+  const volume::Volume v = ellipsoid(8);
+  pipeline::Vol2SplineOptions options;
+  options.max_rms_rel = -1.0;
+  CHECK_THROWS_WITH_AS(pipeline::run_vol2spline(v, "e", options), doctest::Contains("max_rms_rel"), Error);
+  options = {};
+  options.clusters = 1;
+  CHECK_THROWS_WITH_AS(pipeline::run_vol2spline(v, "e", options), doctest::Contains("clusters"), Error);
+  volume::Volume flat = v;
+  flat.nz = 1;
+  flat.samples.resize(64);
+  CHECK_THROWS_WITH_AS(pipeline::run_vol2spline(flat, "flat.raw", {}), doctest::Contains("flat.raw"), Error);
+  options = {};
+  options.param = pipeline::Vol2SplineParam::Aligned;
+  volume::Volume small = ellipsoid(4);
+  CHECK_THROWS_WITH_AS(pipeline::run_vol2spline(small, "small.raw", options), doctest::Contains("at least 5"), Error);
+}

@@ -1,0 +1,191 @@
+// SPDX-License-Identifier: MIT
+#include "wasm/mesh2spline_binding.h"
+
+#include <cstdint>
+#include <vector>
+
+#include "core/common/error.h"
+#include "core/io/glb_lines_writer.h"
+#include "core/io/mesh_io.h"
+#include "core/io/spline_json.h"
+#include "core/io/vtu_writer.h"
+#include "core/pipeline/mesh2spline_job.h"
+#include "wasm/guarded.h"
+#include "wasm/js_values.h"
+#include "wasm/spline_preview.h"
+
+namespace volspline::wasm {
+
+using emscripten::val;
+
+namespace {
+
+int integer_option(const val& o, const char* key, int fallback, int lo, int hi) {
+  const double x = number_option(o, key, fallback);
+  if (x != static_cast<double>(static_cast<long long>(x)) || x < lo || x > hi)
+    throw Error(std::string("option '") + key + "': expected an integer in [" + std::to_string(lo) + ", " +
+                std::to_string(hi) + "]");
+  return static_cast<int>(x);
+}
+
+pipeline::Mesh2SplineOptions job_options_from_js(const val& o) {
+  pipeline::Mesh2SplineOptions options;
+  options.max_rms_rel = number_option(o, "max_rms_rel", options.max_rms_rel);
+  options.max_control_points = integer_option(o, "max_control_points", options.max_control_points, -1000000000, 1000000000);
+  options.max_levels = integer_option(o, "max_levels", options.max_levels, -1000, 1000);
+  options.initial_cells = integer_option(o, "initial_cells", options.initial_cells, -1000000, 1000000);
+  options.grid_nodes = integer_option(o, "grid_nodes", options.grid_nodes, -1000000, 1000000);
+  options.smoothing = number_option(o, "smoothing", options.smoothing);
+  options.measure_samples = integer_option(o, "measure_samples", options.measure_samples, -1000000, 1000000);
+  options.seed = static_cast<std::uint64_t>(integer_option(o, "seed", 1, 0, 2000000000));
+  const std::string fit = string_option(o, "fit", "grid");
+  if (fit == "grid") options.fit = pipeline::Mesh2SplineFit::Grid;
+  else if (fit == "meshless") options.fit = pipeline::Mesh2SplineFit::Meshless;
+  else throw Error("option 'fit': unknown '" + fit + "' (grid, meshless)");
+  const std::string weights = string_option(o, "weights", "meanvalue");
+  if (weights == "meanvalue") options.weights = param::SurfaceWeights::MeanValue;
+  else if (weights == "cotan") options.weights = param::SurfaceWeights::Cotan;
+  else throw Error("option 'weights': unknown '" + weights + "' (meanvalue, cotan)");
+  if (!o.isUndefined() && !o.isNull()) {
+    const val corners = o["corners"];
+    if (!corners.isUndefined() && !corners.isNull()) {
+      if (!corners.isArray()) throw Error("option 'corners': expected an array of 8 vertex ids");
+      const int n = corners["length"].as<int>();
+      for (int i = 0; i < n; ++i) {
+        const val c = corners[i];
+        if (!c.isNumber() || c.as<double>() != static_cast<double>(static_cast<int>(c.as<double>())) || c.as<double>() < 0)
+          throw Error("option 'corners': entry " + std::to_string(i) + " is not a vertex id");
+        options.corners.push_back(c.as<int>());
+      }
+    }
+  }
+  return options;  // ranges are checked by run_mesh2spline
+}
+
+val bytes_to_js(const std::string& bytes) {
+  return uint8_array(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
+}
+
+val cut_to_js(const SplineCut& cut, int axis, double position) {
+  val out = val::object();
+  out.set("axis", axis);
+  out.set("position", position);
+  out.set("positions", float32_array(cut.xyz.data(), cut.xyz.size()));
+  out.set("triangles", uint32_array(cut.triangles.data(), cut.triangles.size()));
+  out.set("scaled_jacobian", float32_array(cut.scaled_jacobian.data(), cut.scaled_jacobian.size()));
+  out.set("min_scaled_jacobian", cut.min_scaled_jacobian);
+  return out;
+}
+
+void check_cut(int axis, double position, int samples) {
+  if (axis < 0 || axis > 2) throw Error("cut axis must be 0, 1 or 2, got " + std::to_string(axis));
+  if (!(position >= 0 && position <= 1)) throw Error("cut position must be in [0, 1]");
+  if (samples < 2 || samples > 257) throw Error("cut samples must be in [2, 257], got " + std::to_string(samples));
+}
+
+val stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name, const std::string& fit) {
+  val out = val::object();
+  out.set("input", name);
+  out.set("fit", fit);
+  out.set("rms_rel", s.rms_rel);
+  out.set("max_rel", s.max_rel);
+  out.set("hausdorff_rel", s.hausdorff_rel);
+  out.set("rms_geo_rel", s.rms_geo_rel);
+  out.set("control_points", s.control_points);
+  out.set("levels", s.levels);
+  out.set("min_scaled_jacobian", s.min_scaled_jacobian);
+  out.set("negative_jacobian_fraction", s.negative_jacobian_fraction);
+  out.set("semi_standard_max_error", s.semi_standard_max_error);
+  out.set("cuboids", s.cuboids);
+  out.set("flipped_triangles", s.flipped_triangles);
+  out.set("grid_inverted_hexes", s.grid_inverted_hexes);
+  out.set("grid_min_scaled_jacobian", s.grid_min_scaled_jacobian);
+  out.set("samples", s.samples);
+  out.set("min_corner_distance_rel", s.min_corner_distance_rel);
+  val corners = val::array();
+  for (int c : s.corners) corners.call<void>("push", c);
+  out.set("corners", corners);
+  val times = val::object();
+  double total = 0;
+  for (const auto& [stage, seconds] : s.times_s) {
+    times.set(stage, seconds);
+    total += seconds;
+  }
+  times.set("total", total);
+  out.set("times_s", times);
+  return out;
+}
+
+val vector3(const Eigen::Vector3d& v) {
+  val out = val::array();
+  for (int k = 0; k < 3; ++k) out.call<void>("push", v[k]);
+  return out;
+}
+
+}  // namespace
+
+val mesh2spline(const val& bytes, const std::string& name, const val& options, const val& progress) {
+  return guarded([&] {
+    const pipeline::Mesh2SplineOptions job = job_options_from_js(options);
+    const int preview_samples = integer_option(options, "preview_samples", 25, 2, 129);
+    const int preview_lines = integer_option(options, "preview_lines", 9, 2, 65);
+    const int cut_axis = integer_option(options, "cut_axis", 2, 0, 2);
+    const double cut_position = number_option(options, "cut_position", 0.5);
+    const int cut_samples = integer_option(options, "cut_samples", 41, 2, 257);
+    const int vtu_cells = integer_option(options, "vtu_cells", 24, 1, 64);
+    const bool outputs = bool_option(options, "outputs", true);
+    check_cut(cut_axis, cut_position, cut_samples);
+
+    const mesh::TriangleMesh input =
+        io::parse_mesh(bytes_from_js(bytes, "mesh '" + name + "'"), io::mesh_format_from_path(name), name);
+    const pipeline::Mesh2SplineResult result = pipeline::run_mesh2spline(input, name, job, progress_from_js(progress));
+
+    val out = val::object();
+    out.set("ok", true);
+    out.set("stats", stats_to_js(result.stats, name, job.fit == pipeline::Mesh2SplineFit::Grid ? "grid" : "meshless"));
+
+    val in = val::object();
+    const std::vector<float> positions(input.positions.data(), input.positions.data() + input.positions.size());
+    in.set("positions", float32_array(positions.data(), positions.size()));
+    const std::vector<std::uint32_t> triangles(input.triangles.data(), input.triangles.data() + input.triangles.size());
+    in.set("triangles", uint32_array(triangles.data(), triangles.size()));
+    in.set("bbox_min", vector3(input.positions.colwise().minCoeff().transpose()));
+    in.set("bbox_max", vector3(input.positions.colwise().maxCoeff().transpose()));
+    out.set("input", in);
+
+    const SplinePreview preview = spline_preview(result.spline, preview_samples, preview_lines);
+    val boundary = val::object();
+    boundary.set("positions", float32_array(preview.surface_xyz.data(), preview.surface_xyz.size()));
+    boundary.set("uvw", float32_array(preview.surface_uvw.data(), preview.surface_uvw.size()));
+    boundary.set("triangles", uint32_array(preview.surface_triangles.data(), preview.surface_triangles.size()));
+    out.set("boundary", boundary);
+    val lines = val::object();
+    lines.set("positions", float32_array(preview.line_xyz.data(), preview.line_xyz.size()));
+    lines.set("uvw", float32_array(preview.line_uvw.data(), preview.line_uvw.size()));
+    out.set("lines", lines);
+    out.set("control_points", float32_array(preview.control_xyz.data(), preview.control_xyz.size()));
+    out.set("cut", cut_to_js(wasm::spline_cut(result.spline, cut_axis, cut_position, cut_samples), cut_axis, cut_position));
+
+    if (outputs) {
+      out.set("spline_json", bytes_to_js(io::serialize_spline_json(result.spline)));
+      out.set("glb", bytes_to_js(io::serialize_spline_glb(result.spline)));
+      out.set("vtu", bytes_to_js(io::serialize_spline_vtu(result.spline, {vtu_cells, vtu_cells, vtu_cells})));
+    }
+    return out;
+  });
+}
+
+val spline_cut(const val& spline_json, int axis, double position, int samples) {
+  return guarded([&] {
+    check_cut(axis, position, samples);
+    const spline::TSpline spline = io::parse_spline_json(bytes_from_js(spline_json, "spline JSON"), "spline JSON");
+    if (spline.dimension() != 3)
+      throw Error("spline JSON: a cut needs a geometric spline (dimension 3), got dimension " +
+                  std::to_string(spline.dimension()));
+    val out = cut_to_js(wasm::spline_cut(spline, axis, position, samples), axis, position);
+    out.set("ok", true);
+    return out;
+  });
+}
+
+}  // namespace volspline::wasm
