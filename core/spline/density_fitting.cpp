@@ -12,7 +12,7 @@
 #include "core/common/error.h"
 #include "core/linalg/conjugate_gradient.h"
 #include "core/linalg/csr_matrix.h"
-#include "core/spline/sparsified_cholesky.h"
+#include "core/spline/component_solve.h"
 #include "core/spline/hierarchical_refinement.h"
 
 namespace volspline::spline {
@@ -296,31 +296,19 @@ GridFitReport fit_tspline_to_grid(TSpline& spline, const std::array<int, 3>& dim
   const Supports s = compute_supports(spline, dims);
   std::vector<double> ridge;
   const linalg::CsrMatrix gram = gram_matrix(s, dims, options.regularization, ridge);
-  Eigen::MatrixXd rhs(n, k), x0(n, k);
+  Eigen::MatrixXd rhs(n, k);
   for (int c = 0; c < k; ++c) {
     assert(targets[c]->size() == static_cast<std::size_t>(dims[0]) * dims[1] * dims[2]);
-    for (int i = 0; i < n; ++i) {
-      x0(i, c) = spline.points()(i, components[c]);
-      rhs(i, c) = (s.empty(i) ? 0.0 : project(s, i, *targets[c], dims)) + ridge[i] * x0(i, c);
-    }
+    for (int i = 0; i < n; ++i)
+      rhs(i, c) = (s.empty(i) ? 0.0 : project(s, i, *targets[c], dims)) + ridge[i] * spline.points()(i, components[c]);
   }
-  linalg::ConjugateGradient<SparsifiedCholesky> cg;
-  cg.set_tolerance(options.tolerance);
-  cg.set_max_iterations(options.max_iterations);
-  cg.compute(gram);
-  const Eigen::MatrixXd x = cg.solve(rhs, x0);
+  const ComponentSolveReport solve =
+      solve_components(spline, gram, rhs, components, options.tolerance, options.max_iterations);
   GridFitReport report;
   report.unknowns = n;
-  report.cg_iterations = cg.iterations();
-  report.converged = cg.info() == linalg::SolverInfo::Success;
+  report.cg_iterations = solve.cg_iterations;
+  report.converged = solve.converged;
   report.normal_nonzeros = gram.nnz();
-  Eigen::MatrixXd points = spline.points();
-  for (int c = 0; c < k; ++c) points.col(components[c]) = x.col(c);
-  // Per-cell polynomials would be rebuilt for the new points; the function lists are cheaper.
-  if (spline.has_cell_polynomials())
-    spline = TSpline(spline.knots(), spline.weights(), std::move(points), TSplineAcceleration::FunctionLists);
-  else
-    spline.set_points(std::move(points));
   return report;
 }
 

@@ -9,7 +9,7 @@
 #include "core/common/error.h"
 #include "core/linalg/conjugate_gradient.h"
 #include "core/linalg/csr_matrix.h"
-#include "core/spline/sparsified_cholesky.h"
+#include "core/spline/component_solve.h"
 #include "core/spline/bspline_volume.h"
 
 namespace volspline::spline {
@@ -151,23 +151,13 @@ ScatteredFitReport fit_tspline_scattered(TSpline& spline, const RefinementGrid& 
         rhs.row(i) += ridge * x0.row(i);
       }
   const linalg::CsrMatrix a = linalg::CsrMatrix::from_arrays(n, n, std::move(offsets), std::move(cols), std::move(gram));
-  linalg::ConjugateGradient<SparsifiedCholesky> cg;
-  cg.set_tolerance(options.tolerance);
-  cg.set_max_iterations(options.max_iterations);
-  cg.compute(a);
-  const Eigen::MatrixXd x = cg.solve(rhs, x0);
+  const ComponentSolveReport solve =
+      solve_components(spline, a, rhs, components, options.tolerance, options.max_iterations);
   ScatteredFitReport report;
   report.unknowns = n;
-  report.cg_iterations = cg.iterations();
-  report.converged = cg.info() == linalg::SolverInfo::Success;
+  report.cg_iterations = solve.cg_iterations;
+  report.converged = solve.converged;
   report.normal_nonzeros = a.nnz();
-  Eigen::MatrixXd points = spline.points();
-  for (int c = 0; c < k; ++c) points.col(components[c]) = x.col(c);
-  // Per-cell polynomials would be rebuilt for the new points; the function lists are cheaper.
-  if (spline.has_cell_polynomials())
-    spline = TSpline(spline.knots(), spline.weights(), std::move(points), TSplineAcceleration::FunctionLists);
-  else
-    spline.set_points(std::move(points));
   return report;
 }
 

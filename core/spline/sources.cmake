@@ -10,5 +10,6 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/density_fitting.cpp
   ${CMAKE_CURRENT_LIST_DIR}/scattered_density_fitting.cpp
   ${CMAKE_CURRENT_LIST_DIR}/sparsified_cholesky.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/component_solve.cpp
   ${CMAKE_CURRENT_LIST_DIR}/jacobian_repair.cpp
 )
