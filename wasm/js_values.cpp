@@ -83,4 +83,15 @@ pipeline::Progress progress_from_js(const val& callback) {
   });
 }
 
+emscripten::val stage_times_object(const std::vector<std::pair<std::string, double>>& times_s) {
+  emscripten::val times = emscripten::val::object();
+  double total = 0;
+  for (const auto& [stage, seconds] : times_s) {
+    times.set(stage, seconds);
+    total += seconds;
+  }
+  times.set("total", total);
+  return times;
+}
+
 }  // namespace volspline::wasm

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/pipeline/progress.h"
@@ -40,5 +41,8 @@ bool bool_option(const emscripten::val& options, const char* key, bool fallback)
 /// progress channel; an explicit `false` asks the stage to stop. Undefined or null gives no
 /// reporting. Throws volspline::Error if `callback` is something else.
 pipeline::Progress progress_from_js(const emscripten::val& callback);
+
+/// New JS object {stage: seconds, ..., total: Σ seconds} from a job's per-stage times (run order).
+emscripten::val stage_times_object(const std::vector<std::pair<std::string, double>>& times_s);
 
 }  // namespace volspline::wasm

@@ -105,14 +105,7 @@ val stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name, co
   val corners = val::array();
   for (int c : s.corners) corners.call<void>("push", c);
   out.set("corners", corners);
-  val times = val::object();
-  double total = 0;
-  for (const auto& [stage, seconds] : s.times_s) {
-    times.set(stage, seconds);
-    total += seconds;
-  }
-  times.set("total", total);
-  out.set("times_s", times);
+  out.set("times_s", stage_times_object(s.times_s));
   return out;
 }
 

@@ -100,14 +100,7 @@ val stats_to_js(const pipeline::Vol2SplineStats& s, const std::string& name) {
     curve.call<void>("push", l);
   }
   out.set("curve", curve);
-  val times = val::object();
-  double total = 0;
-  for (const auto& [stage, seconds] : s.times_s) {
-    times.set(stage, seconds);
-    total += seconds;
-  }
-  times.set("total", total);
-  out.set("times_s", times);
+  out.set("times_s", stage_times_object(s.times_s));
   return out;
 }
 
