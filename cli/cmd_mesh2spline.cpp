@@ -57,6 +57,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
       {"repair-jacobian", "Q", "move interior control points until the scaled Jacobian is >= Q (0 = off, default; slow)"},
       {"initial-cells", "N", "spline cells along the longest cuboid axis at level 0 (default 4)"},
       {"compare-uniform", "", "also fit uniform B-splines to the same rms_rel (stats: uniform_control_points)"},
+      {"no-untangle", "", "skip the untangling of folded interior control points after the fit (the thesis's plain fit)"},
   };
   for (const auto& common : common_job_options()) specs.push_back(common);
   const Args args = parse_args(argv, specs);
@@ -84,6 +85,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
   options.initial_cells = args.get_int("initial-cells", options.initial_cells);
   options.threads = args.get_int("threads", options.threads);
   options.compare_uniform = args.has("compare-uniform");
+  options.untangle = !args.has("no-untangle");
   const std::string fit = args.get("fit", "grid");
   if (fit == "grid")
     options.fit = pipeline::Mesh2SplineFit::Grid;
@@ -127,6 +129,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
     j["flipped_triangles"] = s.flipped_triangles;
     j["negative_jacobian_fraction_fit"] = s.negative_jacobian_fraction_fit;
     j["repaired_control_points"] = s.repaired_control_points;
+    j["untangled_control_points"] = s.untangled_control_points;
     j["grid_inverted_hexes"] = s.grid_inverted_hexes;
     j["grid_min_scaled_jacobian"] = s.grid_min_scaled_jacobian;
     j["samples"] = s.samples;

@@ -192,8 +192,9 @@ int run_vol2spline(const std::vector<std::string>& argv) {
       {"type", "T", "raw volumes: uint8|int8|uint16|int16|uint32|int32|float32|float64 (default uint8)"},
       {"spacing", "SX,SY,SZ", "voxel size, overrides the file's (default 1,1,1 for raw)"},
       {"max-rms", "R", "stop refining at density RMS <= R (fraction of the density range; default 0.005)"},
-      {"max-control-points", "N", "the spline never has more control points (default 50000)"},
+      {"max-control-points", "N", "the spline never has more control points (default: voxels/16, within 64..50000)"},
       {"max-levels", "L", "refinement levels after level 0 (default 10)"},
+      {"min-gain-rate", "R", "stop after a level with ln(rms ratio)/ln(control point ratio) < R (default 0.25; 0 = off)"},
       {"initial-cells", "N", "level-0 cells along the longest axis (default longest/8)"},
       {"param", "identity|aligned", "identity: plain voxel grid; aligned: frame-field-aligned (default identity)"},
       {"clusters", "K", "k-means materials, 2..16 (default automatic)"},
@@ -207,7 +208,11 @@ int run_vol2spline(const std::vector<std::string>& argv) {
                            "Fits a trivariate T-spline of (X, Y, Z, density) to a scalar volume (raw, NRRD/NHDR,\n"
                            "legacy VTK structured points, MetaImage) with adaptive refinement (thesis ch. 5).\n"
                            "--param aligned first builds the Hessian frame field, classifies materials, smooths the\n"
-                           "frames and computes the field-aligned parameterization. Exit 2 on bad input.",
+                           "frames and computes the field-aligned parameterization. Refinement stops at the first of:\n"
+                           "--max-rms reached (stop_reason target), the control point budget (budget), a level that\n"
+                           "gains too little, ln(rms ratio)/ln(control point ratio) < --min-gain-rate or < 2 %\n"
+                           "(diminishing), --max-levels (max_levels), no cell left to split (no_cells). A level is only\n"
+                           "started if the budget leaves room for 25 % more control points. Exit 2 on bad input.",
                            specs)
                    .c_str(),
                stdout);
@@ -221,6 +226,7 @@ int run_vol2spline(const std::vector<std::string>& argv) {
   options.max_rms_rel = args.get_double("max-rms", options.max_rms_rel);
   options.max_control_points = args.get_int("max-control-points", options.max_control_points);
   options.max_levels = args.get_int("max-levels", options.max_levels);
+  options.min_gain_rate = args.get_double("min-gain-rate", options.min_gain_rate);
   options.initial_cells = args.get_int("initial-cells", options.initial_cells);
   options.threads = args.get_int("threads", options.threads);
   options.clusters = args.get_int("clusters", options.clusters);
@@ -280,6 +286,8 @@ int run_vol2spline(const std::vector<std::string>& argv) {
     j["patches"] = s.patches;
     j["corners"] = s.corners;
     j["levels"] = s.levels;
+    j["stop_reason"] = s.stop_reason;
+    j["max_control_points"] = s.max_control_points;
     j["clusters"] = s.clusters;
     j["constraints"] = s.constraints;
     j["frame_smoothness_initial"] = frame_value(s.frame_smoothness_initial);
@@ -306,8 +314,8 @@ int run_vol2spline(const std::vector<std::string>& argv) {
     io::write_file_atomic(args.get("stats-json"), j.dump(2) + "\n");
   }
   if (!args.has("quiet"))
-    std::fprintf(stderr, "vol2spline: %d control points, %d levels, density_rms_rel %.4g, density_max_rel %.4g\n",
-                 s.control_points, s.levels, s.density_rms_rel, s.density_max_rel);
+    std::fprintf(stderr, "vol2spline: %d control points, %d levels, density_rms_rel %.4g, density_max_rel %.4g, stopped: %s\n",
+                 s.control_points, s.levels, s.density_rms_rel, s.density_max_rel, s.stop_reason.c_str());
   return 0;
 }
 

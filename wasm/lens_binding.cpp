@@ -106,6 +106,10 @@ pipeline::LensOptions lens_options_from_js(const val& o) {
   options.tol_rel = number_option(o, "tol_rel", options.tol_rel);
   options.max_iterations = integer("max_iterations", options.max_iterations);
   options.render = bool_option(o, "render", options.render);
+  const std::string mode = string_option(o, "mode", "full");
+  if (mode == "full") options.mode = pipeline::LensMode::Full;
+  else if (mode == "live") options.mode = pipeline::LensMode::Live;
+  else throw Error("option 'mode': unknown '" + mode + "' (full, live)");
   return options;  // ranges are checked by run_lens
 }
 
@@ -122,6 +126,7 @@ val stats_to_js(const pipeline::LensStats& s) {
   out.set("flipped_triangles", s.flipped_triangles);
   out.set("iterations", s.iterations);
   out.set("converged", s.converged);
+  out.set("translated", s.translated);
   out.set("height", s.height);
   out.set("baseline_parameter", s.baseline_parameter);
   out.set("vertices", s.vertices);
@@ -199,6 +204,7 @@ val counters_to_js(const pipeline::LensSessionCounters& c) {
   out.set("mesh_reuses", c.mesh_reuses);
   out.set("calibrations", c.calibrations);
   out.set("calibration_reuses", c.calibration_reuses);
+  out.set("translation_reuses", c.translation_reuses);
   return out;
 }
 

@@ -24,7 +24,8 @@ emscripten::val encode_png(const emscripten::val& image);
 ///           "circle:CX,CY,R" / "rect:X,Y,W,H" / "polygon:X1,Y1,..." (see core/lens/roi.h);
 ///   options plain object, every key optional (defaults of pipeline::LensOptions): method
 ///           ('metric'|'fisheye'|'bifocal'|'zoom'), magnification, height, alpha, grid,
-///           boundary ('pinned'|'square'), band, tol_rel, max_iterations, render (boolean);
+///           boundary ('pinned'|'square'), band, tol_rel, max_iterations, render (boolean),
+///           mode ('full'|'live': pipeline::LensMode; only a LensSession translates live requests);
 ///   progress function (stage, fraction) -> boolean or undefined/null (all four arguments are
 ///           required by Embind), false cancels ("cancelled");
 /// Output: stats with the keys of pipeline::LensStats; positions and texture Float32Array (2 per
@@ -46,7 +47,7 @@ namespace volspline::wasm {
 ///   s.run(image, rois, options, progress) -> exactly what lens(...) returns for the same arguments,
 ///       plus `session` (the counters below); the lens mesh, texture, factorization and calibrated
 ///       h0 of earlier runs are reused, so a new α at a given height only re-runs the iterations;
-///   s.counters() -> {runs, mesh_builds, mesh_reuses, calibrations, calibration_reuses};
+///   s.counters() -> {runs, mesh_builds, mesh_reuses, calibrations, calibration_reuses, translation_reuses};
 ///   s.clear() drops the caches; s.delete() frees the session (Embind objects are not collected).
 class LensSessionBinding {
  public:
@@ -56,7 +57,7 @@ class LensSessionBinding {
   /// See the class comment; never throws ({ok:false, message} on failure).
   emscripten::val run(const emscripten::val& image, const emscripten::val& rois, const emscripten::val& options,
                       const emscripten::val& progress);
-  /// {runs, mesh_builds, mesh_reuses, calibrations, calibration_reuses}.
+  /// {runs, mesh_builds, mesh_reuses, calibrations, calibration_reuses, translation_reuses}.
   emscripten::val counters() const;
   /// Drops every cached mesh, factorization and calibration.
   void clear();

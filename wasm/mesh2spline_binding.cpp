@@ -38,6 +38,18 @@ pipeline::Mesh2SplineOptions job_options_from_js(const val& o) {
   options.smoothing = number_option(o, "smoothing", options.smoothing);
   options.measure_samples = integer_option(o, "measure_samples", options.measure_samples, -1000000, 1000000);
   options.seed = static_cast<std::uint64_t>(integer_option(o, "seed", 1, 0, 2000000000));
+  // The keys below name their option in the message; run_mesh2spline checks every range again.
+  options.max_surface_error_rel = number_option(o, "max_surface_error_rel", options.max_surface_error_rel);
+  if (!(options.max_surface_error_rel > 0.0))
+    throw Error("option 'max_surface_error_rel': expected a number > 0 (fraction of the bounding-box diagonal)");
+  options.area_balance_iterations =
+      integer_option(o, "area_balance_iterations", options.area_balance_iterations, 0, 20);
+  options.min_scaled_jacobian = number_option(o, "min_scaled_jacobian", options.min_scaled_jacobian);
+  if (!(options.min_scaled_jacobian >= 0.0 && options.min_scaled_jacobian <= 0.5))
+    throw Error("option 'min_scaled_jacobian': the Jacobian repair target must be 0 (no repair) or in (0, 0.5]");
+  options.threads = integer_option(o, "threads", options.threads, 1, 1024);
+  options.compare_uniform = bool_option(o, "compare_uniform", options.compare_uniform);
+  options.untangle = bool_option(o, "untangle", options.untangle);
   const std::string fit = string_option(o, "fit", "grid");
   if (fit == "grid") options.fit = pipeline::Mesh2SplineFit::Grid;
   else if (fit == "meshless") options.fit = pipeline::Mesh2SplineFit::Meshless;
@@ -102,6 +114,12 @@ val stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name, co
   out.set("grid_min_scaled_jacobian", s.grid_min_scaled_jacobian);
   out.set("samples", s.samples);
   out.set("min_corner_distance_rel", s.min_corner_distance_rel);
+  out.set("negative_jacobian_fraction_fit", s.negative_jacobian_fraction_fit);
+  out.set("repaired_control_points", s.repaired_control_points);
+  out.set("untangled_control_points", s.untangled_control_points);
+  // null when not computed (compare_uniform off) or not reached, as in the CLI's stats JSON.
+  out.set("uniform_control_points", s.uniform_control_points >= 0 ? val(s.uniform_control_points) : val::null());
+  out.set("uniform_rms_rel", s.uniform_rms_rel);
   val corners = val::array();
   for (int c : s.corners) corners.call<void>("push", c);
   out.set("corners", corners);

@@ -60,6 +60,7 @@ pipeline::Vol2SplineOptions options_from_js(const val& o) {
   options.max_rms_rel = number_option(o, "max_rms_rel", options.max_rms_rel);
   options.max_control_points = integer_option(o, "max_control_points", options.max_control_points);
   options.max_levels = integer_option(o, "max_levels", options.max_levels);
+  options.min_gain_rate = number_option(o, "min_gain_rate", options.min_gain_rate);
   options.initial_cells = integer_option(o, "initial_cells", options.initial_cells);
   options.clusters = integer_option(o, "clusters", options.clusters);
   options.compute_frames = bool_option(o, "compute_frames", options.compute_frames);
@@ -81,6 +82,8 @@ val stats_to_js(const pipeline::Vol2SplineStats& s, const std::string& name) {
   out.set("patches", s.patches);
   out.set("corners", s.corners);
   out.set("levels", s.levels);
+  out.set("max_control_points", s.max_control_points);
+  out.set("stop_reason", s.stop_reason);
   out.set("clusters", s.clusters);
   out.set("constraints", s.constraints);
   out.set("frames_computed", s.frames_computed);

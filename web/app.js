@@ -434,7 +434,9 @@ const lensTab = {
         this.generation = jobs.generation;
       }
       const o = this.options();
-      const options = { ...o, render: false };
+      // While dragging, the core may answer a move by translating the last solved lens (mode
+      // 'live'); the release runs the full job, so what stays on screen is a full result.
+      const options = { ...o, render: false, ...(this.live ? { mode: 'live' } : {}) };
       const c = this.calibrated;
       if (o.method === 'metric' && c && c.magnification === o.magnification && c.grid === o.grid) options.height = c.height;
       const roi = { ...this.roi };
@@ -476,7 +478,7 @@ const lensTab = {
     const now = performance.now();
     const interval = this.lastFrame ? now - this.lastFrame : 0;
     if (interval) { this.frameMs.push(interval); if (this.frameMs.length > 60) this.frameMs.shift(); }
-    this.frameLog.push({ ms: interval, ms_total: r.stats.ms_total, ms_worker: r.ms_worker });
+    this.frameLog.push({ ms: interval, ms_total: r.stats.ms_total, ms_worker: r.ms_worker, translated: r.stats.translated });
     if (this.frameLog.length > 1000) this.frameLog.shift();
     this.lastFrame = now;
   },
@@ -486,7 +488,8 @@ const lensTab = {
   showTiming(r) {
     const median = (a) => { const b = [...a].sort((x, y) => x - y); return b.length ? b[b.length >> 1] : 0; };
     let text = `last run ${r.stats.ms_total.toFixed(1)} ms (worker ${r.ms_worker.toFixed(1)} ms)`;
-    if (r.session) text += r.session.mesh_reuses > (this.reuses ?? 0) ? ' · factorization reused' : '';
+    if (r.stats.translated) text += ' · lens moved, not re-solved (live)';
+    else if (r.session) text += r.session.mesh_reuses > (this.reuses ?? 0) ? ' · factorization reused' : '';
     this.reuses = r.session ? r.session.mesh_reuses : 0;
     if (this.frameMs.length) { const m = median(this.frameMs); text += ` · frame ${m.toFixed(1)} ms (${(1000 / m).toFixed(0)} fps)`; }
     $('lens-timing').textContent = text;

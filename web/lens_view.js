@@ -50,6 +50,18 @@ export class LensView {
     }
     gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, this.buffers.triangles);
     gl.bindVertexArray(null);
+    // The undeformed image under the mesh: a live (translated) lens mesh no longer covers the strip
+    // it moved away from, and there the deformation is the identity.
+    this.background = gl.createVertexArray();
+    this.backgroundBuffer = gl.createBuffer();
+    gl.bindVertexArray(this.background);
+    gl.bindBuffer(gl.ARRAY_BUFFER, this.backgroundBuffer);
+    for (const name of ['position', 'texcoord']) {
+      const loc = gl.getAttribLocation(this.program, name);
+      gl.enableVertexAttribArray(loc);
+      gl.vertexAttribPointer(loc, 2, gl.FLOAT, false, 0, 0);
+    }
+    gl.bindVertexArray(null);
     this.onFrame = null;  // called after each drawn frame
     this.texture = gl.createTexture();
     this.count = 0;
@@ -77,11 +89,15 @@ export class LensView {
     gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE);
     gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE);
     this.image = { width: image.width, height: image.height };
+    this.fullDirty = true;
+    this.box = null;
     for (const c of [this.canvas, this.overlay]) { c.width = image.width; c.height = image.height; }
     this.canvas.parentElement.style.aspectRatio = `${image.width} / ${image.height}`;
     this.canvas.parentElement.style.setProperty('--aspect', String(image.width / image.height));
     const w = image.width, h = image.height;
     const corners = new Float32Array([0, 0, w, 0, w, h, 0, h]);
+    gl.bindBuffer(gl.ARRAY_BUFFER, this.backgroundBuffer);
+    gl.bufferData(gl.ARRAY_BUFFER, new Float32Array([0, 0, w, 0, w, h, 0, 0, w, h, 0, h]), gl.STATIC_DRAW);
     this.setMesh(corners, corners, new Uint32Array([0, 1, 2, 0, 2, 3]));
   }
 
@@ -93,11 +109,35 @@ export class LensView {
     this.requestDraw();
   }
 
+  /// The triangles that move their content (some vertex with position ≠ texture) and the box of
+  /// their output positions [x0, y0, x1, y1]; the others show the image in place, which the
+  /// background quad already draws.
+  static activeTriangles(positions, texture, triangles) {
+    const moved = (v) => positions[2 * v] !== texture[2 * v] || positions[2 * v + 1] !== texture[2 * v + 1];
+    const out = new Uint32Array(triangles.length);
+    let n = 0, x0 = Infinity, y0 = Infinity, x1 = -Infinity, y1 = -Infinity;
+    for (let t = 0; t < triangles.length; t += 3) {
+      const a = triangles[t], b = triangles[t + 1], c = triangles[t + 2];
+      if (!moved(a) && !moved(b) && !moved(c)) continue;
+      out[n++] = a; out[n++] = b; out[n++] = c;
+      for (const v of [a, b, c]) {
+        const x = positions[2 * v], y = positions[2 * v + 1];
+        if (x < x0) x0 = x; if (x > x1) x1 = x; if (y < y0) y0 = y; if (y > y1) y1 = y;
+      }
+    }
+    return { triangles: out.subarray(0, n), box: n ? [x0, y0, x1, y1] : null };
+  }
+
   requestDraw() {
     if (this.frame) return;
     this.frame = requestAnimationFrame(() => {
       this.frame = 0;
+      // Under a software renderer every changed layer costs a composite: the overlay is redrawn
+      // here, at most once per frame and together with the image, not at every pointer event.
+      if (this.overlayDirty) { this.overlayDirty = false; this.drawOverlay(); }
+      if (!this.next && !this.redraw) return;
       if (this.next) { this.upload(this.next); this.next = null; }
+      this.redraw = false;
       this.draw();
       this.onFrame?.();
     });
@@ -119,30 +159,52 @@ export class LensView {
       else gl.bufferData(target, data, gl.DYNAMIC_DRAW);
       this.uploaded[name] = data;
     };
+    const active = LensView.activeTriangles(positions, texture, triangles);
     put(gl.ARRAY_BUFFER, 'position', positions);
     put(gl.ARRAY_BUFFER, 'texcoord', texture);
-    put(gl.ELEMENT_ARRAY_BUFFER, 'triangles', triangles);
+    put(gl.ELEMENT_ARRAY_BUFFER, 'triangles', active.triangles);
     gl.bindVertexArray(null);
-    this.count = triangles.length;
+    this.count = active.triangles.length;
+    // Only the pixels under the lens now or in the previous frame change (the drawing buffer is
+    // preserved): the next draw is clipped to their box, which matters under software rendering.
+    const previous = this.box;
+    this.box = active.box;
+    this.dirty = this.fullDirty || !previous || !active.box ? null
+      : [Math.min(previous[0], active.box[0]), Math.min(previous[1], active.box[1]),
+         Math.max(previous[2], active.box[2]), Math.max(previous[3], active.box[3])];
+    this.fullDirty = false;
   }
 
   /// Sets the ROI circle {cx, cy, r} (input pixels) without calling onChange.
   setRoi(roi) { this.roi = { ...roi }; this.drawOverlay(); }
 
+  /// Redraws the overlay at the next animation frame.
+  requestOverlay() { this.overlayDirty = true; this.requestDraw(); }
+
   draw() {
     const gl = this.gl;
     if (!this.image) return;
     gl.viewport(0, 0, this.canvas.width, this.canvas.height);
-    gl.clearColor(0, 0, 0, 1);
-    gl.clear(gl.COLOR_BUFFER_BIT);
+    const d = this.dirty;
+    this.dirty = null;  // a later plain redraw (e.g. a resize of the page) draws everything
+    if (d) {
+      // Canvas pixels equal image pixels; GL's y runs upwards. Two pixels of margin for the edges.
+      const x0 = Math.max(0, Math.floor(d[0]) - 2), x1 = Math.min(this.canvas.width, Math.ceil(d[2]) + 2);
+      const y0 = Math.max(0, Math.floor(d[1]) - 2), y1 = Math.min(this.canvas.height, Math.ceil(d[3]) + 2);
+      gl.enable(gl.SCISSOR_TEST);
+      gl.scissor(x0, this.canvas.height - y1, Math.max(0, x1 - x0), Math.max(0, y1 - y0));
+    }
     gl.useProgram(this.program);
     gl.uniform2f(this.uniforms.size, this.image.width, this.image.height);
     gl.activeTexture(gl.TEXTURE0);
     gl.bindTexture(gl.TEXTURE_2D, this.texture);
     gl.uniform1i(this.uniforms.image, 0);
+    gl.bindVertexArray(this.background);
+    gl.drawArrays(gl.TRIANGLES, 0, 6);
     gl.bindVertexArray(this.vao);
     gl.drawElements(gl.TRIANGLES, this.count, gl.UNSIGNED_INT, 0);
     gl.bindVertexArray(null);
+    gl.disable(gl.SCISSOR_TEST);
   }
 
   drawOverlay() {
@@ -199,7 +261,7 @@ export class LensView {
       } else {
         this.roi.r = Math.max(4, Math.min(0.5 * Math.min(width, height), Math.hypot(x - this.roi.cx, y - this.roi.cy)));
       }
-      this.drawOverlay();
+      this.requestOverlay();
       this.onChange({ ...this.roi }, true);
     });
     const end = () => {

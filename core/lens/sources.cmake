@@ -9,4 +9,5 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/baseline_lens.cpp
   ${CMAKE_CURRENT_LIST_DIR}/lens_measures.cpp
   ${CMAKE_CURRENT_LIST_DIR}/rasterize.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/roi_translation.cpp
 )

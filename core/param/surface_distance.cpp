@@ -2,6 +2,7 @@
 #include "core/param/surface_distance.h"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 #include <limits>
@@ -32,7 +33,25 @@ Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen:
   return a + v * ab + w * ac;
 }
 
-SurfaceDistance::SurfaceDistance(const mesh::TriangleMesh& mesh) : mesh_(mesh) {
+namespace {
+
+// Squared distance from p to the box [lo, hi] (0 inside).
+inline double box_distance2(const double* p, const double* lo, const double* hi) {
+  double d2 = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    const double g = std::max({lo[a] - p[a], p[a] - hi[a], 0.0});
+    d2 += g * g;
+  }
+  return d2;
+}
+
+// A lower bound skips a box only when it is clearly above the best squared distance, so
+// rounding in the bound never hides a triangle that ties.
+inline bool farther(double bound2, double best2) { return bound2 * (1.0 - 1e-12) > best2; }
+
+}  // namespace
+
+SurfaceDistance::SurfaceDistance(const mesh::TriangleMesh& mesh) {
   assert(mesh.num_faces() > 0);
   const Eigen::Vector3d lo = mesh.positions.colwise().minCoeff().transpose();
   const Eigen::Vector3d hi = mesh.positions.colwise().maxCoeff().transpose();
@@ -44,63 +63,96 @@ SurfaceDistance::SurfaceDistance(const mesh::TriangleMesh& mesh) : mesh_(mesh) {
   origin_ = lo;
   for (int a = 0; a < 3; ++a) size_(a) = std::max(1, static_cast<int>(std::ceil(extent(a) / cell_)));
   const int num_buckets = size_.prod();
-  std::vector<std::vector<int>> buckets(num_buckets);
   auto index = [&](double x, int a) {
     return std::clamp(static_cast<int>((x - origin_(a)) / cell_), 0, size_(a) - 1);
   };
-  for (int f = 0; f < mesh.num_faces(); ++f) {
-    Eigen::Vector3d tlo = mesh.positions.row(mesh.triangles(f, 0)).transpose(), thi = tlo;
-    for (int k = 1; k < 3; ++k) {
-      tlo = tlo.cwiseMin(mesh.positions.row(mesh.triangles(f, k)).transpose());
-      thi = thi.cwiseMax(mesh.positions.row(mesh.triangles(f, k)).transpose());
+  const int num_faces = mesh.num_faces();
+  corners_.resize(9 * std::size_t(num_faces));
+  boxes_.resize(6 * std::size_t(num_faces));
+  std::vector<std::array<int, 6>> ranges(num_faces);
+  std::vector<int> counts(num_buckets + 1, 0);
+  for (int f = 0; f < num_faces; ++f) {
+    double* c = corners_.data() + 9 * std::size_t(f);
+    double* box = boxes_.data() + 6 * std::size_t(f);
+    for (int k = 0; k < 3; ++k)
+      for (int a = 0; a < 3; ++a) c[3 * k + a] = mesh.positions(mesh.triangles(f, k), a);
+    for (int a = 0; a < 3; ++a) {
+      box[a] = std::min({c[a], c[3 + a], c[6 + a]});
+      box[3 + a] = std::max({c[a], c[3 + a], c[6 + a]});
+      ranges[f][a] = index(box[a], a);
+      ranges[f][3 + a] = index(box[3 + a], a);
     }
-    for (int z = index(tlo.z(), 2); z <= index(thi.z(), 2); ++z)
-      for (int y = index(tlo.y(), 1); y <= index(thi.y(), 1); ++y)
-        for (int x = index(tlo.x(), 0); x <= index(thi.x(), 0); ++x)
-          buckets[x + size_(0) * (y + size_(1) * z)].push_back(f);
+    for (int z = ranges[f][2]; z <= ranges[f][5]; ++z)
+      for (int y = ranges[f][1]; y <= ranges[f][4]; ++y)
+        for (int x = ranges[f][0]; x <= ranges[f][3]; ++x) ++counts[x + size_(0) * (y + size_(1) * z) + 1];
   }
-  bucket_begin_.assign(1, 0);
-  for (const auto& b : buckets) {
-    bucket_triangles_.insert(bucket_triangles_.end(), b.begin(), b.end());
-    bucket_begin_.push_back(static_cast<int>(bucket_triangles_.size()));
-  }
+  for (int b = 0; b < num_buckets; ++b) counts[b + 1] += counts[b];
+  bucket_begin_ = counts;
+  bucket_triangles_.resize(counts.back());
+  for (int f = 0; f < num_faces; ++f)
+    for (int z = ranges[f][2]; z <= ranges[f][5]; ++z)
+      for (int y = ranges[f][1]; y <= ranges[f][4]; ++y)
+        for (int x = ranges[f][0]; x <= ranges[f][3]; ++x) bucket_triangles_[counts[x + size_(0) * (y + size_(1) * z)]++] = f;
 }
 
-double SurfaceDistance::distance(const Eigen::Vector3d& p) const {
+double SurfaceDistance::search(const Eigen::Vector3d& p, double best2, double stop2) const {
   Eigen::Vector3i centre;
   for (int a = 0; a < 3; ++a)
     centre(a) = std::clamp(static_cast<int>(std::floor((p(a) - origin_(a)) / cell_)), 0, size_(a) - 1);
   // Distance from p to the grid box, a lower bound for everything in it.
   const Eigen::Vector3d box_hi = origin_ + cell_ * size_.cast<double>();
   const double outside = (origin_ - p).cwiseMax(p - box_hi).cwiseMax(0.0).norm();
-  double best2 = std::numeric_limits<double>::infinity();
   const int max_ring = size_.maxCoeff();
   for (int ring = 0; ring <= max_ring; ++ring) {
     // Everything in ring r is at least (r − 1)·cell away from p (p may sit anywhere in its bucket).
     const double bound = std::max(0.0, (ring - 1) * cell_) + outside;
-    if (bound * bound > best2) break;
-    for (int z = centre.z() - ring; z <= centre.z() + ring; ++z) {
-      if (z < 0 || z >= size_(2)) continue;
-      for (int y = centre.y() - ring; y <= centre.y() + ring; ++y) {
-        if (y < 0 || y >= size_(1)) continue;
-        for (int x = centre.x() - ring; x <= centre.x() + ring; ++x) {
+    if (farther(bound * bound, best2)) break;
+    for (int z = std::max(0, centre.z() - ring); z <= std::min(size_(2) - 1, centre.z() + ring); ++z) {
+      const bool z_shell = std::abs(z - centre.z()) == ring;
+      for (int y = std::max(0, centre.y() - ring); y <= std::min(size_(1) - 1, centre.y() + ring); ++y) {
+        const bool yz_shell = z_shell || std::abs(y - centre.y()) == ring;
+        // Inside the shell only x = centre ± ring belong to this ring.
+        const int step = yz_shell ? 1 : std::max(1, 2 * ring);
+        for (int x = centre.x() - ring; x <= centre.x() + ring; x += step) {
           if (x < 0 || x >= size_(0)) continue;
-          if (std::max({std::abs(x - centre.x()), std::abs(y - centre.y()), std::abs(z - centre.z())}) != ring)
-            continue;
+          const double lo[3] = {origin_(0) + x * cell_, origin_(1) + y * cell_, origin_(2) + z * cell_};
+          const double hi[3] = {lo[0] + cell_, lo[1] + cell_, lo[2] + cell_};
+          if (farther(box_distance2(p.data(), lo, hi), best2)) continue;
           const int b = x + size_(0) * (y + size_(1) * z);
           for (int k = bucket_begin_[b]; k < bucket_begin_[b + 1]; ++k) {
             const int f = bucket_triangles_[k];
-            const Eigen::Vector3d q = closest_point_on_triangle(
-                p, mesh_.positions.row(mesh_.triangles(f, 0)).transpose(),
-                mesh_.positions.row(mesh_.triangles(f, 1)).transpose(),
-                mesh_.positions.row(mesh_.triangles(f, 2)).transpose());
+            const double* box = boxes_.data() + 6 * std::size_t(f);
+            if (farther(box_distance2(p.data(), box, box + 3), best2)) continue;
+            const double* c = corners_.data() + 9 * std::size_t(f);
+            const Eigen::Vector3d q = closest_point_on_triangle(p, Eigen::Vector3d(c[0], c[1], c[2]),
+                                                                Eigen::Vector3d(c[3], c[4], c[5]),
+                                                                Eigen::Vector3d(c[6], c[7], c[8]));
             best2 = std::min(best2, (q - p).squaredNorm());
+            if (best2 <= stop2) return best2;
           }
         }
       }
     }
   }
-  return std::sqrt(best2);
+  return best2;
+}
+
+double SurfaceDistance::distance(const Eigen::Vector3d& p) const {
+  return std::sqrt(search(p, std::numeric_limits<double>::infinity(), -1.0));
+}
+
+double SurfaceDistance::distance_below(const Eigen::Vector3d& p, double limit) const {
+  assert(limit >= 0.0);
+  const double limit2 = limit * limit;
+  const double best2 = search(p, limit2, -1.0);
+  return best2 < limit2 ? std::min(limit, std::sqrt(best2)) : limit;
+}
+
+bool SurfaceDistance::within(const Eigen::Vector3d& p, double radius) const {
+  assert(radius >= 0.0);
+  // Only triangles within the radius matter: start the search just above it.
+  const double radius2 = radius * radius;
+  return search(p, std::nextafter(radius2, std::numeric_limits<double>::infinity()), radius2) <= radius2;
 }
 
 }  // namespace volspline::param

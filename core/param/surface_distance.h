@@ -14,7 +14,8 @@ Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen:
                                           const Eigen::Vector3d& b, const Eigen::Vector3d& c);
 
 /// Unsigned distance from points to a triangle mesh, accelerated by a uniform grid of buckets
-/// (exact: rings of buckets are searched until no closer triangle can exist).
+/// (exact: rings of buckets are searched until no closer triangle can exist; buckets and
+/// triangles whose bounding box is farther than the best distance so far are skipped).
 class SurfaceDistance {
  public:
   /// Builds the bucket grid over the mesh's bounding box (about 2 triangles per bucket side).
@@ -22,9 +23,19 @@ class SurfaceDistance {
   explicit SurfaceDistance(const mesh::TriangleMesh& mesh);
   /// Distance from p to the nearest point of the mesh, model units.
   double distance(const Eigen::Vector3d& p) const;
+  /// min(distance(p), limit), model units; the search only looks closer than limit, so a tight
+  /// limit (e.g. a distance known from elsewhere) makes it cheaper. limit >= 0 or +inf.
+  double distance_below(const Eigen::Vector3d& p, double limit) const;
+  /// True if some point of the mesh is within radius of p (distance(p) <= radius, up to rounding
+  /// when they tie); stops at the first such triangle. radius >= 0.
+  bool within(const Eigen::Vector3d& p, double radius) const;
 
  private:
-  mesh::TriangleMesh mesh_;
+  // Smallest squared distance from p below best2, stopping once it is <= stop2.
+  double search(const Eigen::Vector3d& p, double best2, double stop2) const;
+
+  std::vector<double> corners_;  // 9 per triangle: a, b, c
+  std::vector<double> boxes_;    // 6 per triangle: min xyz, max xyz
   Eigen::Vector3d origin_;
   double cell_ = 1.0;
   Eigen::Vector3i size_;

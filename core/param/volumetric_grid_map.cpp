@@ -9,6 +9,7 @@
 #include "core/common/error.h"
 #include "core/linalg/conjugate_gradient.h"
 #include "core/linalg/csr_matrix.h"
+#include "core/param/hex_grid_untangling.h"
 
 namespace volspline::param {
 
@@ -102,18 +103,32 @@ VolumetricGridMap compute_volumetric_grid_map(const CuboidSurfaceLocator& locato
     grid.converged = true;
   }
 
-  for (int k = 0; k + 1 < n[2]; ++k)
-    for (int j = 0; j + 1 < n[1]; ++j)
-      for (int i = 0; i + 1 < n[0]; ++i) {
-        std::array<Eigen::Vector3d, 8> corners;
-        for (int c = 0; c < 8; ++c)
-          corners[c] = grid.xyz.row(grid_node_index(n, i + (c & 1), j + ((c >> 1) & 1),
-                                                    k + ((c >> 2) & 1))).transpose();
-        const double q = hex_min_scaled_jacobian(corners);
-        ++grid.num_hexes;
-        if (q <= 0.0) ++grid.num_inverted_hexes;
-        grid.min_scaled_jacobian = std::min(grid.min_scaled_jacobian, q);
-      }
+  auto check_hexes = [&] {
+    grid.num_hexes = grid.num_inverted_hexes = 0;
+    grid.min_scaled_jacobian = 1.0;
+    for (int k = 0; k + 1 < n[2]; ++k)
+      for (int j = 0; j + 1 < n[1]; ++j)
+        for (int i = 0; i + 1 < n[0]; ++i) {
+          std::array<Eigen::Vector3d, 8> corners;
+          for (int c = 0; c < 8; ++c)
+            corners[c] = grid.xyz.row(grid_node_index(n, i + (c & 1), j + ((c >> 1) & 1),
+                                                      k + ((c >> 2) & 1))).transpose();
+          const double q = hex_min_scaled_jacobian(corners);
+          ++grid.num_hexes;
+          if (q <= 0.0) ++grid.num_inverted_hexes;
+          grid.min_scaled_jacobian = std::min(grid.min_scaled_jacobian, q);
+        }
+  };
+  check_hexes();
+  grid.harmonic_inverted_hexes = grid.num_inverted_hexes;
+  if (options.untangle && grid.num_inverted_hexes > 0 && num_interior > 0) {
+    // §3.4.2 takes the harmonic nodes as they are; the fit would copy their folds into the
+    // spline, so they are untangled first (the harmonic grid is the start).
+    std::vector<char> fixed(total);
+    for (int id = 0; id < total; ++id) fixed[id] = unknown[id] < 0;
+    grid.untangled_nodes = untangle_hex_grid(n, fixed, grid.xyz).free_nodes;
+    check_hexes();
+  }
   return grid;
 }
 

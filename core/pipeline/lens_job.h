@@ -27,6 +27,16 @@ enum class LensBoundary {
   Square,  ///< §6.4 boundary control: only the image border, on a square scaled by √(A_lens/A_image); the result is scaled back to the image size
 };
 
+/// How exactly a request is answered (metric lens in a LensSession; run_lens() always solves).
+enum class LensMode {
+  Full,  ///< always the full job: results depend only on the input and the other options
+  Live,  ///< interactive preview while the user drags: a LensSession may answer a request whose ROIs
+         ///< are a pure translation of its last solved metric run (same shapes, sizes and options,
+         ///< pinned boundary, the lens and its context band clear of the image border in both places)
+         ///< with that run's deformation moved by the offset, without solving again (stats.translated);
+         ///< it differs from a full run only by where the grid samples the lens. Otherwise as Full.
+};
+
 /// Options of the lens job; every field is checked on entry.
 struct LensOptions {
   LensMethod method = LensMethod::Metric;
@@ -39,6 +49,7 @@ struct LensOptions {
   double tol_rel = 1e-3;       ///< flattening stops when the energy changes by less than this fraction
   int max_iterations = 300;    ///< flattening iterations at most, in [1, 100000]
   bool render = true;          ///< render the output image (false: mesh and stats only)
+  LensMode mode = LensMode::Full;
 };
 
 /// Input of the lens job.
@@ -59,6 +70,7 @@ struct LensStats {
   int flipped_triangles = 0;       ///< output triangles with non-positive area (grid triangles)
   int iterations = 0;              ///< flattening iterations of the final run (0 for baselines)
   bool converged = true;
+  bool translated = false;         ///< LensMode::Live answered by moving an earlier run's deformation (its stats)
   double height = 0;               ///< lens height h0 used, in ROI inscribed radii (metric)
   double baseline_parameter = 0;   ///< the baselines' magnification parameter after calibration
   int vertices = 0;                ///< output mesh vertices

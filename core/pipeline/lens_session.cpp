@@ -6,6 +6,7 @@
 #include <cmath>
 #include <deque>
 #include <memory>
+#include <optional>
 
 #include <Eigen/Geometry>
 
@@ -17,6 +18,7 @@
 #include "core/lens/lens_texture.h"
 #include "core/lens/rasterize.h"
 #include "core/lens/roi_field.h"
+#include "core/lens/roi_translation.h"
 
 namespace volspline::pipeline {
 
@@ -195,6 +197,59 @@ SearchResult search_parameter(Measure measure, double target, double p0, double 
   return {best, slope};
 }
 
+// The last solved metric run with the pinned boundary and the lens clear of the image border: what
+// a LensMode::Live request may translate.
+struct TranslationBase {
+  int width = 0, height = 0;
+  LensOptions options;  // as requested (height may be 0: calibrated)
+  std::vector<lens::Roi> rois;
+  LensResult result;  // positions, texture, triangles and stats; no image
+};
+
+// Every option that shapes a metric deformation, the height aside (render and mode do not).
+bool same_deformation_options(const LensOptions& a, const LensOptions& b) {
+  return a.method == b.method && a.magnification == b.magnification && a.alpha == b.alpha && a.grid == b.grid &&
+         a.boundary == b.boundary && a.band == b.band && a.tol_rel == b.tol_rel && a.max_iterations == b.max_iterations;
+}
+
+// True if every ROI's lens and context band (the free vertices of §6.3.1 with pinned context) stay
+// at least one grid cell and a half inside the image: the pinned border then plays no part, so the
+// flattening does not change when the ROIs move, apart from where the grid samples the lens.
+bool lens_clear_of_border(const std::vector<lens::Roi>& rois, const std::vector<lens::RoiField>& fields, int width,
+                          int height, int grid, double band) {
+  const double margin = 1.5 * double(std::max(width, height)) / (grid - 1);
+  for (std::size_t i = 0; i < rois.size(); ++i) {
+    const lens::PixelBox box = lens::roi_reach_box(rois[i], band * fields[i].equivalent_radius());
+    if (box.x0 < margin || box.y0 < margin || box.x1 > width - margin || box.y1 > height - margin) return false;
+  }
+  return true;
+}
+
+// LensMode::Live: the base run's deformation moved by `offset`. Pinned vertices keep position =
+// texture, so moving both moves the lens and leaves the context the identity; pixels the moved mesh
+// uncovers render as the identity too. Eq. 6.9 and the magnification are translation invariant, so
+// the base's stats stand (timings apart: ms_total is left to the caller).
+LensResult translated(const TranslationBase& base, const Eigen::Vector2d& offset, const LensInput& input,
+                      const LensOptions& options, const Progress& progress) {
+  LensResult result;
+  result.positions = base.result.positions.rowwise() + offset.transpose();
+  result.texture = base.result.texture.rowwise() + offset.transpose();
+  result.triangles = base.result.triangles;
+  result.stats = base.result.stats;
+  LensStats& s = result.stats;
+  s.translated = true;
+  s.ms_calibration = s.ms_mesh = s.ms_factorize = s.ms_per_iteration = s.ms_render = 0;
+  if (options.render) {
+    progress.report("render", 0.0);
+    const auto t_render = Clock::now();
+    result.image = lens::render_textured_mesh(input.image, result.positions, result.texture, result.triangles,
+                                              input.image.width, input.image.height);
+    s.ms_render = ms_since(t_render);
+  }
+  progress.report("done", 1.0);
+  return result;
+}
+
 void validate(const LensInput& input, const LensOptions& o) {
   const auto bad = [](const std::string& what) { throw Error(what); };
   if (input.image.width <= 0 || input.image.height <= 0 || input.image.channels < 1 || input.image.channels > 4 ||
@@ -220,6 +275,7 @@ void validate(const LensInput& input, const LensOptions& o) {
 struct LensSession::Cache {
   std::deque<std::shared_ptr<const PreparedMesh>> meshes;  // most recently used first
   std::deque<CalibrationKey> calibrations;                 // most recent first
+  std::unique_ptr<TranslationBase> base;                   // for LensMode::Live
 
   // One metric run at height h: the cached mesh and factorization if any, else a new one.
   Deformation run_metric(const std::vector<lens::RoiField>& rois, const MeshKey& key, const LensOptions& options,
@@ -260,6 +316,25 @@ LensResult LensSession::run(const LensInput& input, const LensOptions& options, 
   const int width = input.image.width, height = input.image.height;
   std::vector<lens::RoiField> rois;
   for (const lens::Roi& roi : input.rois) rois.push_back(lens::RoiField::build(roi, width, height, options.band));
+  const bool translatable = options.method == LensMethod::Metric && options.boundary == LensBoundary::Pinned &&
+                            lens_clear_of_border(input.rois, rois, width, height, options.grid, options.band);
+  if (options.mode == LensMode::Live && translatable && cache_->base) {
+    const TranslationBase& base = *cache_->base;
+    const bool same_height = options.height == base.options.height ||
+                             (options.height > 0 && options.height == base.result.stats.height);
+    const std::optional<Eigen::Vector2d> offset =
+        base.width == width && base.height == height && same_height &&
+                same_deformation_options(base.options, options)
+            ? lens::roi_translation(base.rois, input.rois)
+            : std::nullopt;
+    if (offset) {
+      LensResult result = translated(base, *offset, input, options, progress);
+      result.stats.ms_total = ms_since(t_total);
+      ++counters_.translation_reuses;
+      ++counters_.runs;
+      return result;
+    }
+  }
   progress.report("lens mesh", 0.0);
 
   LensResult result;
@@ -405,6 +480,16 @@ LensResult LensSession::run(const LensInput& input, const LensOptions& options, 
   result.positions = std::move(d.positions);
   result.texture = std::move(d.texture);
   result.triangles = std::move(d.triangles);
+  if (translatable && result.positions.rows() <= kMaxCachedVertices) {
+    // The newest solved run is the base of later live translations (a copy of the mesh arrays).
+    auto base = std::make_unique<TranslationBase>();
+    base->width = width, base->height = height, base->options = options, base->rois = input.rois;
+    base->result.positions = result.positions;
+    base->result.texture = result.texture;
+    base->result.triangles = result.triangles;
+    base->result.stats = s;
+    cache_->base = std::move(base);
+  }
   s.ms_total = ms_since(t_total);
   progress.report("done", 1.0);
   ++counters_.runs;

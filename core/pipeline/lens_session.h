@@ -15,6 +15,7 @@ struct LensSessionCounters {
   int mesh_reuses = 0;         ///< flattenings that reused a cached mesh and factorization
   int calibrations = 0;        ///< h0 searches (and fold-free checks) done
   int calibration_reuses = 0;  ///< h0 searches skipped because the same request was answered before
+  int translation_reuses = 0;  ///< LensMode::Live runs answered by translating the last solved run
 };
 
 /// A lens job that keeps its expensive intermediate results between runs, for live interaction.
@@ -24,6 +25,8 @@ struct LensSessionCounters {
 /// h0 of the calibration. So a new α only re-runs the iterations of Algorithm 5 when the height is
 /// given, and a repeated request re-runs neither the calibration nor any factorization. Results are
 /// bit-identical to run_lens() with the same input and options; only the ms_* timings differ.
+/// The one exception is opt-in: with LensMode::Live, a request whose ROIs only moved since the last
+/// solved metric run is answered by translating that run's deformation (see LensMode::Live).
 /// No key holds pixels: nothing cached depends on them (rendering always reads the input image).
 /// The caches are small (a few meshes, bounded by vertex count). Not thread-safe.
 class LensSession {

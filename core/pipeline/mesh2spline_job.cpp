@@ -15,12 +15,13 @@
 #include "core/mesh/halfedge_mesh.h"
 #include "core/mesh/mesh_report.h"
 #include "core/param/cuboid_surface_locator.h"
-#include "core/param/surface_distance.h"
 #include "core/param/volumetric_grid_map.h"
+#include "core/pipeline/mesh2spline_measures.h"
 #include "core/polycube/cuboid_layout.h"
 #include "core/spline/bspline_volume.h"
 #include "core/spline/hierarchical_refinement.h"
 #include "core/spline/jacobian_repair.h"
+#include "core/spline/spline_untangling.h"
 #include "core/spline/tspline_fitting.h"
 
 namespace volspline::pipeline {
@@ -232,34 +233,6 @@ std::vector<int> functions_to_refit(const spline::TSpline& refined, const spline
   return ids;
 }
 
-// Distance from x to the spline's boundary surface near the boundary parameter uvw: Gauss–
-// Newton on the two in-face parameters (clamped to the face), a few steps from uvw.
-double surface_projection_distance(const spline::TSpline& ts, Eigen::Vector3d uvw, const Eigen::Vector3d& x) {
-  int axis = 0;
-  for (int a = 0; a < 3; ++a)
-    if (uvw(a) <= 0.0 || uvw(a) >= 1.0) axis = a;
-  const int b = (axis + 1) % 3, c = (axis + 2) % 3;
-  Eigen::Vector3d f = ts.evaluate(uvw);
-  double best = (f - x).norm();
-  for (int iteration = 0; iteration < 6; ++iteration) {
-    const Eigen::Matrix3d jac = ts.jacobian(uvw);
-    Eigen::Matrix<double, 3, 2> t;
-    t << jac.col(b), jac.col(c);
-    const Eigen::Matrix2d normal = t.transpose() * t;
-    if (!(std::abs(normal.determinant()) > 1e-300)) break;
-    const Eigen::Vector2d step = normal.ldlt().solve(t.transpose() * (x - f));
-    Eigen::Vector3d next = uvw;
-    next(b) = std::clamp(next(b) + step(0), 0.0, 1.0);
-    next(c) = std::clamp(next(c) + step(1), 0.0, 1.0);
-    const Eigen::Vector3d fn = ts.evaluate(next);
-    if ((fn - x).norm() >= best) break;
-    uvw = next;
-    f = fn;
-    best = (f - x).norm();
-  }
-  return best;
-}
-
 double rms(const Eigen::VectorXd& e) { return e.size() ? std::sqrt(e.squaredNorm() / e.size()) : 0.0; }
 
 }  // namespace
@@ -340,9 +313,26 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
     const param::VolumetricGridMap grid = param::compute_volumetric_grid_map(locator, grid_options);
     stats.grid_inverted_hexes = grid.num_inverted_hexes;
     stats.grid_min_scaled_jacobian = grid.min_scaled_jacobian;
+    // Interior nodes of hexes still folded after the untangling are no valid targets: a
+    // fold-free spline cannot pass through them, so they are left to the fairing.
+    std::vector<char> folded(grid.xyz.rows(), 0);
+    for (int k = 0; k + 1 < nodes[2] && grid.num_inverted_hexes > 0; ++k)
+      for (int j = 0; j + 1 < nodes[1]; ++j)
+        for (int i = 0; i + 1 < nodes[0]; ++i) {
+          std::array<Eigen::Vector3d, 8> corners;
+          std::array<int, 8> ids;
+          for (int c = 0; c < 8; ++c) {
+            ids[c] = param::grid_node_index(nodes, i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1));
+            corners[c] = grid.xyz.row(ids[c]).transpose();
+          }
+          if (param::hex_min_scaled_jacobian(corners) <= 0.0)
+            for (int id : ids) folded[id] = 1;
+        }
     for (int k = 0; k < nodes[2]; ++k)
       for (int j = 0; j < nodes[1]; ++j)
         for (int i = 0; i < nodes[0]; ++i) {
+          const bool boundary = i == 0 || j == 0 || k == 0 || i == nodes[0] - 1 || j == nodes[1] - 1 || k == nodes[2] - 1;
+          if (folded[param::grid_node_index(nodes, i, j, k)] && !boundary) continue;
           sample_uvw.emplace_back(double(i) / (nodes[0] - 1), double(j) / (nodes[1] - 1), double(k) / (nodes[2] - 1));
           sample_xyz.push_back(grid.xyz.row(param::grid_node_index(nodes, i, j, k)).transpose());
         }
@@ -444,14 +434,29 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
   stats.rms_rel = rms(errors) / diagonal;
   stats.max_rel = errors.size() ? errors.maxCoeff() / diagonal : 0.0;
 
-  // The harmonic grid folds where the cuboid is squeezed into ears and the fit copies the folds:
-  // repair them with the interior control points only (the boundary and its fit stay as they are).
+  // The boundary layer folds where refined boundary cells hold no interior samples (the grid
+  // is coarser than the surface's concave detail): unfold it with the interior control points
+  // only, so the boundary and its surface fit stay exactly as they are.
+  if (options.untangle) {
+    progress.report("untangle", 0.7);
+    const spline::SplineUntangleReport untangled = spline::untangle_spline(ts, samples.uvw, samples.xyz);
+    stats.negative_jacobian_fraction_fit = double(untangled.initial_negative) / untangled.scanned;
+    stats.untangled_control_points = untangled.free_functions;
+    if (untangled.free_functions > 0) {
+      errors = sample_errors(ts, samples);
+      stats.rms_rel = rms(errors) / diagonal;
+      stats.max_rel = errors.size() ? errors.maxCoeff() / diagonal : 0.0;
+    }
+    lap("untangle");
+  }
+
+  // Optional: the Gauss–Newton repair towards a minimum scaled Jacobian.
   if (options.min_scaled_jacobian > 0.0) {
     progress.report("Jacobian repair", 0.7);
     spline::JacobianRepairOptions repair_options;
     repair_options.min_scaled_jacobian = options.min_scaled_jacobian;
     const spline::JacobianRepairReport repair = spline::repair_jacobian(ts, repair_options);
-    stats.negative_jacobian_fraction_fit = double(repair.initial_negative) / repair.points;
+    if (!options.untangle) stats.negative_jacobian_fraction_fit = double(repair.initial_negative) / repair.points;
     stats.repaired_control_points = repair.moved_points;
     errors = sample_errors(ts, samples);
     stats.rms_rel = rms(errors) / diagonal;
@@ -462,95 +467,18 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
   // Measures.
   progress.report("measures", 0.75);
   {
-    const int m = options.measure_samples;
-    mesh::TriangleMesh boundary;
-    boundary.positions.resize(6 * m * m, 3);
-    boundary.triangles.resize(6 * 2 * (m - 1) * (m - 1), 3);
-    int t = 0;
-    for (int face = 0; face < 6; ++face) {
-      const int base = face * m * m;
-      for (int j = 0; j < m; ++j)
-        for (int i = 0; i < m; ++i)
-          boundary.positions.row(base + i + m * j) =
-              ts.evaluate(param::cube_face_point(face, double(i) / (m - 1), double(j) / (m - 1))).transpose();
-      for (int j = 0; j + 1 < m; ++j)
-        for (int i = 0; i + 1 < m; ++i) {
-          const int a = base + i + m * j;
-          boundary.triangles.row(t++) << a, a + 1, a + m + 1;
-          boundary.triangles.row(t++) << a, a + m + 1, a + m;
-        }
-    }
-    const param::SurfaceDistance to_mesh(hm.to_triangle_mesh());
-    const param::SurfaceDistance to_spline(boundary);
-    double max_d = 0.0, sum2 = 0.0;
-    int count = 0;
-    for (int i = 0; i < boundary.num_vertices(); ++i) {
-      const double d = to_mesh.distance(boundary.positions.row(i).transpose());
-      max_d = std::max(max_d, d);
-      sum2 += d * d;
-      ++count;
-    }
-    // The uniform lattice is coarse where the surface map is compressed (ears, tips): there the
-    // spline surface is also sampled on the boundary faces of every refined leaf cell.
-    for (int leaf : refinement.leaves()) {
-      if (refinement.cell_level(leaf) == 0) continue;
-      std::vector<Eigen::Vector3d> uvw, unused;
-      const Eigen::Vector3d lo_cell = refinement.cell_min(leaf), hi_cell = refinement.cell_max(leaf);
-      for (int a = 0; a < 3; ++a)
-        for (int side = 0; side < 2; ++side) {
-          if (side == 0 ? lo_cell(a) > 0.0 : hi_cell(a) < 1.0) continue;
-          for (int j = 0; j <= 2; ++j)
-            for (int i = 0; i <= 2; ++i) {
-              Eigen::Vector3d p = lo_cell;
-              p(a) = side;
-              p((a + 1) % 3) += (hi_cell((a + 1) % 3) - lo_cell((a + 1) % 3)) * i / 2.0;
-              p((a + 2) % 3) += (hi_cell((a + 2) % 3) - lo_cell((a + 2) % 3)) * j / 2.0;
-              const double d = to_mesh.distance(ts.evaluate(p));
-              max_d = std::max(max_d, d);
-            }
-        }
-    }
-    // Mesh → spline: the distance to the lattice triangles, or, where less, to the spline
-    // surface point found by Gauss–Newton from the vertex's own surface parameter (the lattice
-    // triangles cut corners where the map is compressed; the projection is on the surface).
-    for (int v = 0; v < hm.num_vertices(); ++v) {
-      if (hm.vertex_halfedge(v) == mesh::no_id) continue;
-      const Eigen::Vector3d x = hm.vertex_position(v);
-      const double d = std::min(to_spline.distance(x), surface_projection_distance(ts, surface_map.uvw.row(v).transpose(), x));
-      max_d = std::max(max_d, d);
-      sum2 += d * d;
-      ++count;
-    }
-    stats.hausdorff_rel = max_d / diagonal;
-    stats.rms_geo_rel = std::sqrt(sum2 / count) / diagonal;
-
-    // Cell centres of a 24³ lattice: along the cuboid's edges any map of a cube onto a smooth
-    // surface is degenerate (the three tangents are coplanar, det J = 0), so no exact edge point.
-    const int nj = 24;
-    int negative = 0;
-    double min_q = 1.0;
-    for (int k = 0; k < nj; ++k)
-      for (int j = 0; j < nj; ++j)
-        for (int i = 0; i < nj; ++i) {
-          const Eigen::Vector3d uvw((i + 0.5) / nj, (j + 0.5) / nj, (k + 0.5) / nj);
-          const Eigen::Matrix3d jac = ts.jacobian(uvw);
-          const double scale = jac.col(0).norm() * jac.col(1).norm() * jac.col(2).norm();
-          const double q = scale > 0.0 ? jac.determinant() / scale : -1.0;
-          if (q <= 0.0) ++negative;
-          min_q = std::min(min_q, q);
-        }
-    stats.min_scaled_jacobian = min_q;
-    stats.negative_jacobian_fraction = double(negative) / (nj * nj * nj);
-    if (options.min_scaled_jacobian == 0.0) stats.negative_jacobian_fraction_fit = stats.negative_jacobian_fraction;
-
-    std::mt19937_64 rng(options.seed);
-    double worst = 0.0;
-    for (int s = 0; s < 100000; ++s) {
-      Eigen::Vector3d uvw;
-      for (int a = 0; a < 3; ++a) uvw(a) = static_cast<double>(rng() >> 11) * 0x1.0p-53;
-      worst = std::max(worst, std::abs(ts.weight_sum(uvw) - 1.0));
-    }
-    stats.semi_standard_max_error = worst;
+    Mesh2SplineMeasureOptions measure_options;
+    measure_options.surface_samples = options.measure_samples;
+    measure_options.seed = options.seed;
+    const Mesh2SplineMeasures measures =
+        measure_mesh2spline(ts, hm, surface_map.uvw, refinement, diagonal, measure_options);
+    stats.hausdorff_rel = measures.hausdorff_rel;
+    stats.rms_geo_rel = measures.rms_geo_rel;
+    stats.min_scaled_jacobian = measures.min_scaled_jacobian;
+    stats.negative_jacobian_fraction = measures.negative_jacobian_fraction;
+    if (options.min_scaled_jacobian == 0.0 && !options.untangle)
+      stats.negative_jacobian_fraction_fit = stats.negative_jacobian_fraction;
+    stats.semi_standard_max_error = measures.semi_standard_max_error;
   }
   lap("measures");
 

@@ -40,6 +40,9 @@ struct Mesh2SplineOptions {
   /// (default: the repair is slow and moves the interior away from the grid samples), else in
   /// (0, 0.5]
   double min_scaled_jacobian = 0.0;
+  /// Unfold the fitted spline near its folds with the interior control points (spline::
+  /// untangle_spline; the boundary stays, so the surface fit is untouched). Off = the thesis's fit.
+  bool untangle = true;
   int threads = 1;                  ///< accepted for the CLI; the job runs on one thread, ≥ 1
   std::uint64_t seed = 1;           ///< seeds the random parameters of semi_standard_max_error
   bool compare_uniform = false;     ///< also fit uniform tensor B-splines to the same rms_rel
@@ -61,10 +64,11 @@ struct Mesh2SplineStats {
   int flipped_triangles = 0;           ///< of the surface map (0: bijective)
   int grid_inverted_hexes = 0;         ///< of the volumetric grid map (grid fit)
   double grid_min_scaled_jacobian = 1; ///< of the volumetric grid map (grid fit)
-  /// before the Jacobian repair, at the repair's 47³ lattice (without repair: the same as
-  /// negative_jacobian_fraction)
+  /// of the fit before the untangling and the repair, at the same 24³ cell centres as
+  /// negative_jacobian_fraction
   double negative_jacobian_fraction_fit = 0;
   int repaired_control_points = 0;            ///< interior control points the repair moved
+  int untangled_control_points = 0;           ///< interior control points free in the untangling
   int samples = 0;
   double min_corner_distance_rel = 0;  ///< closest cuboid corner pair / bbox diagonal
   std::array<int, 8> corners{};        ///< corner vertex ids used
@@ -82,9 +86,10 @@ struct Mesh2SplineResult {
 };
 
 /// Closed genus-0 triangle mesh → one cuboid → trivariate T-spline (thesis ch. 3, 4):
-/// validate, cuboid layout, surface map (§3.4.1), volumetric grid (§3.4.2, grid fit), boundary
-/// restricted control grid (§4.3.1), least-squares fit with hierarchical refinement
-/// (Algorithm 4, §4.3.3), measures. `name` is used in error messages.
+/// validate, cuboid layout, surface map (§3.4.1), volumetric grid (§3.4.2, grid fit; its folds
+/// untangled), boundary restricted control grid (§4.3.1), least-squares fit with hierarchical
+/// refinement (Algorithm 4, §4.3.3), untangling of the spline's folds (options.untangle),
+/// measures. `name` is used in error messages.
 /// Throws volspline::Error on bad options or input: open, non-manifold, several components,
 /// genus ≠ 0, inconsistent orientation, degenerate faces, NaN, or no valid cuboid map;
 /// volspline::Cancelled if progress asks to stop.

@@ -38,7 +38,9 @@ class StageTimer {
 
 void check_options(const Vol2SplineOptions& o) {
   if (!(o.max_rms_rel > 0.0) || !std::isfinite(o.max_rms_rel)) throw Error("vol2spline: max_rms_rel must be > 0");
-  if (o.max_control_points < 64) throw Error("vol2spline: max_control_points must be >= 64");
+  if (o.max_control_points != 0 && o.max_control_points < 64)
+    throw Error("vol2spline: max_control_points must be 0 (automatic) or >= 64");
+  if (!(o.min_gain_rate >= 0.0) || !std::isfinite(o.min_gain_rate)) throw Error("vol2spline: min_gain_rate must be >= 0");
   if (o.max_levels < 0 || o.max_levels > 20) throw Error("vol2spline: max_levels must be in [0, 20]");
   if (o.initial_cells < 0 || o.initial_cells > 256) throw Error("vol2spline: initial_cells must be in [0, 256]");
   if (o.clusters != 0 && (o.clusters < 2 || o.clusters > 16)) throw Error("vol2spline: clusters must be 0 or in [2, 16]");
@@ -137,12 +139,16 @@ Vol2SplineResult run_vol2spline(const volume::Volume& volume, const std::string&
   samples.values.assign(volume.samples.begin(), volume.samples.end());
   spline::AdaptiveDensityOptions fit;
   fit.max_rms_rel = options.max_rms_rel;
-  fit.max_control_points = options.max_control_points;
+  fit.max_control_points = options.max_control_points > 0 ? options.max_control_points
+                                                          : spline::automatic_control_point_budget(volume.num_voxels());
+  stats.max_control_points = fit.max_control_points;
   fit.max_levels = options.max_levels;
+  fit.min_gain_rate = options.min_gain_rate;
   fit.initial_cells = options.initial_cells;
   std::vector<double> reconstruction;
   std::vector<spline::AdaptiveDensityLevel> curve;
   spline::GridError error;
+  spline::FitStopReason stop = spline::FitStopReason::Target;
   int levels = 0;
   auto build = [&]() -> spline::TSpline {
     if (!aligned) {
@@ -150,6 +156,7 @@ Vol2SplineResult run_vol2spline(const volume::Volume& volume, const std::string&
       reconstruction = std::move(r.reconstruction);
       curve = std::move(r.levels);
       error = r.error;
+      stop = r.stop_reason;
       Eigen::MatrixXd points = r.spline.points();
       for (int a = 0; a < 3; ++a) points.col(a) *= volume.spacing(a);
       r.spline.set_points(std::move(points));
@@ -169,6 +176,7 @@ Vol2SplineResult run_vol2spline(const volume::Volume& volume, const std::string&
     spline::ScatteredDensityResult r = spline::fit_scattered_adaptive(uvw, targets, samples.dims, fit, progress);
     reconstruction = std::move(r.reconstruction);
     curve = std::move(r.levels);
+    stop = r.stop_reason;
     error = spline::grid_error(samples, reconstruction);
     return std::move(r.spline);
   };
@@ -179,6 +187,7 @@ Vol2SplineResult run_vol2spline(const volume::Volume& volume, const std::string&
   stats.density_max_rel = error.max_rel;
   stats.control_points = result_spline.num_functions();
   stats.levels = levels;
+  stats.stop_reason = spline::fit_stop_reason_name(stop);
   stats.curve = curve;
   stats.min_scaled_jacobian = spline_min_scaled_jacobian(result_spline);
   timer.lap("measures");

@@ -26,8 +26,9 @@ enum class Vol2SplineParam {
 /// Options of the vol2spline job; every field is checked on entry (volspline::Error).
 struct Vol2SplineOptions {
   double max_rms_rel = 0.005;       ///< stop refining at density RMS / density range ≤ this, > 0
-  int max_control_points = 50000;   ///< the spline never has more control points, ≥ 64
+  int max_control_points = 0;       ///< the spline never has more control points, ≥ 64; 0 = automatic (voxels/16 within [64, 50000], spline::automatic_control_point_budget)
   int max_levels = 10;              ///< refinement levels after level 0, in [0, 20]
+  double min_gain_rate = 0.25;      ///< stop after a level with ln(rms ratio)/ln(control point ratio) below this, ≥ 0 (0 = off); spline::AdaptiveDensityOptions
   int initial_cells = 0;            ///< level-0 cells along the longest axis; 0 = automatic (longest/8)
   Vol2SplineParam param = Vol2SplineParam::Identity;
   bool compute_frames = false;      ///< identity: also run the frame stages (aligned always does)
@@ -46,6 +47,8 @@ struct Vol2SplineStats {
   int patches = 1;                 ///< one patch: the parameterization covers the whole box
   int corners = 0;                 ///< corner constraints used by the aligned parameterization
   int levels = 0;                  ///< refinement levels done after level 0
+  int max_control_points = 0;      ///< the budget the fit ran with (after resolving 0 = automatic)
+  std::string stop_reason;         ///< why refinement stopped: spline::fit_stop_reason_name
   int clusters = 0;                ///< materials found (frame stages only)
   int constraints = 0;             ///< constrained boundary voxels (frame stages only)
   bool frames_computed = false;    ///< the frame fields below are meaningful

@@ -2,6 +2,7 @@
 #include "core/spline/density_fitting.h"
 
 #include <algorithm>
+#include <utility>
 #include <cassert>
 #include <cmath>
 #include <numeric>
@@ -94,15 +95,15 @@ struct Supports {
   const double* at(int i, int a) const { return values.data() + offset[i][a]; }
 };
 
-Supports compute_supports(const TSpline& spline, const std::array<int, 3>& dims) {
-  const int n = spline.num_functions();
-  const Eigen::Vector3d dmax = spline.domain_max();
+Supports compute_supports(const std::vector<BlendingKnots>& knots, const Eigen::VectorXd& weights,
+                          const Eigen::Vector3d& dmax, const std::array<int, 3>& dims) {
+  const int n = static_cast<int>(knots.size());
   Supports s;
   s.lo.resize(n);
   s.hi.resize(n);
   s.offset.resize(n);
   for (int i = 0; i < n; ++i) {
-    const BlendingKnots& k = spline.knots()[i];
+    const BlendingKnots& k = knots[i];
     for (int a = 0; a < 3; ++a) {
       const LocalKnots& r = k[a];
       const bool closed = r[4] == dmax(a);
@@ -113,7 +114,7 @@ Supports compute_supports(const TSpline& spline, const std::array<int, 3>& dims)
       s.lo[i][a] = lo;
       s.hi[i][a] = hi;
       s.offset[i][a] = s.values.size();
-      const double scale = a == 0 ? spline.weights()(i) : 1.0;
+      const double scale = a == 0 ? weights(i) : 1.0;
       for (int t = lo; t <= hi; ++t)
         s.values.push_back(scale * cubic_basis(r, static_cast<double>(t), closed ? RightEnd::Closed : RightEnd::Open));
     }
@@ -174,71 +175,133 @@ std::vector<double> accumulate(const Supports& s, const Eigen::Ref<const Eigen::
 }
 
 // Normal matrix G_ij = Σ_s w_i B_i(s) w_j B_j(s) = Π_a Σ_t N_i^a(t) N_j^a(t) (tensor grid of
-// samples), full symmetric pattern, found through buckets of 8 samples per axis.
-linalg::CsrMatrix gram_matrix(const Supports& s, const std::array<int, 3>& dims, double ridge_rel,
-                              std::vector<double>& ridge) {
+// samples): only the diagonal and the upper triangle (j ≥ i), which is all that CG and its
+// preconditioner read, so the matrix costs half the bytes and half the products. Neighbours are
+// found through buckets of 8 samples per axis.
+linalg::CsrMatrix gram_upper(const Supports& s, const std::array<int, 3>& dims, double ridge_rel,
+                             std::vector<double>& ridge) {
   const int n = static_cast<int>(s.lo.size());
   constexpr int kBucket = 8;
   std::array<int, 3> nb;
   for (int a = 0; a < 3; ++a) nb[a] = (dims[a] + kBucket - 1) / kBucket;
-  std::vector<std::vector<int>> buckets(static_cast<std::size_t>(nb[0]) * nb[1] * nb[2]);
-  for (int i = 0; i < n; ++i) {
-    if (s.empty(i)) continue;
+  std::vector<int> bucket_offsets(static_cast<std::size_t>(nb[0]) * nb[1] * nb[2] + 1, 0), bucket_ids;
+  auto for_buckets = [&](int i, auto&& visit) {
     for (int z = s.lo[i][2] / kBucket; z <= s.hi[i][2] / kBucket; ++z)
       for (int y = s.lo[i][1] / kBucket; y <= s.hi[i][1] / kBucket; ++y)
         for (int x = s.lo[i][0] / kBucket; x <= s.hi[i][0] / kBucket; ++x)
-          buckets[x + nb[0] * (y + static_cast<std::size_t>(nb[1]) * z)].push_back(i);
+          visit(x + nb[0] * (y + static_cast<std::size_t>(nb[1]) * z));
+  };
+  for (int i = 0; i < n; ++i)
+    if (!s.empty(i)) for_buckets(i, [&](std::size_t b) { ++bucket_offsets[b + 1]; });
+  for (std::size_t b = 1; b < bucket_offsets.size(); ++b) bucket_offsets[b] += bucket_offsets[b - 1];
+  bucket_ids.resize(bucket_offsets.back());
+  {
+    std::vector<int> fill(bucket_offsets.begin(), bucket_offsets.end() - 1);
+    for (int i = 0; i < n; ++i)
+      if (!s.empty(i)) for_buckets(i, [&](std::size_t b) { bucket_ids[fill[b]++] = i; });
   }
   std::vector<int> stamp(n, -1);
   std::vector<int> offsets(1, 0), cols;
   std::vector<double> values;
-  std::vector<std::pair<int, double>> row;
+  std::vector<int> row;
   for (int i = 0; i < n; ++i) {
     row.clear();
+    row.push_back(i);
     if (!s.empty(i)) {
-      for (int z = s.lo[i][2] / kBucket; z <= s.hi[i][2] / kBucket; ++z)
-        for (int y = s.lo[i][1] / kBucket; y <= s.hi[i][1] / kBucket; ++y)
-          for (int x = s.lo[i][0] / kBucket; x <= s.hi[i][0] / kBucket; ++x)
-            for (int j : buckets[x + nb[0] * (y + static_cast<std::size_t>(nb[1]) * z)]) {
-              if (stamp[j] == i) continue;
-              stamp[j] = i;
-              double product = 1.0;
-              for (int a = 0; a < 3 && product != 0.0; ++a) {
-                const int lo = std::max(s.lo[i][a], s.lo[j][a]);
-                const int hi = std::min(s.hi[i][a], s.hi[j][a]);
-                product = lo > hi ? 0.0 : product * dot_overlap(s, i, j, a, lo, hi);
-              }
-              if (product != 0.0 || j == i) row.push_back({j, product});
-            }
+      stamp[i] = i;
+      for_buckets(i, [&](std::size_t b) {
+        for (int q = bucket_offsets[b]; q < bucket_offsets[b + 1]; ++q) {
+          const int j = bucket_ids[q];
+          if (j <= i || stamp[j] == i) continue;
+          stamp[j] = i;
+          row.push_back(j);
+        }
+      });
+      std::sort(row.begin() + 1, row.end());
     }
-    if (row.empty() || std::none_of(row.begin(), row.end(), [i](const auto& e) { return e.first == i; }))
-      row.push_back({i, 0.0});
-    std::sort(row.begin(), row.end());
-    for (const auto& [j, v] : row) {
-      cols.push_back(j);
-      values.push_back(v);
+    for (int j : row) {
+      double product = 1.0;
+      if (s.empty(i)) product = 0.0;
+      for (int a = 0; a < 3 && product != 0.0; ++a) {
+        const int lo = std::max(s.lo[i][a], s.lo[j][a]);
+        const int hi = std::min(s.hi[i][a], s.hi[j][a]);
+        product = lo > hi ? 0.0 : product * dot_overlap(s, i, j, a, lo, hi);
+      }
+      if (product != 0.0 || j == i) {
+        cols.push_back(j);
+        values.push_back(product);
+      }
     }
     offsets.push_back(static_cast<int>(cols.size()));
   }
   // Ridge relative to each diagonal entry (the mean one for unsampled functions): keeps G SPD
   // and CG fast where refined cells hold about one sample per knot interval (nearly dependent
-  // columns).
+  // columns). The diagonal is the first entry of every row.
   double trace = 0.0;
-  for (int i = 0; i < n; ++i)
-    for (int k = offsets[i]; k < offsets[i + 1]; ++k)
-      if (cols[k] == i) trace += values[k];
+  for (int i = 0; i < n; ++i) trace += values[offsets[i]];
   const double mean = trace > 0.0 ? trace / n : 1.0;
   ridge.assign(n, 0.0);
-  for (int i = 0; i < n; ++i)
-    for (int k = offsets[i]; k < offsets[i + 1]; ++k)
-      if (cols[k] == i) {
-        ridge[i] = ridge_rel * (values[k] > 0.0 ? values[k] : mean);
-        values[k] += ridge[i];
-      }
+  for (int i = 0; i < n; ++i) {
+    double& d = values[offsets[i]];
+    ridge[i] = ridge_rel * (d > 0.0 ? d : mean);
+    d += ridge[i];
+  }
+  cols.shrink_to_fit();
+  values.shrink_to_fit();
   return linalg::CsrMatrix::from_arrays(n, n, std::move(offsets), std::move(cols), std::move(values));
 }
 
 }  // namespace
+
+int automatic_control_point_budget(std::size_t num_samples) {
+  return static_cast<int>(std::clamp<std::size_t>(num_samples / 16, 64, 50000));
+}
+
+std::vector<int> bulk_mark(std::vector<int> candidates, const std::vector<double>& error, double total,
+                           double fraction, double room, double growth_per_cell, bool* over_budget) {
+  *over_budget = false;
+  std::sort(candidates.begin(), candidates.end(),
+            [&](int a, int b) { return error[a] != error[b] ? error[a] > error[b] : a < b; });
+  std::vector<int> marked;
+  double covered = 0.0;
+  for (int id : candidates) {
+    if (covered >= fraction * total) break;
+    marked.push_back(id);
+    covered += error[id];
+  }
+  if (!marked.empty() && growth_per_cell > 0.0) {
+    const std::size_t affordable = static_cast<std::size_t>(std::max(0.0, 0.9 * room / growth_per_cell));
+    if (affordable == 0) {
+      *over_budget = true;
+      marked.clear();
+    } else if (marked.size() > affordable) {
+      marked.resize(affordable);
+    }
+  }
+  return marked;
+}
+
+const char* fit_stop_reason_name(FitStopReason reason) {
+  switch (reason) {
+    case FitStopReason::Target: return "target";
+    case FitStopReason::Budget: return "budget";
+    case FitStopReason::Diminishing: return "diminishing";
+    case FitStopReason::MaxLevels: return "max_levels";
+    case FitStopReason::NoCells: return "no_cells";
+  }
+  return "unknown";
+}
+
+bool level_gain_too_small(const std::vector<AdaptiveDensityLevel>& levels, const AdaptiveDensityOptions& options) {
+  if (levels.size() < 2) return false;
+  const AdaptiveDensityLevel& before = levels[levels.size() - 2];
+  const AdaptiveDensityLevel& last = levels.back();
+  if (last.rms_rel > (1.0 - options.min_decrease_rel) * before.rms_rel) return true;
+  if (options.min_gain_rate <= 0.0 || last.control_points <= before.control_points) return false;
+  const double rate = std::log(before.rms_rel / last.rms_rel) /
+                      std::log(static_cast<double>(last.control_points) / before.control_points);
+  return rate < options.min_gain_rate;
+}
 
 GridError grid_error(const GridSamples& samples, const std::vector<double>& reconstruction) {
   assert(samples.values.size() == reconstruction.size());
@@ -286,34 +349,55 @@ UniformBsplineFit fit_uniform_bspline(const GridSamples& samples, const std::arr
   return {BsplineVolume(std::move(knots), std::move(points)), std::move(recon), error};
 }
 
+namespace {
+
+// Least-squares fit of columns components[c] of functions.points to targets[c] (fit_tspline_to_grid on
+// plain arrays); supports are those of the functions.
+GridFitReport fit_functions_to_grid(RefinementGrid::Functions& functions, const Supports& s,
+                                    const std::array<int, 3>& dims, const std::vector<int>& components,
+                                    const std::vector<const std::vector<double>*>& targets,
+                                    const GridFitOptions& options) {
+  assert(components.size() == targets.size());
+  const int n = static_cast<int>(functions.knots.size());
+  const int k = static_cast<int>(components.size());
+  std::vector<double> ridge;
+  linalg::CsrMatrix gram = gram_upper(s, dims, options.regularization, ridge);
+  Eigen::MatrixXd rhs(n, k), x(n, k);
+  for (int c = 0; c < k; ++c) {
+    assert(targets[c]->size() == static_cast<std::size_t>(dims[0]) * dims[1] * dims[2]);
+    x.col(c) = functions.points.col(components[c]);
+    for (int i = 0; i < n; ++i)
+      rhs(i, c) = (s.empty(i) ? 0.0 : project(s, i, *targets[c], dims)) + ridge[i] * x(i, c);
+  }
+  GridFitReport report;
+  report.unknowns = n;
+  report.normal_nonzeros = 2LL * gram.nnz() - n;  // both triangles
+  const ComponentSolveReport solve =
+      solve_normal_equations(std::move(gram), rhs, x, options.tolerance, options.max_iterations);
+  for (int c = 0; c < k; ++c) functions.points.col(components[c]) = x.col(c);
+  report.cg_iterations = solve.cg_iterations;
+  report.converged = solve.converged;
+  return report;
+}
+
+}  // namespace
+
 GridFitReport fit_tspline_to_grid(TSpline& spline, const std::array<int, 3>& dims,
                                   const std::vector<int>& components,
                                   const std::vector<const std::vector<double>*>& targets,
                                   const GridFitOptions& options) {
-  assert(components.size() == targets.size());
-  const int n = spline.num_functions();
-  const int k = static_cast<int>(components.size());
-  const Supports s = compute_supports(spline, dims);
-  std::vector<double> ridge;
-  const linalg::CsrMatrix gram = gram_matrix(s, dims, options.regularization, ridge);
-  Eigen::MatrixXd rhs(n, k);
-  for (int c = 0; c < k; ++c) {
-    assert(targets[c]->size() == static_cast<std::size_t>(dims[0]) * dims[1] * dims[2]);
-    for (int i = 0; i < n; ++i)
-      rhs(i, c) = (s.empty(i) ? 0.0 : project(s, i, *targets[c], dims)) + ridge[i] * spline.points()(i, components[c]);
-  }
-  const ComponentSolveReport solve =
-      solve_components(spline, gram, rhs, components, options.tolerance, options.max_iterations);
-  GridFitReport report;
-  report.unknowns = n;
-  report.cg_iterations = solve.cg_iterations;
-  report.converged = solve.converged;
-  report.normal_nonzeros = gram.nnz();
+  RefinementGrid::Functions functions{spline.knots(), spline.weights(), spline.points()};
+  const Supports s = compute_supports(functions.knots, functions.weights, spline.domain_max(), dims);
+  const GridFitReport report = fit_functions_to_grid(functions, s, dims, components, targets, options);
+  if (spline.has_cell_polynomials())
+    spline = TSpline(spline.knots(), spline.weights(), std::move(functions.points), TSplineAcceleration::FunctionLists);
+  else
+    spline.set_points(std::move(functions.points));
   return report;
 }
 
 std::vector<double> evaluate_on_grid(const TSpline& spline, int component, const std::array<int, 3>& dims) {
-  const Supports s = compute_supports(spline, dims);
+  const Supports s = compute_supports(spline.knots(), spline.weights(), spline.domain_max(), dims);
   return accumulate(s, spline.points().col(component), dims);
 }
 
@@ -321,8 +405,11 @@ AdaptiveDensityResult fit_density_adaptive(const GridSamples& samples, const Ada
                                            const pipeline::Progress& progress) {
   check_dims(samples.dims);
   if (!(options.max_rms_rel > 0.0)) throw Error("density fit: max_rms_rel must be > 0");
-  if (options.max_control_points < 64) throw Error("density fit: max_control_points must be >= 64");
+  if (options.max_control_points != 0 && options.max_control_points < 64)
+    throw Error("density fit: max_control_points must be 0 (automatic) or >= 64");
   if (options.initial_cells < 0) throw Error("density fit: initial_cells must be >= 0");
+  if (!(options.min_gain_rate >= 0.0) || !(options.min_level_growth >= 0.0 && options.min_level_growth < 1.0))
+    throw Error("density fit: min_gain_rate must be >= 0 and min_level_growth in [0, 1)");
   if (!(options.min_cell_width > 0.0)) throw Error("density fit: min_cell_width must be > 0");
   if (!(options.marking_fraction > 0.0 && options.marking_fraction <= 1.0))
     throw Error("density fit: marking_fraction must be in (0, 1]");
@@ -332,6 +419,8 @@ AdaptiveDensityResult fit_density_adaptive(const GridSamples& samples, const Ada
   if (!(options.fit.tolerance > 0.0) || options.fit.max_iterations < 1 || !(options.fit.regularization > 0.0))
     throw Error("density fit: CG tolerance and regularization must be > 0, max_iterations >= 1");
   const std::array<int, 3>& dims = samples.dims;
+  const int budget = options.max_control_points > 0 ? options.max_control_points
+                                                    : automatic_control_point_budget(samples.values.size());
   const Eigen::Vector3d hi(dims[0] - 1.0, dims[1] - 1.0, dims[2] - 1.0);
   // Level 0: 2^k uniform cells per axis made by splitting one cell k times, so that every knot
   // is a dyadic point of the domain and the refinement tree has a single root (ray tracing in
@@ -341,119 +430,119 @@ AdaptiveDensityResult fit_density_adaptive(const GridSamples& samples, const Ada
   int splits = 0;
   while ((1 << (splits + 1)) <= wanted && splits < 8) ++splits;
   auto cube = [](int c) { return static_cast<long long>(c + 3) * (c + 3) * (c + 3); };
-  while (splits > 0 && cube(1 << splits) > options.max_control_points) --splits;
+  while (splits > 0 && cube(1 << splits) > budget) --splits;
   progress.report("fit", 0.0);
+  // Eq. 5.11 with the identity parameterization: X, Y, Z are the sample positions. The cubic
+  // Bézier cell with control points at thirds reproduces them, and knot insertion keeps F, so
+  // the splits carry their exact control points along with the density's (columns 1..3).
+  // The refinement works on plain arrays: the grid fit needs only the knots, and a TSpline's
+  // evaluation grid at every level would cost more time and memory than the fit itself.
   std::array<std::vector<double>, 3> knots;
+  Eigen::MatrixXd bezier_points(64, 4);
   for (int a = 0; a < 3; ++a) knots[a] = {0.0, 0.0, 0.0, 0.0, hi(a), hi(a), hi(a), hi(a)};
-  TSpline current = from_bspline_volume(BsplineVolume(knots, Eigen::MatrixXd::Zero(64, 3)),
-                                        TSplineAcceleration::FunctionLists);
-  RefinementGrid grid(Eigen::Vector3d::Zero(), hi, {1, 1, 1});
-  std::vector<std::vector<int>> history;  // leaves split at each step, to replay on the geometry
-  for (int k = 0; k < splits; ++k) {
-    history.push_back(grid.leaves());
-    current = grid.split(current, history.back(), TSplineAcceleration::FunctionLists);
+  for (int k = 0; k < 4; ++k)
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 4; ++i) bezier_points.row(i + 4 * (j + 4 * k)) << 0.0, hi(0) * i / 3.0, hi(1) * j / 3.0, hi(2) * k / 3.0;
+  RefinementGrid::Functions current;
+  {
+    const TSpline bezier = from_bspline_volume(BsplineVolume(knots, bezier_points), TSplineAcceleration::FunctionLists);
+    current = {bezier.knots(), bezier.weights(), bezier.points()};
   }
+  RefinementGrid grid(Eigen::Vector3d::Zero(), hi, {1, 1, 1});
+  for (int k = 0; k < splits; ++k) current = grid.split_functions(current, grid.leaves());
   const std::vector<const std::vector<double>*> density_target = {&samples.values};
-  const GridFitReport first_fit = fit_tspline_to_grid(current, dims, {0}, density_target, options.fit);
-  std::vector<double> recon = evaluate_on_grid(current, 0, dims);
-  GridError error = grid_error(samples, recon);
+  std::vector<double> recon;
+  GridError error;
+  auto fit_and_measure = [&]() {
+    const Supports s = compute_supports(current.knots, current.weights, hi, dims);
+    const GridFitReport report = fit_functions_to_grid(current, s, dims, {0}, density_target, options.fit);
+    recon = accumulate(s, current.points.col(0), dims);
+    error = grid_error(samples, recon);
+    return report;
+  };
+  const GridFitReport first_fit = fit_and_measure();
   std::vector<AdaptiveDensityLevel> levels;
-  levels.push_back({current.num_functions(), error.rms_rel, error.max_rel, first_fit.cg_iterations, grid.num_leaves()});
+  levels.push_back({static_cast<int>(current.knots.size()), error.rms_rel, error.max_rel, first_fit.cg_iterations,
+                    grid.num_leaves()});
   double growth_per_cell = 0.0;  // control points added per split cell at the last level
-  for (int level = 1; level <= options.max_levels; ++level) {
-    if (error.rms_rel <= options.max_rms_rel) break;
-    // Stalled: the last level bought less than the given relative decrease.
-    if (levels.size() >= 2 && error.rms_rel > (1.0 - options.min_decrease_rel) * levels[levels.size() - 2].rms_rel)
+  FitStopReason stop = FitStopReason::MaxLevels;
+  for (int level = 1;; ++level) {
+    const int count = static_cast<int>(current.knots.size());
+    if (error.rms_rel <= options.max_rms_rel) {
+      stop = FitStopReason::Target;
       break;
+    }
+    if (level_gain_too_small(levels, options)) {
+      stop = FitStopReason::Diminishing;
+      break;
+    }
+    if (level > options.max_levels) break;
+    const double room = budget - count;
+    if (room < std::max(1.0, options.min_level_growth * count)) {
+      stop = FitStopReason::Budget;
+      break;
+    }
     progress.report("fit", static_cast<double>(level) / (options.max_levels + 1));
     // Dörfler marking (§4.3.3 refines cells over the threshold; here the cells carrying the
     // given fraction of the squared error, which spends control points where the RMS is made).
-    std::vector<double> sse_of_node;
-    {
-      std::vector<int> leaf_ids = grid.leaves();
-      int max_id = leaf_ids.empty() ? 0 : leaf_ids.back();
-      sse_of_node.assign(static_cast<std::size_t>(max_id) + 1, 0.0);
-      for (int z = 0; z < dims[2]; ++z)
-        for (int y = 0; y < dims[1]; ++y)
-          for (int x = 0; x < dims[0]; ++x) {
-            const std::size_t v = static_cast<std::size_t>(x) + dims[0] * (static_cast<std::size_t>(y) + static_cast<std::size_t>(dims[1]) * z);
-            const double d = recon[v] - samples.values[v];
-            if (d != 0.0) sse_of_node[grid.leaf_of(Eigen::Vector3d(x, y, z))] += d * d;
-          }
-      std::vector<int> candidates;
-      double total = 0.0;
-      for (int id : leaf_ids) {
-        const Eigen::Vector3d width = grid.cell_max(id) - grid.cell_min(id);
-        if (width.minCoeff() >= 2.0 * options.min_cell_width && sse_of_node[id] > 0.0) {
-          candidates.push_back(id);
-          total += sse_of_node[id];
+    std::vector<int> leaf_ids = grid.leaves();
+    std::vector<double> sse_of_node(static_cast<std::size_t>(leaf_ids.back()) + 1, 0.0);
+    for (int z = 0; z < dims[2]; ++z)
+      for (int y = 0; y < dims[1]; ++y)
+        for (int x = 0; x < dims[0]; ++x) {
+          const std::size_t v = static_cast<std::size_t>(x) + dims[0] * (static_cast<std::size_t>(y) + static_cast<std::size_t>(dims[1]) * z);
+          const double d = recon[v] - samples.values[v];
+          if (d != 0.0) sse_of_node[grid.leaf_of(Eigen::Vector3d(x, y, z))] += d * d;
         }
+    std::vector<int> candidates;
+    double total = 0.0;
+    for (int id : leaf_ids) {
+      const Eigen::Vector3d width = grid.cell_max(id) - grid.cell_min(id);
+      if (width.minCoeff() >= 2.0 * options.min_cell_width && sse_of_node[id] > 0.0) {
+        candidates.push_back(id);
+        total += sse_of_node[id];
       }
-      std::sort(candidates.begin(), candidates.end(), [&](int a, int b) {
-        return sse_of_node[a] != sse_of_node[b] ? sse_of_node[a] > sse_of_node[b] : a < b;
-      });
-      std::vector<int> marked;
-      double covered = 0.0;
-      for (int id : candidates) {
-        if (covered >= options.marking_fraction * total) break;
-        marked.push_back(id);
-        covered += sse_of_node[id];
+    }
+    // Budget: predict the new control points from the last split's cost per cell (splits are
+    // expensive to undo); a level that still ends over budget is retried with fewer cells.
+    bool over_budget = false;
+    std::vector<int> marked = bulk_mark(std::move(candidates), sse_of_node, total, options.marking_fraction, room,
+                                        growth_per_cell, &over_budget);
+    if (marked.empty()) {
+      stop = over_budget ? FitStopReason::Budget : FitStopReason::NoCells;
+      break;
+    }
+    bool accepted = false;
+    while (!marked.empty()) {
+      std::vector<int> sorted_marked = marked;
+      std::sort(sorted_marked.begin(), sorted_marked.end());
+      RefinementGrid trial_grid = grid;
+      RefinementGrid::Functions trial = trial_grid.split_functions(current, sorted_marked);
+      const int trial_count = static_cast<int>(trial.knots.size());
+      if (trial_count <= budget) {
+        growth_per_cell = std::max(1.0, static_cast<double>(trial_count - count)) / static_cast<double>(sorted_marked.size());
+        grid = std::move(trial_grid);
+        current = std::move(trial);
+        const GridFitReport report = fit_and_measure();
+        levels.push_back({trial_count, error.rms_rel, error.max_rel, report.cg_iterations, grid.num_leaves()});
+        accepted = true;
+        break;
       }
-      if (marked.empty()) break;
-      // Budget: predict the new control points from the last split's cost per cell (splits are
-      // expensive to undo); a level that still ends over budget is retried with fewer cells.
-      if (growth_per_cell > 0.0) {
-        const double room = options.max_control_points - current.num_functions();
-        const std::size_t affordable = static_cast<std::size_t>(std::max(0.0, 0.9 * room / growth_per_cell));
-        if (affordable == 0) break;
-        if (marked.size() > affordable) marked.resize(affordable);
-      }
-      bool accepted = false;
-      while (!marked.empty()) {
-        std::vector<int> sorted_marked = marked;
-        std::sort(sorted_marked.begin(), sorted_marked.end());
-        RefinementGrid trial_grid = grid;
-        TSpline trial = trial_grid.split(current, sorted_marked, TSplineAcceleration::FunctionLists);
-        if (trial.num_functions() <= options.max_control_points) {
-          growth_per_cell = std::max(1.0, static_cast<double>(trial.num_functions() - current.num_functions())) /
-                            static_cast<double>(sorted_marked.size());
-          const GridFitReport report = fit_tspline_to_grid(trial, dims, {0}, density_target, options.fit);
-          history.push_back(sorted_marked);
-          grid = std::move(trial_grid);
-          current = std::move(trial);
-          recon = evaluate_on_grid(current, 0, dims);
-          error = grid_error(samples, recon);
-          levels.push_back({current.num_functions(), error.rms_rel, error.max_rel, report.cg_iterations,
-                            grid.num_leaves()});
-          accepted = true;
-          break;
-        }
-        // Keep the worse half (marked is ranked by error).
-        marked.resize(marked.size() / 2);
-      }
-      if (!accepted) break;
+      // Keep the worse half (marked is ranked by error).
+      marked.resize(marked.size() / 2);
+    }
+    if (!accepted) {
+      stop = FitStopReason::Budget;
+      break;
     }
   }
   progress.report("fit", 1.0);
-  // Eq. 5.11 with the identity parameterization: X, Y, Z are the sample positions. The cubic
-  // Bézier cell with control points at thirds reproduces them, and knot insertion keeps F, so
-  // replaying the same splits on it gives their exact control points in the final basis.
-  std::array<std::vector<double>, 3> bezier_knots;
-  Eigen::MatrixXd bezier_points(64, 3);
-  for (int a = 0; a < 3; ++a) bezier_knots[a] = {0.0, 0.0, 0.0, 0.0, hi(a), hi(a), hi(a), hi(a)};
-  for (int k = 0; k < 4; ++k)
-    for (int j = 0; j < 4; ++j)
-      for (int i = 0; i < 4; ++i) bezier_points.row(i + 4 * (j + 4 * k)) << hi(0) * i / 3.0, hi(1) * j / 3.0, hi(2) * k / 3.0;
-  TSpline geometry = from_bspline_volume(BsplineVolume(bezier_knots, bezier_points), TSplineAcceleration::FunctionLists);
-  RefinementGrid replay(Eigen::Vector3d::Zero(), hi, {1, 1, 1});
-  for (const std::vector<int>& marked : history) geometry = replay.split(geometry, marked, TSplineAcceleration::FunctionLists);
-  const int n = current.num_functions();
-  assert(geometry.num_functions() == n && geometry.knots() == current.knots());
-  Eigen::MatrixXd points(n, 4);
-  points.leftCols(3) = geometry.points();
-  points.col(3) = current.points().col(0);
-  TSpline out(current.knots(), current.weights(), std::move(points), TSplineAcceleration::FunctionLists);
-  return {std::move(out), std::move(levels), std::move(recon), error, grid.max_level()};
+  // Output layout (X, Y, Z, density).
+  Eigen::MatrixXd points(current.points.rows(), 4);
+  points.leftCols(3) = current.points.rightCols(3);
+  points.col(3) = current.points.col(0);
+  TSpline out(std::move(current.knots), std::move(current.weights), std::move(points), TSplineAcceleration::FunctionLists);
+  return {std::move(out), std::move(levels), std::move(recon), error, grid.max_level(), stop};
 }
 
 }  // namespace volspline::spline

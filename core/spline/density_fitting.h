@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <vector>
 
 #include <Eigen/Core>
@@ -45,7 +46,7 @@ UniformBsplineFit fit_uniform_bspline(const GridSamples& samples, const std::arr
 
 /// Options of fit_tspline_to_grid.
 struct GridFitOptions {
-  double tolerance = 1e-6;      ///< relative CG residual of the normal equations
+  double tolerance = 1e-5;      ///< relative CG residual of the normal equations (1e-5 moves the density RMS by < 1e-6 relative on the shared volumes)
   int max_iterations = 3000;    ///< CG iteration cap per solve
   double regularization = 1e-3; ///< ridge towards the current control points, relative to each diagonal entry (> 0)
 };
@@ -76,17 +77,51 @@ GridFitReport fit_tspline_to_grid(TSpline& spline, const std::array<int, 3>& dim
 /// accumulating each blending function over its support. Precondition: the domain contains the grid.
 std::vector<double> evaluate_on_grid(const TSpline& spline, int component, const std::array<int, 3>& dims);
 
+/// Control points an adaptive density fit may use when its options leave the budget automatic:
+/// one per 16 samples, within [64, 50000]. A spline with more coefficients than that is no longer
+/// a compact smooth model of the samples, and on noisy volumes (neghip) the RMS target is then
+/// out of reach anyway.
+int automatic_control_point_budget(std::size_t num_samples);
+
 /// Options of fit_density_adaptive.
 struct AdaptiveDensityOptions {
   double max_rms_rel = 0.005;      ///< stop when the density RMS / range is at most this (> 0)
-  int max_control_points = 50000;  ///< the result never has more control points (≥ 64)
+  int max_control_points = 0;      ///< the result never has more control points (≥ 64); 0 = automatic_control_point_budget
   int initial_cells = 0;           ///< level-0 cells per axis, rounded down to a power of 2 (≤ 256); 0 = automatic (longest/8)
   double min_cell_width = 0.5;     ///< voxels; cells narrower than 2× this are not split (> 0)
   double marking_fraction = 0.5;   ///< Dörfler fraction of the squared error whose cells are split (0, 1]
   int max_levels = 10;             ///< refinement levels after level 0 (≥ 0)
   double min_decrease_rel = 0.02;  ///< stop after a level that lowered the RMS by less than this fraction, [0, 1)
+  /// Stop after a level whose gain per added control point, ln(rms_before / rms) / ln(n / n_before)
+  /// (the slope of the log-log curve; a cubic fit of smooth data reaches 4/3), is below this (≥ 0;
+  /// 0 = off).
+  double min_gain_rate = 0.25;
+  /// A level is only started if the budget leaves room for at least this fraction more control
+  /// points, [0, 1): a nearly full budget would buy a full refit for a few points.
+  double min_level_growth = 0.25;
   GridFitOptions fit;
 };
+
+/// Why an adaptive fit stopped refining.
+enum class FitStopReason {
+  Target,       ///< the density RMS reached max_rms_rel
+  Budget,       ///< the next level would exceed the control point budget
+  Diminishing,  ///< the last level gained less than min_gain_rate / min_decrease_rel
+  MaxLevels,    ///< max_levels levels were done
+  NoCells,      ///< no cell may be split (min_cell_width) or no error is left to mark
+};
+
+/// Stable lower-case name of a stop reason ("target", "budget", "diminishing", "max_levels",
+/// "no_cells"), the value of the stats key stop_reason.
+const char* fit_stop_reason_name(FitStopReason reason);
+
+/// Bulk (Dörfler) marking of one refinement level (Algorithm 4's "cells over the threshold",
+/// made scale-free): `candidates` sorted by decreasing `error` (ties by increasing id), the first
+/// of them until `fraction` of `total` is covered, then cut to the cells the budget affords
+/// (0.9·room/growth_per_cell; growth_per_cell ≤ 0 = no estimate yet, no cut). Empty when nothing
+/// is marked or nothing is affordable; *over_budget tells the latter.
+std::vector<int> bulk_mark(std::vector<int> candidates, const std::vector<double>& error, double total,
+                           double fraction, double room, double growth_per_cell, bool* over_budget);
 
 /// One level of adaptive fitting.
 struct AdaptiveDensityLevel {
@@ -106,13 +141,19 @@ struct AdaptiveDensityResult {
   std::vector<double> reconstruction;        ///< density at every sample
   GridError error;
   int max_level = 0;
+  FitStopReason stop_reason = FitStopReason::Target;
 };
+
+/// True if the last of `levels` (level 0 first) gained too little over the one before: its RMS
+/// fell by less than min_decrease_rel, or ln(rms_before / rms) / ln(n / n_before) < min_gain_rate.
+bool level_gain_too_small(const std::vector<AdaptiveDensityLevel>& levels, const AdaptiveDensityOptions& options);
 
 /// Adaptive hierarchical T-spline fit of grid samples (Algorithm 4, §4.3.3): level 0 is the
 /// least-squares cubic B-spline on 2^k uniform cells per axis; then the leaves holding the largest share of
 /// the squared error (Dörfler marking) are split into 8 by RefinementGrid::split and all control
 /// points refitted, until the RMS target, the control point budget (a level that would exceed it
-/// is discarded), a stall (min_decrease_rel) or max_levels. Throws volspline::Error on bad options or fewer than 2 samples
+/// is shrunk or discarded), diminishing returns (min_gain_rate, min_decrease_rel) or max_levels;
+/// the result says which. Throws volspline::Error on bad options or fewer than 2 samples
 /// along an axis; Cancelled if progress asks to stop.
 AdaptiveDensityResult fit_density_adaptive(const GridSamples& samples,
                                            const AdaptiveDensityOptions& options = {},

@@ -112,6 +112,11 @@ LocalKnots RefinementGrid::ray_knots(const BlendingKnots& knots, int axis) const
 
 TSpline RefinementGrid::split(const TSpline& spline, const std::vector<int>& leaf_ids,
                               TSplineAcceleration acceleration) {
+  Functions refined = split_functions({spline.knots(), spline.weights(), spline.points()}, leaf_ids);
+  return TSpline(std::move(refined.knots), std::move(refined.weights), std::move(refined.points), acceleration);
+}
+
+RefinementGrid::Functions RefinementGrid::split_functions(const Functions& functions, const std::vector<int>& leaf_ids) {
   for (int id : leaf_ids) {
     assert(nodes_[id].first_child < 0);
     const Node parent = nodes_[id];
@@ -137,13 +142,16 @@ TSpline RefinementGrid::split(const TSpline& spline, const std::vector<int>& lea
   struct Function {
     BlendingKnots knots;
     double weight;
-    Eigen::Vector3d weighted_point;  // w p, so that merging is a plain sum
+    Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, 4, 1> weighted_point;  // w p, so that merging is a plain sum
   };
+  const int n = static_cast<int>(functions.knots.size());
+  const Eigen::Index dimension = functions.points.cols();
+  assert(dimension >= 1 && dimension <= 4);
   std::vector<Function> work;
-  work.reserve(spline.num_functions());
-  for (int i = 0; i < spline.num_functions(); ++i)
-    work.push_back({spline.knots()[i], spline.weights()(i),
-                    spline.weights()(i) * spline.points().row(i).transpose()});
+  work.reserve(n);
+  for (int i = 0; i < n; ++i)
+    work.push_back({functions.knots[i], functions.weights(i),
+                    functions.weights(i) * functions.points.row(i).transpose()});
   std::vector<Function> done;
   std::map<BlendingKnots, int> index;  // knots -> position in `done`
   while (!work.empty()) {
@@ -183,7 +191,7 @@ TSpline RefinementGrid::split(const TSpline& spline, const std::vector<int>& lea
   // Deterministic order: sorted by knot vectors.
   std::vector<BlendingKnots> knots;
   Eigen::VectorXd weights(static_cast<Eigen::Index>(done.size()));
-  Eigen::MatrixXd points(static_cast<Eigen::Index>(done.size()), 3);
+  Eigen::MatrixXd points(static_cast<Eigen::Index>(done.size()), dimension);
   knots.reserve(done.size());
   int row = 0;
   for (const auto& [k, position] : index) {
@@ -193,7 +201,7 @@ TSpline RefinementGrid::split(const TSpline& spline, const std::vector<int>& lea
     points.row(row) = (f.weighted_point / f.weight).transpose();
     ++row;
   }
-  return TSpline(std::move(knots), std::move(weights), std::move(points), acceleration);
+  return {std::move(knots), std::move(weights), std::move(points)};
 }
 
 }  // namespace volspline::spline

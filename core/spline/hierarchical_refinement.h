@@ -38,6 +38,16 @@ class RefinementGrid {
   TSpline split(const TSpline& spline, const std::vector<int>& leaf_ids,
                 TSplineAcceleration acceleration = TSplineAcceleration::Auto);
 
+  /// Blending functions as plain arrays: knots n, weights n, points n×D (D in 1..4, as TSpline).
+  struct Functions {
+    std::vector<BlendingKnots> knots;
+    Eigen::VectorXd weights;
+    Eigen::MatrixXd points;
+  };
+  /// split() without building a TSpline (no evaluation grid): for fits that only need the
+  /// knots, e.g. on a tensor grid of samples. Same functions, order and points as split().
+  Functions split_functions(const Functions& functions, const std::vector<int>& leaf_ids);
+
   /// Ray-traced knot vector R* (§4.2.2) along `axis` from the anchor (knots[a][2] per axis) of a
   /// blending function in the current cells: the two nearest cell faces on each side touching
   /// the ray; the domain ends repeat as boundary knots (§4.3.1).

@@ -2,6 +2,7 @@
 #include "core/spline/scattered_density_fitting.h"
 
 #include <algorithm>
+#include <utility>
 #include <cassert>
 #include <cmath>
 #include <string>
@@ -32,6 +33,13 @@ std::vector<double> evaluate_column0(const TSpline& spline, const Eigen::MatrixX
     out[static_cast<std::size_t>(s)] = value[0];
   }
   return out;
+}
+
+// Replaces a spline by a one-function placeholder, freeing its evaluation grid before the next
+// spline's is built (TSpline has no empty state).
+void release(TSpline& spline) {
+  spline = TSpline(std::vector<BlendingKnots>(1, spline.knots()[0]), Eigen::VectorXd::Ones(1),
+                   Eigen::MatrixXd::Zero(1, spline.dimension()), TSplineAcceleration::FunctionLists);
 }
 
 }  // namespace
@@ -90,74 +98,78 @@ ScatteredFitReport fit_tspline_scattered(TSpline& spline, const RefinementGrid& 
     for (int g = 0; g < groups; ++g)
       for (int q = group_ids_offset[g]; q < group_ids_offset[g + 1]; ++q) groups_of[fill[group_ids[q]]++] = g;
   }
+  // Upper triangle only (j ≥ i; the diagonal first in every row): all that CG and its
+  // preconditioner read, at half the memory and half the merge work.
   std::vector<int> offsets(1, 0), cols;
   std::fill(stamp.begin(), stamp.end(), -1);
   for (int i = 0; i < n; ++i) {
     const std::size_t first = cols.size();
+    cols.push_back(i);
+    stamp[i] = i;
     for (int q = groups_of_offset[i]; q < groups_of_offset[i + 1]; ++q) {
       const int g = groups_of[q];
       for (int r = group_ids_offset[g]; r < group_ids_offset[g + 1]; ++r)
-        if (stamp[group_ids[r]] != i) {
+        if (group_ids[r] > i && stamp[group_ids[r]] != i) {
           stamp[group_ids[r]] = i;
           cols.push_back(group_ids[r]);
         }
     }
-    if (stamp[i] != i) cols.push_back(i);
-    std::sort(cols.begin() + static_cast<std::ptrdiff_t>(first), cols.end());
+    std::sort(cols.begin() + static_cast<std::ptrdiff_t>(first) + 1, cols.end());
     offsets.push_back(static_cast<int>(cols.size()));
   }
+  cols.shrink_to_fit();
   std::vector<double> gram(cols.size(), 0.0);
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, k);
-  // Pass 2: dense Gram block per leaf group, merged into the sorted rows.
+  // Pass 2: per leaf group the lower triangle of the dense Gram block MᵀM (a symmetric rank
+  // update: half the products of a full MᵀM), merged into the sorted upper rows.
   std::vector<int> local(n, -1);
+  Eigen::MatrixXd block, t, local_gram;
   for (int g = 0; g < groups; ++g) {
     const int l = group_begin[g];
     const int f = group_ids_offset[g + 1] - group_ids_offset[g];
     const int* gid = group_ids.data() + group_ids_offset[g];
     for (int a = 0; a < f; ++a) local[gid[a]] = a;
     const int rows = start[l + 1] - start[l];
-    Eigen::MatrixXd block = Eigen::MatrixXd::Zero(rows, f);
-    Eigen::MatrixXd t(rows, k);
+    block.setZero(rows, f);
+    t.resize(rows, k);
     for (int r = 0; r < rows; ++r) {
       const int s = order[start[l] + r];
       spline.basis_at(uvw.row(s).transpose(), {0, 0, 0}, ids, values);
       for (std::size_t q = 0; q < ids.size(); ++q) block(r, local[ids[q]]) = spline.weights()(ids[q]) * values[q];
       t.row(r) = targets.row(s);
     }
-    const Eigen::MatrixXd local_gram = block.transpose() * block;
+    local_gram.setZero(f, f);
+    local_gram.selfadjointView<Eigen::Lower>().rankUpdate(block.transpose());
     const Eigen::MatrixXd local_rhs = block.transpose() * t;
     for (int a = 0; a < f; ++a) {
       const int i = gid[a];
       rhs.row(i) += local_rhs.row(a);
       int p = offsets[i];
-      for (int b = 0; b < f; ++b) {
+      for (int b = a; b < f; ++b) {
         while (cols[p] < gid[b]) ++p;
-        gram[p] += local_gram(a, b);
+        gram[p] += local_gram(b, a);
       }
     }
   }
   double trace = 0.0;
-  for (int i = 0; i < n; ++i)
-    for (int p = offsets[i]; p < offsets[i + 1]; ++p)
-      if (cols[p] == i) trace += gram[p];
+  for (int i = 0; i < n; ++i) trace += gram[offsets[i]];
   const double mean = trace > 0.0 ? trace / n : 1.0;
   Eigen::MatrixXd x0(n, k);
   for (int c = 0; c < k; ++c) x0.col(c) = spline.points().col(components[c]);
-  for (int i = 0; i < n; ++i)
-    for (int p = offsets[i]; p < offsets[i + 1]; ++p)
-      if (cols[p] == i) {
-        const double ridge = options.regularization * (gram[p] > 0.0 ? gram[p] : mean);
-        gram[p] += ridge;
-        rhs.row(i) += ridge * x0.row(i);
-      }
-  const linalg::CsrMatrix a = linalg::CsrMatrix::from_arrays(n, n, std::move(offsets), std::move(cols), std::move(gram));
-  const ComponentSolveReport solve =
-      solve_components(spline, a, rhs, components, options.tolerance, options.max_iterations);
+  for (int i = 0; i < n; ++i) {
+    double& d = gram[offsets[i]];
+    const double ridge = options.regularization * (d > 0.0 ? d : mean);
+    d += ridge;
+    rhs.row(i) += ridge * x0.row(i);
+  }
+  linalg::CsrMatrix a = linalg::CsrMatrix::from_arrays(n, n, std::move(offsets), std::move(cols), std::move(gram));
   ScatteredFitReport report;
   report.unknowns = n;
+  report.normal_nonzeros = 2LL * a.nnz() - n;  // both triangles
+  const ComponentSolveReport solve =
+      solve_components(spline, std::move(a), rhs, components, options.tolerance, options.max_iterations);
   report.cg_iterations = solve.cg_iterations;
   report.converged = solve.converged;
-  report.normal_nonzeros = a.nnz();
   return report;
 }
 
@@ -172,7 +184,12 @@ ScatteredDensityResult fit_scattered_adaptive(const Eigen::MatrixX3d& uvw, const
       if (!(uvw(s, a) >= 0.0 && uvw(s, a) <= 1.0))
         throw Error("scattered density fit: sample " + std::to_string(s) + " has a parameter outside [0, 1]");
   if (!(options.max_rms_rel > 0.0)) throw Error("scattered density fit: max_rms_rel must be > 0");
-  if (options.max_control_points < 64) throw Error("scattered density fit: max_control_points must be >= 64");
+  if (options.max_control_points != 0 && options.max_control_points < 64)
+    throw Error("scattered density fit: max_control_points must be 0 (automatic) or >= 64");
+  if (!(options.min_gain_rate >= 0.0) || !(options.min_level_growth >= 0.0 && options.min_level_growth < 1.0))
+    throw Error("scattered density fit: min_gain_rate must be >= 0 and min_level_growth in [0, 1)");
+  const int budget = options.max_control_points > 0 ? options.max_control_points
+                                                    : automatic_control_point_budget(static_cast<std::size_t>(uvw.rows()));
   if (!(options.marking_fraction > 0.0 && options.marking_fraction <= 1.0))
     throw Error("scattered density fit: marking_fraction must be in (0, 1]");
   if (options.max_levels < 0 || options.initial_cells < 0 || !(options.min_cell_width > 0.0) ||
@@ -186,7 +203,7 @@ ScatteredDensityResult fit_scattered_adaptive(const Eigen::MatrixX3d& uvw, const
   std::array<int, 3> cells;
   for (int a = 0; a < 3; ++a)
     cells[a] = std::clamp(static_cast<int>(std::lround(first * (dims[a] - 1.0) / longest)), 1, std::max(1, dims[a] - 1));
-  while ((cells[0] + 3) * (cells[1] + 3) * (cells[2] + 3) > options.max_control_points) {
+  while ((cells[0] + 3) * (cells[1] + 3) * (cells[2] + 3) > budget) {
     const int a = static_cast<int>(std::max_element(cells.begin(), cells.end()) - cells.begin());
     if (cells[a] == 1) break;
     --cells[a];
@@ -220,8 +237,22 @@ ScatteredDensityResult fit_scattered_adaptive(const Eigen::MatrixX3d& uvw, const
   double min_width = 1.0;
   for (int a = 0; a < 3; ++a) min_width = std::min(min_width, options.min_cell_width / std::max(1, dims[a] - 1));
   double growth_per_cell = 0.0;
-  for (int level = 1; level <= options.max_levels && rms > options.max_rms_rel; ++level) {
-    if (levels.size() >= 2 && rms > (1.0 - options.min_decrease_rel) * levels[levels.size() - 2].rms_rel) break;
+  FitStopReason stop = FitStopReason::MaxLevels;
+  for (int level = 1;; ++level) {
+    if (rms <= options.max_rms_rel) {
+      stop = FitStopReason::Target;
+      break;
+    }
+    if (level_gain_too_small(levels, options)) {
+      stop = FitStopReason::Diminishing;
+      break;
+    }
+    if (level > options.max_levels) break;
+    const double room = budget - current.num_functions();
+    if (room < std::max(1.0, options.min_level_growth * current.num_functions())) {
+      stop = FitStopReason::Budget;
+      break;
+    }
     progress.report("fit", static_cast<double>(level) / (options.max_levels + 1));
     const std::vector<int> leaf_ids = grid.leaves();
     std::vector<double> sse(static_cast<std::size_t>(leaf_ids.back()) + 1, 0.0);
@@ -236,40 +267,40 @@ ScatteredDensityResult fit_scattered_adaptive(const Eigen::MatrixX3d& uvw, const
       if ((grid.cell_max(id) - grid.cell_min(id)).minCoeff() >= 2.0 * min_width && sse[id] > 0.0)
         candidates.push_back(id);
     }
-    auto worse = [&](int a, int b) { return sse[a] != sse[b] ? sse[a] > sse[b] : a < b; };
-    std::sort(candidates.begin(), candidates.end(), worse);
-    std::vector<int> marked;
-    double covered = 0.0;
-    for (int id : candidates) {
-      if (covered >= options.marking_fraction * total) break;
-      marked.push_back(id);
-      covered += sse[id];
-    }
-    if (growth_per_cell > 0.0) {
-      const double room = options.max_control_points - current.num_functions();
-      const std::size_t affordable = static_cast<std::size_t>(std::max(0.0, 0.9 * room / growth_per_cell));
-      if (affordable == 0) break;
-      if (marked.size() > affordable) marked.resize(affordable);
+    bool over_budget = false;
+    std::vector<int> marked =
+        bulk_mark(std::move(candidates), sse, total, options.marking_fraction, room, growth_per_cell, &over_budget);
+    if (marked.empty()) {
+      stop = over_budget ? FitStopReason::Budget : FitStopReason::NoCells;
+      break;
     }
     bool accepted = false;
     while (!marked.empty() && !accepted) {
       std::vector<int> sorted = marked;
       std::sort(sorted.begin(), sorted.end());
       RefinementGrid trial_grid = grid;
-      TSpline trial = trial_grid.split(current, sorted, TSplineAcceleration::FunctionLists);
-      if (trial.num_functions() <= options.max_control_points) {
-        growth_per_cell = std::max(1.0, static_cast<double>(trial.num_functions() - current.num_functions())) /
+      // Counted on plain arrays: a TSpline (with its evaluation grid) is only built for an
+      // accepted level, after the coarser one is released, so that one grid exists at a time.
+      RefinementGrid::Functions trial =
+          trial_grid.split_functions({current.knots(), current.weights(), current.points()}, sorted);
+      const int trial_count = static_cast<int>(trial.knots.size());
+      if (trial_count <= budget) {
+        growth_per_cell = std::max(1.0, static_cast<double>(trial_count - current.num_functions())) /
                           static_cast<double>(sorted.size());
-        const ScatteredFitReport report = fit_tspline_scattered(trial, trial_grid, uvw, density_target, {0}, options.fit);
         grid = std::move(trial_grid);
-        current = std::move(trial);
-        measure(report.cg_iterations);
+        release(current);
+        current = TSpline(std::move(trial.knots), std::move(trial.weights), std::move(trial.points),
+                          TSplineAcceleration::FunctionLists);
+        measure(fit_tspline_scattered(current, grid, uvw, density_target, {0}, options.fit).cg_iterations);
         accepted = true;
       } else {
         marked.resize(marked.size() / 2);
       }
     }
-    if (!accepted) break;
+    if (!accepted) {
+      stop = FitStopReason::Budget;
+      break;
+    }
   }
   progress.report("fit", 1.0);
   // Eq. 5.11: add X, Y, Z, fitted over the final cells.
@@ -284,9 +315,12 @@ ScatteredDensityResult fit_scattered_adaptive(const Eigen::MatrixX3d& uvw, const
       points(i, a) = lo(a) + extent(a) * (r[1] + r[2] + r[3]) / 3.0;
     }
   points.col(3) = current.points().col(0);
-  TSpline out(current.knots(), current.weights(), std::move(points), TSplineAcceleration::FunctionLists);
+  std::vector<BlendingKnots> knots_out = current.knots();
+  Eigen::VectorXd weights_out = current.weights();
+  release(current);
+  TSpline out(std::move(knots_out), std::move(weights_out), std::move(points), TSplineAcceleration::FunctionLists);
   fit_tspline_scattered(out, grid, uvw, targets.leftCols(3), {0, 1, 2}, options.fit);
-  return {std::move(out), std::move(levels), std::move(recon)};
+  return {std::move(out), std::move(levels), std::move(recon), stop};
 }
 
 }  // namespace volspline::spline

@@ -24,8 +24,8 @@ struct ScatteredFitReport {
 /// Least-squares fit (Eq. 3.5/3.6) of columns components[k] of the control points of `spline`
 /// to targets.col(k) at scattered parameters uvw (m×3, inside the domain). The samples are
 /// grouped by the leaf of `cells` that contains them; within a leaf the same few blending
-/// functions are non-zero, so each leaf adds one dense Gram block (MᵀM by a matrix product)
-/// to the sparse normal matrix. Solved with CG + SparsifiedCholesky, warm-started from the current control
+/// functions are non-zero, so each leaf adds one dense Gram block (the lower triangle of MᵀM by a
+/// symmetric rank update) to the upper triangle of the sparse normal matrix. Solved with CG + SparsifiedCholesky, warm-started from the current control
 /// points, with a ridge of `regularization` × the mean diagonal towards them.
 /// A spline with cell polynomials is rebuilt with TSplineAcceleration::FunctionLists.
 /// Preconditions: targets has m rows and components.size() columns; cells covers the domain.
@@ -38,6 +38,7 @@ struct ScatteredDensityResult {
   TSpline spline;                            ///< D = 4: (X, Y, Z, density) over [0, 1]³ (Eq. 5.11)
   std::vector<AdaptiveDensityLevel> levels;  ///< density error per level, level 0 first
   std::vector<double> reconstruction;        ///< F_density at every sample
+  FitStopReason stop_reason = FitStopReason::Target;
 };
 
 /// Adaptive hierarchical fit (Algorithm 4) of (X, Y, Z, density) samples at parameters uvw

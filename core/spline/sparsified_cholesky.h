@@ -16,7 +16,8 @@ class SparsifiedCholesky {
  public:
   /// Drop threshold relative to the geometric mean of the two diagonal entries, in [0, 1).
   explicit SparsifiedCholesky(double drop = 0.01) : drop_(drop) {}
-  /// Factorizes the kept entries of the square symmetric matrix a (both triangles stored).
+  /// Factorizes the kept entries of the square symmetric matrix a. Reads only the diagonal and
+  /// the upper triangle, so a may be stored in full or as its upper triangle (as CG reads it).
   void compute(const linalg::CsrMatrix& a);
   /// z = M⁻¹ r for n = a.rows() entries; r and z may alias.
   void solve(const double* r, double* z) const { ic_.solve(r, z); }

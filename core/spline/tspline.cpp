@@ -483,25 +483,40 @@ Eigen::MatrixXd TSpline::evaluate_batch(const Eigen::MatrixX3d& uvw, TSplineForm
   return out;
 }
 
-void TSpline::basis_at(const Eigen::Vector3d& uvw, const std::array<int, 3>& order,
-                       std::vector<int>& function_ids, std::vector<double>& values) const {
+const TSpline::Cell& TSpline::piece_values(const Eigen::Vector3d& uvw, const std::array<int, 3>& order,
+                                           PieceValues& out) const {
   double s[3];
   int k[3];
   const Cell& cell = cells_[locate(uvw, s, k)];
-  std::array<std::vector<double>, 3> axis_values;
+  const int total = cell.num_pieces[0] + cell.num_pieces[1] + cell.num_pieces[2];
+  double* values = out.stack;
+  if (total > PieceValues::kStack) {
+    out.heap.resize(total);
+    values = out.heap.data();
+  }
   const std::uint32_t* ids = cell_pieces_.data() + cell.piece_begin;
-  for (int a = 0; a < 3; ++a) {
-    for (int m = 0; m < cell.num_pieces[a]; ++m) {
-      axis_values[a].push_back(piece_derivative(pieces_[a][*ids++], s[a], order[a], inverse_widths_[a][k[a]]));
+  for (int a = 0, m = 0; a < 3; ++a) {
+    out.axis[a] = values + m;
+    for (int p = 0; p < cell.num_pieces[a]; ++p, ++m) {
+      values[m] = piece_derivative(pieces_[a][ids[m]], s[a], order[a], inverse_widths_[a][k[a]]);
     }
   }
-  function_ids.clear();
-  values.clear();
-  for (std::uint32_t e = cell.entry_begin; e < cell.entry_end; ++e) {
-    const Entry& entry = entries_[e];
-    function_ids.push_back(static_cast<int>(entry.function));
-    values.push_back(axis_values[0][entry.piece[0]] * axis_values[1][entry.piece[1]] *
-                     axis_values[2][entry.piece[2]]);
+  return cell;
+}
+
+void TSpline::basis_at(const Eigen::Vector3d& uvw, const std::array<int, 3>& order,
+                       std::vector<int>& function_ids, std::vector<double>& values) const {
+  PieceValues pieces;
+  const Cell& cell = piece_values(uvw, order, pieces);
+  const double* const* axis_values = pieces.axis;
+  const std::size_t count = cell.entry_end - cell.entry_begin;
+  function_ids.resize(count);
+  values.resize(count);
+  const Entry* entries = entries_.data() + cell.entry_begin;
+  for (std::size_t e = 0; e < count; ++e) {
+    const Entry& entry = entries[e];
+    function_ids[e] = static_cast<int>(entry.function);
+    values[e] = axis_values[0][entry.piece[0]] * axis_values[1][entry.piece[1]] * axis_values[2][entry.piece[2]];
   }
 }
 
@@ -516,12 +531,18 @@ Eigen::VectorXd TSpline::derivative(const Eigen::Vector3d& uvw, const std::array
   return out;
 }
 
+// The same products and summation order as Σ w_i·basis_at(uvw), without the lists.
 double TSpline::weight_sum(const Eigen::Vector3d& uvw) const {
-  std::vector<int> ids;
-  std::vector<double> values;
-  basis_at(uvw, {0, 0, 0}, ids, values);
+  PieceValues pieces;
+  const Cell& cell = piece_values(uvw, {0, 0, 0}, pieces);
+  const double* const* axis_values = pieces.axis;
   double sum = 0.0;
-  for (size_t m = 0; m < ids.size(); ++m) sum += weights_[ids[m]] * values[m];
+  const double* w = weights_.data();
+  for (std::uint32_t e = cell.entry_begin; e < cell.entry_end; ++e) {
+    const Entry& entry = entries_[e];
+    sum += w[entry.function] *
+           (axis_values[0][entry.piece[0]] * axis_values[1][entry.piece[1]] * axis_values[2][entry.piece[2]]);
+  }
   return sum;
 }
 

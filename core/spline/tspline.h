@@ -127,6 +127,16 @@ class TSpline {
     std::uint16_t piece[3] = {0, 0, 0};  // local index into the cell's u, v, w pieces
   };
 
+  // Values (derivative order per axis) of the univariate pieces of uvw's cell, u then v then w;
+  // a stack buffer unless the cell has more pieces.
+  struct PieceValues {
+    static constexpr int kStack = 192;
+    double stack[kStack];
+    std::vector<double> heap;
+    const double* axis[3] = {nullptr, nullptr, nullptr};
+  };
+  const Cell& piece_values(const Eigen::Vector3d& uvw, const std::array<int, 3>& order, PieceValues& out) const;
+
   void build_grid();
   void build_cell_polynomials();
   int locate(const Eigen::Vector3d& uvw, double* local, int* k) const;

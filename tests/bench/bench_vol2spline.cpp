@@ -18,6 +18,8 @@ int main(int argc, char** argv) {
   spline::AdaptiveDensityOptions options;
   options.max_rms_rel = 0.001;
   options.max_control_points = 60000;
+  options.min_gain_rate = 0.0;  // curves: refine until the target or the budget
+  options.min_level_growth = 0.0;
   bool uniform = true;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];

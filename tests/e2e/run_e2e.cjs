@@ -215,6 +215,15 @@ async function volumeSlices(page) {
     await page.screenshot({ path: path.join(artifacts, 'volume-bucky.png') });
   }
 
+  // Out of memory: a raw uint8 volume of 800³ (512 MB, made in the page) needs 2 GB of float samples,
+  // beyond the worker's 2 GB WebAssembly memory: an error message, not a crashed worker.
+  const t_oom = Date.now();
+  await page.evaluate(() => window.volspline.volumeTab.open(new Uint8Array(800 * 800 * 800), 'huge_800x800x800_uint8.raw'));
+  await page.waitForFunction(() => !document.getElementById('error').hidden, null, { timeout: 30000 }).catch(() => {});
+  const oomMessage = await errorText(page);
+  check(/huge_800x800x800_uint8\.raw|memory/.test(oomMessage) && /memory/.test(oomMessage),
+        `a volume too large for the WebAssembly memory shows an out-of-memory error (${Date.now() - t_oom} ms): "${oomMessage}"`);
+  if (oomMessage) await page.click('#error-close');
   await page.setInputFiles('#volume-file', { name: 'nodims.raw', mimeType: 'application/octet-stream', buffer: Buffer.alloc(1000) });
   await page.waitForFunction(() => !document.getElementById('error').hidden, null, { timeout: 20000 }).catch(() => {});
   const message = await errorText(page);
@@ -322,7 +331,7 @@ async function main() {
     const roi0 = await page.evaluate(() => ({ ...window.volspline.lensTab.roi }));
     const img = await page.evaluate(() => ({ ...window.volspline.lensTab.view.image }));
     const toPage = (x, y) => [overlay.x + x / img.width * overlay.width, overlay.y + y / img.height * overlay.height];
-    await page.evaluate(() => { window.volspline.lensTab.frameMs = []; });
+    await page.evaluate(() => { window.volspline.lensTab.frameMs = []; window.volspline.lensTab.frameLog = []; });
     let [px, py] = toPage(roi0.cx, roi0.cy);
     await page.mouse.move(px, py);
     await page.mouse.down();
@@ -340,6 +349,11 @@ async function main() {
     check(roi1.cx > roi0.cx + 20 && roi1.cy > roi0.cy + 10, `dragging moves the lens (${roi0.cx.toFixed(0)},${roi0.cy.toFixed(0)} -> ${roi1.cx.toFixed(0)},${roi1.cy.toFixed(0)})`);
     check(frames.length >= 3, `the lens re-ran live while dragging (${frames.length} frames in ${dragMs} ms)`);
     check(s.flipped_triangles === 0 && s.ms_calibration === 0, 'live runs reuse the calibrated height and fold nothing');
+    // While dragging, moves are answered by translating the solved lens; the release solves in full.
+    const liveLog = await page.evaluate(() => window.volspline.lensTab.frameLog.map((f) => f.translated));
+    const released = await page.evaluate(() => window.volspline.lensTab.lastRun?.stats.translated);
+    check(liveLog.filter(Boolean).length >= 1 && released === false,
+          `drag frames translated the solved lens (${liveLog.filter(Boolean).length} of ${liveLog.length}), the release re-solved in full`);
     const sorted = [...frames].sort((a, b) => a - b);
     const medianMs = sorted.length ? sorted[sorted.length >> 1] : NaN;
     notes.push(`lens drag (grid ${await page.inputValue('#lens-grid')}): median frame ${medianMs.toFixed(1)} ms = ${(1000 / medianMs).toFixed(1)} fps over ${frames.length} frames; per run ms_total ${s.ms_total.toFixed(1)}`);

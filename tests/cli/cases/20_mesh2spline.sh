@@ -5,6 +5,7 @@ expect 0 "$BIN" mesh2spline "$DATA/meshes/sphere.off" -o "$TMP/s.json" --vtk "$T
 for key in rms_rel max_rel hausdorff_rel rms_geo_rel control_points levels min_scaled_jacobian negative_jacobian_fraction negative_jacobian_fraction_fit repaired_control_points semi_standard_max_error times_s; do
   contains "$TMP/s_stats.json" "\"$key\""
 done
+contains "$TMP/s_stats.json" "\"measures\""
 contains "$TMP/s.vtu" "scaled_jacobian"
 contains "$TMP/s.json" "volspline-tspline"
 if [ "$(head -c 4 "$TMP/s.glb")" = "glTF" ]; then ok; else bad "s.glb is not a GLB file"; fi

@@ -3,10 +3,12 @@ VOL="$SRC/samples/volumes/bucky_32x32x32_uint8.raw"
 expect 0 "$BIN" vol2spline --help
 contains "$TMP/out" "vol2spline VOLUME -o OUT.json"
 expect 0 "$BIN" vol2spline "$VOL" -o "$TMP/v.json" --vtk "$TMP/v.vtu" --stats-json "$TMP/v_stats.json" --max-rms 0.1 --quiet
-for key in density_rms_rel density_max_rel control_points voxels patches corners frame_smoothness_initial frame_smoothness_final constraint_angle_max_deg min_scaled_jacobian curve times_s; do
+for key in density_rms_rel density_max_rel control_points voxels patches corners frame_smoothness_initial frame_smoothness_final constraint_angle_max_deg min_scaled_jacobian stop_reason max_control_points curve times_s; do
   contains "$TMP/v_stats.json" "\"$key\""
 done
 contains "$TMP/v_stats.json" "\"voxels\": 32768"
+contains "$TMP/v_stats.json" "\"stop_reason\": \"target\""
+contains "$TMP/v_stats.json" "\"max_control_points\": 2048"
 contains "$TMP/v.json" "\"dimension\": 4"
 contains "$TMP/v.vtu" "Name=\"density\""
 expect 0 "$BIN" eval "$TMP/v.json" --uvw 15.5,15.5,15.5
@@ -29,3 +31,5 @@ expect 2 "$BIN" vol2spline "$VOL" -o "$TMP/x.json" --dims 32,32 --quiet
 contains "$TMP/err" "three comma-separated"
 expect 2 "$BIN" vol2spline "$VOL" -o "$TMP/x.json" --max-rms -1 --quiet
 contains "$TMP/err" "max_rms_rel"
+expect 2 "$BIN" vol2spline "$VOL" -o "$TMP/x.json" --min-gain-rate -1 --quiet
+contains "$TMP/err" "min_gain_rate"

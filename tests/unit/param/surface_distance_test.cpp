@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "core/param/surface_distance.h"
 
+#include <limits>
 #include <random>
 
 #include <doctest/doctest.h>
@@ -34,4 +35,25 @@ TEST_CASE("bucketed distance equals brute force") {
     }
     CHECK(distance.distance(p) == doctest::Approx(brute).epsilon(1e-12));
   }
+}
+
+TEST_CASE("bounded distance queries agree with the exact distance") {
+  const auto mesh = test::cube_sphere(6);
+  const param::SurfaceDistance distance(mesh);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  for (int s = 0; s < 300; ++s) {
+    const Eigen::Vector3d p(u(rng), u(rng), u(rng));
+    const double exact = distance.distance(p);
+    CAPTURE(p.transpose());
+    for (const double factor : {0.0, 0.5, 0.999, 1.0, 1.001, 2.0}) {
+      const double limit = factor * exact;
+      // Below the limit the search is exact; at or above it, the limit itself comes back.
+      CHECK(distance.distance_below(p, limit) == std::min(limit, exact));
+      if (factor != 1.0) CHECK(distance.within(p, limit) == (exact <= limit));  // 1.0: a rounding tie
+    }
+    CHECK(distance.distance_below(p, std::numeric_limits<double>::infinity()) == exact);
+  }
+  // A point on the mesh is within 0 of it.
+  CHECK(distance.within(mesh.positions.row(3).transpose(), 0.0));
 }

@@ -172,3 +172,68 @@ TEST_CASE("session: errors and cancellation leave the session usable") {
   CHECK(session.counters().mesh_builds == 1);
   CHECK(session.counters().mesh_reuses == 1);
 }
+
+TEST_CASE("session: live drags translate the last solved run; full runs stay identical to run_lens") {
+  LensSession session;
+  LensInput in = input_with({"circle:48,40,14"});
+  LensOptions full = small();
+  full.height = 1.1;
+  LensOptions live = full;
+  live.mode = LensMode::Live;
+
+  // No solved run yet: a live request is solved in full (and becomes the base).
+  const LensResult base = session.run(in, live);
+  CHECK_FALSE(base.stats.translated);
+  check_identical(base, run_lens(in, full));
+  const int builds = session.counters().mesh_builds;
+
+  // Moved: the base deformation moved by the offset, nothing solved.
+  in.rois[0].values = {52, 43, 14};
+  const LensResult moved = session.run(in, live);
+  CHECK(moved.stats.translated);
+  CHECK(session.counters().translation_reuses == 1);
+  CHECK(session.counters().mesh_builds == builds);
+  REQUIRE(moved.positions.rows() == base.positions.rows());
+  const Eigen::RowVector2d offset(4, 3);
+  CHECK(((moved.positions.rowwise() - offset) - base.positions).cwiseAbs().maxCoeff() <= 1e-12);
+  CHECK(((moved.texture.rowwise() - offset) - base.texture).cwiseAbs().maxCoeff() <= 1e-12);
+  CHECK((moved.triangles.array() == base.triangles.array()).all());
+  CHECK(moved.stats.magnification_center == base.stats.magnification_center);
+  CHECK(moved.stats.height == base.stats.height);
+
+  // The full run at the new place (what the page runs on release) is the one-shot job, and the
+  // preview is close to it: only the grid's sampling of the lens differs.
+  const LensResult solved = session.run(in, full);
+  CHECK_FALSE(solved.stats.translated);
+  check_identical(solved, run_lens(in, full));
+  CHECK(moved.stats.magnification_center == doctest::Approx(solved.stats.magnification_center).epsilon(0.05));
+
+  // A live request rendered: far from the lens the image is the input (uncovered pixels too).
+  in.rois[0].values = {46, 38, 14};
+  LensOptions rendered = live;
+  rendered.render = true;
+  const LensResult image = session.run(in, rendered);
+  CHECK(image.stats.translated);
+  REQUIRE(image.image.pixels.size() == in.image.pixels.size());
+  for (int p : {0, 95, 80 * 96 - 1, 79 * 96}) CHECK(image.image.pixels[p] == in.image.pixels[p]);
+
+  // Resized, near the border, another α or the square boundary: solved in full, identical to run_lens.
+  const auto solved_in_full = [&](const LensInput& input, const LensOptions& options) {
+    const LensResult r = session.run(input, options);
+    LensOptions reference = options;
+    reference.mode = LensMode::Full;
+    check_identical(r, run_lens(input, reference));
+    return !r.stats.translated;
+  };
+  in.rois[0].values = {46, 38, 15};
+  CHECK(solved_in_full(in, live));
+  in.rois[0].values = {20, 38, 15};
+  CHECK(solved_in_full(in, live));
+  in.rois[0].values = {46, 38, 15};
+  LensOptions other = live;
+  other.alpha = 0.5;
+  CHECK(solved_in_full(in, other));
+  other.boundary = LensBoundary::Square;
+  CHECK(solved_in_full(in, other));
+  CHECK(session.counters().translation_reuses == 2);
+}

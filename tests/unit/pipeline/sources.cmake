@@ -3,5 +3,6 @@ set(TEST_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/lens_job_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/lens_session_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/mesh2spline_job_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/mesh2spline_measures_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/vol2spline_job_test.cpp
 )

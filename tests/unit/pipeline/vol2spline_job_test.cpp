@@ -33,8 +33,11 @@ TEST_CASE("vol2spline identity: density spline with identity geometry and stats"
   pipeline::Vol2SplineOptions options;
   options.max_rms_rel = 0.02;
   options.initial_cells = 2;
+  options.max_control_points = 2000;
   const pipeline::Vol2SplineResult r = pipeline::run_vol2spline(v, "ellipsoid", options);
   CHECK(r.spline.dimension() == 4);
+  CHECK(r.stats.stop_reason == "target");
+  CHECK(r.stats.max_control_points == 2000);
   CHECK(r.stats.voxels == 16u * 16u * 16u);
   CHECK(r.stats.density_rms_rel <= 0.02);
   CHECK(r.stats.density_rms_rel < r.stats.curve.front().rms_rel);
@@ -64,6 +67,17 @@ TEST_CASE("vol2spline aligned: frame stages run and the fit covers [0, 1]^3") {
   CHECK(r.spline.domain_max() == Eigen::Vector3d::Ones());
   CHECK(r.stats.density_rms_rel < 0.1);
   CHECK(r.frames.frames.size() == v.num_voxels());
+}
+
+TEST_CASE("vol2spline default budget is one control point per 16 voxels") {
+  const volume::Volume v = ellipsoid(16);
+  pipeline::Vol2SplineOptions options;
+  options.max_rms_rel = 1e-6;  // out of reach: the budget or diminishing returns stop the fit
+  options.initial_cells = 2;
+  const pipeline::Vol2SplineResult r = pipeline::run_vol2spline(v, "ellipsoid", options);
+  CHECK(r.stats.max_control_points == 16 * 16 * 16 / 16);
+  CHECK(r.stats.control_points <= 256);
+  CHECK((r.stats.stop_reason == "budget" || r.stats.stop_reason == "diminishing"));
 }
 
 TEST_CASE("vol2spline rejects bad options and tiny volumes") {

@@ -2,6 +2,7 @@
 #include "core/spline/density_fitting.h"
 
 #include <cmath>
+#include <string>
 
 #include <doctest/doctest.h>
 
@@ -84,8 +85,11 @@ TEST_CASE("adaptive refinement keeps the partition of unity and lowers the error
   options.max_rms_rel = 1e-4;
   options.max_levels = 3;
   options.initial_cells = 2;
+  options.max_control_points = 50000;
+  options.min_gain_rate = 0.0;
   const spline::AdaptiveDensityResult r = spline::fit_density_adaptive(s, options);
   REQUIRE(r.levels.size() == 4);
+  CHECK(r.stop_reason == spline::FitStopReason::MaxLevels);
   for (std::size_t l = 1; l < r.levels.size(); ++l) {
     CHECK(r.levels[l].control_points > r.levels[l - 1].control_points);
     CHECK(r.levels[l].rms_rel < r.levels[l - 1].rms_rel);
@@ -108,8 +112,10 @@ TEST_CASE("adaptive fit respects the control point budget and beats the uniform 
   options.max_rms_rel = 1e-6;
   options.max_control_points = 900;
   options.initial_cells = 2;
+  options.min_gain_rate = 0.0;
   const spline::AdaptiveDensityResult r = spline::fit_density_adaptive(s, options);
   CHECK(r.spline.num_functions() <= 900);
+  CHECK(r.stop_reason != spline::FitStopReason::Target);
   // The uniform B-spline with at least as many control points (9³ = 729 ≤ 900 < 10³) is worse
   // on a localized blob only if the adaptive fit used its budget where the error is.
   const spline::UniformBsplineFit uniform = spline::fit_uniform_bspline(s, {9, 9, 9});
@@ -144,6 +150,47 @@ TEST_CASE("scattered fit on identity parameters agrees with the grid fit") {
                        doctest::Contains("sample 3"), Error);
 }
 
+TEST_CASE("automatic budget: one control point per 16 samples within [64, 50000]") {
+  CHECK(spline::automatic_control_point_budget(64 * 64 * 64) == 16384);
+  CHECK(spline::automatic_control_point_budget(100) == 64);
+  CHECK(spline::automatic_control_point_budget(103u * 94u * 161u) == 50000);
+}
+
+TEST_CASE("diminishing returns: the log-log slope of the last level against min_gain_rate") {
+  spline::AdaptiveDensityOptions options;  // min_gain_rate 0.25, min_decrease_rel 0.02
+  // Doubling the control points halves the RMS: slope 1.
+  CHECK_FALSE(spline::level_gain_too_small({{1000, 0.1}, {2000, 0.05}}, options));
+  // 8x the control points for a 10 % lower RMS: slope ln(1/0.9)/ln(8) = 0.0507.
+  CHECK(spline::level_gain_too_small({{1000, 0.1}, {8000, 0.09}}, options));
+  // Less than 2 % lower: stalled whatever the slope.
+  CHECK(spline::level_gain_too_small({{1000, 0.1}, {1001, 0.099}}, options));
+  options.min_gain_rate = 0.0;
+  CHECK_FALSE(spline::level_gain_too_small({{1000, 0.1}, {8000, 0.09}}, options));
+  CHECK_FALSE(spline::level_gain_too_small({{1000, 0.1}}, options));
+}
+
+TEST_CASE("adaptive fit names its stop reason") {
+  const spline::GridSamples s = blob_samples(16);
+  spline::AdaptiveDensityOptions options;
+  options.initial_cells = 2;
+  options.max_rms_rel = 0.5;  // the level-0 fit already reaches it
+  CHECK(spline::fit_density_adaptive(s, options).stop_reason == spline::FitStopReason::Target);
+  options.max_rms_rel = 1e-6;
+  options.max_control_points = 130;  // level 0 has 125: no room for a level
+  const spline::AdaptiveDensityResult budget = spline::fit_density_adaptive(s, options);
+  CHECK(budget.stop_reason == spline::FitStopReason::Budget);
+  CHECK(budget.levels.size() == 1);
+  options.max_control_points = 0;  // automatic: 4096 / 16 = 256
+  const spline::AdaptiveDensityResult automatic = spline::fit_density_adaptive(s, options);
+  CHECK(automatic.spline.num_functions() <= 256);
+  options.max_control_points = 50000;
+  options.min_gain_rate = 100.0;  // no level can be that good
+  const spline::AdaptiveDensityResult diminishing = spline::fit_density_adaptive(s, options);
+  CHECK(diminishing.stop_reason == spline::FitStopReason::Diminishing);
+  CHECK(diminishing.levels.size() == 2);
+  CHECK(std::string(spline::fit_stop_reason_name(diminishing.stop_reason)) == "diminishing");
+}
+
 TEST_CASE("adaptive fit rejects bad options") {
   const spline::GridSamples s = cubic_samples({6, 6, 6});
   spline::AdaptiveDensityOptions options;
@@ -152,6 +199,9 @@ TEST_CASE("adaptive fit rejects bad options") {
   options = {};
   options.max_control_points = 10;
   CHECK_THROWS_WITH_AS(spline::fit_density_adaptive(s, options), doctest::Contains("max_control_points"), Error);
+  options = {};
+  options.min_gain_rate = -1.0;
+  CHECK_THROWS_WITH_AS(spline::fit_density_adaptive(s, options), doctest::Contains("min_gain_rate"), Error);
   const spline::GridSamples flat = cubic_samples({6, 1, 6});
   CHECK_THROWS_WITH_AS(spline::fit_density_adaptive(flat, {}), doctest::Contains("along y"), Error);
 }

@@ -11,7 +11,7 @@ using namespace volspline;
 
 namespace {
 
-spline::BsplineVolume random_volume(int cells, std::uint64_t seed) {
+spline::BsplineVolume fitting_random_volume(int cells, std::uint64_t seed) {
   std::vector<double> grid(cells + 1);
   for (int i = 0; i <= cells; ++i) grid[i] = double(i) / cells;
   const std::vector<double> knots = spline::boundary_restricted_knots(grid);
@@ -42,7 +42,7 @@ Eigen::MatrixX3d random_parameters(int m, std::uint64_t seed, bool boundary) {
 }  // namespace
 
 TEST_CASE("a sampled trivariate B-spline is recovered by the least-squares fit") {
-  const spline::BsplineVolume volume = random_volume(3, 11);
+  const spline::BsplineVolume volume = fitting_random_volume(3, 11);
   const spline::TSpline truth = spline::from_bspline_volume(volume);
   const Eigen::MatrixX3d uvw = random_parameters(3000, 5, false);
   const Eigen::MatrixX3d xyz = truth.evaluate_batch(uvw);
@@ -58,7 +58,7 @@ TEST_CASE("a sampled trivariate B-spline is recovered by the least-squares fit")
 }
 
 TEST_CASE("the local fit recovers the free control points and leaves the others alone") {
-  const spline::BsplineVolume volume = random_volume(3, 13);
+  const spline::BsplineVolume volume = fitting_random_volume(3, 13);
   const spline::TSpline truth = spline::from_bspline_volume(volume);
   const Eigen::MatrixX3d uvw = random_parameters(3000, 7, false);
   const Eigen::MatrixX3d xyz = truth.evaluate_batch(uvw);
@@ -99,7 +99,7 @@ TEST_CASE("boundary blending functions are those with 4 equal end knots") {
 TEST_CASE("the meshless fit recovers the boundary from surface samples and fills the interior") {
   // Target: an affine map. Its boundary is fitted exactly from surface samples (Eq. 4.4), and an
   // affine F has zero discrete Laplacian (Eq. 4.7), so the interior is affine too.
-  const spline::BsplineVolume volume = random_volume(2, 3);
+  const spline::BsplineVolume volume = fitting_random_volume(2, 3);
   spline::TSpline ts = spline::from_bspline_volume(volume);
   const Eigen::Matrix3d a = (Eigen::Matrix3d() << 2, 0.1, 0, 0, 1, 0.3, 0.2, 0, 1.5).finished();
   const Eigen::MatrixX3d uvw = random_parameters(2000, 9, true);

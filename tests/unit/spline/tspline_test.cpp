@@ -9,6 +9,7 @@
 
 #include "core/common/error.h"
 #include "core/spline/bspline_volume.h"
+#include "core/spline/hierarchical_refinement.h"
 #include "core/spline/tspline.h"
 
 using volspline::Error;
@@ -245,4 +246,34 @@ TEST_CASE("T-spline rejects broken input with a message") {
   }
   CHECK_THROWS_WITH_AS(TSpline(many, Eigen::VectorXd::Ones(420), Eigen::MatrixXd::Zero(420, 3)),
                        "T-spline: the knot-line grid has more than 67108864 cells", Error);
+}
+
+TEST_CASE("weight_sum and basis_at agree with each other and the knot vectors on a refined T-spline") {
+  // Refine a uniform 3³ B-spline twice locally: T-junctions, cells overlapping many functions.
+  const std::vector<double> knots = boundary_restricted_knots({0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0});
+  std::mt19937 rng(3);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::MatrixXd points(6 * 6 * 6, 3);
+  for (Eigen::Index i = 0; i < points.size(); ++i) points.data()[i] = normal(rng);
+  volspline::spline::RefinementGrid grid(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), {3, 3, 3});
+  TSpline spline = grid.split(from_bspline_volume(BsplineVolume({knots, knots, knots}, points)), {0, 4, 13});
+  std::vector<int> deeper;
+  for (int leaf : grid.leaves())
+    if (grid.cell_level(leaf) == 1 && grid.cell_min(leaf).maxCoeff() < 0.2) deeper.push_back(leaf);
+  spline = grid.split(spline, deeper);
+  std::vector<int> ids, d_ids;
+  std::vector<double> values, d_values;
+  for (const Eigen::Vector3d& p : random_parameters(spline.domain_min(), spline.domain_max(), 2000, 9)) {
+    CAPTURE(p.transpose());
+    spline.basis_at(p, {0, 0, 0}, ids, values);
+    double sum = 0.0;
+    for (size_t m = 0; m < ids.size(); ++m) sum += spline.weights()[ids[m]] * values[m];
+    // weight_sum is documented to use the same products in the same order: bitwise equal.
+    CHECK(spline.weight_sum(p) == sum);
+    CHECK(std::abs(sum - 1.0) < 1e-12);
+    for (size_t m = 0; m < ids.size(); m += 7) CHECK(std::abs(values[m] - spline.blending_function(ids[m], p)) < 1e-14);
+    // A derivative order changes the values, not the list.
+    spline.basis_at(p, {1, 0, 2}, d_ids, d_values);
+    CHECK(d_ids == ids);
+  }
 }

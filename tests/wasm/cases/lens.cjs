@@ -78,6 +78,33 @@ module.exports = function (vs, { check }) {
     session.delete();
   }
 
+  // Live mode (dragging): a moved ROI is answered by translating the last solved lens; the full
+  // request at the same place is then exactly lens() again.
+  {
+    const session = new vs.LensSession();
+    const opts = { magnification: 2, grid: 24, height: 1.0, render: false };
+    const base = session.run(image, ['circle:30,24,8'], { ...opts, mode: 'live' }, null);
+    check(base.ok && base.stats.translated === false, 'live: the first request is solved in full: ' + base.message);
+    const moved = session.run(image, ['circle:33,22,8'], { ...opts, mode: 'live' }, null);
+    check(moved.ok && moved.stats.translated === true && moved.session.translation_reuses === 1 && moved.session.mesh_builds === base.session.mesh_builds,
+          'live: a moved ROI is translated, nothing rebuilt');
+    let offset = moved.ok && base.ok && moved.positions.length === base.positions.length;
+    for (let i = 0; offset && i < base.positions.length; i += 2)
+      offset = Math.abs(moved.positions[i] - base.positions[i] - 3) < 1e-4 && Math.abs(moved.positions[i + 1] - base.positions[i + 1] + 2) < 1e-4 &&
+               Math.abs(moved.texture[i] - base.texture[i] - 3) < 1e-4 && Math.abs(moved.texture[i + 1] - base.texture[i + 1] + 2) < 1e-4;
+    check(offset, 'live: positions and texture moved by the ROI offset (3, -2)');
+    const full = session.run(image, ['circle:33,22,8'], opts, null);
+    const fresh = vs.lens(image, ['circle:33,22,8'], opts, null);
+    check(full.ok && fresh.ok && full.stats.translated === false && full.positions.length === fresh.positions.length &&
+          full.positions.every((x, i) => x === fresh.positions[i]) && full.stats.distortion_sum === fresh.stats.distortion_sum,
+          'live: the full request after the drag equals a fresh lens()');
+    const resized = session.run(image, ['circle:33,22,9'], { ...opts, mode: 'live' }, null);
+    check(resized.ok && resized.stats.translated === false, 'live: a resized ROI is solved in full');
+    const badMode = session.run(image, ['circle:33,22,9'], { ...opts, mode: 'fast' }, null);
+    check(badMode.ok === false && /mode/.test(badMode.message), 'unknown mode: ' + JSON.stringify(badMode.message));
+    session.delete();
+  }
+
   for (const method of ['fisheye', 'bifocal', 'zoom']) {
     const r = vs.lens(image, ['circle:32,24,10'], { method, magnification: 2, grid: 24, render: false }, null);
     check(r.ok && r.stats.iterations === 0 && r.stats.baseline_parameter > 1, method + ' baseline ok');

@@ -92,6 +92,30 @@ module.exports = function (vs, { check, sourceDir, fs, path }) {
   bad([sample('sphere.off'), 'sphere.off', { cut_axis: 5 }, null], /cut_axis/, 'cut_axis 5');
   bad([sample('sphere.off'), 'sphere.off', small, 42], /progress/, 'progress not a function');
   bad(['nope', 'sphere.off', small, null], /Uint8Array/, 'bytes not an array');
+  // Every job option of Mesh2SplineOptions is a key: out-of-range values name the key.
+  bad([sample('sphere.off'), 'sphere.off', { max_surface_error_rel: 0 }, null], /max_surface_error_rel/, 'max_surface_error_rel 0');
+  bad([sample('sphere.off'), 'sphere.off', { max_surface_error_rel: 'tiny' }, null], /max_surface_error_rel/, 'max_surface_error_rel not a number');
+  bad([sample('sphere.off'), 'sphere.off', { area_balance_iterations: 21 }, null], /area_balance_iterations/, 'area_balance_iterations 21');
+  bad([sample('sphere.off'), 'sphere.off', { area_balance_iterations: 1.5 }, null], /area_balance_iterations/, 'area_balance_iterations not an integer');
+  bad([sample('sphere.off'), 'sphere.off', { min_scaled_jacobian: 0.6 }, null], /min_scaled_jacobian/, 'min_scaled_jacobian 0.6');
+  bad([sample('sphere.off'), 'sphere.off', { min_scaled_jacobian: -0.1 }, null], /min_scaled_jacobian/, 'min_scaled_jacobian -0.1');
+  bad([sample('sphere.off'), 'sphere.off', { threads: 0 }, null], /threads/, 'threads 0');
+  bad([sample('sphere.off'), 'sphere.off', { compare_uniform: 'yes' }, null], /compare_uniform/, 'compare_uniform not a boolean');
+  bad([sample('sphere.off'), 'sphere.off', { max_control_points: 10 }, null], /max-control-points|control points/, 'max_control_points 10');
+  bad([sample('sphere.off'), 'sphere.off', { max_rms_rel: -1 }, null], /max-rms|rms/, 'max_rms_rel -1');
+  check(r.ok && r.stats.uniform_control_points === null && r.stats.repaired_control_points === 0 &&
+        r.stats.negative_jacobian_fraction_fit === r.stats.negative_jacobian_fraction,
+        'without compare_uniform or repair: uniform_control_points null, nothing repaired');
+  // Loose targets stop at level 0; the keys reach the job (a stricter surface error would refine).
+  const loose = { ...small, max_levels: 2, outputs: false, max_rms_rel: 1, max_surface_error_rel: 1, area_balance_iterations: 0,
+                  threads: 2, min_scaled_jacobian: 0.05, compare_uniform: true };
+  const rl = vs.mesh2spline(sample('sphere.off'), 'sphere.off', loose, null);
+  check(rl.ok && rl.stats.levels === 0, `loose max_rms_rel and max_surface_error_rel stop at level 0: ${rl.message || rl.stats.levels}`);
+  check(rl.ok && (rl.stats.uniform_control_points === null || rl.stats.uniform_control_points >= 64) && rl.stats.uniform_rms_rel >= 0,
+        `compare_uniform reports the uniform fit (${rl.ok && rl.stats.uniform_control_points}, ${rl.ok && rl.stats.uniform_rms_rel})`);
+  check(rl.ok && rl.stats.repaired_control_points >= 0 && rl.stats.min_scaled_jacobian > 0, `Jacobian repair target accepted (repaired ${rl.ok && rl.stats.repaired_control_points})`);
+  const strict = vs.mesh2spline(sample('sphere.off'), 'sphere.off', { ...loose, compare_uniform: false, min_scaled_jacobian: 0, max_surface_error_rel: 1e-4 }, null);
+  check(strict.ok && strict.stats.levels >= 1, `a strict max_surface_error_rel refines past level 0 (levels ${strict.ok && strict.stats.levels})`);
   const again = vs.mesh2spline(sample('sphere.off'), 'sphere.off', { ...small, max_levels: 0, outputs: false }, null);
   check(again.ok, 'mesh2spline still works after errors');
 };

@@ -12,12 +12,14 @@ module.exports = function (vs, { check }) {
   }
   const volume = { nx, ny, nz, spacing: [1, 1, 1], samples };
   let calls = 0;
-  const r = vs.vol2spline(volume, 'ball', { max_levels: 2, max_rms_rel: 0.02 }, () => { calls++; return true; });
+  const r = vs.vol2spline(volume, 'ball', { max_levels: 2, max_rms_rel: 0.02, max_control_points: 2000 }, () => { calls++; return true; });
   check(r.ok === true, 'vol2spline(ball) ok: ' + r.message);
   if (r.ok) {
     const s = r.stats;
     check(s.density_rms_rel >= 0 && s.density_rms_rel < 0.05, `ball density_rms_rel ${s.density_rms_rel} < 0.05`);
     check(s.control_points > 0 && s.voxels === nx * ny * nz && s.levels <= 2, `ball control_points ${s.control_points}, voxels ${s.voxels}`);
+    check(['target', 'budget', 'diminishing', 'max_levels', 'no_cells'].includes(s.stop_reason) && s.max_control_points === 2000,
+          `ball stop_reason ${s.stop_reason}, max_control_points ${s.max_control_points}`);
     check(Array.isArray(s.curve) && s.curve.length >= 1 && s.times_s.total > 0, 'curve and times_s');
     check(r.reconstruction instanceof Float32Array && r.reconstruction.length === nx * ny * nz, 'reconstruction on the voxel grid');
     let se = 0;

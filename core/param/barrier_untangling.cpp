@@ -1,0 +1,141 @@
+// SPDX-License-Identifier: MIT
+#include "core/param/barrier_untangling.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+
+namespace volspline::param {
+
+namespace {
+
+// Least relative decrease of ε per continuation step. The paper's 0.1 makes ε creep down (the
+// energy grows as ε shrinks, so its decrease never sets the pace): ~35 steps on bimba's grid
+// instead of ~8.
+constexpr double kMinSigma = 0.5;
+
+double chi(double d, double eps) { return 0.5 * (d + std::sqrt(eps * eps + d * d)); }
+
+// L-BFGS (two-loop recursion, 7 pairs) with Armijo backtracking; returns the iterations done.
+int minimize_lbfgs(const UntangleProblem& problem, Eigen::VectorXd& x, double eps, int max_iterations) {
+  constexpr int kPairs = 7;
+  std::vector<Eigen::VectorXd> s_list, y_list;
+  std::vector<double> rho;
+  Eigen::VectorXd g;
+  double f = problem.energy(x, eps, &g);
+  int iteration = 0;
+  for (; iteration < max_iterations; ++iteration) {
+    Eigen::VectorXd q = g;
+    std::vector<double> alpha(s_list.size());
+    for (int m = static_cast<int>(s_list.size()) - 1; m >= 0; --m) {
+      alpha[m] = rho[m] * s_list[m].dot(q);
+      q -= alpha[m] * y_list[m];
+    }
+    // Without curvature pairs the first step moves the worst unknown by 1e-2 (units of x).
+    if (!s_list.empty())
+      q *= s_list.back().dot(y_list.back()) / y_list.back().squaredNorm();
+    else
+      q *= 1e-2 / std::max(g.lpNorm<Eigen::Infinity>(), 1e-300);
+    for (std::size_t m = 0; m < s_list.size(); ++m) {
+      const double beta = rho[m] * y_list[m].dot(q);
+      q += (alpha[m] - beta) * s_list[m];
+    }
+    Eigen::VectorXd d = -q;
+    double slope = g.dot(d);
+    if (!(slope < 0.0)) {  // not a descent direction: restart from steepest descent
+      s_list.clear();
+      y_list.clear();
+      rho.clear();
+      d = -g * (1e-2 / std::max(g.lpNorm<Eigen::Infinity>(), 1e-300));
+      slope = g.dot(d);
+      if (!(slope < 0.0)) break;
+    }
+    Eigen::VectorXd x_new, g_new;
+    double f_new = f;
+    bool accepted = false;
+    for (double t = 1.0; t > 1e-9; t *= 0.5) {
+      x_new = x + t * d;
+      f_new = problem.energy(x_new, eps, &g_new);
+      if (f_new <= f + 1e-4 * t * slope) {
+        accepted = true;
+        break;
+      }
+    }
+    if (!accepted) break;
+    const Eigen::VectorXd s = x_new - x, y = g_new - g;
+    const double sy = s.dot(y);
+    if (sy > 1e-12 * s.norm() * y.norm()) {
+      if (static_cast<int>(s_list.size()) == kPairs) {
+        s_list.erase(s_list.begin());
+        y_list.erase(y_list.begin());
+        rho.erase(rho.begin());
+      }
+      s_list.push_back(s);
+      y_list.push_back(y);
+      rho.push_back(1.0 / sy);
+    }
+    const double decrease = f - f_new;
+    x = std::move(x_new);
+    g = std::move(g_new);
+    f = f_new;
+    if (decrease <= 1e-10 * std::abs(f)) {
+      ++iteration;
+      break;
+    }
+  }
+  return iteration;
+}
+
+}  // namespace
+
+double foldover_free_energy(const Eigen::Matrix3d& j, double eps, double theta, Eigen::Matrix3d* gradient) {
+  const double d = j.determinant();
+  const double root = std::sqrt(eps * eps + d * d);
+  const double x_d = 0.5 * (d + root);
+  const double tr = j.squaredNorm();
+  const double x23 = std::cbrt(x_d * x_d);
+  if (gradient) {
+    const double dchi = 0.5 * (1.0 + d / root);
+    Eigen::Matrix3d cof;  // ∂ det J / ∂J
+    cof.col(0) = j.col(1).cross(j.col(2));
+    cof.col(1) = j.col(2).cross(j.col(0));
+    cof.col(2) = j.col(0).cross(j.col(1));
+    *gradient = (1.0 - theta) * (2.0 * j / x23 - (2.0 / 3.0) * tr / (x23 * x_d) * dchi * cof) +
+                theta * (2.0 * d / x_d - (d * d + 1.0) * dchi / (x_d * x_d)) * cof;
+  }
+  return (1.0 - theta) * tr / x23 + theta * (d * d + 1.0) / x_d;
+}
+
+int untangle(const UntangleProblem& problem, Eigen::VectorXd& x, const UntangleOptions& options) {
+  int iterations = 0;
+  // ε continuation of Garanzha et al. 2021 (§3): ε shrinks with the energy decrease, and
+  // vanishes once every determinant exceeds μ.
+  double d_min = problem.min_det(x);
+  double eps = d_min > 0.0 ? 1e-8 : 2.0 * std::sqrt(0.1 * (0.1 - d_min));
+  double e_prev = problem.energy(x, eps, nullptr);
+  double best_d_min = -std::numeric_limits<double>::infinity();
+  int stalled = 0;
+  for (int step = 0; step < options.max_steps; ++step) {
+    iterations += minimize_lbfgs(problem, x, eps, options.max_inner);
+    const double e = problem.energy(x, eps, nullptr);
+    d_min = problem.min_det(x);
+    const double sigma = std::max(1.0 - e / e_prev, kMinSigma);
+    const double mu = (1.0 - sigma) * chi(d_min, eps);
+    eps = d_min < mu ? 2.0 * std::sqrt(mu * (mu - d_min)) : 1e-8;
+    const bool settled = std::abs(e_prev - e) <= 1e-4 * std::abs(e);
+    e_prev = e;
+    if ((d_min > 0.0 && settled) || d_min > options.stop_min_det) break;
+    // An element whose unknowns cannot reach a valid shape (e.g. a hex corner of fixed nodes
+    // but one): once the worst determinant stops rising, more steps only sharpen the barrier.
+    stalled = d_min > best_d_min + 1e-3 ? 0 : stalled + 1;
+    best_d_min = std::max(best_d_min, d_min);
+    if (d_min <= 0.0 && stalled >= 4) break;
+  }
+  return iterations;
+}
+
+}  // namespace volspline::param

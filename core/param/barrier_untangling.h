@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <functional>
+#include <limits>
+
+#include <Eigen/Core>
+
+namespace volspline::param {
+
+/// Per-element energy of "Foldover-free maps in 50 lines of code" (Garanzha et al. 2021):
+/// f_ε(J) = (1 − θ)·tr(JᵀJ)/χ(det J, ε)^(2/3) + θ·(det² J + 1)/χ(det J, ε) with
+/// χ(D, ε) = (D + √(ε² + D²))/2 > 0, finite for folded elements (det J ≤ 0). j: the element's
+/// Jacobian against its reference shape (3×3); theta in [0, 1); gradient (if not null): ∂f/∂J.
+double foldover_free_energy(const Eigen::Matrix3d& j, double eps, double theta, Eigen::Matrix3d* gradient);
+
+/// A sum of foldover_free_energy terms (plus any smooth extra term) over unknowns x.
+struct UntangleProblem {
+  /// Energy at x with barrier parameter ε; writes ∂E/∂x to gradient if not null.
+  std::function<double(const Eigen::VectorXd& x, double eps, Eigen::VectorXd* gradient)> energy;
+  /// Smallest det J over the elements at x.
+  std::function<double(const Eigen::VectorXd& x)> min_det;
+};
+
+/// Options of untangle.
+struct UntangleOptions {
+  int max_steps = 40;  ///< ε-continuation steps, ≥ 1
+  int max_inner = 30;  ///< L-BFGS iterations per step, ≥ 1
+  /// Stop as soon as every det J exceeds this after a step (untangled is enough; the energy
+  /// need not settle); +∞ = run the continuation to its end.
+  double stop_min_det = std::numeric_limits<double>::infinity();
+};
+
+/// Minimizes the problem's energy from x (updated in place) by L-BFGS with the ε continuation
+/// of Garanzha et al. 2021: ε shrinks with the energy decrease and vanishes once every element
+/// has det J > μ. Stops when det J > 0 everywhere and the energy settles, when the smallest
+/// det J stops rising while still ≤ 0 (some element cannot unfold), or after max_steps.
+/// Returns the L-BFGS iterations done.
+int untangle(const UntangleProblem& problem, Eigen::VectorXd& x, const UntangleOptions& options = {});
+
+}  // namespace volspline::param

@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "core/mesh/triangle_mesh.h"
+
+namespace volspline::param {
+
+/// Options of untangle_hex_grid.
+struct HexGridUntangleOptions {
+  /// Free nodes: the movable nodes within this many grid steps (Chebyshev) of a node of a hex
+  /// with an inverted movable corner, ≥ 1; doubled (at most twice) while folds remain.
+  int rings = 2;
+  int max_steps = 40;          ///< ε-continuation steps, ≥ 1
+  int max_inner = 30;          ///< L-BFGS iterations per step, ≥ 1
+  /// Weight θ of the volume term (det² + 1)/χ against the shape term tr(JᵀJ)/χ^(2/3), in [0, 1).
+  double volume_weight = 0.5;
+};
+
+/// Outcome of untangle_hex_grid. A corner is "movable" if one of its 4 nodes is not fixed;
+/// corners of fixed nodes only (e.g. along the edges of a cuboid map) are left as they are.
+struct HexGridUntangleReport {
+  int initial_inverted = 0;  ///< movable corners with det ≤ 0 before
+  int final_inverted = 0;    ///< and after
+  int free_nodes = 0;        ///< nodes the last round moved
+  int iterations = 0;        ///< L-BFGS iterations, all rounds
+};
+
+/// Removes the folds of a structured hex grid by moving its non-fixed nodes near the folds:
+/// minimizes the regularized shape + volume energy of "Foldover-free maps in 50 lines of code"
+/// (Garanzha et al. 2021) over the 8 corner tetrahedra of every hex, with the barrier
+/// χ(D, ε) = (D + √(ε² + D²))/2 in place of det J and ε decreased as the paper prescribes, by
+/// L-BFGS. The energy is finite for folded cells, so it starts from any grid, and its minimizers
+/// for ε → 0 have det J > 0 at every movable corner when a fold-free placement exists.
+/// Nodes far from folds are not moved. Corner c of hex (i, j, k) is node (i + (c&1), j +
+/// (c>>1&1), k + (c>>2&1)); its Jacobian has the three hex edges leaving it along +axis
+/// orientation, as hex_min_scaled_jacobian. nodes: n0, n1, n2 ≥ 2; xyz: (n0·n1·n2)×3 in the
+/// order of grid_node_index, changed in place; fixed: one flag per node.
+HexGridUntangleReport untangle_hex_grid(const std::array<int, 3>& nodes, const std::vector<char>& fixed,
+                                        mesh::Positions& xyz, const HexGridUntangleOptions& options = {});
+
+}  // namespace volspline::param

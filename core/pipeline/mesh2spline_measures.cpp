@@ -1,0 +1,176 @@
+// SPDX-License-Identifier: MIT
+#include "core/pipeline/mesh2spline_measures.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+
+#include "core/common/error.h"
+#include "core/param/cuboid_surface_map.h"
+#include "core/param/surface_distance.h"
+
+namespace volspline::pipeline {
+
+namespace {
+
+using spline::TSplineForm;
+
+void check_options(const Mesh2SplineMeasureOptions& o) {
+  auto fail = [](const std::string& what) { throw Error("mesh2spline measures: " + what); };
+  if (o.surface_samples < 8 || o.surface_samples > 512) fail("surface samples must be in [8, 512]");
+  if (o.jacobian_lattice < 2 || o.jacobian_lattice > 256) fail("the Jacobian lattice must be in [2, 256]");
+  if (o.semi_standard_samples < 1) fail("semi-standard samples must be ≥ 1");
+}
+
+Eigen::Vector3d evaluate(const spline::TSpline& spline, const Eigen::Vector3d& uvw) {
+  Eigen::Vector3d f;
+  spline.evaluate_to(uvw, TSplineForm::SemiStandard, f.data());
+  return f;
+}
+
+// F on an m×m lattice of each cube face, triangulated (two triangles per lattice square).
+mesh::TriangleMesh boundary_lattice(const spline::TSpline& spline, int m) {
+  mesh::TriangleMesh boundary;
+  boundary.positions.resize(6 * m * m, 3);
+  boundary.triangles.resize(6 * 2 * (m - 1) * (m - 1), 3);
+  int t = 0;
+  for (int face = 0; face < 6; ++face) {
+    const int base = face * m * m;
+    for (int j = 0; j < m; ++j)
+      for (int i = 0; i < m; ++i)
+        boundary.positions.row(base + i + m * j) =
+            evaluate(spline, param::cube_face_point(face, double(i) / (m - 1), double(j) / (m - 1))).transpose();
+    for (int j = 0; j + 1 < m; ++j)
+      for (int i = 0; i + 1 < m; ++i) {
+        const int a = base + i + m * j;
+        boundary.triangles.row(t++) << a, a + 1, a + m + 1;
+        boundary.triangles.row(t++) << a, a + m + 1, a + m;
+      }
+  }
+  return boundary;
+}
+
+}  // namespace
+
+double surface_projection_distance(const spline::TSpline& spline, Eigen::Vector3d uvw, const Eigen::Vector3d& x) {
+  int axis = 0;
+  for (int a = 0; a < 3; ++a)
+    if (uvw(a) <= 0.0 || uvw(a) >= 1.0) axis = a;
+  const int b = (axis + 1) % 3, c = (axis + 2) % 3;
+  // F and its Jacobian come from one evaluation; the accepted point's Jacobian is the next
+  // step's, so each step costs one evaluation.
+  Eigen::Vector3d f;
+  Eigen::Matrix3d jac;
+  spline.evaluate_with_jacobian(uvw, TSplineForm::SemiStandard, f.data(), jac.data());
+  double best = (f - x).norm();
+  for (int iteration = 0; iteration < 6; ++iteration) {
+    Eigen::Matrix<double, 3, 2> t;
+    t << jac.col(b), jac.col(c);
+    const Eigen::Matrix2d normal = t.transpose() * t;
+    if (!(std::abs(normal.determinant()) > 1e-300)) break;
+    const Eigen::Vector2d step = normal.ldlt().solve(t.transpose() * (x - f));
+    Eigen::Vector3d next = uvw;
+    next(b) = std::clamp(next(b) + step(0), 0.0, 1.0);
+    next(c) = std::clamp(next(c) + step(1), 0.0, 1.0);
+    Eigen::Vector3d fn;
+    Eigen::Matrix3d jn;
+    spline.evaluate_with_jacobian(next, TSplineForm::SemiStandard, fn.data(), jn.data());
+    if ((fn - x).norm() >= best) break;
+    uvw = next;
+    f = fn;
+    jac = jn;
+    best = (f - x).norm();
+  }
+  return best;
+}
+
+Mesh2SplineMeasures measure_mesh2spline(const spline::TSpline& spline, const mesh::HalfedgeMesh& mesh,
+                                        const mesh::Positions& vertex_uvw,
+                                        const spline::RefinementGrid& refinement, double diagonal,
+                                        const Mesh2SplineMeasureOptions& options) {
+  check_options(options);
+  Mesh2SplineMeasures measures;
+  const int m = options.surface_samples;
+  const mesh::TriangleMesh boundary = boundary_lattice(spline, m);
+  const param::SurfaceDistance to_mesh(mesh.to_triangle_mesh());
+  const param::SurfaceDistance to_spline(boundary);
+  double max_d = 0.0, sum2 = 0.0;
+  int count = 0;
+  for (int i = 0; i < boundary.num_vertices(); ++i) {
+    const double d = to_mesh.distance(boundary.positions.row(i).transpose());
+    max_d = std::max(max_d, d);
+    sum2 += d * d;
+    ++count;
+  }
+  // The uniform lattice is coarse where the surface map is compressed (ears, tips): there the
+  // spline surface is also sampled on the boundary faces of every refined leaf cell. These
+  // points only enter the maximum, so a point with a triangle within the current maximum needs
+  // no exact distance.
+  for (int leaf : refinement.leaves()) {
+    if (refinement.cell_level(leaf) == 0) continue;
+    const Eigen::Vector3d lo_cell = refinement.cell_min(leaf), hi_cell = refinement.cell_max(leaf);
+    for (int a = 0; a < 3; ++a)
+      for (int side = 0; side < 2; ++side) {
+        if (side == 0 ? lo_cell(a) > 0.0 : hi_cell(a) < 1.0) continue;
+        for (int j = 0; j <= 2; ++j)
+          for (int i = 0; i <= 2; ++i) {
+            Eigen::Vector3d p = lo_cell;
+            p(a) = side;
+            p((a + 1) % 3) += (hi_cell((a + 1) % 3) - lo_cell((a + 1) % 3)) * i / 2.0;
+            p((a + 2) % 3) += (hi_cell((a + 2) % 3) - lo_cell((a + 2) % 3)) * j / 2.0;
+            const Eigen::Vector3d f = evaluate(spline, p);
+            if (!to_mesh.within(f, max_d)) max_d = std::max(max_d, to_mesh.distance(f));
+          }
+      }
+  }
+  // Mesh → spline: the distance to the lattice triangles, or, where less, to the spline
+  // surface point found by Gauss–Newton from the vertex's own surface parameter (the lattice
+  // triangles cut corners where the map is compressed; the projection is on the surface). The
+  // projection bounds the lattice search.
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (mesh.vertex_halfedge(v) == mesh::no_id) continue;
+    const Eigen::Vector3d x = mesh.vertex_position(v);
+    const double projected = surface_projection_distance(spline, vertex_uvw.row(v).transpose(), x);
+    const double d = to_spline.distance_below(x, projected);
+    max_d = std::max(max_d, d);
+    sum2 += d * d;
+    ++count;
+  }
+  measures.hausdorff_rel = max_d / diagonal;
+  measures.rms_geo_rel = std::sqrt(sum2 / count) / diagonal;
+
+  const int nj = options.jacobian_lattice;
+  int negative = 0;
+  double min_q = 1.0;
+  for (int k = 0; k < nj; ++k)
+    for (int j = 0; j < nj; ++j)
+      for (int i = 0; i < nj; ++i) {
+        const Eigen::Vector3d uvw((i + 0.5) / nj, (j + 0.5) / nj, (k + 0.5) / nj);
+        Eigen::Vector3d f;
+        Eigen::Matrix3d jac;
+        spline.evaluate_with_jacobian(uvw, TSplineForm::SemiStandard, f.data(), jac.data());
+        const double scale = jac.col(0).norm() * jac.col(1).norm() * jac.col(2).norm();
+        const double q = scale > 0.0 ? jac.determinant() / scale : -1.0;
+        if (q <= 0.0) ++negative;
+        min_q = std::min(min_q, q);
+      }
+  measures.min_scaled_jacobian = min_q;
+  measures.negative_jacobian_fraction = double(negative) / (double(nj) * nj * nj);
+
+  std::mt19937_64 rng(options.seed);
+  double worst = 0.0;
+  for (int s = 0; s < options.semi_standard_samples; ++s) {
+    Eigen::Vector3d uvw;
+    for (int a = 0; a < 3; ++a) uvw(a) = static_cast<double>(rng() >> 11) * 0x1.0p-53;
+    worst = std::max(worst, std::abs(spline.weight_sum(uvw) - 1.0));
+  }
+  measures.semi_standard_max_error = worst;
+  return measures;
+}
+
+}  // namespace volspline::pipeline

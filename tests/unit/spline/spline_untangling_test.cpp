@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: MIT
+#include "core/spline/spline_untangling.h"
+
+#include <doctest/doctest.h>
+
+#include <Eigen/LU>
+
+#include "core/spline/bspline_volume.h"
+#include "core/spline/tspline_fitting.h"
+
+using namespace volspline;
+
+namespace {
+
+// The identity map of [0,1]³ as a uniform boundary-restricted B-spline with 4 cells per axis
+// (control points at the Greville abscissae), as a T-spline.
+spline::TSpline untangling_identity_volume() {
+  const std::vector<double> knots = spline::boundary_restricted_knots({0.0, 0.25, 0.5, 0.75, 1.0});
+  const int n = 7;
+  Eigen::MatrixXd points(n * n * n, 3);
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const int idx[3] = {i, j, k};
+        for (int a = 0; a < 3; ++a)
+          points(i + n * (j + n * k), a) = (knots[idx[a] + 1] + knots[idx[a] + 2] + knots[idx[a] + 3]) / 3.0;
+      }
+  return spline::from_bspline_volume(spline::BsplineVolume({knots, knots, knots}, points));
+}
+
+int untangling_negative_points(const spline::TSpline& ts, int l) {
+  int count = 0;
+  for (int k = 1; k < l; ++k)
+    for (int j = 1; j < l; ++j)
+      for (int i = 1; i < l; ++i)
+        if (ts.jacobian(Eigen::Vector3d(i, j, k) / l).determinant() <= 0.0) ++count;
+  return count;
+}
+
+}  // namespace
+
+TEST_CASE("spline untangling unfolds a near-boundary fold, keeps the boundary and the identity samples") {
+  spline::TSpline ts = untangling_identity_volume();
+  // Push the second-row control point (1, 3, 3) (zero on the boundary, so interior) past the
+  // fourth row (x 0.083 → 1.583): ∂F/∂u < 0 behind it, between the boundary and the middle.
+  Eigen::MatrixXd points = ts.points();
+  const int id = 1 + 7 * (3 + 7 * 3);
+  points(id, 0) += 1.5;
+  ts.set_points(points);
+  REQUIRE(untangling_negative_points(ts, 16) > 0);
+  // Samples of the identity inside the domain.
+  Eigen::MatrixX3d uvw(5 * 5 * 5, 3);
+  for (int s = 0; s < 125; ++s) uvw.row(s) = Eigen::RowVector3d(s % 5 + 0.5, s / 5 % 5 + 0.5, s / 25 + 0.5) / 5.0;
+  spline::SplineUntangleOptions options;
+  options.lattice = 16;
+  options.seed_stride = 1;
+  const spline::SplineUntangleReport report = spline::untangle_spline(ts, uvw, uvw, options);
+  CHECK(report.initial_negative > 0);
+  CHECK(report.final_negative == 0);
+  CHECK(report.final_min_scaled > 0.0);
+  CHECK(report.free_functions > 0);
+  CHECK(untangling_negative_points(ts, 16) == 0);
+  const Eigen::Vector3d lo = ts.domain_min(), hi = ts.domain_max();
+  for (int i = 0; i < ts.num_functions(); ++i)
+    if (spline::touches_domain_boundary(ts.knots()[i], lo, hi)) CHECK(ts.points().row(i) == points.row(i));
+}
+
+TEST_CASE("spline untangling leaves a valid map alone") {
+  spline::TSpline ts = untangling_identity_volume();
+  const Eigen::MatrixXd before = ts.points();
+  const spline::SplineUntangleReport report = spline::untangle_spline(ts, Eigen::MatrixX3d(0, 3), Eigen::MatrixX3d(0, 3));
+  CHECK(report.scanned == 24 * 24 * 24);  // the cell centres of the 24³ lattice
+  CHECK(report.seeds == 0);
+  CHECK(report.free_functions == 0);
+  CHECK(ts.points() == before);
+}
