@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: MIT
 list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/file_bytes.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/gzip_inflate.cpp
   ${CMAKE_CURRENT_LIST_DIR}/image_io.cpp
   ${CMAKE_CURRENT_LIST_DIR}/mesh_io.cpp
   ${CMAKE_CURRENT_LIST_DIR}/mesh_builder.cpp

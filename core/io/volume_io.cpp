@@ -13,6 +13,7 @@
 
 #include "core/common/error.h"
 #include "core/io/file_bytes.h"
+#include "core/io/gzip_inflate.h"
 
 namespace volspline::io {
 
@@ -24,7 +25,7 @@ using volume::Volume;
 // Upper bound on the voxel count; the data size is checked against the file before allocating.
 constexpr std::uint64_t kMaxVoxels = std::uint64_t{1} << 31;
 
-enum class Encoding { Raw, Ascii };
+enum class Encoding { Raw, Ascii, Gzip };
 
 // What a header says about where and how the samples are stored.
 struct DataLayout {
@@ -262,7 +263,8 @@ DataLayout parse_nrrd_header(const std::string& bytes, const std::string& name) 
       } else if (encoding == "ascii" || encoding == "text" || encoding == "txt") {
         layout.encoding = Encoding::Ascii;
       } else if (encoding == "gzip" || encoding == "gz") {
-        throw Error(name + ": gzip encoding not supported (volspline is built without zlib)");
+        if (!gzip_available()) throw Error(name + ": gzip encoding not supported (volspline is built without zlib)");
+        layout.encoding = Encoding::Gzip;
       } else {
         throw Error(name + ": unsupported encoding '" + value + "'");
       }
@@ -469,6 +471,15 @@ Volume decode_data(const std::string& bytes, std::size_t begin, const DataLayout
   for (long long i = 0; i < layout.line_skip; ++i)
     if (!next_line(bytes, pos, line)) throw Error(name + ": truncated data: cannot skip " + std::to_string(layout.line_skip) + " lines");
   if (layout.encoding == Encoding::Ascii) return decode_ascii(bytes, pos, layout.raw, layout.spacing, name);
+  if (layout.encoding == Encoding::Gzip) {
+    // NRRD: the byte skip of compressed data counts decompressed bytes (before the samples).
+    const std::uint64_t count = checked_voxel_count(layout.raw.dims, name);
+    const std::uint64_t needed = count * static_cast<std::uint64_t>(volume::sample_type_size(layout.raw.type)) +
+                                 static_cast<std::uint64_t>(layout.byte_skip);
+    const std::string plain = gzip_inflate(bytes.data() + pos, bytes.size() - pos, static_cast<std::size_t>(needed), name);
+    const std::size_t skip = static_cast<std::size_t>(layout.byte_skip);
+    return decode_binary(plain.data() + skip, plain.size() - skip, layout.raw, layout.spacing, false, name);
+  }
   if (layout.byte_skip == -1) {
     const std::uint64_t count = checked_voxel_count(layout.raw.dims, name);
     const std::uint64_t needed = count * static_cast<std::uint64_t>(volume::sample_type_size(layout.raw.type));

@@ -15,6 +15,13 @@ expect 0 "$BIN" eval "$TMP/v.json" --uvw 15.5,15.5,15.5
 # The same bytes given as a raw file with explicit dims and type.
 cp "$VOL" "$TMP/volume.raw"
 expect 0 "$BIN" vol2spline "$TMP/volume.raw" --dims 32,32,32 --type uint8 --spacing 1,1,2 -o "$TMP/w.json" --max-rms 0.2 --max-levels 1 --quiet
+# The same bytes as a gzip-encoded NRRD (attached data, compressed by the gzip command): the same spline.
+{ printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 32 32 32\nencoding: gzip\n\n'; gzip -c "$VOL"; } > "$TMP/bucky.nrrd"
+expect 0 "$BIN" vol2spline "$TMP/bucky.nrrd" -o "$TMP/g.json" --max-rms 0.1 --quiet
+cmp -s "$TMP/g.json" "$TMP/v.json" || bad "gzip NRRD spline differs from the raw one"
+head -c 2000 "$TMP/bucky.nrrd" > "$TMP/bucky_cut.nrrd"
+expect 2 "$BIN" vol2spline "$TMP/bucky_cut.nrrd" -o "$TMP/x.json" --quiet
+contains "$TMP/err" "bucky_cut.nrrd: truncated gzip data"
 # Bad input and usage: exit 2 with a message.
 expect 2 "$BIN" vol2spline "$TMP/volume.raw" -o "$TMP/x.json" --quiet
 expect 2 "$BIN" vol2spline "$TMP/volume.raw" --dims 32,32,31 --type uint8 -o "$TMP/x.json" --quiet

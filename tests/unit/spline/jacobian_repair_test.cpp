@@ -5,31 +5,12 @@
 
 #include "core/spline/bspline_volume.h"
 #include "core/spline/tspline_fitting.h"
+#include "tests/unit/spline/identity_test_volume.h"
 
 using namespace volspline;
 
-namespace {
-
-// The identity map of [0,1]³ as a uniform boundary-restricted B-spline with 4 cells per axis
-// (control points at the Greville abscissae), as a T-spline.
-spline::TSpline identity_volume() {
-  const std::vector<double> knots = spline::boundary_restricted_knots({0.0, 0.25, 0.5, 0.75, 1.0});
-  const int n = 7;
-  Eigen::MatrixXd points(n * n * n, 3);
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        const int idx[3] = {i, j, k};
-        for (int a = 0; a < 3; ++a)
-          points(i + n * (j + n * k), a) = (knots[idx[a] + 1] + knots[idx[a] + 2] + knots[idx[a] + 3]) / 3.0;
-      }
-  return spline::from_bspline_volume(spline::BsplineVolume({knots, knots, knots}, points));
-}
-
-}  // namespace
-
 TEST_CASE("the Jacobian repair unfolds an interior fold and keeps the boundary control points") {
-  spline::TSpline ts = identity_volume();
+  spline::TSpline ts = test::identity_test_volume();
   // Push one interior control point far past its neighbour: the map folds around it.
   Eigen::MatrixXd points = ts.points();
   const int centre = 3 + 7 * (3 + 7 * 3);
@@ -50,7 +31,7 @@ TEST_CASE("the Jacobian repair unfolds an interior fold and keeps the boundary c
 }
 
 TEST_CASE("the Jacobian repair leaves a valid map alone") {
-  spline::TSpline ts = identity_volume();
+  spline::TSpline ts = test::identity_test_volume();
   const Eigen::MatrixXd before = ts.points();
   const spline::JacobianRepairReport report = spline::repair_jacobian(ts, {});
   CHECK(report.initial_negative == 0);

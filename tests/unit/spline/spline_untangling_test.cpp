@@ -7,26 +7,11 @@
 
 #include "core/spline/bspline_volume.h"
 #include "core/spline/tspline_fitting.h"
+#include "tests/unit/spline/identity_test_volume.h"
 
 using namespace volspline;
 
 namespace {
-
-// The identity map of [0,1]³ as a uniform boundary-restricted B-spline with 4 cells per axis
-// (control points at the Greville abscissae), as a T-spline.
-spline::TSpline untangling_identity_volume() {
-  const std::vector<double> knots = spline::boundary_restricted_knots({0.0, 0.25, 0.5, 0.75, 1.0});
-  const int n = 7;
-  Eigen::MatrixXd points(n * n * n, 3);
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        const int idx[3] = {i, j, k};
-        for (int a = 0; a < 3; ++a)
-          points(i + n * (j + n * k), a) = (knots[idx[a] + 1] + knots[idx[a] + 2] + knots[idx[a] + 3]) / 3.0;
-      }
-  return spline::from_bspline_volume(spline::BsplineVolume({knots, knots, knots}, points));
-}
 
 int untangling_negative_points(const spline::TSpline& ts, int l) {
   int count = 0;
@@ -40,7 +25,7 @@ int untangling_negative_points(const spline::TSpline& ts, int l) {
 }  // namespace
 
 TEST_CASE("spline untangling unfolds a near-boundary fold, keeps the boundary and the identity samples") {
-  spline::TSpline ts = untangling_identity_volume();
+  spline::TSpline ts = test::identity_test_volume();
   // Push the second-row control point (1, 3, 3) (zero on the boundary, so interior) past the
   // fourth row (x 0.083 → 1.583): ∂F/∂u < 0 behind it, between the boundary and the middle.
   Eigen::MatrixXd points = ts.points();
@@ -66,7 +51,7 @@ TEST_CASE("spline untangling unfolds a near-boundary fold, keeps the boundary an
 }
 
 TEST_CASE("spline untangling leaves a valid map alone") {
-  spline::TSpline ts = untangling_identity_volume();
+  spline::TSpline ts = test::identity_test_volume();
   const Eigen::MatrixXd before = ts.points();
   const spline::SplineUntangleReport report = spline::untangle_spline(ts, Eigen::MatrixX3d(0, 3), Eigen::MatrixX3d(0, 3));
   CHECK(report.scanned == 24 * 24 * 24);  // the cell centres of the 24³ lattice
