@@ -23,13 +23,21 @@ function setProgress(stage, fraction) {
   $('job-progress').value = fraction;
   $('job-stage').textContent = stage;
 }
-jobs.onState((state) => { $('job-cancel').disabled = state !== 'busy'; });
+// Cancel is offered once a job has run for 250 ms: the lens's live jobs take a few ms each, and
+// toggling the button for every one of them flickers and restyles the header at every frame.
+let cancelTimer = 0;
+jobs.onState((state) => {
+  clearTimeout(cancelTimer);
+  if (state === 'busy') cancelTimer = setTimeout(() => { $('job-cancel').disabled = false; }, 250);
+  else if (!$('job-cancel').disabled) $('job-cancel').disabled = true;
+});
 $('job-cancel').addEventListener('click', () => jobs.cancel());
 
 /// Runs a job with the job bar; long-running or not, the UI stays responsive (the worker computes).
 async function runJob(job, args, { quiet = false, transfer = [] } = {}) {
   if (!quiet) setProgress(job + '…', 0);
-  const result = await jobs.run(job, args, { transfer, onProgress: (stage, f) => setProgress(stage, f) });
+  // Quiet jobs (the lens's live runs) leave the bar alone: its text would re-lay out the page every frame.
+  const result = await jobs.run(job, args, { transfer, onProgress: quiet ? null : (stage, f) => setProgress(stage, f) });
   if (!quiet || !result.ok) setProgress(result.ok ? `${job}: done (${result.ms_worker.toFixed(0)} ms)` : `${job}: ${result.message === 'cancelled' ? 'cancelled' : 'failed'}`, result.ok ? 1 : 0);
   return result;
 }
@@ -512,7 +520,7 @@ const lensTab = {
   },
 };
 try {
-  lensTab.view = new LensView($('lens-canvas'), $('lens-overlay'), (roi, live) => { lensTab.roi = roi; lensTab.update(live); });
+  lensTab.view = new LensView({ canvas: $('lens-canvas'), ring: $('lens-ring'), overlay: $('lens-overlay') }, (roi, live) => { lensTab.roi = roi; lensTab.update(live); });
   lensTab.view.onFrame = () => lensTab.onFrame();
 } catch (e) {
   showError(e.message);

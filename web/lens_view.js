@@ -1,18 +1,30 @@
 // SPDX-License-Identifier: MIT
-// WebGL2 view of the lens result: the flattened mesh (output pixel positions) textured with the
-// input image (texture coordinates in input pixels), the ROI circle drawn on an overlay canvas.
-// Pointer input moves the ROI (drag inside) or resizes it (drag its rim); every change calls
-// onChange(roi) so the page can re-run the job. Until a result arrives the plain image is shown.
+// View of the lens result. The lens is rendered with WebGL2 (the flattened mesh at output pixel
+// positions, textured with the input image) into an off-screen canvas covering only the box of the
+// triangles that move content, then copied into the visible 2D canvas (`canvas`, image resolution)
+// over the undeformed image; outside the box the deformation is the identity. The ROI circle is a
+// small 2D canvas (`ring`) moved with a CSS transform.
+// Why: without a GPU (SwiftShader, headless Chromium) a frame costs the pixels WebGL renders and
+// reads back plus the screen area the compositor redraws. Here both are the lens box: a 2D canvas
+// reports only the rectangles drawn into it as damaged, a WebGL canvas always the whole canvas. The
+// single visible canvas shows the same pixels as one full-image render, without seams between layers.
+// During a drag the core answers with the solved lens translated; such frames draw one quad that
+// reads the solved mesh's displacement field (rendered once per solve) instead of its triangles.
+// (The same frame computed in JavaScript measured no faster under SwiftShader, and its cost grows
+// with the box on the main thread, where a GPU's is nil.)
+// Pointer input on `overlay` (an empty element over both) moves the ROI (drag inside) or resizes it
+// (drag its rim); every change calls onChange(roi, live) so the page can re-run the job.
 import { createProgram } from './gl_util.js';
 
 const VERTEX = `#version 300 es
 in vec2 position;   // output pixels
 in vec2 texcoord;   // input pixels
 uniform vec2 size;  // image width, height
+uniform vec4 rect;  // the canvas's image rectangle: x, y, width, height (pixels)
 out vec2 uv;
 void main() {
   uv = texcoord / size;
-  vec2 clip = position / size * 2.0 - 1.0;
+  vec2 clip = (position - rect.xy) / rect.zw * 2.0 - 1.0;
   gl_Position = vec4(clip.x, -clip.y, 0.0, 1.0);
 }`;
 
@@ -23,23 +35,78 @@ uniform sampler2D image;
 out vec4 colour;
 void main() { colour = texture(image, uv); }`;
 
+// The displacement field of a mesh, texcoord − position (input pixels), rendered into an RG32F
+// texture: the lens of a live drag is a solved lens translated, whose field is the same one read
+// at an offset, so a live frame draws one quad instead of the mesh's triangles.
+const DISPLACEMENT_FRAGMENT = `#version 300 es
+precision highp float;
+in vec2 displacement;
+out vec4 colour;
+void main() { colour = vec4(displacement, 0.0, 1.0); }`;
+
+const DISPLACEMENT_VERTEX = `#version 300 es
+in vec2 position;
+in vec2 texcoord;
+uniform vec4 rect;
+out vec2 displacement;
+void main() {
+  displacement = texcoord - position;
+  vec2 clip = (position - rect.xy) / rect.zw * 2.0 - 1.0;
+  gl_Position = vec4(clip.x, -clip.y, 0.0, 1.0);
+}`;
+
+// A live frame: output pixel x shows the input at x + D(x − offset), D read bilinearly from the
+// field texture (zero at its border, clamped: the identity outside) and the input sampled like the
+// mesh's texture. Two texture reads per pixel; branches and texelFetch cost SwiftShader ~4× more.
+const SHIFT_VERTEX = `#version 300 es
+in vec2 corner;
+void main() { gl_Position = vec4(corner, 0.0, 1.0); }`;
+
+const SHIFT_FRAGMENT = `#version 300 es
+precision highp float;
+uniform sampler2D image;
+uniform highp sampler2D field;
+uniform vec2 size;        // image width, height
+uniform vec4 rect;        // this canvas's image rectangle
+uniform vec4 fieldRect;   // the field texture's image rectangle
+uniform vec2 offset;      // translation of the lens since the field's mesh (input pixels)
+out vec4 colour;
+void main() {
+  vec2 x = vec2(rect.x + gl_FragCoord.x, rect.y + rect.w - gl_FragCoord.y);  // image pixels, y down
+  vec2 q = (x - offset - fieldRect.xy) / fieldRect.zw;
+  vec2 d = texture(field, vec2(q.x, 1.0 - q.y)).rg;  // the field's rows run upwards
+  colour = texture(image, (x + d) / size);
+}`;
+
+// Largest difference (input pixels) between a result's vertices and the field mesh's moved by one
+// offset for the result to count as that translation: float32 rounding of the core's doubles.
+const TRANSLATION_TOL = 1e-3;
+
+// Image pixels kept around the box of moving triangles (so the field texture's border is zero and
+// the box's edge pixels are whole), and the step the WebGL canvas size is rounded up to, so a lens
+// moving across the image rarely reallocates it.
+const MARGIN = 3;
+const SIZE_STEP = 64;
+
 export class LensView {
-  /// `canvas`: WebGL2 canvas; `overlay`: a 2D canvas stacked over it with the same CSS size.
-  constructor(canvas, overlay, onChange) {
-    this.canvas = canvas;
-    this.overlay = overlay;
-    this.onChange = onChange;
-    // No multisampling: the mesh covers the whole canvas, so MSAA only smooths the canvas border,
-    // and under a software renderer (SwiftShader, headless Chromium) it made each 100×100-grid
-    // frame ~4× slower (about 10 instead of 37 draws per second).
-    const gl = canvas.getContext('webgl2', { antialias: false, preserveDrawingBuffer: true });
+  /// `canvas` the visible 2D canvas, `ring` a 2D canvas for the ROI circle, `overlay` the element
+  /// receiving pointer input; all children of one positioned element (see the file comment).
+  constructor({ canvas, ring, overlay }, onChange) {
+    Object.assign(this, { canvas, ring, overlay, onChange });
+    this.stack = overlay.parentElement;
+    this.context = canvas.getContext('2d', { alpha: false });  // opaque: the compositor need not blend it
+    this.pristine = document.createElement('canvas');  // the undeformed image
+    this.glCanvas = document.createElement('canvas');  // off screen: the lens box
+    // No multisampling: under a software renderer it made each 100×100-grid frame ~4× slower.
+    // Each frame redraws the whole (small) canvas and copies it out at once: nothing to preserve.
+    const gl = this.glCanvas.getContext('webgl2', { antialias: false, alpha: false, preserveDrawingBuffer: false });
     if (!gl) throw new Error('WebGL2 is not available in this browser');
     this.gl = gl;
     this.program = createProgram(gl, VERTEX, FRAGMENT);
     this.vao = gl.createVertexArray();
     this.buffers = { position: gl.createBuffer(), texcoord: gl.createBuffer(), triangles: gl.createBuffer() };
     this.uploaded = {};  // the arrays last sent to each buffer
-    this.uniforms = { size: gl.getUniformLocation(this.program, 'size'), image: gl.getUniformLocation(this.program, 'image') };
+    this.uniforms = Object.fromEntries(['size', 'rect', 'image'].map((n) => [n, gl.getUniformLocation(this.program, n)]));
     // The attribute layout never changes: set it once on the vertex array.
     gl.bindVertexArray(this.vao);
     for (const name of ['position', 'texcoord']) {
@@ -62,24 +129,66 @@ export class LensView {
       gl.vertexAttribPointer(loc, 2, gl.FLOAT, false, 0, 0);
     }
     gl.bindVertexArray(null);
+    // The live path needs float render targets that filter linearly; without them every frame
+    // draws the mesh.
+    if (gl.getExtension('EXT_color_buffer_float') && gl.getExtension('OES_texture_float_linear')) {
+      this.displacementProgram = createProgram(gl, DISPLACEMENT_VERTEX, DISPLACEMENT_FRAGMENT);
+      this.shiftProgram = createProgram(gl, SHIFT_VERTEX, SHIFT_FRAGMENT);
+      this.displacementVao = gl.createVertexArray();
+      gl.bindVertexArray(this.displacementVao);
+      for (const name of ['position', 'texcoord']) {
+        gl.bindBuffer(gl.ARRAY_BUFFER, this.buffers[name]);
+        const loc = gl.getAttribLocation(this.displacementProgram, name);
+        gl.enableVertexAttribArray(loc);
+        gl.vertexAttribPointer(loc, 2, gl.FLOAT, false, 0, 0);
+      }
+      gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, this.buffers.triangles);
+      this.shiftVao = gl.createVertexArray();
+      gl.bindVertexArray(this.shiftVao);
+      gl.bindBuffer(gl.ARRAY_BUFFER, gl.createBuffer());
+      gl.bufferData(gl.ARRAY_BUFFER, new Float32Array([-1, -1, 1, -1, 1, 1, -1, -1, 1, 1, -1, 1]), gl.STATIC_DRAW);
+      const loc = gl.getAttribLocation(this.shiftProgram, 'corner');
+      gl.enableVertexAttribArray(loc);
+      gl.vertexAttribPointer(loc, 2, gl.FLOAT, false, 0, 0);
+      gl.bindVertexArray(null);
+      this.shiftUniforms = Object.fromEntries(['image', 'field', 'size', 'rect', 'fieldRect', 'offset']
+        .map((n) => [n, gl.getUniformLocation(this.shiftProgram, n)]));
+      this.displacementRectUniform = gl.getUniformLocation(this.displacementProgram, 'rect');
+      this.fieldTexture = gl.createTexture();
+      this.framebuffer = gl.createFramebuffer();
+    }
+    this.mesh = null;     // the last result drawn as a mesh: {positions, texture, triangles, box}
+    this.field = null;    // image rectangle of the field texture, once rendered for this.mesh
+    this.offset = null;   // the current result is this.mesh moved by this offset [dx, dy]
     this.onFrame = null;  // called after each drawn frame
     this.texture = gl.createTexture();
     this.count = 0;
     this.image = null;
     this.roi = null;
+    this.rect = null;      // image rectangle [x, y, width, height] of the lens box on screen
+    this.ringDrawn = null; // {r, scale, dpr} the ring canvas was drawn for
+    this.scale = 1;        // CSS pixels per image pixel
+    ring.style.visibility = 'hidden';
+    // The layers' CSS placement depends on the displayed size: follow it.
+    new ResizeObserver(() => this.layout()).observe(overlay);
     this.installControls();
   }
 
   /// Sets the input image {width, height, channels, pixels} and shows it undeformed.
   setImage(image) {
     const gl = this.gl;
+    // Transparent pixels are composed over black here: both layers are opaque (the WebGL canvas
+    // has no alpha channel, so the compositor need not blend it), and the page behind is black.
     const n = image.width * image.height;
-    const rgba = new Uint8Array(4 * n);
+    const rgba = new Uint8ClampedArray(4 * n);
+    const p = image.pixels, ch = image.channels;
     for (let i = 0; i < n; i++) {
-      const s = i * image.channels, p = image.pixels;
-      if (image.channels >= 3) { rgba[4 * i] = p[s]; rgba[4 * i + 1] = p[s + 1]; rgba[4 * i + 2] = p[s + 2]; }
-      else { rgba[4 * i] = rgba[4 * i + 1] = rgba[4 * i + 2] = p[s]; }
-      rgba[4 * i + 3] = image.channels === 4 ? p[s + 3] : image.channels === 2 ? p[s + 1] : 255;
+      const s = i * ch;
+      const a = ch === 4 ? p[s + 3] : ch === 2 ? p[s + 1] : 255;
+      const k = a / 255;
+      if (ch >= 3) { rgba[4 * i] = p[s] * k; rgba[4 * i + 1] = p[s + 1] * k; rgba[4 * i + 2] = p[s + 2] * k; }
+      else { rgba[4 * i] = rgba[4 * i + 1] = rgba[4 * i + 2] = p[s] * k; }
+      rgba[4 * i + 3] = 255;
     }
     gl.bindTexture(gl.TEXTURE_2D, this.texture);
     gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
@@ -89,15 +198,24 @@ export class LensView {
     gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE);
     gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE);
     this.image = { width: image.width, height: image.height };
-    this.fullDirty = true;
-    this.box = null;
-    for (const c of [this.canvas, this.overlay]) { c.width = image.width; c.height = image.height; }
-    this.canvas.parentElement.style.aspectRatio = `${image.width} / ${image.height}`;
-    this.canvas.parentElement.style.setProperty('--aspect', String(image.width / image.height));
+    for (const c of [this.canvas, this.pristine]) {
+      c.width = image.width;
+      c.height = image.height;
+    }
+    this.pristine.getContext('2d').putImageData(new ImageData(rgba, image.width, image.height), 0, 0);
+    this.context.imageSmoothingEnabled = false;  // every copy is 1:1 at whole pixels
+    this.context.drawImage(this.pristine, 0, 0);
+    this.stack.style.aspectRatio = `${image.width} / ${image.height}`;
+    this.stack.style.setProperty('--aspect', String(image.width / image.height));
     const w = image.width, h = image.height;
     const corners = new Float32Array([0, 0, w, 0, w, h, 0, h]);
     gl.bindBuffer(gl.ARRAY_BUFFER, this.backgroundBuffer);
     gl.bufferData(gl.ARRAY_BUFFER, new Float32Array([0, 0, w, 0, w, h, 0, 0, w, h, 0, h]), gl.STATIC_DRAW);
+    this.rect = null;
+    this.ringDrawn = null;
+    this.mesh = null;
+    this.field = null;
+    this.layout();
     this.setMesh(corners, corners, new Uint32Array([0, 1, 2, 0, 2, 3]));
   }
 
@@ -111,7 +229,7 @@ export class LensView {
 
   /// The triangles that move their content (some vertex with position ≠ texture) and the box of
   /// their output positions [x0, y0, x1, y1]; the others show the image in place, which the
-  /// background quad already draws.
+  /// undeformed image already shows.
   static activeTriangles(positions, texture, triangles) {
     const moved = (v) => positions[2 * v] !== texture[2 * v] || positions[2 * v + 1] !== texture[2 * v + 1];
     const out = new Uint32Array(triangles.length);
@@ -132,18 +250,45 @@ export class LensView {
     if (this.frame) return;
     this.frame = requestAnimationFrame(() => {
       this.frame = 0;
-      // Under a software renderer every changed layer costs a composite: the overlay is redrawn
-      // here, at most once per frame and together with the image, not at every pointer event.
-      if (this.overlayDirty) { this.overlayDirty = false; this.drawOverlay(); }
-      if (!this.next && !this.redraw) return;
-      if (this.next) { this.upload(this.next); this.next = null; }
-      this.redraw = false;
+      // The ring moves with the pointer at most once per frame, together with the image.
+      if (this.ringDirty) { this.ringDirty = false; this.placeRing(); }
+      if (!this.next) return;
+      this.upload(this.next);
+      this.next = null;
       this.draw();
       this.onFrame?.();
     });
   }
 
-  upload({ positions, texture, triangles }) {
+  /// The offset [dx, dy] by which `next` is `mesh` translated (positions and texture moved alike,
+  /// the same triangles), or null.
+  static translationOf(next, mesh) {
+    if (!mesh || next.triangles.length !== mesh.triangles.length || next.positions.length !== mesh.positions.length) return null;
+    const p = next.positions, t = next.texture, p0 = mesh.positions, t0 = mesh.texture;
+    if (!p.length) return null;
+    const dx = p[0] - p0[0], dy = p[1] - p0[1];
+    for (let i = 0; i < p.length; i += 2) {
+      if (Math.abs(p[i] - p0[i] - dx) > TRANSLATION_TOL || Math.abs(p[i + 1] - p0[i + 1] - dy) > TRANSLATION_TOL ||
+          Math.abs(t[i] - t0[i] - dx) > TRANSLATION_TOL || Math.abs(t[i + 1] - t0[i + 1] - dy) > TRANSLATION_TOL) return null;
+    }
+    const a = next.triangles, b = mesh.triangles;
+    if (a !== b) for (let i = 0; i < a.length; i++) if (a[i] !== b[i]) return null;
+    return [dx, dy];
+  }
+
+  /// Uploads `next`: a translation of the mesh on screen only sets the offset (unless `asMesh`),
+  /// anything else becomes the new mesh.
+  upload(next, asMesh = false) {
+    const offset = this.shiftProgram && !asMesh ? LensView.translationOf(next, this.mesh) : null;
+    if (offset) {
+      const b = this.mesh.box;
+      this.offset = offset;
+      this.box = b && [b[0] + offset[0], b[1] + offset[1], b[2] + offset[0], b[3] + offset[1]];
+      return;
+    }
+    this.offset = null;
+    this.field = null;
+    const { positions, texture, triangles } = next;
     const gl = this.gl;
     const same = (a, b) => {
       if (!a || a.length !== b.length) return false;
@@ -165,37 +310,61 @@ export class LensView {
     put(gl.ELEMENT_ARRAY_BUFFER, 'triangles', active.triangles);
     gl.bindVertexArray(null);
     this.count = active.triangles.length;
-    // Only the pixels under the lens now or in the previous frame change (the drawing buffer is
-    // preserved): the next draw is clipped to their box, which matters under software rendering.
-    const previous = this.box;
     this.box = active.box;
-    this.dirty = this.fullDirty || !previous || !active.box ? null
-      : [Math.min(previous[0], active.box[0]), Math.min(previous[1], active.box[1]),
-         Math.max(previous[2], active.box[2]), Math.max(previous[3], active.box[3])];
-    this.fullDirty = false;
+    this.mesh = { ...next, box: active.box };
+  }
+
+  /// The image rectangle for the WebGL canvas: the box with a margin, its size rounded up to
+  /// SIZE_STEP (and kept while it still fits and is not much larger), clamped into the image.
+  placeRect(box) {
+    const { width, height } = this.image;
+    const fit = (lo, hi, size, old) => {
+      const need = Math.ceil(hi) - Math.floor(lo) + 2 * MARGIN;
+      let s = old && old >= need && old <= need + 2 * SIZE_STEP ? old : Math.ceil(need / SIZE_STEP) * SIZE_STEP;
+      s = Math.min(s, size);
+      // Centred on the box, then pushed inside the image.
+      const start = Math.floor((lo + hi) / 2 - s / 2);
+      return [Math.max(0, Math.min(size - s, start)), s];
+    };
+    const [x, w] = fit(box[0], box[2], width, this.rect?.[2]);
+    const [y, h] = fit(box[1], box[3], height, this.rect?.[3]);
+    return [x, y, w, h];
   }
 
   /// Sets the ROI circle {cx, cy, r} (input pixels) without calling onChange.
-  setRoi(roi) { this.roi = { ...roi }; this.drawOverlay(); }
+  setRoi(roi) { this.roi = { ...roi }; this.placeRing(); }
 
-  /// Redraws the overlay at the next animation frame.
-  requestOverlay() { this.overlayDirty = true; this.requestDraw(); }
+  /// Moves the ring at the next animation frame.
+  requestOverlay() { this.ringDirty = true; this.requestDraw(); }
 
   draw() {
-    const gl = this.gl;
     if (!this.image) return;
-    gl.viewport(0, 0, this.canvas.width, this.canvas.height);
-    const d = this.dirty;
-    this.dirty = null;  // a later plain redraw (e.g. a resize of the page) draws everything
-    if (d) {
-      // Canvas pixels equal image pixels; GL's y runs upwards. Two pixels of margin for the edges.
-      const x0 = Math.max(0, Math.floor(d[0]) - 2), x1 = Math.min(this.canvas.width, Math.ceil(d[2]) + 2);
-      const y0 = Math.max(0, Math.floor(d[1]) - 2), y1 = Math.min(this.canvas.height, Math.ceil(d[3]) + 2);
-      gl.enable(gl.SCISSOR_TEST);
-      gl.scissor(x0, this.canvas.height - y1, Math.max(0, x1 - x0), Math.max(0, y1 - y0));
+    const ctx = this.context;
+    // The previous box goes back to the undeformed image; the new box is drawn over it in the same
+    // task, so the page never shows the gap.
+    if (this.rect) {
+      const [x, y, w, h] = this.rect;
+      ctx.drawImage(this.pristine, x, y, w, h, x, y, w, h);
     }
+    if (!this.box) { this.rect = null; return; }
+    const rect = this.placeRect(this.box);
+    if (this.glCanvas.width !== rect[2] || this.glCanvas.height !== rect[3]) {
+      this.glCanvas.width = rect[2];
+      this.glCanvas.height = rect[3];
+    }
+    this.rect = rect;
+    if (this.offset) this.drawShifted(rect);
+    else this.drawMesh(rect);
+    ctx.drawImage(this.glCanvas, 0, 0, rect[2], rect[3], rect[0], rect[1], rect[2], rect[3]);
+  }
+
+  /// The mesh itself: the undeformed image, then the triangles that move content.
+  drawMesh(rect) {
+    const gl = this.gl;
+    gl.viewport(0, 0, rect[2], rect[3]);
     gl.useProgram(this.program);
     gl.uniform2f(this.uniforms.size, this.image.width, this.image.height);
+    gl.uniform4f(this.uniforms.rect, rect[0], rect[1], rect[2], rect[3]);
     gl.activeTexture(gl.TEXTURE0);
     gl.bindTexture(gl.TEXTURE_2D, this.texture);
     gl.uniform1i(this.uniforms.image, 0);
@@ -204,30 +373,129 @@ export class LensView {
     gl.bindVertexArray(this.vao);
     gl.drawElements(gl.TRIANGLES, this.count, gl.UNSIGNED_INT, 0);
     gl.bindVertexArray(null);
-    gl.disable(gl.SCISSOR_TEST);
   }
 
-  drawOverlay() {
-    const ctx = this.overlay.getContext('2d');
-    ctx.clearRect(0, 0, this.overlay.width, this.overlay.height);
-    if (!this.roi || !this.image) return;
-    const scale = this.image.width / (this.overlay.clientWidth || this.image.width);
-    ctx.lineWidth = 2 * scale;
-    ctx.setLineDash([6 * scale, 4 * scale]);
-    ctx.strokeStyle = 'rgba(255, 200, 0, 0.9)';
-    ctx.beginPath();
-    ctx.arc(this.roi.cx, this.roi.cy, this.roi.r, 0, 2 * Math.PI);
-    ctx.stroke();
-    ctx.setLineDash([]);
-    ctx.fillStyle = 'rgba(255, 200, 0, 0.9)';
-    ctx.beginPath();
-    ctx.arc(this.roi.cx + this.roi.r, this.roi.cy, 5 * scale, 0, 2 * Math.PI);
-    ctx.fill();
+  /// The mesh's displacement field over its own rectangle (zero where it does not move content),
+  /// rendered once per mesh into the field texture.
+  renderField() {
+    const gl = this.gl;
+    // Not clamped to the image: the border texels must be zero, since lookups outside clamp to them.
+    const b = this.mesh.box;
+    const x = Math.floor(b[0]) - MARGIN, y = Math.floor(b[1]) - MARGIN;
+    const rect = [x, y, Math.ceil(b[2]) + MARGIN - x, Math.ceil(b[3]) + MARGIN - y];
+    gl.bindTexture(gl.TEXTURE_2D, this.fieldTexture);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RG32F, rect[2], rect[3], 0, gl.RG, gl.FLOAT, null);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.LINEAR);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.LINEAR);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, this.framebuffer);
+    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, this.fieldTexture, 0);
+    gl.viewport(0, 0, rect[2], rect[3]);
+    gl.clearColor(0, 0, 0, 0);
+    gl.clear(gl.COLOR_BUFFER_BIT);
+    gl.useProgram(this.displacementProgram);
+    gl.uniform4f(this.displacementRectUniform, rect[0], rect[1], rect[2], rect[3]);
+    gl.bindVertexArray(this.displacementVao);
+    gl.drawElements(gl.TRIANGLES, this.count, gl.UNSIGNED_INT, 0);
+    gl.bindVertexArray(null);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    this.field = rect;
   }
 
-  /// Input pixel coordinates of a pointer event.
-  toImage(e) {
-    const rect = this.overlay.getBoundingClientRect();
+  /// A live frame: the field mesh's result moved by this.offset, one quad (see SHIFT_FRAGMENT).
+  drawShifted(rect) {
+    const gl = this.gl;
+    if (!this.field) this.renderField();
+    const f = this.field, u = this.shiftUniforms;
+    gl.viewport(0, 0, rect[2], rect[3]);
+    gl.useProgram(this.shiftProgram);
+    gl.uniform2f(u.size, this.image.width, this.image.height);
+    gl.uniform4f(u.rect, rect[0], rect[1], rect[2], rect[3]);
+    gl.uniform4f(u.fieldRect, f[0], f[1], f[2], f[3]);
+    gl.uniform2f(u.offset, this.offset[0], this.offset[1]);
+    gl.activeTexture(gl.TEXTURE0);
+    gl.bindTexture(gl.TEXTURE_2D, this.texture);
+    gl.uniform1i(u.image, 0);
+    gl.activeTexture(gl.TEXTURE1);
+    gl.bindTexture(gl.TEXTURE_2D, this.fieldTexture);
+    gl.uniform1i(u.field, 1);
+    gl.bindVertexArray(this.shiftVao);
+    gl.drawArrays(gl.TRIANGLES, 0, 6);
+    gl.bindVertexArray(null);
+    gl.activeTexture(gl.TEXTURE0);
+  }
+
+  /// Test hook: draws the live frame on screen both ways, as the field quad and as the translated
+  /// mesh, and compares the pixels: {pixels, differ (count more than 2 levels apart), maxDiff}.
+  /// Null unless a live frame is shown. Afterwards the translated mesh is on screen.
+  compareLivePaths() {
+    if (!this.offset || !this.rect) return null;
+    const gl = this.gl, rect = this.rect, [w, h] = [rect[2], rect[3]];
+    const read = () => { const px = new Uint8Array(4 * w * h); gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, px); return px; };
+    this.drawShifted(rect);
+    const a = read();
+    const [dx, dy] = this.offset, m = this.mesh;
+    const moved = (v) => v.map((x, i) => x + (i % 2 ? dy : dx));
+    this.upload({ positions: moved(m.positions), texture: moved(m.texture), triangles: m.triangles }, true);
+    this.drawMesh(rect);
+    const b = read();
+    this.context.drawImage(this.glCanvas, 0, 0, w, h, rect[0], rect[1], w, h);
+    let differ = 0, maxDiff = 0;
+    for (let i = 0; i < a.length; i += 4) {
+      const d = Math.max(Math.abs(a[i] - b[i]), Math.abs(a[i + 1] - b[i + 1]), Math.abs(a[i + 2] - b[i + 2]));
+      if (d > 2) differ++;
+      if (d > maxDiff) maxDiff = d;
+    }
+    return { pixels: w * h, differ, maxDiff };
+  }
+
+  /// Rereads the displayed size and places the layers again (after a page resize).
+  layout() {
+    if (!this.image) return;
+    this.scale = (this.overlay.clientWidth || this.image.width) / this.image.width;
+    this.placeRing();
+  }
+
+  /// The ROI circle: drawn in device pixels into a canvas just large enough, redrawn only when the
+  /// radius or the scale changes; a move is a CSS transform.
+  placeRing() {
+    const ring = this.ring;
+    if (!this.roi || !this.image) { ring.style.visibility = 'hidden'; return; }
+    const s = this.scale, dpr = window.devicePixelRatio || 1;
+    const pad = 8;  // CSS pixels around the circle: the line and the handle dot
+    const half = this.roi.r * s + pad;  // CSS pixels from the centre to the canvas edge
+    const d = this.ringDrawn;
+    if (!d || d.r !== this.roi.r || d.scale !== s || d.dpr !== dpr) {
+      const side = Math.ceil(2 * half * dpr);
+      ring.width = ring.height = side;
+      ring.style.width = ring.style.height = `${side / dpr}px`;
+      const ctx = ring.getContext('2d');
+      ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
+      ctx.clearRect(0, 0, side, side);
+      const c = side / dpr / 2, r = this.roi.r * s;
+      ctx.lineWidth = 2;
+      ctx.setLineDash([6, 4]);
+      ctx.strokeStyle = 'rgba(255, 200, 0, 0.9)';
+      ctx.beginPath();
+      ctx.arc(c, c, r, 0, 2 * Math.PI);
+      ctx.stroke();
+      ctx.setLineDash([]);
+      ctx.fillStyle = 'rgba(255, 200, 0, 0.9)';
+      ctx.beginPath();
+      ctx.arc(c + r, c, 5, 0, 2 * Math.PI);
+      ctx.fill();
+      this.ringDrawn = { r: this.roi.r, scale: s, dpr };
+    }
+    // At whole device pixels: a fractional offset would make the compositor resample the line.
+    const c = parseFloat(ring.style.width) / 2;
+    const snap = (v) => Math.round(v * dpr) / dpr;
+    ring.style.transform = `translate(${snap(this.roi.cx * s - c)}px, ${snap(this.roi.cy * s - c)}px)`;
+    ring.style.visibility = 'visible';
+  }
+
+  /// Input pixel coordinates of a pointer event; `rect` is the overlay's client rectangle.
+  toImage(e, rect) {
     return [(e.clientX - rect.left) / rect.width * this.image.width, (e.clientY - rect.top) / rect.height * this.image.height];
   }
 
@@ -236,24 +504,29 @@ export class LensView {
     let drag = null;
     o.addEventListener('pointerdown', (e) => {
       if (!this.image || !this.roi) return;
-      const [x, y] = this.toImage(e);
+      // Read once per drag: reading the layout at every move would force a style update per event.
+      const rect = o.getBoundingClientRect();
+      const [x, y] = this.toImage(e, rect);
       const d = Math.hypot(x - this.roi.cx, y - this.roi.cy);
-      const grab = 10 * this.image.width / o.getBoundingClientRect().width;
-      if (Math.abs(d - this.roi.r) <= grab) drag = { mode: 'resize' };
-      else if (d < this.roi.r) drag = { mode: 'move', dx: this.roi.cx - x, dy: this.roi.cy - y };
+      const grab = 10 * this.image.width / rect.width;
+      if (Math.abs(d - this.roi.r) <= grab) drag = { mode: 'resize', rect };
+      else if (d < this.roi.r) drag = { mode: 'move', rect, dx: this.roi.cx - x, dy: this.roi.cy - y };
       else return;
       o.setPointerCapture(e.pointerId);
       e.preventDefault();
     });
     o.addEventListener('pointermove', (e) => {
       if (!this.image || !this.roi) return;
-      const [x, y] = this.toImage(e);
       if (!drag) {
+        const rect = o.getBoundingClientRect();
+        const [x, y] = this.toImage(e, rect);
         const d = Math.hypot(x - this.roi.cx, y - this.roi.cy);
-        const grab = 10 * this.image.width / o.getBoundingClientRect().width;
-        o.style.cursor = Math.abs(d - this.roi.r) <= grab ? 'ew-resize' : d < this.roi.r ? 'move' : 'default';
+        const grab = 10 * this.image.width / rect.width;
+        const cursor = Math.abs(d - this.roi.r) <= grab ? 'ew-resize' : d < this.roi.r ? 'move' : 'default';
+        if (o.style.cursor !== cursor) o.style.cursor = cursor;
         return;
       }
+      const [x, y] = this.toImage(e, drag.rect);
       const { width, height } = this.image;
       if (drag.mode === 'move') {
         this.roi.cx = Math.min(width - 1, Math.max(1, x + drag.dx));

@@ -13,18 +13,22 @@ namespace volspline::param {
 
 namespace {
 
-// Least relative decrease of ε per continuation step. The paper's 0.1 makes ε creep down (the
-// energy grows as ε shrinks, so its decrease never sets the pace): ~35 steps on bimba's grid
-// instead of ~8.
-constexpr double kMinSigma = 0.5;
-
 double chi(double d, double eps) { return 0.5 * (d + std::sqrt(eps * eps + d * d)); }
 
-// L-BFGS (two-loop recursion, 7 pairs) with Armijo backtracking; returns the iterations done.
-int minimize_lbfgs(const UntangleProblem& problem, Eigen::VectorXd& x, double eps, int max_iterations) {
-  constexpr int kPairs = 7;
+// The curvature pairs of L-BFGS.
+struct LbfgsMemory {
   std::vector<Eigen::VectorXd> s_list, y_list;
   std::vector<double> rho;
+};
+
+// L-BFGS (two-loop recursion, 7 pairs) with Armijo backtracking, from the pairs in memory
+// (updated); returns the iterations done.
+int minimize_lbfgs(const UntangleProblem& problem, Eigen::VectorXd& x, double eps, int max_iterations,
+                   LbfgsMemory& memory) {
+  constexpr int kPairs = 7;
+  std::vector<Eigen::VectorXd>& s_list = memory.s_list;
+  std::vector<Eigen::VectorXd>& y_list = memory.y_list;
+  std::vector<double>& rho = memory.rho;
   Eigen::VectorXd g;
   double f = problem.energy(x, eps, &g);
   int iteration = 0;
@@ -119,11 +123,13 @@ int untangle(const UntangleProblem& problem, Eigen::VectorXd& x, const UntangleO
   double e_prev = problem.energy(x, eps, nullptr);
   double best_d_min = -std::numeric_limits<double>::infinity();
   int stalled = 0;
+  LbfgsMemory memory;
   for (int step = 0; step < options.max_steps; ++step) {
-    iterations += minimize_lbfgs(problem, x, eps, options.max_inner);
+    if (!options.keep_curvature) memory = LbfgsMemory();
+    iterations += minimize_lbfgs(problem, x, eps, options.max_inner, memory);
     const double e = problem.energy(x, eps, nullptr);
     d_min = problem.min_det(x);
-    const double sigma = std::max(1.0 - e / e_prev, kMinSigma);
+    const double sigma = std::max(1.0 - e / e_prev, options.min_sigma);
     const double mu = (1.0 - sigma) * chi(d_min, eps);
     eps = d_min < mu ? 2.0 * std::sqrt(mu * (mu - d_min)) : 1e-8;
     const bool settled = std::abs(e_prev - e) <= 1e-4 * std::abs(e);

@@ -48,12 +48,17 @@ Eigen::Matrix3d corner_edges(const Corner& c, const mesh::Positions& xyz) {
 }
 
 // The untangling energy of the corners that touch a free node, as a function of the free nodes.
+// Positions are kept in one flat array (x, y, z per node) so that a corner reads 12 adjacent
+// doubles; the arithmetic is that of corner_edges, so results do not depend on the layout.
 class Energy {
  public:
   Energy(std::vector<Corner> corners, std::vector<int> free_nodes, mesh::Positions& xyz, double h, double theta)
       : corners_(std::move(corners)), free_(std::move(free_nodes)), xyz_(xyz), inv_h_(1.0 / h), theta_(theta) {
     var_of_.assign(xyz.rows(), -1);
     for (std::size_t v = 0; v < free_.size(); ++v) var_of_[free_[v]] = static_cast<int>(v);
+    flat_.resize(3 * static_cast<std::size_t>(xyz.rows()));
+    for (Eigen::Index v = 0; v < xyz.rows(); ++v)
+      for (int d = 0; d < 3; ++d) flat_[3 * v + d] = xyz(v, d);
   }
 
   int num_variables() const { return 3 * static_cast<int>(free_.size()); }
@@ -65,13 +70,16 @@ class Energy {
   }
 
   void set_variables(const Eigen::VectorXd& x) {
-    for (std::size_t v = 0; v < free_.size(); ++v) xyz_.row(free_[v]) = x.segment<3>(3 * v).transpose();
+    for (std::size_t v = 0; v < free_.size(); ++v) {
+      xyz_.row(free_[v]) = x.segment<3>(3 * v).transpose();
+      for (int d = 0; d < 3; ++d) flat_[3 * static_cast<std::size_t>(free_[v]) + d] = x(3 * v + d);
+    }
   }
 
   // Smallest normalized corner determinant at the current positions.
   double min_det() const {
     double worst = std::numeric_limits<double>::infinity();
-    for (const Corner& c : corners_) worst = std::min(worst, (corner_edges(c, xyz_) * inv_h_).determinant());
+    for (const Corner& c : corners_) worst = std::min(worst, jacobian(c).determinant());
     return worst;
   }
 
@@ -82,12 +90,12 @@ class Energy {
     double total = 0.0;
     Eigen::Matrix3d df;
     for (const Corner& c : corners_) {
-      const Eigen::Matrix3d j = corner_edges(c, xyz_) * inv_h_;
-      total += foldover_free_energy(j, eps, theta_, gradient ? &df : nullptr);
+      total += foldover_free_energy(jacobian(c), eps, theta_, gradient ? &df : nullptr);
       if (!gradient) continue;
+      const int vc = var_of_[c.node[0]];
       for (int a = 0; a < 3; ++a) {
         const Eigen::Vector3d g = c.sign[a] * inv_h_ * df.col(a);
-        const int vo = var_of_[c.node[a + 1]], vc = var_of_[c.node[0]];
+        const int vo = var_of_[c.node[a + 1]];
         if (vo >= 0) gradient->segment<3>(3 * vo) += g;
         if (vc >= 0) gradient->segment<3>(3 * vc) -= g;
       }
@@ -96,10 +104,22 @@ class Energy {
   }
 
  private:
+  // corner_edges(c, xyz) · (1/h), from the flat positions.
+  Eigen::Matrix3d jacobian(const Corner& c) const {
+    Eigen::Matrix3d j;
+    const double* base = flat_.data() + 3 * static_cast<std::size_t>(c.node[0]);
+    for (int a = 0; a < 3; ++a) {
+      const double* other = flat_.data() + 3 * static_cast<std::size_t>(c.node[a + 1]);
+      for (int d = 0; d < 3; ++d) j(d, a) = c.sign[a] * (other[d] - base[d]) * inv_h_;
+    }
+    return j;
+  }
+
   std::vector<Corner> corners_;
   std::vector<int> free_;
   mesh::Positions& xyz_;
   std::vector<int> var_of_;
+  std::vector<double> flat_;
   double inv_h_;
   double theta_;
 };

@@ -176,7 +176,9 @@ spline::TSplineFitReport fit(spline::TSpline& ts, const Samples& samples, const 
   spline::TSplineFitOptions fit_options;
   fit_options.smoothing = options.smoothing;
   fit_options.laplacian_nodes = laplacian_nodes;
-  fit_options.tolerance = 1e-8;  // far below the fitting error; 1e-10 only costs iterations
+  // Relative CG residual: on bunny_closed 1e-6 instead of 1e-8 halves the iterations and moves
+  // rms_rel by 3e-6 of itself, far below the fitting error.
+  fit_options.tolerance = 1e-6;
   if (options.fit == Mesh2SplineFit::Grid && !free_functions.empty())
     return spline::fit_tspline_local(ts, samples.uvw, samples.xyz, prior, free_functions, fit_options);
   if (options.fit == Mesh2SplineFit::Grid)

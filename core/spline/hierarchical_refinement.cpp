@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include <map>
+#include <tuple>
 
 #include "core/spline/knot_insertion.h"
 
@@ -68,10 +69,7 @@ void RefinementGrid::collect_planes(int id, int axis, const Eigen::Vector3d& anc
   for (int c = 0; c < 8; ++c) collect_planes(node.first_child + c, axis, anchor, planes);
 }
 
-LocalKnots RefinementGrid::ray_knots(const BlendingKnots& knots, int axis) const {
-  // §4.2.2 ray tracing: from the anchor (the central knots), the first two faces of the T-mesh
-  // crossed in each direction along `axis`; at the domain ends the boundary knots repeat.
-  const Eigen::Vector3d anchor(knots[0][2], knots[1][2], knots[2][2]);
+std::vector<double> RefinementGrid::line_planes(int axis, const Eigen::Vector3d& anchor) const {
   std::vector<double> planes;
   // Only the roots whose closed box holds the anchor in the two other axes meet the ray.
   std::array<std::array<int, 2>, 3> range;
@@ -90,7 +88,10 @@ LocalKnots RefinementGrid::ray_knots(const BlendingKnots& knots, int axis) const
         collect_planes(i + cells_[0] * (j + cells_[1] * k), axis, anchor, planes);
   std::sort(planes.begin(), planes.end());
   planes.erase(std::unique(planes.begin(), planes.end()), planes.end());
-  const double centre = anchor(axis);
+  return planes;
+}
+
+LocalKnots RefinementGrid::knots_on_line(const std::vector<double>& planes, int axis, double centre) const {
   LocalKnots r;
   r[2] = centre;
   auto above = std::upper_bound(planes.begin(), planes.end(), centre);
@@ -108,6 +109,13 @@ LocalKnots RefinementGrid::ray_knots(const BlendingKnots& knots, int axis) const
     }
   }
   return r;
+}
+
+LocalKnots RefinementGrid::ray_knots(const BlendingKnots& knots, int axis) const {
+  // §4.2.2 ray tracing: from the anchor (the central knots), the first two faces of the T-mesh
+  // crossed in each direction along `axis`; at the domain ends the boundary knots repeat.
+  const Eigen::Vector3d anchor(knots[0][2], knots[1][2], knots[2][2]);
+  return knots_on_line(line_planes(axis, anchor), axis, anchor(axis));
 }
 
 TSpline RefinementGrid::split(const TSpline& spline, const std::vector<int>& leaf_ids,
@@ -154,6 +162,16 @@ RefinementGrid::Functions RefinementGrid::split_functions(const Functions& funct
                     functions.weights(i) * functions.points.row(i).transpose()});
   std::vector<Function> done;
   std::map<BlendingKnots, int> index;  // knots -> position in `done`
+  // The T-mesh faces a ray crosses depend only on its line (axis and the two other anchor
+  // coordinates), and many blending functions share a line: the planes are traced once per line.
+  std::map<std::tuple<int, double, double>, std::vector<double>> line_cache;
+  auto cached_ray_knots = [&](const BlendingKnots& knots, int axis) {
+    const Eigen::Vector3d anchor(knots[0][2], knots[1][2], knots[2][2]);
+    const auto key = std::make_tuple(axis, anchor((axis + 1) % 3), anchor((axis + 2) % 3));
+    auto it = line_cache.find(key);
+    if (it == line_cache.end()) it = line_cache.emplace(key, line_planes(axis, anchor)).first;
+    return knots_on_line(it->second, axis, anchor(axis));
+  };
   while (!work.empty()) {
     Function f = std::move(work.back());
     work.pop_back();
@@ -161,7 +179,7 @@ RefinementGrid::Functions RefinementGrid::split_functions(const Functions& funct
     double knot = 0.0;
     for (int a = 0; a < 3 && axis < 0; ++a) {
       const LocalKnots& r = f.knots[a];
-      for (double k : ray_knots(f.knots, a))
+      for (double k : cached_ray_knots(f.knots, a))
         if (r[0] < k && k < r[4] && std::find(r.begin(), r.end(), k) == r.end()) {
           axis = a;
           knot = k;

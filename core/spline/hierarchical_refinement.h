@@ -55,6 +55,10 @@ class RefinementGrid {
 
  private:
   void collect_planes(int id, int axis, const Eigen::Vector3d& anchor, std::vector<double>& planes) const;
+  // Sorted distinct positions along `axis` of the cell faces the line through anchor meets.
+  std::vector<double> line_planes(int axis, const Eigen::Vector3d& anchor) const;
+  // R* from the planes of the anchor's line and the anchor coordinate `centre` along axis.
+  LocalKnots knots_on_line(const std::vector<double>& planes, int axis, double centre) const;
 
   struct Node {
     Eigen::Vector3d lo, hi;

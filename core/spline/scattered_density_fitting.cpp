@@ -2,9 +2,12 @@
 #include "core/spline/scattered_density_fitting.h"
 
 #include <algorithm>
+#include <unordered_map>
 #include <utility>
 #include <cassert>
 #include <cmath>
+#include <cstdint>
+#include <memory>
 #include <string>
 
 #include "core/common/error.h"
@@ -12,6 +15,7 @@
 #include "core/linalg/csr_matrix.h"
 #include "core/spline/component_solve.h"
 #include "core/spline/bspline_volume.h"
+#include "core/spline/sparsified_cholesky.h"
 
 namespace volspline::spline {
 
@@ -24,70 +28,110 @@ std::vector<double> clamped_uniform(int intervals) {
   return k;
 }
 
-// Sum of squared density errors per leaf and the per-sample density of the spline (column 0).
-std::vector<double> evaluate_column0(const TSpline& spline, const Eigen::MatrixX3d& uvw) {
+// The density (component 3) of the spline at every sample.
+std::vector<double> evaluate_density(const TSpline& spline, const Eigen::MatrixX3d& uvw) {
   std::vector<double> out(static_cast<std::size_t>(uvw.rows()));
   double value[4];
   for (Eigen::Index s = 0; s < uvw.rows(); ++s) {
     spline.evaluate_to(uvw.row(s).transpose(), TSplineForm::SemiStandard, value);
-    out[static_cast<std::size_t>(s)] = value[0];
+    out[static_cast<std::size_t>(s)] = value[3];
   }
   return out;
 }
 
-// Replaces a spline by a one-function placeholder, freeing its evaluation grid before the next
-// spline's is built (TSpline has no empty state).
-void release(TSpline& spline) {
-  spline = TSpline(std::vector<BlendingKnots>(1, spline.knots()[0]), Eigen::VectorXd::Ones(1),
-                   Eigen::MatrixXd::Zero(1, spline.dimension()), TSplineAcceleration::FunctionLists);
+// Normal equations MᵀM x = Mᵀt of a least-squares fit (Eq. 3.5/3.6): the upper triangle of
+// MᵀM plus a ridge on its diagonal, Mᵀt for every target column, and the ridge per row (the
+// caller adds ridge ∘ x0, which pulls the solution towards its warm start x0).
+struct NormalEquations {
+  linalg::CsrMatrix gram;
+  Eigen::MatrixXd rhs;
+  Eigen::VectorXd ridge;
+};
+
+// 64-bit FNV-1a of a function id list.
+std::uint64_t hash_ids(const std::vector<int>& ids) {
+  std::uint64_t h = 1469598103934665603ULL;
+  for (int id : ids) {
+    h ^= static_cast<std::uint32_t>(id);
+    h *= 1099511628211ULL;
+  }
+  return h;
 }
 
-}  // namespace
-
-ScatteredFitReport fit_tspline_scattered(TSpline& spline, const RefinementGrid& cells, const Eigen::MatrixX3d& uvw,
-                                         const Eigen::MatrixXd& targets, const std::vector<int>& components,
-                                         const GridFitOptions& options) {
-  assert(targets.rows() == uvw.rows() && targets.cols() == static_cast<Eigen::Index>(components.size()));
+// Every sample of one knot-grid cell of the T-spline has the same blending functions (the
+// cell's list, from basis_at), so samples are grouped by that exact list and each group adds
+// one dense Gram block, a symmetric rank update, to the sparse upper triangle. Groups run in
+// order of their first sample, so consecutive groups touch neighbouring rows.
+NormalEquations assemble_normal_equations(const TSpline& spline, const Eigen::MatrixX3d& uvw,
+                                          const Eigen::MatrixXd& targets, double regularization) {
   const int n = spline.num_functions();
-  const int k = static_cast<int>(components.size());
   const Eigen::Index m = uvw.rows();
-  // Samples grouped by leaf (counting sort, stable: deterministic).
-  std::vector<int> leaf(static_cast<std::size_t>(m));
-  int max_id = 0;
-  for (Eigen::Index s = 0; s < m; ++s) {
-    leaf[s] = cells.leaf_of(uvw.row(s).transpose());
-    max_id = std::max(max_id, leaf[s]);
-  }
-  std::vector<int> start(static_cast<std::size_t>(max_id) + 2, 0);
-  for (int l : leaf) ++start[l + 1];
-  for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
-  std::vector<int> order(static_cast<std::size_t>(m));
-  {
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (Eigen::Index s = 0; s < m; ++s) order[fill[leaf[s]]++] = static_cast<int>(s);
-  }
-  // Pass 1: per non-empty leaf, the sorted blending functions non-zero at its samples.
-  std::vector<int> group_begin, group_ids_offset(1, 0), group_ids;
-  std::vector<int> stamp(n, -1);
+  const Eigen::Index k = targets.cols();
   std::vector<int> ids;
   std::vector<double> values;
-  for (int l = 0; l <= max_id; ++l) {
-    if (start[l] == start[l + 1]) continue;
-    const std::size_t first = group_ids.size();
-    for (int p = start[l]; p < start[l + 1]; ++p) {
-      spline.basis_at(uvw.row(order[p]).transpose(), {0, 0, 0}, ids, values);
-      for (int id : ids)
-        if (stamp[id] != l) {
-          stamp[id] = l;
-          group_ids.push_back(id);
-        }
+  // Groups numbered in order of their first sample; a hash collision is resolved by probing.
+  std::unordered_map<std::uint64_t, int> group_of_hash;
+  std::vector<int> group_ids_offset(1, 0), group_ids;
+  std::vector<int> group(static_cast<std::size_t>(m));
+  for (Eigen::Index s = 0; s < m; ++s) {
+    spline.basis_at(uvw.row(s).transpose(), {0, 0, 0}, ids, values);
+    for (std::uint64_t h = hash_ids(ids);; ++h) {
+      const auto [it, inserted] = group_of_hash.try_emplace(h, static_cast<int>(group_ids_offset.size()) - 1);
+      const int g = it->second;
+      if (inserted) {
+        group_ids.insert(group_ids.end(), ids.begin(), ids.end());
+        group_ids_offset.push_back(static_cast<int>(group_ids.size()));
+      } else if (!std::equal(ids.begin(), ids.end(), group_ids.begin() + group_ids_offset[g],
+                             group_ids.begin() + group_ids_offset[g + 1])) {
+        continue;
+      }
+      group[static_cast<std::size_t>(s)] = g;
+      break;
     }
-    std::sort(group_ids.begin() + static_cast<std::ptrdiff_t>(first), group_ids.end());
-    group_begin.push_back(l);
-    group_ids_offset.push_back(static_cast<int>(group_ids.size()));
   }
-  const int groups = static_cast<int>(group_begin.size());
-  // Pattern: row i couples with every function of every leaf group holding i.
+  group_of_hash = {};
+  const int groups = static_cast<int>(group_ids_offset.size()) - 1;
+  // Groups in Morton order of their first sample's parameters: consecutive groups share most
+  // functions, so the scatter below stays within a few cached rows.
+  {
+    std::vector<std::pair<std::uint64_t, int>> key(static_cast<std::size_t>(groups));
+    std::vector<char> seen(static_cast<std::size_t>(groups), 0);
+    for (Eigen::Index s = 0; s < m; ++s) {
+      const int g = group[static_cast<std::size_t>(s)];
+      if (seen[g]) continue;
+      seen[g] = 1;
+      std::uint64_t code = 0;
+      std::uint32_t q[3];
+      for (int a = 0; a < 3; ++a) q[a] = static_cast<std::uint32_t>(std::clamp(uvw(s, a), 0.0, 1.0) * 1023.0);
+      for (int bit = 9; bit >= 0; --bit)
+        for (int a = 2; a >= 0; --a) code = (code << 1) | ((q[a] >> bit) & 1u);
+      key[g] = {code, g};
+    }
+    std::sort(key.begin(), key.end());
+    std::vector<int> renumber(static_cast<std::size_t>(groups)), ids_offset(1, 0), ids_sorted;
+    ids_sorted.reserve(group_ids.size());
+    for (int g = 0; g < groups; ++g) {
+      const int old = key[g].second;
+      renumber[old] = g;
+      ids_sorted.insert(ids_sorted.end(), group_ids.begin() + group_ids_offset[old],
+                        group_ids.begin() + group_ids_offset[old + 1]);
+      ids_offset.push_back(static_cast<int>(ids_sorted.size()));
+    }
+    group_ids = std::move(ids_sorted);
+    group_ids_offset = std::move(ids_offset);
+    for (int& g : group) g = renumber[g];
+  }
+  // Samples by group (counting sort, stable: deterministic).
+  std::vector<int> sample_start(static_cast<std::size_t>(groups) + 1, 0), order(static_cast<std::size_t>(m));
+  for (int g : group) ++sample_start[g + 1];
+  for (int g = 0; g < groups; ++g) sample_start[g + 1] += sample_start[g];
+  {
+    std::vector<int> fill(sample_start.begin(), sample_start.end() - 1);
+    for (Eigen::Index s = 0; s < m; ++s) order[fill[group[s]]++] = static_cast<int>(s);
+  }
+  std::vector<int>().swap(group);
+  std::vector<int> stamp(n, -1);
+  // Pattern: row i couples with every function of every group holding i.
   std::vector<int> groups_of_offset(n + 1, 0), groups_of;
   for (int g = 0; g < groups; ++g)
     for (int q = group_ids_offset[g]; q < group_ids_offset[g + 1]; ++q) ++groups_of_offset[group_ids[q] + 1];
@@ -108,66 +152,93 @@ ScatteredFitReport fit_tspline_scattered(TSpline& spline, const RefinementGrid& 
     stamp[i] = i;
     for (int q = groups_of_offset[i]; q < groups_of_offset[i + 1]; ++q) {
       const int g = groups_of[q];
-      for (int r = group_ids_offset[g]; r < group_ids_offset[g + 1]; ++r)
-        if (group_ids[r] > i && stamp[group_ids[r]] != i) {
-          stamp[group_ids[r]] = i;
-          cols.push_back(group_ids[r]);
+      // Group lists are sorted: only the part after i can add upper entries.
+      const int* begin = group_ids.data() + group_ids_offset[g];
+      const int* end = group_ids.data() + group_ids_offset[g + 1];
+      for (const int* r = std::upper_bound(begin, end, i); r != end; ++r)
+        if (stamp[*r] != i) {
+          stamp[*r] = i;
+          cols.push_back(*r);
         }
     }
     std::sort(cols.begin() + static_cast<std::ptrdiff_t>(first) + 1, cols.end());
     offsets.push_back(static_cast<int>(cols.size()));
   }
   cols.shrink_to_fit();
+  std::vector<int>().swap(groups_of);
+  std::vector<int>().swap(groups_of_offset);
   std::vector<double> gram(cols.size(), 0.0);
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, k);
-  // Pass 2: per leaf group the lower triangle of the dense Gram block MᵀM (a symmetric rank
-  // update: half the products of a full MᵀM), merged into the sorted upper rows.
-  std::vector<int> local(n, -1);
-  Eigen::MatrixXd block, t, local_gram;
+  // Per group the lower triangle of the dense Gram block MᵀM (a symmetric rank update: half
+  // the products of a full MᵀM), merged into the sorted upper rows.
+  Eigen::MatrixXd block, t, local_gram, local_rhs;
   for (int g = 0; g < groups; ++g) {
-    const int l = group_begin[g];
     const int f = group_ids_offset[g + 1] - group_ids_offset[g];
     const int* gid = group_ids.data() + group_ids_offset[g];
-    for (int a = 0; a < f; ++a) local[gid[a]] = a;
-    const int rows = start[l + 1] - start[l];
-    block.setZero(rows, f);
+    const int rows = sample_start[g + 1] - sample_start[g];
+    block.resize(rows, f);
     t.resize(rows, k);
     for (int r = 0; r < rows; ++r) {
-      const int s = order[start[l] + r];
+      const int s = order[sample_start[g] + r];
       spline.basis_at(uvw.row(s).transpose(), {0, 0, 0}, ids, values);
-      for (std::size_t q = 0; q < ids.size(); ++q) block(r, local[ids[q]]) = spline.weights()(ids[q]) * values[q];
+      assert(static_cast<int>(ids.size()) == f);  // the group's exact list
+      for (int q = 0; q < f; ++q) block(r, q) = spline.weights()(ids[q]) * values[q];
       t.row(r) = targets.row(s);
     }
     local_gram.setZero(f, f);
     local_gram.selfadjointView<Eigen::Lower>().rankUpdate(block.transpose());
-    const Eigen::MatrixXd local_rhs = block.transpose() * t;
+    local_rhs.noalias() = block.transpose() * t;
     for (int a = 0; a < f; ++a) {
       const int i = gid[a];
       rhs.row(i) += local_rhs.row(a);
+      // Merge of two sorted lists (gid ⊂ row i), skipping 8 columns at a time.
       int p = offsets[i];
+      const int end = offsets[i + 1];
+      const double* column = local_gram.data() + static_cast<std::ptrdiff_t>(a) * f;
       for (int b = a; b < f; ++b) {
-        while (cols[p] < gid[b]) ++p;
-        gram[p] += local_gram(b, a);
+        const int j = gid[b];
+        while (p + 8 <= end && cols[p + 7] < j) p += 8;
+        while (cols[p] < j) ++p;
+        gram[p] += column[b];
       }
     }
   }
   double trace = 0.0;
   for (int i = 0; i < n; ++i) trace += gram[offsets[i]];
   const double mean = trace > 0.0 ? trace / n : 1.0;
-  Eigen::MatrixXd x0(n, k);
-  for (int c = 0; c < k; ++c) x0.col(c) = spline.points().col(components[c]);
+  Eigen::VectorXd ridge(n);
   for (int i = 0; i < n; ++i) {
     double& d = gram[offsets[i]];
-    const double ridge = options.regularization * (d > 0.0 ? d : mean);
-    d += ridge;
-    rhs.row(i) += ridge * x0.row(i);
+    ridge(i) = regularization * (d > 0.0 ? d : mean);
+    d += ridge(i);
   }
-  linalg::CsrMatrix a = linalg::CsrMatrix::from_arrays(n, n, std::move(offsets), std::move(cols), std::move(gram));
+  return {linalg::CsrMatrix::from_arrays(n, n, std::move(offsets), std::move(cols), std::move(gram)), std::move(rhs),
+          std::move(ridge)};
+}
+
+// Replaces a spline by a one-function placeholder, freeing its evaluation grid before the next
+// spline's is built (TSpline has no empty state).
+void release(TSpline& spline) {
+  spline = TSpline(std::vector<BlendingKnots>(1, spline.knots()[0]), Eigen::VectorXd::Ones(1),
+                   Eigen::MatrixXd::Zero(1, spline.dimension()), TSplineAcceleration::FunctionLists);
+}
+
+}  // namespace
+
+ScatteredFitReport fit_tspline_scattered(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixXd& targets,
+                                         const std::vector<int>& components, const GridFitOptions& options) {
+  assert(targets.rows() == uvw.rows() && targets.cols() == static_cast<Eigen::Index>(components.size()));
+  NormalEquations eq = assemble_normal_equations(spline, uvw, targets, options.regularization);
+  const int n = spline.num_functions();
+  const int k = static_cast<int>(components.size());
+  Eigen::MatrixXd x0(n, k);
+  for (int c = 0; c < k; ++c) x0.col(c) = spline.points().col(components[c]);
+  eq.rhs += eq.ridge.asDiagonal() * x0;
   ScatteredFitReport report;
   report.unknowns = n;
-  report.normal_nonzeros = 2LL * a.nnz() - n;  // both triangles
+  report.normal_nonzeros = 2LL * eq.gram.nnz() - n;  // both triangles
   const ComponentSolveReport solve =
-      solve_components(spline, std::move(a), rhs, components, options.tolerance, options.max_iterations);
+      solve_components(spline, std::move(eq.gram), eq.rhs, components, options.tolerance, options.max_iterations);
   report.cg_iterations = solve.cg_iterations;
   report.converged = solve.converged;
   return report;
@@ -215,15 +286,34 @@ ScatteredDensityResult fit_scattered_adaptive(const Eigen::MatrixX3d& uvw, const
   std::array<std::vector<double>, 3> knots;
   for (int a = 0; a < 3; ++a) knots[a] = clamped_uniform(cells[a]);
   const int count = (cells[0] + 3) * (cells[1] + 3) * (cells[2] + 3);
-  TSpline current = from_bspline_volume(BsplineVolume(knots, Eigen::MatrixXd::Zero(count, 3)),
+  // Eq. 5.11 with D = 4 from the start: (X, Y, Z) ride along (as zeros) through the knot
+  // insertions, so the final spline needs no second evaluation grid.
+  TSpline current = from_bspline_volume(BsplineVolume(knots, Eigen::MatrixXd::Zero(count, 4)),
                                         TSplineAcceleration::FunctionLists);
   RefinementGrid grid(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), cells);
-  const Eigen::MatrixXd density_target = targets.col(3);
   std::vector<AdaptiveDensityLevel> levels;
   std::vector<double> recon;
   double rms = 0.0;
-  auto measure = [&](int cg_iterations) {
-    recon = evaluate_column0(current, uvw);
+  // The normal matrix of the current cells, factorized, and the X, Y, Z right-hand sides:
+  // the final geometry fit reuses them (the density and geometry columns share MᵀM).
+  std::unique_ptr<linalg::ConjugateGradient<SparsifiedCholesky>> solver;
+  Eigen::MatrixXd geometry_rhs;
+  Eigen::VectorXd ridge;
+  auto fit_density = [&]() {
+    NormalEquations eq = assemble_normal_equations(current, uvw, targets, options.fit.regularization);
+    solver = std::make_unique<linalg::ConjugateGradient<SparsifiedCholesky>>();
+    solver->set_tolerance(options.fit.tolerance);
+    solver->set_max_iterations(options.fit.max_iterations);
+    solver->compute(eq.gram);
+    eq.gram = linalg::CsrMatrix();
+    const Eigen::VectorXd x0 = current.points().col(3);
+    const Eigen::VectorXd x = solver->solve(eq.rhs.col(3) + eq.ridge.cwiseProduct(x0), x0);
+    geometry_rhs = eq.rhs.leftCols(3);
+    ridge = std::move(eq.ridge);
+    Eigen::MatrixXd points = current.points();
+    points.col(3) = x;
+    current.set_points(std::move(points));
+    recon = evaluate_density(current, uvw);
     double sum = 0.0, worst = 0.0;
     for (std::size_t s = 0; s < recon.size(); ++s) {
       const double d = recon[s] - density[s];
@@ -231,9 +321,9 @@ ScatteredDensityResult fit_scattered_adaptive(const Eigen::MatrixX3d& uvw, const
       worst = std::max(worst, std::abs(d));
     }
     rms = std::sqrt(sum / static_cast<double>(recon.size())) / range;
-    levels.push_back({current.num_functions(), rms, worst / range, cg_iterations, grid.num_leaves()});
+    levels.push_back({current.num_functions(), rms, worst / range, solver->iterations(), grid.num_leaves()});
   };
-  measure(fit_tspline_scattered(current, grid, uvw, density_target, {0}, options.fit).cg_iterations);
+  fit_density();
   double min_width = 1.0;
   for (int a = 0; a < 3; ++a) min_width = std::min(min_width, options.min_cell_width / std::max(1, dims[a] - 1));
   double growth_per_cell = 0.0;
@@ -288,10 +378,11 @@ ScatteredDensityResult fit_scattered_adaptive(const Eigen::MatrixX3d& uvw, const
         growth_per_cell = std::max(1.0, static_cast<double>(trial_count - current.num_functions())) /
                           static_cast<double>(sorted.size());
         grid = std::move(trial_grid);
+        solver.reset();
         release(current);
         current = TSpline(std::move(trial.knots), std::move(trial.weights), std::move(trial.points),
                           TSplineAcceleration::FunctionLists);
-        measure(fit_tspline_scattered(current, grid, uvw, density_target, {0}, options.fit).cg_iterations);
+        fit_density();
         accepted = true;
       } else {
         marked.resize(marked.size() / 2);
@@ -303,10 +394,10 @@ ScatteredDensityResult fit_scattered_adaptive(const Eigen::MatrixX3d& uvw, const
     }
   }
   progress.report("fit", 1.0);
-  // Eq. 5.11: add X, Y, Z, fitted over the final cells.
+  // Eq. 5.11: X, Y, Z fitted over the final cells with the density's normal matrix, warm-started
+  // from the identity-like guess X ≈ Greville abscissa × extent of the targets.
   const int n = current.num_functions();
-  // Warm start: the identity-like guess X ≈ Greville abscissa × extent of the targets.
-  Eigen::MatrixXd points = Eigen::MatrixXd::Zero(n, 4);
+  Eigen::MatrixXd points = current.points();
   const Eigen::RowVector3d lo = targets.leftCols(3).colwise().minCoeff();
   const Eigen::RowVector3d extent = targets.leftCols(3).colwise().maxCoeff() - lo;
   for (int i = 0; i < n; ++i)
@@ -314,13 +405,11 @@ ScatteredDensityResult fit_scattered_adaptive(const Eigen::MatrixX3d& uvw, const
       const LocalKnots& r = current.knots()[i][a];
       points(i, a) = lo(a) + extent(a) * (r[1] + r[2] + r[3]) / 3.0;
     }
-  points.col(3) = current.points().col(0);
-  std::vector<BlendingKnots> knots_out = current.knots();
-  Eigen::VectorXd weights_out = current.weights();
-  release(current);
-  TSpline out(std::move(knots_out), std::move(weights_out), std::move(points), TSplineAcceleration::FunctionLists);
-  fit_tspline_scattered(out, grid, uvw, targets.leftCols(3), {0, 1, 2}, options.fit);
-  return {std::move(out), std::move(levels), std::move(recon), stop};
+  const Eigen::MatrixXd x0 = points.leftCols(3);
+  points.leftCols(3) = solver->solve(geometry_rhs + ridge.asDiagonal() * x0, x0);
+  solver.reset();
+  current.set_points(std::move(points));
+  return {std::move(current), std::move(levels), std::move(recon), stop};
 }
 
 }  // namespace volspline::spline

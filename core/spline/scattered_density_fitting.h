@@ -23,15 +23,15 @@ struct ScatteredFitReport {
 
 /// Least-squares fit (Eq. 3.5/3.6) of columns components[k] of the control points of `spline`
 /// to targets.col(k) at scattered parameters uvw (m×3, inside the domain). The samples are
-/// grouped by the leaf of `cells` that contains them; within a leaf the same few blending
-/// functions are non-zero, so each leaf adds one dense Gram block (the lower triangle of MᵀM by a
-/// symmetric rank update) to the upper triangle of the sparse normal matrix. Solved with CG + SparsifiedCholesky, warm-started from the current control
-/// points, with a ridge of `regularization` × the mean diagonal towards them.
+/// grouped by their exact list of non-zero blending functions (one knot-grid cell of the
+/// T-spline has one list), so each group adds one dense Gram block (the lower triangle of MᵀM by
+/// a symmetric rank update) to the upper triangle of the sparse normal matrix. Solved with CG +
+/// SparsifiedCholesky, warm-started from the current control points, with a ridge of
+/// `regularization` × each diagonal entry (the mean one for an empty row) towards them.
 /// A spline with cell polynomials is rebuilt with TSplineAcceleration::FunctionLists.
-/// Preconditions: targets has m rows and components.size() columns; cells covers the domain.
-ScatteredFitReport fit_tspline_scattered(TSpline& spline, const RefinementGrid& cells, const Eigen::MatrixX3d& uvw,
-                                         const Eigen::MatrixXd& targets, const std::vector<int>& components,
-                                         const GridFitOptions& options = {});
+/// Preconditions: targets has m rows and components.size() columns; uvw inside the domain.
+ScatteredFitReport fit_tspline_scattered(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixXd& targets,
+                                         const std::vector<int>& components, const GridFitOptions& options = {});
 
 /// Result of fit_scattered_adaptive.
 struct ScatteredDensityResult {
@@ -45,9 +45,10 @@ struct ScatteredDensityResult {
 /// (m×3 inside [0, 1]³; targets m×4) as fit_density_adaptive does on a grid: level 0 is the
 /// uniform cubic B-spline on initial cells (proportional to dims), then Dörfler-marked leaves
 /// are split by RefinementGrid::split and the density refitted; X, Y, Z are fitted once at the
-/// end. Density errors are relative to the range of targets.col(3); min_cell_width is in
-/// voxels (1/(dims−1) in uvw). Throws volspline::Error on bad options, shape mismatches or
-/// parameters outside [0, 1]³; Cancelled if progress asks to stop.
+/// end, with the last level's factorized normal matrix. Density errors are relative to the
+/// range of targets.col(3); min_cell_width is in voxels (1/(dims−1) in uvw). Throws
+/// volspline::Error on bad options, shape mismatches or parameters outside [0, 1]³; Cancelled
+/// if progress asks to stop.
 ScatteredDensityResult fit_scattered_adaptive(const Eigen::MatrixX3d& uvw, const Eigen::MatrixXd& targets,
                                               const std::array<int, 3>& dims,
                                               const AdaptiveDensityOptions& options = {},

@@ -21,13 +21,14 @@ struct SplineUntangleOptions {
   int rings = 1;               ///< lattice steps around a seed whose interior functions move, [0, 4]
   /// Only interior functions whose support spans at most this many lattice steps per axis move
   /// (the energy covers their whole supports, so coarse functions would make it global), ≥ 4;
-  /// doubled in each further pass.
+  /// doubled for a seed where such functions carry under a tenth of |w∇B| (they could not
+  /// unfold it), and in each further pass.
   double max_support_steps = 16;
   int passes = 3;              ///< scan + untangle rounds while seeds remain, ≥ 1
   double data_weight = 10.0;   ///< weight of the sample term (unitless ≥ 0), see untangle_spline
   double volume_weight = 0.5;  ///< θ of param::foldover_free_energy, in [0, 1)
-  int max_steps = 15;          ///< ε-continuation steps, ≥ 1
-  int max_inner = 20;          ///< L-BFGS iterations per step, ≥ 1
+  int max_steps = 12;          ///< ε-continuation steps, ≥ 1
+  int max_inner = 5;           ///< L-BFGS iterations per step, ≥ 1
 };
 
 /// Outcome of untangle_spline.
@@ -48,12 +49,16 @@ struct SplineUntangleReport {
 /// and the surface fit stay exactly as they are.
 ///
 /// Seeds: scanned lattice points with scaled Jacobian < min_scaled_jacobian. Free: the interior
-/// functions non-zero within `rings` lattice steps of a seed. Energy: Σ over the lattice points
-/// in the support of a free function of param::foldover_free_energy(J·S⁻¹), S = diag of the
-/// point's initial column norms |∂F/∂u_a| (the map's own local scale is the reference), plus
+/// functions non-zero within `rings` lattice steps of a seed (support limit: max_support_steps).
+/// Energy: Σ over the lattice points in the support of a free function of
+/// param::foldover_free_energy(J·S⁻¹), S = the point's initial J where its scaled Jacobian is
+/// ≥ 0.1, else diag of its column norms |∂F/∂u_a| (the map's own local shape is the reference), plus
 /// data_weight·Σ_s ‖F(uvw_s) − xyz_s‖²/ℓ² over the samples where a free function is non-zero
 /// (ℓ: one lattice step in model units), so the interior stays near its samples. Minimized by
-/// param::untangle (L-BFGS with the barrier continuation of Garanzha et al. 2021).
+/// param::untangle (L-BFGS with the barrier continuation of Garanzha et al. 2021), until every
+/// scanned point and every lattice point not folded before has det J > 0. J at the lattice
+/// points is a fixed linear map of the free control points (the knots do not move), so it is
+/// set up once per pass and each energy evaluation sums tensor products of univariate factors.
 /// uvw, xyz: m×3 fitting samples (may be empty). Precondition: dimension() == 3.
 SplineUntangleReport untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
                                      const SplineUntangleOptions& options = {});

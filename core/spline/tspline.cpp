@@ -85,6 +85,48 @@ double piece_derivative(const std::array<double, 4>& c, double s, int order, dou
   }
 }
 
+// The cell polynomials of build_cell_polynomials, for the cells holding a function with
+// changed[function] set (all if changed is null); each is recomputed whole, so the result is the
+// same as a full build. Cell and Entry are TSpline's (deduced: private types).
+template <class Cell, class Entry>
+void fill_cell_polynomials(const std::vector<Cell>& cells, const std::vector<Entry>& entries,
+                           const std::vector<std::uint32_t>& cell_pieces,
+                           const std::array<std::vector<std::array<double, 4>>, 3>& pieces,
+                           const std::vector<double>& weighted_points, const Eigen::VectorXd& weights,
+                           int dimension, const std::vector<char>* changed, std::vector<double>& cell_numerator,
+                           std::vector<double>& cell_denominator) {
+  for (size_t c = 0; c < cells.size(); ++c) {
+    const Cell& cell = cells[c];
+    if (changed) {
+      bool any = false;
+      for (std::uint32_t e = cell.entry_begin; e < cell.entry_end && !any; ++e) any = (*changed)[entries[e].function];
+      if (!any) continue;
+    }
+    const std::uint32_t* ids = cell_pieces.data() + cell.piece_begin;
+    const std::uint32_t* axis_ids[3] = {ids, ids + cell.num_pieces[0], ids + cell.num_pieces[0] + cell.num_pieces[1]};
+    double* numerator = cell_numerator.data() + c * 64 * dimension;
+    double* denominator = cell_denominator.data() + c * 64;
+    std::fill(numerator, numerator + 64 * dimension, 0.0);
+    std::fill(denominator, denominator + 64, 0.0);
+    for (std::uint32_t e = cell.entry_begin; e < cell.entry_end; ++e) {
+      const Entry& entry = entries[e];
+      const std::array<double, 4>& pu = pieces[0][axis_ids[0][entry.piece[0]]];
+      const std::array<double, 4>& pv = pieces[1][axis_ids[1][entry.piece[1]]];
+      const std::array<double, 4>& pw = pieces[2][axis_ids[2][entry.piece[2]]];
+      const double* wp = weighted_points.data() + size_t(entry.function) * dimension;
+      const double w = weights[entry.function];
+      for (int a = 0; a < 4; ++a)
+        for (int b = 0; b < 4; ++b)
+          for (int cc = 0; cc < 4; ++cc) {
+            const int m = (4 * a + b) * 4 + cc;
+            const double basis = pu[a] * pv[b] * pw[cc];
+            for (int d = 0; d < dimension; ++d) numerator[m * dimension + d] += basis * wp[d];
+            denominator[m] += basis * w;
+          }
+    }
+  }
+}
+
 }  // namespace
 
 TSpline::TSpline(std::vector<BlendingKnots> knots, Eigen::VectorXd weights, Eigen::MatrixXd points,
@@ -128,32 +170,10 @@ TSpline::TSpline(std::vector<BlendingKnots> knots, Eigen::VectorXd weights, Eige
 
 // F and Σ w B restricted to one cell are sums of tensor products of the power-form pieces.
 void TSpline::build_cell_polynomials() {
-  const size_t num_cells = cells_.size();
-  cell_numerator_.assign(num_cells * 64 * dimension_, 0.0);
-  cell_denominator_.assign(num_cells * 64, 0.0);
-  for (size_t c = 0; c < num_cells; ++c) {
-    const Cell& cell = cells_[c];
-    const std::uint32_t* ids = cell_pieces_.data() + cell.piece_begin;
-    const std::uint32_t* axis_ids[3] = {ids, ids + cell.num_pieces[0], ids + cell.num_pieces[0] + cell.num_pieces[1]};
-    double* numerator = cell_numerator_.data() + c * 64 * dimension_;
-    double* denominator = cell_denominator_.data() + c * 64;
-    for (std::uint32_t e = cell.entry_begin; e < cell.entry_end; ++e) {
-      const Entry& entry = entries_[e];
-      const std::array<double, 4>& pu = pieces_[0][axis_ids[0][entry.piece[0]]];
-      const std::array<double, 4>& pv = pieces_[1][axis_ids[1][entry.piece[1]]];
-      const std::array<double, 4>& pw = pieces_[2][axis_ids[2][entry.piece[2]]];
-      const double* wp = weighted_points_.data() + size_t(entry.function) * dimension_;
-      const double w = weights_[entry.function];
-      for (int a = 0; a < 4; ++a)
-        for (int b = 0; b < 4; ++b)
-          for (int cc = 0; cc < 4; ++cc) {
-            const int m = (4 * a + b) * 4 + cc;
-            const double basis = pu[a] * pv[b] * pw[cc];
-            for (int d = 0; d < dimension_; ++d) numerator[m * dimension_ + d] += basis * wp[d];
-            denominator[m] += basis * w;
-          }
-    }
-  }
+  cell_numerator_.assign(cells_.size() * 64 * dimension_, 0.0);
+  cell_denominator_.assign(cells_.size() * 64, 0.0);
+  fill_cell_polynomials(cells_, entries_, cell_pieces_, pieces_, weighted_points_, weights_, dimension_, nullptr,
+                        cell_numerator_, cell_denominator_);
 }
 
 void TSpline::set_points(Eigen::MatrixXd points) {
@@ -167,12 +187,22 @@ void TSpline::set_points(Eigen::MatrixXd points) {
       throw Error("T-spline: control point " + std::to_string(i) + " is not finite");
     }
   }
+  // Only the cells of functions whose control point changed need new polynomials (the
+  // untangling moves a few interior points of a large spline).
+  std::vector<char> changed;
+  if (!cell_numerator_.empty()) {
+    changed.resize(size_t(points.rows()));
+    for (Eigen::Index i = 0; i < points.rows(); ++i) changed[size_t(i)] = points.row(i) != points_.row(i);
+  }
   points_ = std::move(points);
   weighted_points_.resize(size_t(points_.rows()) * dimension_);
   for (Eigen::Index i = 0; i < points_.rows(); ++i) {
     for (int d = 0; d < dimension_; ++d) weighted_points_[size_t(i) * dimension_ + d] = weights_[i] * points_(i, d);
   }
-  if (!cell_numerator_.empty()) build_cell_polynomials();
+  if (!cell_numerator_.empty()) {
+    fill_cell_polynomials(cells_, entries_, cell_pieces_, pieces_, weighted_points_, weights_, dimension_, &changed,
+                          cell_numerator_, cell_denominator_);
+  }
 }
 
 void TSpline::build_grid() {
@@ -254,7 +284,6 @@ void TSpline::build_grid() {
     throw Error("T-spline: too many (cell, blending function) overlaps for the acceleration grid");
   }
   entries_.assign(counts.back(), Entry{});
-  std::vector<std::array<std::uint32_t, 3>> global_piece(counts.back());
   std::vector<std::uint64_t> fill(counts.begin(), counts.end() - 1);
   for (int i = 0; i < n; ++i) {
     support_range(i);
@@ -264,9 +293,6 @@ void TSpline::build_grid() {
           const size_t c = size_t(k0) + nc[0] * (size_t(k1) + nc[1] * size_t(k2));
           const size_t e = fill[c]++;
           entries_[e].function = static_cast<std::uint32_t>(i);
-          global_piece[e] = {std::uint32_t(first_piece[0][i] + k0 - range[0][0]),
-                             std::uint32_t(first_piece[1][i] + k1 - range[1][0]),
-                             std::uint32_t(first_piece[2][i] + k2 - range[2][0])};
         }
   }
 
@@ -274,8 +300,18 @@ void TSpline::build_grid() {
   cell_pieces_.clear();
   max_functions_per_cell_ = 0;
   std::vector<std::uint32_t> distinct;
+  // Local index of each piece in the current (cell, axis), valid where its stamp matches.
+  std::array<std::vector<std::uint32_t>, 3> local_of, stamp;
+  for (int a = 0; a < 3; ++a) {
+    local_of[a].assign(pieces_[a].size(), 0);
+    stamp[a].assign(pieces_[a].size(), std::numeric_limits<std::uint32_t>::max());
+  }
+  // The piece of function i in grid interval k along axis a is first_piece + k − first_cell
+  // (computed here instead of stored per entry, which would double the grid's peak memory).
   for (size_t c = 0; c < cells_.size(); ++c) {
     Cell& cell = cells_[c];
+    const int cell_k[3] = {int(c % size_t(nc[0])), int((c / size_t(nc[0])) % size_t(nc[1])),
+                           int(c / (size_t(nc[0]) * nc[1]))};
     cell.entry_begin = static_cast<std::uint32_t>(counts[c]);
     cell.entry_end = static_cast<std::uint32_t>(counts[c + 1]);
     cell.piece_begin = static_cast<std::uint32_t>(cell_pieces_.size());
@@ -283,16 +319,17 @@ void TSpline::build_grid() {
     for (int a = 0; a < 3; ++a) {
       distinct.clear();
       for (std::uint32_t e = cell.entry_begin; e < cell.entry_end; ++e) {
-        const std::uint32_t p = global_piece[e][a];
-        auto it = std::find(distinct.begin(), distinct.end(), p);
-        if (it == distinct.end()) {
+        const std::uint32_t i = entries_[e].function;
+        const std::uint32_t p = std::uint32_t(first_piece[a][i] + cell_k[a] - first_cell[a][i]);
+        if (stamp[a][p] != std::uint32_t(c)) {
           if (distinct.size() == std::numeric_limits<std::uint16_t>::max()) {
             throw Error("T-spline: more than 65535 distinct knot vectors overlap one cell");
           }
+          stamp[a][p] = std::uint32_t(c);
+          local_of[a][p] = static_cast<std::uint32_t>(distinct.size());
           distinct.push_back(p);
-          it = distinct.end() - 1;
         }
-        entries_[e].piece[a] = static_cast<std::uint16_t>(it - distinct.begin());
+        entries_[e].piece[a] = static_cast<std::uint16_t>(local_of[a][p]);
       }
       cell.num_pieces[a] = static_cast<std::uint16_t>(distinct.size());
       cell_pieces_.insert(cell_pieces_.end(), distinct.begin(), distinct.end());

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstdint>
+#include <utility>
 
 #include "core/linalg/conjugate_gradient.h"
 #include "core/linalg/csr_matrix.h"
@@ -76,6 +78,157 @@ void add_laplacian_rows(RowBuilder& builder, int nodes_requested, double scale,
       }
 }
 
+// Normal equations of the Eq. 4.7 rows scale·(F(u_g) − (1/6) Σ_nbr F(u_j)) at the interior
+// nodes g of a uniform grid, over the unknown columns (the fixed functions' part moves to the
+// right side). The basis is evaluated once per grid node; rows are built sorted, and AᵀA is
+// formed as its upper triangle (one product per pair) and mirrored.
+struct FairingNormal {
+  linalg::CsrMatrix ata;  // n×n, sorted rows
+  Eigen::MatrixXd atb;    // n×3
+  int rows = 0;
+};
+FairingNormal laplacian_normal_equations(const TSpline& spline, const std::vector<int>& column_of, int n,
+                                         int nodes_requested, double scale) {
+  const Eigen::Vector3d lo = spline.domain_min(), hi = spline.domain_max();
+  std::array<int, 3> nodes;
+  for (int a = 0; a < 3; ++a) nodes[a] = automatic_nodes(spline, a, nodes_requested);
+  auto node_id = [&](int i, int j, int k) { return i + nodes[0] * (j + nodes[1] * k); };
+  // Basis at every grid node: unknown columns with w_i B_i, and the fixed part of F.
+  const int num_nodes = nodes[0] * nodes[1] * nodes[2];
+  std::vector<int> node_offsets(num_nodes + 1, 0), node_cols;
+  std::vector<double> node_values;
+  std::vector<Eigen::RowVector3d> node_known(num_nodes);
+  std::vector<int> ids;
+  std::vector<double> values;
+  for (int k = 0; k < nodes[2]; ++k)
+    for (int j = 0; j < nodes[1]; ++j)
+      for (int i = 0; i < nodes[0]; ++i) {
+        const Eigen::Vector3d uvw(lo.x() + (hi.x() - lo.x()) * i / (nodes[0] - 1),
+                                  lo.y() + (hi.y() - lo.y()) * j / (nodes[1] - 1),
+                                  lo.z() + (hi.z() - lo.z()) * k / (nodes[2] - 1));
+        const int id = node_id(i, j, k);
+        spline.basis_at(uvw, {0, 0, 0}, ids, values);
+        Eigen::RowVector3d known = Eigen::RowVector3d::Zero();
+        for (std::size_t q = 0; q < ids.size(); ++q) {
+          const double v = spline.weights()(ids[q]) * values[q];
+          if (v == 0.0) continue;
+          if (column_of[ids[q]] >= 0) {
+            node_cols.push_back(column_of[ids[q]]);
+            node_values.push_back(v);
+          } else {
+            known += v * spline.points().row(ids[q]);
+          }
+        }
+        node_known[id] = known;
+        node_offsets[id + 1] = static_cast<int>(node_cols.size());
+      }
+  // Rows (sorted columns), skipping rows without unknowns.
+  std::vector<int> row_offsets(1, 0), row_cols;
+  std::vector<double> row_values;
+  std::vector<Eigen::RowVector3d> rhs;
+  std::vector<double> accumulator(n, 0.0);
+  std::vector<int> marker(n, -1), cols;
+  int rows = 0;
+  for (int k = 1; k + 1 < nodes[2]; ++k)
+    for (int j = 1; j + 1 < nodes[1]; ++j)
+      for (int i = 1; i + 1 < nodes[0]; ++i) {
+        const std::array<int, 7> stencil = {node_id(i, j, k),     node_id(i - 1, j, k), node_id(i + 1, j, k),
+                                            node_id(i, j - 1, k), node_id(i, j + 1, k), node_id(i, j, k - 1),
+                                            node_id(i, j, k + 1)};
+        cols.clear();
+        Eigen::RowVector3d known = Eigen::RowVector3d::Zero();
+        for (int p = 0; p < 7; ++p) {
+          const double c = p == 0 ? scale : -scale / 6.0;
+          known += c * node_known[stencil[p]];
+          for (int q = node_offsets[stencil[p]]; q < node_offsets[stencil[p] + 1]; ++q) {
+            const int col = node_cols[q];
+            if (marker[col] != rows) {
+              marker[col] = rows;
+              accumulator[col] = 0.0;
+              cols.push_back(col);
+            }
+            accumulator[col] += c * node_values[q];
+          }
+        }
+        if (cols.empty()) continue;  // only fixed control points: a constant row
+        std::sort(cols.begin(), cols.end());
+        for (int col : cols) {
+          row_cols.push_back(col);
+          row_values.push_back(accumulator[col]);
+        }
+        row_offsets.push_back(static_cast<int>(row_cols.size()));
+        rhs.push_back(-known);
+        ++rows;
+      }
+  FairingNormal out;
+  out.rows = rows;
+  // Column lists: (row, position of the entry in its row).
+  std::vector<int> col_offsets(n + 1, 0);
+  for (int col : row_cols) ++col_offsets[col + 1];
+  for (int c = 0; c < n; ++c) col_offsets[c + 1] += col_offsets[c];
+  std::vector<int> col_positions(row_cols.size()), fill(col_offsets.begin(), col_offsets.end() - 1);
+  for (int r = 0; r < rows; ++r)
+    for (int q = row_offsets[r]; q < row_offsets[r + 1]; ++q) col_positions[fill[row_cols[q]]++] = q;
+  std::vector<int> row_of(row_cols.size());
+  for (int r = 0; r < rows; ++r)
+    for (int q = row_offsets[r]; q < row_offsets[r + 1]; ++q) row_of[q] = r;
+  // Upper triangle, row i: Σ over the rows holding i of v_i · (entries j ≥ i of the row).
+  std::vector<int> upper_offsets(n + 1, 0), upper_cols;
+  std::vector<double> upper_values;
+  std::fill(marker.begin(), marker.end(), -1);
+  out.atb = Eigen::MatrixXd::Zero(n, 3);
+  for (int c = 0; c < n; ++c) {
+    cols.clear();
+    Eigen::RowVector3d atb = Eigen::RowVector3d::Zero();
+    for (int t = col_offsets[c]; t < col_offsets[c + 1]; ++t) {
+      const int p = col_positions[t], r = row_of[p];
+      const double v = row_values[p];
+      atb += v * rhs[r];
+      for (int q = p; q < row_offsets[r + 1]; ++q) {
+        const int col = row_cols[q];
+        if (marker[col] != c) {
+          marker[col] = c;
+          accumulator[col] = 0.0;
+          cols.push_back(col);
+        }
+        accumulator[col] += v * row_values[q];
+      }
+    }
+    out.atb.row(c) = atb;
+    std::sort(cols.begin(), cols.end());
+    for (int col : cols) {
+      upper_cols.push_back(col);
+      upper_values.push_back(accumulator[col]);
+    }
+    upper_offsets[c + 1] = static_cast<int>(upper_cols.size());
+  }
+  // Mirror: row r = the entries (i, r), i < r, of the upper triangle, then its own upper row.
+  std::vector<int> full_offsets(n + 1, 0);
+  for (int c = 0; c < n; ++c) {
+    full_offsets[c + 1] += upper_offsets[c + 1] - upper_offsets[c];
+    for (int q = upper_offsets[c]; q < upper_offsets[c + 1]; ++q)
+      if (upper_cols[q] != c) ++full_offsets[upper_cols[q] + 1];
+  }
+  for (int c = 0; c < n; ++c) full_offsets[c + 1] += full_offsets[c];
+  std::vector<int> full_cols(full_offsets.back());
+  std::vector<double> full_values(full_offsets.back());
+  std::vector<int> next(full_offsets.begin(), full_offsets.end() - 1);
+  for (int c = 0; c < n; ++c)
+    for (int q = upper_offsets[c]; q < upper_offsets[c + 1]; ++q) {
+      const int col = upper_cols[q];
+      if (col == c) continue;
+      full_cols[next[col]] = c;
+      full_values[next[col]++] = upper_values[q];
+    }
+  for (int c = 0; c < n; ++c)
+    for (int q = upper_offsets[c]; q < upper_offsets[c + 1]; ++q) {
+      full_cols[next[c]] = upper_cols[q];
+      full_values[next[c]++] = upper_values[q];
+    }
+  out.ata = linalg::CsrMatrix::from_arrays(n, n, std::move(full_offsets), std::move(full_cols), std::move(full_values));
+  return out;
+}
+
 // IC(0) of A with the weak couplings |a_ij| < drop·sqrt(a_ii a_jj) removed: a CG preconditioner
 // whose factorization stays cheap when refined T-splines make AᵀA rows long (hundreds of
 // overlapping blending functions), at the price of a few more iterations.
@@ -114,11 +267,12 @@ class DroppedIncompleteCholesky {
   linalg::IncompleteCholesky0 ic_;
 };
 
-// Solves min ‖A x − b‖² + ε‖x − prior‖² for the unknown columns and writes them back.
-TSplineFitReport solve_stacked(TSpline& spline, const std::vector<int>& unknown_ids,
-                               std::vector<linalg::Triplet>& triplets, Eigen::MatrixXd& rhs,
-                               int rows, const Eigen::MatrixX3d& prior, double regularization,
-                               double tolerance, int max_iterations) {
+// Solves (AᵀA + ε²I) x = Aᵀb + ε² prior for the unknown columns (the normal equations of
+// min ‖A x − b‖² + ε²‖x − prior‖², ε² = regularization · mean diagonal of AᵀA) by CG from the
+// current control points, and writes them back. ata must hold the diagonal in its pattern.
+TSplineFitReport solve_normal(TSpline& spline, const std::vector<int>& unknown_ids, linalg::CsrMatrix ata,
+                              Eigen::MatrixXd atb, int rows, const Eigen::MatrixX3d& prior,
+                              double regularization, double tolerance, int max_iterations) {
   const int n = static_cast<int>(unknown_ids.size());
   TSplineFitReport report;
   report.unknowns = n;
@@ -126,36 +280,206 @@ TSplineFitReport solve_stacked(TSpline& spline, const std::vector<int>& unknown_
     report.converged = true;
     return report;
   }
-  Eigen::VectorXd column_norm2 = Eigen::VectorXd::Zero(n);
-  for (const auto& t : triplets) column_norm2(t.col) += t.value * t.value;
-  const double mean = column_norm2.sum() / n;
-  const double eps = std::sqrt(regularization * (mean > 0.0 ? mean : 1.0));
-  rhs.conservativeResize(rows + n, 3);
+  const std::vector<int>& off = ata.row_offsets();
+  const std::vector<int>& col = ata.col_indices();
+  std::vector<double>& val = ata.values();
+  std::vector<int> diagonal(n, -1);
+  double trace = 0.0;
+  for (int r = 0; r < n; ++r)
+    for (int k = off[r]; k < off[r + 1]; ++k)
+      if (col[k] == r) {
+        diagonal[r] = k;
+        trace += val[k];
+      }
+  const double mean = trace / n;
+  const double eps2 = regularization * (mean > 0.0 ? mean : 1.0);
   for (int c = 0; c < n; ++c) {
-    triplets.push_back({rows + c, c, eps});
-    rhs.row(rows + c) = eps * prior.row(unknown_ids[c]);
+    assert(diagonal[c] >= 0);
+    val[diagonal[c]] += eps2;
+    atb.row(c) += eps2 * prior.row(unknown_ids[c]);
   }
-  rows += n;
-  report.rows = rows;
-  const linalg::CsrMatrix a = linalg::CsrMatrix::from_triplets(rows, n, triplets);
-  const linalg::NormalEquations normal = linalg::normal_equations(a, rhs);
+  report.rows = rows + n;
   Eigen::MatrixXd x0(n, 3);
   for (int c = 0; c < n; ++c) x0.row(c) = spline.points().row(unknown_ids[c]);
-  auto run = [&](auto& cg) {
-    cg.set_tolerance(tolerance);
-    cg.set_max_iterations(max_iterations);
-    cg.compute(normal.ata);
-    const Eigen::MatrixXd x = cg.solve(normal.atb, x0);
-    report.cg_iterations = cg.iterations();
-    report.converged = cg.info() == linalg::SolverInfo::Success;
-    return x;
-  };
   linalg::ConjugateGradient<DroppedIncompleteCholesky> cg;
-  const Eigen::MatrixXd x = run(cg);
+  cg.set_tolerance(tolerance);
+  cg.set_max_iterations(max_iterations);
+  cg.compute(ata);
+  const Eigen::MatrixXd x = cg.solve(atb, x0);
+  report.cg_iterations = cg.iterations();
+  report.converged = cg.info() == linalg::SolverInfo::Success;
   Eigen::MatrixXd points = spline.points();
   for (int c = 0; c < n; ++c) points.row(unknown_ids[c]) = x.row(c);
   spline.set_points(points);
   return report;
+}
+
+// Solves min ‖A x − b‖² + ε‖x − prior‖² for the unknown columns and writes them back.
+TSplineFitReport solve_stacked(TSpline& spline, const std::vector<int>& unknown_ids,
+                               std::vector<linalg::Triplet>& triplets, Eigen::MatrixXd& rhs,
+                               int rows, const Eigen::MatrixX3d& prior, double regularization,
+                               double tolerance, int max_iterations) {
+  const int n = static_cast<int>(unknown_ids.size());
+  for (int c = 0; c < n; ++c) triplets.push_back({rows, c, 0.0});  // keeps the diagonal in the pattern
+  const linalg::CsrMatrix a = linalg::CsrMatrix::from_triplets(rows + 1, n, triplets);
+  rhs.conservativeResize(rows + 1, 3);
+  rhs.row(rows).setZero();
+  linalg::NormalEquations normal = linalg::normal_equations(a, rhs);
+  return solve_normal(spline, unknown_ids, std::move(normal.ata), std::move(normal.atb), rows, prior,
+                      regularization, tolerance, max_iterations);
+}
+
+// Sum of two n×n matrices with sorted rows (the pattern is the union).
+linalg::CsrMatrix add_matrices(const linalg::CsrMatrix& a, const linalg::CsrMatrix& b) {
+  const int n = a.rows();
+  std::vector<int> offsets(1, 0), cols;
+  std::vector<double> values;
+  cols.reserve(a.nnz() + b.nnz() / 2);
+  values.reserve(a.nnz() + b.nnz() / 2);
+  const auto& ao = a.row_offsets();
+  const auto& ac = a.col_indices();
+  const auto& av = a.values();
+  const auto& bo = b.row_offsets();
+  const auto& bc = b.col_indices();
+  const auto& bv = b.values();
+  for (int r = 0; r < n; ++r) {
+    int i = ao[r], j = bo[r];
+    while (i < ao[r + 1] || j < bo[r + 1]) {
+      if (j == bo[r + 1] || (i < ao[r + 1] && ac[i] < bc[j])) {
+        cols.push_back(ac[i]);
+        values.push_back(av[i++]);
+      } else if (i == ao[r + 1] || bc[j] < ac[i]) {
+        cols.push_back(bc[j]);
+        values.push_back(bv[j++]);
+      } else {
+        cols.push_back(ac[i]);
+        values.push_back(av[i++] + bv[j++]);
+      }
+    }
+    offsets.push_back(static_cast<int>(cols.size()));
+  }
+  return linalg::CsrMatrix::from_arrays(n, n, std::move(offsets), std::move(cols), std::move(values));
+}
+
+// Normal equations AᵀA, Aᵀb of the sample rows of Eq. 3.5 (row s: w_i B_i(uvw_s) over the
+// unknown columns, right side xyz_s minus the fixed functions' part). The samples are grouped
+// by the knot-line cell holding them: all samples of a cell share its blending functions, so
+// each cell adds one small dense Gram matrix (a few hundred samples share a cell's functions
+// on refined splines, far cheaper than one sparse outer product per sample).
+struct SampleNormal {
+  linalg::CsrMatrix ata;  // n×n, the diagonal always in the pattern
+  Eigen::MatrixXd atb;    // n×3
+  int rows = 0;
+};
+SampleNormal sample_normal_equations(const TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
+                                     const std::vector<int>& column_of, int n) {
+  const Eigen::Index m = uvw.rows();
+  // Cell of each sample by the rule of TSpline's lookup (the last cell is closed).
+  std::vector<std::pair<std::int64_t, int>> order(m);
+  for (Eigen::Index s = 0; s < m; ++s) {
+    std::int64_t cell = 0, stride = 1;
+    for (int a = 0; a < 3; ++a) {
+      const std::vector<double>& lines = spline.knot_lines(a);
+      const std::int64_t intervals = static_cast<std::int64_t>(lines.size()) - 1;
+      std::int64_t k = std::upper_bound(lines.begin(), lines.end(), uvw(s, a)) - lines.begin() - 1;
+      k = std::clamp<std::int64_t>(k, 0, intervals - 1);
+      cell += k * stride;
+      stride *= intervals;
+    }
+    order[s] = {cell, static_cast<int>(s)};
+  }
+  std::sort(order.begin(), order.end());
+  struct Block {
+    int begin, end;          // range of `order`
+    std::vector<int> slot;   // position in the cell's function list of each unknown column
+    std::vector<int> cols;   // unknown columns, increasing
+  };
+  std::vector<Block> blocks;
+  std::vector<int> ids;
+  std::vector<double> values;
+  for (std::size_t b = 0; b < order.size();) {
+    std::size_t e = b;
+    while (e < order.size() && order[e].first == order[b].first) ++e;
+    spline.basis_at(uvw.row(order[b].second).transpose(), {0, 0, 0}, ids, values);
+    Block block{static_cast<int>(b), static_cast<int>(e), {}, {}};
+    for (std::size_t k = 0; k < ids.size(); ++k)
+      if (column_of[ids[k]] >= 0) {
+        block.slot.push_back(static_cast<int>(k));
+        block.cols.push_back(column_of[ids[k]]);
+      }
+    assert(std::is_sorted(block.cols.begin(), block.cols.end()));
+    if (!block.cols.empty()) blocks.push_back(std::move(block));
+    b = e;
+  }
+  // Pattern: row r couples with the columns of every block holding r (and itself).
+  std::vector<int> holder_offsets(n + 1, 0);
+  for (const Block& block : blocks)
+    for (int c : block.cols) ++holder_offsets[c + 1];
+  for (int c = 0; c < n; ++c) holder_offsets[c + 1] += holder_offsets[c];
+  std::vector<int> holders(holder_offsets.back()), fill(holder_offsets.begin(), holder_offsets.end() - 1);
+  for (std::size_t b = 0; b < blocks.size(); ++b)
+    for (int c : blocks[b].cols) holders[fill[c]++] = static_cast<int>(b);
+  std::vector<int> offsets(n + 1, 0), pattern;
+  std::vector<int> marker(n, -1);
+  std::vector<int> row_cols;
+  for (int r = 0; r < n; ++r) {
+    row_cols.assign(1, r);
+    marker[r] = r;
+    for (int h = holder_offsets[r]; h < holder_offsets[r + 1]; ++h)
+      for (int c : blocks[holders[h]].cols)
+        if (marker[c] != r) {
+          marker[c] = r;
+          row_cols.push_back(c);
+        }
+    std::sort(row_cols.begin(), row_cols.end());
+    pattern.insert(pattern.end(), row_cols.begin(), row_cols.end());
+    offsets[r + 1] = static_cast<int>(pattern.size());
+  }
+  std::vector<int> diagonal(n);
+  for (int r = 0; r < n; ++r) diagonal[r] = static_cast<int>(std::lower_bound(pattern.begin() + offsets[r], pattern.begin() + offsets[r + 1], r) - pattern.begin());
+  SampleNormal out;
+  std::vector<double> ata_values(pattern.size(), 0.0);
+  out.atb = Eigen::MatrixXd::Zero(n, 3);
+  Eigen::MatrixXd rows_b, gram;
+  Eigen::MatrixX3d rhs_b;
+  const Eigen::VectorXd& weights = spline.weights();
+  const Eigen::MatrixXd& points = spline.points();
+  for (const Block& block : blocks) {
+    const int count = block.end - block.begin, k = static_cast<int>(block.cols.size());
+    rows_b.resize(count, k);
+    rhs_b.resize(count, 3);
+    for (int r = 0; r < count; ++r) {
+      const int s = order[block.begin + r].second;
+      spline.basis_at(uvw.row(s).transpose(), {0, 0, 0}, ids, values);
+      Eigen::RowVector3d known = Eigen::RowVector3d::Zero();
+      for (std::size_t q = 0; q < ids.size(); ++q)
+        if (column_of[ids[q]] < 0) known += (weights(ids[q]) * values[q]) * points.row(ids[q]);
+      for (int c = 0; c < k; ++c) {
+        const int q = block.slot[c];
+        rows_b(r, c) = weights(ids[q]) * values[q];
+      }
+      rhs_b.row(r) = xyz.row(s) - known;
+    }
+    out.rows += count;
+    gram.noalias() = rows_b.transpose() * rows_b;
+    out.atb(block.cols, Eigen::all) += rows_b.transpose() * rhs_b;
+    // Scatter the upper triangle: block.cols is a sorted subset of every row's sorted pattern,
+    // so each row is walked once from its diagonal.
+    for (int a = 0; a < k; ++a) {
+      int p = diagonal[block.cols[a]];
+      const double* g = gram.col(a).data();
+      for (int c = a; c < k; ++c) {
+        while (pattern[p] != block.cols[c]) ++p;
+        ata_values[p] += g[c];
+      }
+    }
+  }
+  // Mirror: rows in increasing order meet the lower entries of each row in increasing order.
+  std::vector<int> next_lower(offsets.begin(), offsets.end() - 1);
+  for (int r = 0; r < n; ++r)
+    for (int p = diagonal[r] + 1; p < offsets[r + 1]; ++p) ata_values[next_lower[pattern[p]]++] = ata_values[p];
+  out.ata = linalg::CsrMatrix::from_arrays(n, n, std::move(offsets), std::move(pattern), std::move(ata_values));
+  return out;
 }
 
 }  // namespace
@@ -176,30 +500,18 @@ namespace {
 TSplineFitReport fit_columns(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
                              const Eigen::MatrixX3d& prior, const std::vector<int>& ids,
                              const std::vector<int>& column_of, const TSplineFitOptions& options) {
-  RowBuilder builder{spline, column_of, {}, {}};
-  std::vector<linalg::Triplet> triplets;
-  triplets.reserve(static_cast<std::size_t>(uvw.rows()) * 64);
-  std::vector<Eigen::RowVector3d> rhs_rows;
-  rhs_rows.reserve(uvw.rows());
-  int rows = 0;
-  // Eq. 3.5: one row per sample that some unknown reaches.
-  for (Eigen::Index s = 0; s < uvw.rows(); ++s) {
-    Eigen::RowVector3d known = Eigen::RowVector3d::Zero();
-    if (!builder.add(uvw.row(s).transpose(), 1.0, rows, triplets, known)) continue;
-    rhs_rows.push_back(xyz.row(s) - known);
-    ++rows;
+  const int n = static_cast<int>(ids.size());
+  SampleNormal normal = sample_normal_equations(spline, uvw, xyz, column_of, n);
+  int rows = normal.rows;
+  if (options.smoothing > 0.0 && n > 0) {
+    const FairingNormal fairing =
+        laplacian_normal_equations(spline, column_of, n, options.laplacian_nodes, std::sqrt(options.smoothing));
+    normal.ata = add_matrices(normal.ata, fairing.ata);
+    normal.atb += fairing.atb;
+    rows += fairing.rows;
   }
-  if (options.smoothing > 0.0) {
-    std::vector<Eigen::RowVector3d> known;
-    const int first = rows;
-    add_laplacian_rows(builder, options.laplacian_nodes, std::sqrt(options.smoothing), triplets,
-                       known, rows);
-    for (int r = first; r < rows; ++r) rhs_rows.push_back(-known[r - first]);
-  }
-  Eigen::MatrixXd rhs(rows, 3);
-  for (int r = 0; r < rows; ++r) rhs.row(r) = rhs_rows[r];
-  return solve_stacked(spline, ids, triplets, rhs, rows, prior, options.regularization,
-                       options.tolerance, options.max_iterations);
+  return solve_normal(spline, ids, std::move(normal.ata), std::move(normal.atb), rows, prior,
+                      options.regularization, options.tolerance, options.max_iterations);
 }
 
 }  // namespace

@@ -26,7 +26,14 @@ struct FieldAlignedOptions {
   double anisotropy = 0.5;  ///< alpha of Eq. 5.10: weight of the deviation along a coordinate's own frame axis, in (0, 1]; 1 = Eq. 5.7
   int grid_step = 0;        ///< voxels per edge of a parameterization cell, >= 1, or 0 = automatic (smallest step with <= max_grid_nodes nodes)
   int max_grid_nodes = 40000;      ///< bound used by grid_step = 0, >= 8
-  double background_weight = 0.1;  ///< weight of background voxels (label 0), whose target is the identity frame, in [0, 1]
+  double background_weight = 1.0;  ///< weight of background voxels (label 0), whose target is the identity frame, in [0, 1] (0.1 let the background absorb the stretch, which cost density error on tooth)
+  /// Frames are trusted near the iso-surface constraints, where they are pinned to a normal:
+  /// reliability exp(-(d / R)^2) at Chebyshev distance d (voxels) from the nearest constrained
+  /// voxel. R >= 0; 0 = every foreground frame is trusted fully (the map of earlier sessions).
+  double reliability_radius = 1.0;
+  /// Weight of the pull towards the identity frame, times (1 - reliability), on foreground
+  /// voxels (a regularisation the thesis leaves open), >= 0.
+  double identity_weight = 4.0;
   CornerSelection corner_selection = CornerSelection::Automatic;
   std::vector<std::size_t> corner_voxels;  ///< flat voxel ids for CornerSelection::Given (each < num_voxels)
   CornerDetectionOptions corners;          ///< for CornerSelection::Automatic
@@ -52,6 +59,12 @@ struct FieldAlignedParam {
   bool converged = false;  ///< every CG solve reached cg_tolerance
   double alignment_rms_deg = 0.0;  ///< RMS angle between the gradient of u, v, w and their target frame axes over foreground voxels
   double alignment_rms_deg_identity = 0.0;  ///< the same for the identity map, for comparison
+  double alignment_rms_deg_reliable = 0.0;  ///< alignment_rms_deg over foreground voxels with reliability >= 0.5 only
+  double alignment_rms_deg_reliable_identity = 0.0;  ///< the same for the identity map
+  /// Volume of each voxel hex in uvw (determinant of the mean edge vectors) over its volume under
+  /// the identity map: smallest and largest over all hexes (1 = no compression or stretch).
+  double volume_ratio_min = 1.0;
+  double volume_ratio_max = 1.0;
 };
 
 /// Field-aligned parameterization (§5.3) of the whole voxel grid onto [0, 1]^3.
@@ -59,8 +72,11 @@ struct FieldAlignedParam {
 /// identity u = x / ((nx - 1) sx) (likewise v, w): each frame is relabelled by the cube rotation
 /// closest to the identity, and the gradient of u is asked to equal row 0 of it scaled by
 /// 1 / ((nx - 1) sx) (rows 1, 2 for v, w), with the anisotropic norm of Eq. 5.10; background
-/// voxels ask for the identity frame with background_weight; foreground voxels are weighted by
-/// how unambiguous that relabelling is (low near 45 degrees, where it jumps). The box boundary is held at the
+/// voxels ask for the identity frame with background_weight; foreground voxels ask for their
+/// frame with weight reliability x (how unambiguous that relabelling is: low near 45 degrees,
+/// where it jumps) and for the identity frame with identity_weight x (1 - reliability), so the
+/// map bends only near the iso-surfaces whose normals fixed the frames (see reliability_radius).
+/// The box boundary is held at the
 /// identity, so uvw stays in [0, 1]^3 and the solution is unique. Corners get soft constraints
 /// at their snapped parameters (corners closer than corner_snap_tol per coordinate share it, so
 /// they land on common iso-planes). If the result folds, it is blended with the identity locally

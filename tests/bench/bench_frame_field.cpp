@@ -5,7 +5,11 @@
 // Prints one JSON object per volume: per-stage wall and CPU (this thread) seconds, medians of
 // `runs` runs (argument --runs N, default 3), plus the quality numbers of the last run.
 // Other arguments: --anisotropy A (Eq. 5.10 alpha), --margin M (smoothing margin, default 2),
-// --no-corners (no corner constraints), --corner-weight W, --given (FrameInitialization::Given: start from the Hessian frames).
+// --no-corners (no corner constraints), --corner-weight W, --given (FrameInitialization::Given: start from the Hessian frames),
+// --reliability-radius R, --identity-weight L, --background-weight B (FieldAlignedOptions).
+// --fit: also run the scattered adaptive fit (Eq. 5.11) over the map, as `vol2spline --param aligned
+// --max-rms 0.001 --min-gain-rate 0` does, and print its curve (--max-control-points N, default
+// 15000; --initial-cells N; --identity-map fits over the identity map instead, same fit code).
 
 #include <algorithm>
 #include <chrono>
@@ -19,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/io/volume_io.h"
+#include "core/spline/scattered_density_fitting.h"
 #include "core/volume/corner_detection.h"
 #include "core/volume/field_aligned_param.h"
 #include "core/volume/frame_field.h"
@@ -56,6 +61,12 @@ int main(int argc, char** argv) {
   bool given = false;
   double corner_weight = vol::FieldAlignedOptions{}.corner_weight;
   std::vector<std::string> paths;
+  vol::FieldAlignedOptions defaults;
+  double reliability_radius = defaults.reliability_radius;
+  double identity_weight = defaults.identity_weight;
+  double background_weight = defaults.background_weight;
+  bool fit_curve = false, identity_map = false;
+  int max_control_points = 15000, initial_cells = 0;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--runs" && i + 1 < argc) runs = std::max(1, std::stoi(argv[++i]));
@@ -64,6 +75,13 @@ int main(int argc, char** argv) {
     else if (arg == "--no-corners") corners_on = false;
     else if (arg == "--given") given = true;
     else if (arg == "--corner-weight" && i + 1 < argc) corner_weight = std::stod(argv[++i]);
+    else if (arg == "--reliability-radius" && i + 1 < argc) reliability_radius = std::stod(argv[++i]);
+    else if (arg == "--identity-weight" && i + 1 < argc) identity_weight = std::stod(argv[++i]);
+    else if (arg == "--background-weight" && i + 1 < argc) background_weight = std::stod(argv[++i]);
+    else if (arg == "--fit") fit_curve = true;
+    else if (arg == "--identity-map") identity_map = true;
+    else if (arg == "--max-control-points" && i + 1 < argc) max_control_points = std::stoi(argv[++i]);
+    else if (arg == "--initial-cells" && i + 1 < argc) initial_cells = std::stoi(argv[++i]);
     else paths.push_back(arg);
   }
   if (paths.empty()) {
@@ -105,6 +123,9 @@ int main(int argc, char** argv) {
       param_options.corner_weight = corner_weight;
       param_options.corner_selection = corners_on ? vol::CornerSelection::Given : vol::CornerSelection::None;
       param_options.corner_voxels = corners.corners;
+      param_options.reliability_radius = reliability_radius;
+      param_options.identity_weight = identity_weight;
+      param_options.background_weight = background_weight;
       const vol::FieldAlignedParam param = vol::compute_field_aligned_param(volume, smoothed.field, classes, param_options);
       lap();
       w.push_back(0.0);
@@ -144,7 +165,35 @@ int main(int argc, char** argv) {
                  {"min_jacobian", param.min_jacobian},
                  {"identity_blend", param.identity_blend},
                  {"alignment_rms_deg", param.alignment_rms_deg},
-                 {"alignment_rms_deg_identity", param.alignment_rms_deg_identity}};
+                 {"alignment_rms_deg_identity", param.alignment_rms_deg_identity},
+                 {"alignment_rms_deg_reliable", param.alignment_rms_deg_reliable},
+                 {"alignment_rms_deg_reliable_identity", param.alignment_rms_deg_reliable_identity},
+                 {"volume_ratio_min", param.volume_ratio_min},
+                 {"volume_ratio_max", param.volume_ratio_max}};
+      if (fit_curve && run + 1 == runs) {
+        Eigen::MatrixX3d uvw = param.uvw;
+        Eigen::MatrixXd targets(static_cast<Eigen::Index>(volume.num_voxels()), 4);
+        for (int z = 0; z < volume.nz; ++z)
+          for (int y = 0; y < volume.ny; ++y)
+            for (int x = 0; x < volume.nx; ++x) {
+              const auto v = static_cast<Eigen::Index>(volume.index(x, y, z));
+              if (identity_map)
+                uvw.row(v) = Eigen::RowVector3d(x / (volume.nx - 1.0), y / (volume.ny - 1.0), z / (volume.nz - 1.0));
+              targets.row(v) = Eigen::RowVector4d(x * volume.spacing.x(), y * volume.spacing.y(), z * volume.spacing.z(),
+                                                  volume.samples[static_cast<std::size_t>(v)]);
+            }
+        volspline::spline::AdaptiveDensityOptions fit_options;
+        fit_options.max_rms_rel = 0.001;
+        fit_options.max_control_points = max_control_points;
+        fit_options.min_gain_rate = 0.0;
+        fit_options.initial_cells = initial_cells;
+        const double f0 = cpu_now();
+        const auto r = volspline::spline::fit_scattered_adaptive(uvw, targets, {volume.nx, volume.ny, volume.nz}, fit_options);
+        json curve = json::array();
+        for (const auto& level : r.levels) curve.push_back({level.control_points, 100.0 * level.rms_rel});
+        quality["curve_cp_rms_percent"] = curve;
+        quality["fit_cpu_s"] = cpu_now() - f0;
+      }
     }
     json times;
     for (int s = 0; s < 7; ++s) times[stages[s]] = {{"wall_s", median(wall[s])}, {"cpu_s", median(cpu[s])}};

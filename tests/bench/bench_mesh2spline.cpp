@@ -3,11 +3,15 @@
 // machine may be shared), on a closed genus-0
 // mesh (default: bunny_closed), plus the measures of the last run and, as the reference
 // measured in the same run, the uniform tensor B-spline reaching the same rms_rel.
-// usage: bench_mesh2spline [MESH] [--fit grid|meshless]
+// Per-stage CPU time (medians) from the progress reports: each stage runs from its report to the
+// next, so "fit level N" holds the fit of level N and the refinement after it.
+// usage: bench_mesh2spline [MESH] [--fit grid|meshless] [--no-untangle] [--runs N] [--no-compare]
 #include <algorithm>
 #include <chrono>
 #include <ctime>
 #include <cstdio>
+#include <cstdlib>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -18,9 +22,17 @@ int main(int argc, char** argv) {
   using namespace volspline;
   std::string path = std::string(VOLSPLINE_SHARED_DATA) + "/meshes/bunny_closed.obj";
   pipeline::Mesh2SplineOptions options;
+  int runs = 5;
+  bool compare = true;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--fit" && i + 1 < argc)
+    if (a == "--no-untangle")
+      options.untangle = false;
+    else if (a == "--no-compare")
+      compare = false;
+    else if (a == "--runs" && i + 1 < argc)
+      runs = std::max(1, std::atoi(argv[++i]));
+    else if (a == "--fit" && i + 1 < argc)
       options.fit = std::string(argv[++i]) == "meshless" ? pipeline::Mesh2SplineFit::Meshless
                                                           : pipeline::Mesh2SplineFit::Grid;
     else
@@ -29,23 +41,44 @@ int main(int argc, char** argv) {
   try {
     std::vector<double> seconds, cpu_seconds;
     pipeline::Mesh2SplineStats stats;
-    for (int run = 0; run < 5; ++run) {
+    std::vector<std::string> stage_order;
+    std::map<std::string, std::vector<double>> stage_cpu;
+    for (int run = 0; run < runs; ++run) {
       const auto start = std::chrono::steady_clock::now();
       const std::clock_t cpu_start = std::clock();
+      std::string stage;
+      std::clock_t stage_start = cpu_start;
+      const pipeline::Progress progress([&](const std::string& next, double) {
+        const std::clock_t now = std::clock();
+        if (!stage.empty()) {
+          if (!stage_cpu.count(stage)) stage_order.push_back(stage);
+          stage_cpu[stage].push_back(double(now - stage_start) / CLOCKS_PER_SEC);
+        }
+        stage = next;
+        stage_start = now;
+        return true;
+      });
       const mesh::TriangleMesh mesh = io::read_mesh(path);
-      const auto result = pipeline::run_mesh2spline(mesh, path, options);
+      const auto result = pipeline::run_mesh2spline(mesh, path, options, progress);
       seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
       cpu_seconds.push_back(double(std::clock() - cpu_start) / CLOCKS_PER_SEC);
       stats = result.stats;
     }
-    std::sort(seconds.begin(), seconds.end());
-    std::sort(cpu_seconds.begin(), cpu_seconds.end());
-    pipeline::Mesh2SplineOptions reference = options;
-    reference.compare_uniform = true;
-    const auto compared = pipeline::run_mesh2spline(io::read_mesh(path), path, reference);
+    auto median = [](std::vector<double> v) {
+      std::sort(v.begin(), v.end());
+      return v[v.size() / 2];
+    };
+    pipeline::Mesh2SplineStats compared_stats;
+    if (compare) {
+      pipeline::Mesh2SplineOptions reference = options;
+      reference.compare_uniform = true;
+      compared_stats = pipeline::run_mesh2spline(io::read_mesh(path), path, reference).stats;
+    }
     std::printf("{\n  \"bench\": \"mesh2spline\",\n  \"mesh\": \"%s\",\n  \"fit\": \"%s\",\n", path.c_str(),
                 options.fit == pipeline::Mesh2SplineFit::Grid ? "grid" : "meshless");
-    std::printf("  \"median_s\": %.4f,\n  \"min_s\": %.4f,\n  \"max_s\": %.4f,\n  \"median_cpu_s\": %.4f,\n", seconds[2], seconds[0], seconds[4], cpu_seconds[2]);
+    std::printf("  \"median_s\": %.4f,\n  \"min_s\": %.4f,\n  \"max_s\": %.4f,\n  \"median_cpu_s\": %.4f,\n", median(seconds),
+                *std::min_element(seconds.begin(), seconds.end()), *std::max_element(seconds.begin(), seconds.end()),
+                median(cpu_seconds));
     std::printf("  \"rms_rel\": %.6g,\n  \"max_rel\": %.6g,\n  \"hausdorff_rel\": %.6g,\n  \"rms_geo_rel\": %.6g,\n",
                 stats.rms_rel, stats.max_rel, stats.hausdorff_rel, stats.rms_geo_rel);
     std::printf("  \"control_points\": %d,\n  \"levels\": %d,\n  \"min_scaled_jacobian\": %.6g,\n", stats.control_points,
@@ -53,9 +86,12 @@ int main(int argc, char** argv) {
     std::printf("  \"negative_jacobian_fraction\": %.6g,\n  \"semi_standard_max_error\": %.3g,\n",
                 stats.negative_jacobian_fraction, stats.semi_standard_max_error);
     std::printf("  \"uniform_control_points\": %d,\n  \"uniform_rms_rel\": %.6g,\n  \"stage_s\": {",
-                compared.stats.uniform_control_points, compared.stats.uniform_rms_rel);
+                compared_stats.uniform_control_points, compared_stats.uniform_rms_rel);
     for (std::size_t i = 0; i < stats.times_s.size(); ++i)
       std::printf("%s\"%s\": %.4f", i ? ", " : "", stats.times_s[i].first.c_str(), stats.times_s[i].second);
+    std::printf("},\n  \"stage_cpu_s\": {");
+    for (std::size_t i = 0; i < stage_order.size(); ++i)
+      std::printf("%s\"%s\": %.4f", i ? ", " : "", stage_order[i].c_str(), median(stage_cpu[stage_order[i]]));
     std::printf("}\n}\n");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_mesh2spline: %s\n", e.what());

@@ -55,3 +55,35 @@ TEST_CASE("untangle unfolds a single free corner of an inverted tetrahedron") {
   param::untangle(problem, x);
   CHECK(problem.min_det(x) > 0.0);
 }
+
+TEST_CASE("untangle with kept curvature pairs and a faster ε decrease also unfolds the corner") {
+  // Same problem as above; the options only change the pace, not the fold-free outcome.
+  const Eigen::Matrix3d fixed = Eigen::Matrix3d::Identity();
+  auto jac = [&](const Eigen::VectorXd& x) {
+    Eigen::Matrix3d j;
+    for (int a = 0; a < 3; ++a) j.col(a) = fixed.col(a) - x;
+    return j;
+  };
+  param::UntangleProblem problem;
+  problem.energy = [&](const Eigen::VectorXd& x, double eps, Eigen::VectorXd* gradient) {
+    Eigen::Matrix3d g;
+    const double e = param::foldover_free_energy(jac(x), eps, 0.5, gradient ? &g : nullptr);
+    if (gradient) *gradient = -g.rowwise().sum();
+    return e;
+  };
+  problem.min_det = [&](const Eigen::VectorXd& x) { return jac(x).determinant(); };
+  param::UntangleOptions options;
+  options.keep_curvature = true;
+  options.min_sigma = 0.75;
+  options.max_inner = 5;
+  options.stop_min_det = 0.0;
+  Eigen::VectorXd x = Eigen::Vector3d(0.8, 0.8, 0.8);
+  REQUIRE(problem.min_det(x) < 0.0);
+  const int iterations = param::untangle(problem, x, options);
+  CHECK(problem.min_det(x) > 0.0);
+  CHECK(iterations <= options.max_steps * options.max_inner);
+  // Deterministic: the same start gives the same bits.
+  Eigen::VectorXd again = Eigen::Vector3d(0.8, 0.8, 0.8);
+  param::untangle(problem, again, options);
+  CHECK(again == x);
+}

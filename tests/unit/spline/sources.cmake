@@ -11,4 +11,5 @@ set(TEST_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/sparsified_cholesky_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/jacobian_repair_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/spline_untangling_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/scattered_density_fitting_test.cpp
 )

@@ -135,6 +135,12 @@ TEST_CASE("field_aligned_param: bad options and grids are refused with a message
   options.anisotropy = 0.0;
   CHECK(error_of(options, field) == "field-aligned parameterization: anisotropy must be in (0, 1]");
   options = {};
+  options.reliability_radius = -1.0;
+  CHECK(error_of(options, field) == "field-aligned parameterization: reliability_radius must be >= 0");
+  options = {};
+  options.identity_weight = std::nan("");
+  CHECK(error_of(options, field) == "field-aligned parameterization: identity_weight must be >= 0");
+  options = {};
   options.corner_selection = CornerSelection::Given;
   options.corner_voxels = {216};
   CHECK(error_of(options, field) == "field-aligned parameterization: corner voxel 216 is outside the grid of 216 voxels");
@@ -158,4 +164,37 @@ TEST_CASE("field_aligned_param: a constant volume has no foreground and maps to 
   const FieldAlignedParam p = compute_field_aligned_param(v, smoothed.field, classes);
   CHECK(max_identity_error(v, p.uvw) < 1e-9);
   CHECK(p.corner_voxels.empty());
+}
+
+TEST_CASE("field_aligned_param: untrusted frames are pulled to the identity; trusted ones still bend the map") {
+  // A constant field rotated 30 degrees about z, far from any cube rotation: with every
+  // foreground frame trusted (reliability_radius 0) the ball's map turns away from the identity;
+  // with no constraint to trust (none is left in `untrusted`) and any identity_weight > 0 the map is the identity.
+  const Volume v = ball_volume(14, 14, 14, 4.0);
+  const LocalCubicFit fit = fit_local_cubics(v);
+  const MaterialClassification classes = threshold(v, fit);
+  REQUIRE(!classes.constraints.empty());
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(30.0 * 3.14159265358979323846 / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const FrameField field{v.nx, v.ny, v.nz, std::vector<Eigen::Matrix3d>(v.num_voxels(), turn)};
+  FieldAlignedOptions options;
+  options.corner_selection = CornerSelection::None;
+  options.reliability_radius = 0.0;
+  const FieldAlignedParam trusted = compute_field_aligned_param(v, field, classes, options);
+  CHECK(max_identity_error(v, trusted.uvw) > 0.01);
+  CHECK(trusted.alignment_rms_deg < trusted.alignment_rms_deg_identity);
+  MaterialClassification untrusted = classes;
+  untrusted.constraints.clear();
+  options.reliability_radius = 2.0;
+  const FieldAlignedParam pulled = compute_field_aligned_param(v, field, untrusted, options);
+  CHECK(max_identity_error(v, pulled.uvw) < 1e-9);
+  CHECK(pulled.volume_ratio_min == doctest::Approx(1.0).epsilon(1e-9));
+  CHECK(pulled.volume_ratio_max == doctest::Approx(1.0).epsilon(1e-9));
+  // With the constraints back, the map bends near the surface only, less than fully trusted.
+  const FieldAlignedParam near = compute_field_aligned_param(v, field, classes, options);
+  CHECK(max_identity_error(v, near.uvw) > 1e-4);
+  CHECK(max_identity_error(v, near.uvw) < max_identity_error(v, trusted.uvw));
+  CHECK(near.volume_ratio_min > 0.0);
+  CHECK(near.volume_ratio_min <= 1.0);
+  CHECK(near.volume_ratio_max >= 1.0);
+  CHECK(near.alignment_rms_deg_reliable < near.alignment_rms_deg_reliable_identity);
 }
