@@ -37,11 +37,12 @@ NormalEquations normal_equations_impl(const CsrMatrix& a, const Eigen::MatrixXd&
   const std::vector<int>& t_col = at.col_indices();
   const std::vector<double>& t_val = at.values();
 
-  // Gustavson's row-by-row product (AᵀW)A with a dense accumulator; entries of row i are
-  // summed over k = rows of A in increasing order, so the result is deterministic.
-  std::vector<int> offsets(n + 1, 0);
-  std::vector<int> cols;
-  std::vector<double> vals;
+  // Gustavson's row-by-row product (AᵀW)A with a dense accumulator, upper triangle only (one
+  // product per pair), then mirrored. Entries of row i are summed over k = rows of A in
+  // increasing order, so the result is deterministic and exactly symmetric.
+  std::vector<int> upper_offsets(n + 1, 0);
+  std::vector<int> upper_cols;
+  std::vector<double> upper_vals;
   std::vector<double> accumulator(n, 0.0);
   std::vector<int> marker(n, -1);
   std::vector<int> row_cols;
@@ -52,6 +53,7 @@ NormalEquations normal_equations_impl(const CsrMatrix& a, const Eigen::MatrixXd&
       const double w = t_val[t] * (weights ? weights[k] : 1.0);
       for (int s = a_off[k]; s < a_off[k + 1]; ++s) {
         const int j = a_col[s];
+        if (j < i) continue;
         if (marker[j] != i) {
           marker[j] = i;
           accumulator[j] = 0.0;
@@ -62,11 +64,34 @@ NormalEquations normal_equations_impl(const CsrMatrix& a, const Eigen::MatrixXd&
     }
     std::sort(row_cols.begin(), row_cols.end());
     for (int j : row_cols) {
-      cols.push_back(j);
-      vals.push_back(accumulator[j]);
+      upper_cols.push_back(j);
+      upper_vals.push_back(accumulator[j]);
     }
-    offsets[i + 1] = static_cast<int>(cols.size());
+    upper_offsets[i + 1] = static_cast<int>(upper_cols.size());
   }
+  // Mirror: row r = the entries (i, r), i < r, of the upper triangle, then its own upper row.
+  std::vector<int> offsets(n + 1, 0);
+  for (int i = 0; i < n; ++i) {
+    offsets[i + 1] += upper_offsets[i + 1] - upper_offsets[i];
+    for (int q = upper_offsets[i]; q < upper_offsets[i + 1]; ++q)
+      if (upper_cols[q] != i) ++offsets[upper_cols[q] + 1];
+  }
+  for (int i = 0; i < n; ++i) offsets[i + 1] += offsets[i];
+  std::vector<int> cols(offsets.back());
+  std::vector<double> vals(offsets.back());
+  std::vector<int> next(offsets.begin(), offsets.end() - 1);
+  for (int i = 0; i < n; ++i)
+    for (int q = upper_offsets[i]; q < upper_offsets[i + 1]; ++q) {
+      const int j = upper_cols[q];
+      if (j == i) continue;
+      cols[next[j]] = i;
+      vals[next[j]++] = upper_vals[q];
+    }
+  for (int i = 0; i < n; ++i)
+    for (int q = upper_offsets[i]; q < upper_offsets[i + 1]; ++q) {
+      cols[next[i]] = upper_cols[q];
+      vals[next[i]++] = upper_vals[q];
+    }
 
   NormalEquations result;
   result.ata = CsrMatrix::from_arrays(n, n, std::move(offsets), std::move(cols), std::move(vals));

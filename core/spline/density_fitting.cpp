@@ -303,6 +303,16 @@ bool level_gain_too_small(const std::vector<AdaptiveDensityLevel>& levels, const
   return rate < options.min_gain_rate;
 }
 
+std::optional<FitStopReason> adaptive_stop(double rms_rel, const std::vector<AdaptiveDensityLevel>& levels, int level,
+                                           int count, int budget, const AdaptiveDensityOptions& options) {
+  if (rms_rel <= options.max_rms_rel) return FitStopReason::Target;
+  if (level_gain_too_small(levels, options)) return FitStopReason::Diminishing;
+  if (level > options.max_levels) return FitStopReason::MaxLevels;
+  const double room = static_cast<double>(budget) - count;
+  if (room < std::max(1.0, options.min_level_growth * count)) return FitStopReason::Budget;
+  return std::nullopt;
+}
+
 GridError grid_error(const GridSamples& samples, const std::vector<double>& reconstruction) {
   assert(samples.values.size() == reconstruction.size());
   GridError e;
@@ -468,20 +478,11 @@ AdaptiveDensityResult fit_density_adaptive(const GridSamples& samples, const Ada
   FitStopReason stop = FitStopReason::MaxLevels;
   for (int level = 1;; ++level) {
     const int count = static_cast<int>(current.knots.size());
-    if (error.rms_rel <= options.max_rms_rel) {
-      stop = FitStopReason::Target;
+    if (const std::optional<FitStopReason> reason = adaptive_stop(error.rms_rel, levels, level, count, budget, options)) {
+      stop = *reason;
       break;
     }
-    if (level_gain_too_small(levels, options)) {
-      stop = FitStopReason::Diminishing;
-      break;
-    }
-    if (level > options.max_levels) break;
-    const double room = budget - count;
-    if (room < std::max(1.0, options.min_level_growth * count)) {
-      stop = FitStopReason::Budget;
-      break;
-    }
+    const double room = static_cast<double>(budget) - count;
     progress.report("fit", static_cast<double>(level) / (options.max_levels + 1));
     // Dörfler marking (§4.3.3 refines cells over the threshold; here the cells carrying the
     // given fraction of the squared error, which spends control points where the RMS is made).

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -147,6 +148,12 @@ struct AdaptiveDensityResult {
 /// True if the last of `levels` (level 0 first) gained too little over the one before: its RMS
 /// fell by less than min_decrease_rel, or ln(rms_before / rms) / ln(n / n_before) < min_gain_rate.
 bool level_gain_too_small(const std::vector<AdaptiveDensityLevel>& levels, const AdaptiveDensityOptions& options);
+
+/// Why an adaptive fit with `count` control points and RMS `rms_rel` stops instead of refining
+/// `level` (≥ 1): Target, Diminishing (level_gain_too_small), MaxLevels, or Budget (a level only
+/// starts while the budget leaves min_level_growth · count room); nothing if it goes on.
+std::optional<FitStopReason> adaptive_stop(double rms_rel, const std::vector<AdaptiveDensityLevel>& levels, int level,
+                                           int count, int budget, const AdaptiveDensityOptions& options);
 
 /// Adaptive hierarchical T-spline fit of grid samples (Algorithm 4, §4.3.3): level 0 is the
 /// least-squares cubic B-spline on 2^k uniform cells per axis; then the leaves holding the largest share of

@@ -329,20 +329,12 @@ ScatteredDensityResult fit_scattered_adaptive(const Eigen::MatrixX3d& uvw, const
   double growth_per_cell = 0.0;
   FitStopReason stop = FitStopReason::MaxLevels;
   for (int level = 1;; ++level) {
-    if (rms <= options.max_rms_rel) {
-      stop = FitStopReason::Target;
+    if (const std::optional<FitStopReason> reason =
+            adaptive_stop(rms, levels, level, current.num_functions(), budget, options)) {
+      stop = *reason;
       break;
     }
-    if (level_gain_too_small(levels, options)) {
-      stop = FitStopReason::Diminishing;
-      break;
-    }
-    if (level > options.max_levels) break;
-    const double room = budget - current.num_functions();
-    if (room < std::max(1.0, options.min_level_growth * current.num_functions())) {
-      stop = FitStopReason::Budget;
-      break;
-    }
+    const double room = static_cast<double>(budget) - current.num_functions();
     progress.report("fit", static_cast<double>(level) / (options.max_levels + 1));
     const std::vector<int> leaf_ids = grid.leaves();
     std::vector<double> sse(static_cast<std::size_t>(leaf_ids.back()) + 1, 0.0);

@@ -80,8 +80,7 @@ void add_laplacian_rows(RowBuilder& builder, int nodes_requested, double scale,
 
 // Normal equations of the Eq. 4.7 rows scale·(F(u_g) − (1/6) Σ_nbr F(u_j)) at the interior
 // nodes g of a uniform grid, over the unknown columns (the fixed functions' part moves to the
-// right side). The basis is evaluated once per grid node; rows are built sorted, and AᵀA is
-// formed as its upper triangle (one product per pair) and mirrored.
+// right side). The basis is evaluated once per grid node and the rows are built sorted.
 struct FairingNormal {
   linalg::CsrMatrix ata;  // n×n, sorted rows
   Eigen::MatrixXd atb;    // n×3
@@ -160,72 +159,15 @@ FairingNormal laplacian_normal_equations(const TSpline& spline, const std::vecto
         rhs.push_back(-known);
         ++rows;
       }
+  Eigen::MatrixXd b(rows, 3);
+  for (int r = 0; r < rows; ++r) b.row(r) = rhs[r];
+  const linalg::CsrMatrix a = linalg::CsrMatrix::from_arrays(rows, n, std::move(row_offsets), std::move(row_cols),
+                                                             std::move(row_values));
+  linalg::NormalEquations normal = linalg::normal_equations(a, b);
   FairingNormal out;
+  out.ata = std::move(normal.ata);
+  out.atb = std::move(normal.atb);
   out.rows = rows;
-  // Column lists: (row, position of the entry in its row).
-  std::vector<int> col_offsets(n + 1, 0);
-  for (int col : row_cols) ++col_offsets[col + 1];
-  for (int c = 0; c < n; ++c) col_offsets[c + 1] += col_offsets[c];
-  std::vector<int> col_positions(row_cols.size()), fill(col_offsets.begin(), col_offsets.end() - 1);
-  for (int r = 0; r < rows; ++r)
-    for (int q = row_offsets[r]; q < row_offsets[r + 1]; ++q) col_positions[fill[row_cols[q]]++] = q;
-  std::vector<int> row_of(row_cols.size());
-  for (int r = 0; r < rows; ++r)
-    for (int q = row_offsets[r]; q < row_offsets[r + 1]; ++q) row_of[q] = r;
-  // Upper triangle, row i: Σ over the rows holding i of v_i · (entries j ≥ i of the row).
-  std::vector<int> upper_offsets(n + 1, 0), upper_cols;
-  std::vector<double> upper_values;
-  std::fill(marker.begin(), marker.end(), -1);
-  out.atb = Eigen::MatrixXd::Zero(n, 3);
-  for (int c = 0; c < n; ++c) {
-    cols.clear();
-    Eigen::RowVector3d atb = Eigen::RowVector3d::Zero();
-    for (int t = col_offsets[c]; t < col_offsets[c + 1]; ++t) {
-      const int p = col_positions[t], r = row_of[p];
-      const double v = row_values[p];
-      atb += v * rhs[r];
-      for (int q = p; q < row_offsets[r + 1]; ++q) {
-        const int col = row_cols[q];
-        if (marker[col] != c) {
-          marker[col] = c;
-          accumulator[col] = 0.0;
-          cols.push_back(col);
-        }
-        accumulator[col] += v * row_values[q];
-      }
-    }
-    out.atb.row(c) = atb;
-    std::sort(cols.begin(), cols.end());
-    for (int col : cols) {
-      upper_cols.push_back(col);
-      upper_values.push_back(accumulator[col]);
-    }
-    upper_offsets[c + 1] = static_cast<int>(upper_cols.size());
-  }
-  // Mirror: row r = the entries (i, r), i < r, of the upper triangle, then its own upper row.
-  std::vector<int> full_offsets(n + 1, 0);
-  for (int c = 0; c < n; ++c) {
-    full_offsets[c + 1] += upper_offsets[c + 1] - upper_offsets[c];
-    for (int q = upper_offsets[c]; q < upper_offsets[c + 1]; ++q)
-      if (upper_cols[q] != c) ++full_offsets[upper_cols[q] + 1];
-  }
-  for (int c = 0; c < n; ++c) full_offsets[c + 1] += full_offsets[c];
-  std::vector<int> full_cols(full_offsets.back());
-  std::vector<double> full_values(full_offsets.back());
-  std::vector<int> next(full_offsets.begin(), full_offsets.end() - 1);
-  for (int c = 0; c < n; ++c)
-    for (int q = upper_offsets[c]; q < upper_offsets[c + 1]; ++q) {
-      const int col = upper_cols[q];
-      if (col == c) continue;
-      full_cols[next[col]] = c;
-      full_values[next[col]++] = upper_values[q];
-    }
-  for (int c = 0; c < n; ++c)
-    for (int q = upper_offsets[c]; q < upper_offsets[c + 1]; ++q) {
-      full_cols[next[c]] = upper_cols[q];
-      full_values[next[c]++] = upper_values[q];
-    }
-  out.ata = linalg::CsrMatrix::from_arrays(n, n, std::move(full_offsets), std::move(full_cols), std::move(full_values));
   return out;
 }
 

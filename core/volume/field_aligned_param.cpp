@@ -93,6 +93,30 @@ struct Targets {
   std::vector<double> reliability;  // per voxel in [0, 1]: trust in the frame (0 in the background)
 };
 
+// Multi-source BFS over 26-neighbours: voxels at Chebyshev distance d ≤ max_distance from the
+// seeds in front (already set to 0 in distance; unreached voxels hold −1) get distance d.
+void grow_chebyshev_distance(int nx, int ny, int nz, std::vector<std::size_t> front, int max_distance,
+                             std::vector<int>& distance) {
+  std::vector<std::size_t> next;
+  for (int d = 1; d <= max_distance && !front.empty(); ++d) {
+    next.clear();
+    for (std::size_t id : front) {
+      const int x = static_cast<int>(id % nx), y = static_cast<int>((id / nx) % ny),
+                z = static_cast<int>(id / (static_cast<std::size_t>(nx) * ny));
+      for (int zz = std::max(0, z - 1); zz <= std::min(nz - 1, z + 1); ++zz)
+        for (int yy = std::max(0, y - 1); yy <= std::min(ny - 1, y + 1); ++yy)
+          for (int xx = std::max(0, x - 1); xx <= std::min(nx - 1, x + 1); ++xx) {
+            const std::size_t other = xx + static_cast<std::size_t>(nx) * (yy + static_cast<std::size_t>(ny) * zz);
+            if (distance[other] < 0) {
+              distance[other] = d;
+              next.push_back(other);
+            }
+          }
+    }
+    std::swap(front, next);
+  }
+}
+
 // Reliability of the frames (our reading of §5.2.2: only the iso-surface constraints carry
 // information; interior Hessian frames of flat materials are noise): exp(-(d / R)^2) with d the
 // Chebyshev distance to the nearest constrained voxel (multi-source BFS over 26-neighbours, cut
@@ -107,28 +131,13 @@ std::vector<double> frame_reliability(const MaterialClassification& classes, dou
   const int nx = classes.nx, ny = classes.ny, nz = classes.nz;
   const int cut = static_cast<int>(std::ceil(3.0 * radius));
   std::vector<int> distance(n, -1);
-  std::vector<std::size_t> front, next;
+  std::vector<std::size_t> front;
   for (const FrameConstraint& c : classes.constraints)
     if (distance[c.voxel_id] < 0) {
       distance[c.voxel_id] = 0;
       front.push_back(c.voxel_id);
     }
-  for (int d = 1; d <= cut && !front.empty(); ++d) {
-    next.clear();
-    for (std::size_t id : front) {
-      const int x = static_cast<int>(id % nx), y = static_cast<int>((id / nx) % ny), z = static_cast<int>(id / (static_cast<std::size_t>(nx) * ny));
-      for (int zz = std::max(0, z - 1); zz <= std::min(nz - 1, z + 1); ++zz)
-        for (int yy = std::max(0, y - 1); yy <= std::min(ny - 1, y + 1); ++yy)
-          for (int xx = std::max(0, x - 1); xx <= std::min(nx - 1, x + 1); ++xx) {
-            const std::size_t other = xx + static_cast<std::size_t>(nx) * (yy + static_cast<std::size_t>(ny) * zz);
-            if (distance[other] < 0) {
-              distance[other] = d;
-              next.push_back(other);
-            }
-          }
-    }
-    std::swap(front, next);
-  }
+  grow_chebyshev_distance(nx, ny, nz, std::move(front), cut, distance);
   for (std::size_t i = 0; i < n; ++i)
     if (classes.label[i] != 0 && distance[i] >= 0) reliability[i] = std::exp(-std::pow(distance[i] / radius, 2));
   return reliability;
@@ -553,7 +562,7 @@ FieldAlignedParam compute_field_aligned_param(const Volume& volume, const FrameF
     const Eigen::MatrixX3d identity = identity_map(nx, ny, nz);
     std::vector<double> t(n, 0.0);
     std::vector<int> distance(n);
-    std::vector<std::size_t> folded, front, next;
+    std::vector<std::size_t> folded, front;
     int radius = 2;
     for (int round = 0; round < 8 && result.inverted_cells > 0; ++round, radius *= 2) {
       folded.clear();
@@ -569,22 +578,7 @@ FieldAlignedParam compute_field_aligned_param(const Volume& volume, const FrameF
             front.push_back(id);
           }
         }
-      for (int d = 1; d < radius && !front.empty(); ++d) {
-        next.clear();
-        for (std::size_t id : front) {
-          const int x = static_cast<int>(id % nx), y = static_cast<int>((id / nx) % ny), z = static_cast<int>(id / (static_cast<std::size_t>(nx) * ny));
-          for (int zz = std::max(0, z - 1); zz <= std::min(nz - 1, z + 1); ++zz)
-            for (int yy = std::max(0, y - 1); yy <= std::min(ny - 1, y + 1); ++yy)
-              for (int xx = std::max(0, x - 1); xx <= std::min(nx - 1, x + 1); ++xx) {
-                const std::size_t other = volume.index(xx, yy, zz);
-                if (distance[other] < 0) {
-                  distance[other] = d;
-                  next.push_back(other);
-                }
-              }
-        }
-        std::swap(front, next);
-      }
+      grow_chebyshev_distance(nx, ny, nz, front, radius - 1, distance);
       for (std::size_t i = 0; i < n; ++i)
         if (distance[i] >= 0) t[i] = std::max(t[i], 1.0 - static_cast<double>(distance[i]) / radius);
       for (std::size_t i = 0; i < n; ++i) {

@@ -35,29 +35,21 @@ const notes = [];
 // Fraction of canvas pixels that differ from its corner pixel, and the number of distinct colours
 // (quantised): a blank or single-colour canvas gives ~0 and 1.
 async function canvasContent(page, selector) {
-  return page.evaluate((sel) => {
-    const c = document.querySelector(sel);
-    const tmp = document.createElement('canvas');
-    tmp.width = c.width; tmp.height = c.height;
-    const ctx = tmp.getContext('2d');
-    ctx.drawImage(c, 0, 0);
-    const d = ctx.getImageData(0, 0, c.width, c.height).data;
-    const colours = new Set();
-    let differ = 0;
-    for (let i = 0; i < d.length; i += 4) {
-      if (d[i] !== d[0] || d[i + 1] !== d[1] || d[i + 2] !== d[2]) differ++;
-      colours.add((d[i] >> 4) << 8 | (d[i + 1] >> 4) << 4 | d[i + 2] >> 4);
-    }
-    return { differ: differ / (d.length / 4), colours: colours.size, width: c.width, height: c.height };
-  }, selector);
+  const b64 = await page.evaluate((sel) => document.querySelector(sel).toDataURL('image/png').split(',')[1], selector);
+  return pngContent(page, b64);
 }
 
-// What the user sees in an element: its screenshot, decoded in the page. Same fields as canvasContent.
+// What the user sees in an element: its screenshot. Same fields as canvasContent.
 async function screenContent(page, selector) {
   const png = await page.locator(selector).screenshot();
-  return page.evaluate(async (b64) => {
+  return pngContent(page, png.toString('base64'));
+}
+
+// The statistics above of a base64 PNG, decoded in the page.
+async function pngContent(page, b64) {
+  return page.evaluate(async (data) => {
     const img = new Image();
-    img.src = 'data:image/png;base64,' + b64;
+    img.src = 'data:image/png;base64,' + data;
     await img.decode();
     const tmp = document.createElement('canvas');
     tmp.width = img.width; tmp.height = img.height;
@@ -71,7 +63,7 @@ async function screenContent(page, selector) {
       colours.add((d[i] >> 4) << 8 | (d[i + 1] >> 4) << 4 | d[i + 2] >> 4);
     }
     return { differ: differ / (d.length / 4), colours: colours.size, width: img.width, height: img.height };
-  }, png.toString('base64'));
+  }, b64);
 }
 
 const stat = (page, table, key) => page.evaluate(([t, k]) => {

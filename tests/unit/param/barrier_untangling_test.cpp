@@ -7,6 +7,30 @@
 
 using namespace volspline;
 
+namespace {
+
+// Corner x with fixed neighbours e0, e1, e2: J = [e_a − x]. A start beyond the plane of the
+// neighbours has det < 0; the unique fold-free region is on the origin's side.
+Eigen::Matrix3d corner_jacobian(const Eigen::VectorXd& x) {
+  Eigen::Matrix3d j;
+  for (int a = 0; a < 3; ++a) j.col(a) = Eigen::Matrix3d::Identity().col(a) - x;
+  return j;
+}
+
+param::UntangleProblem corner_problem() {
+  param::UntangleProblem problem;
+  problem.energy = [](const Eigen::VectorXd& x, double eps, Eigen::VectorXd* gradient) {
+    Eigen::Matrix3d g;
+    const double e = param::foldover_free_energy(corner_jacobian(x), eps, 0.5, gradient ? &g : nullptr);
+    if (gradient) *gradient = -g.rowwise().sum();
+    return e;
+  };
+  problem.min_det = [](const Eigen::VectorXd& x) { return corner_jacobian(x).determinant(); };
+  return problem;
+}
+
+}  // namespace
+
 TEST_CASE("the foldover-free energy's gradient matches central differences, folded or not") {
   Eigen::Matrix3d valid;
   valid << 1.1, 0.2, -0.1, 0.05, 0.9, 0.3, -0.2, 0.1, 1.2;
@@ -34,22 +58,7 @@ TEST_CASE("the foldover-free energy's gradient matches central differences, fold
 }
 
 TEST_CASE("untangle unfolds a single free corner of an inverted tetrahedron") {
-  // Corner x with fixed neighbours e0, e1, e2: J = [e_a − x]; start with x beyond the plane
-  // of the neighbours (det < 0), the unique fold-free region is on the origin's side.
-  const Eigen::Matrix3d fixed = Eigen::Matrix3d::Identity();
-  auto jac = [&](const Eigen::VectorXd& x) {
-    Eigen::Matrix3d j;
-    for (int a = 0; a < 3; ++a) j.col(a) = fixed.col(a) - x;
-    return j;
-  };
-  param::UntangleProblem problem;
-  problem.energy = [&](const Eigen::VectorXd& x, double eps, Eigen::VectorXd* gradient) {
-    Eigen::Matrix3d g;
-    const double e = param::foldover_free_energy(jac(x), eps, 0.5, gradient ? &g : nullptr);
-    if (gradient) *gradient = -g.rowwise().sum();
-    return e;
-  };
-  problem.min_det = [&](const Eigen::VectorXd& x) { return jac(x).determinant(); };
+  const param::UntangleProblem problem = corner_problem();
   Eigen::VectorXd x = Eigen::Vector3d(0.8, 0.8, 0.8);
   REQUIRE(problem.min_det(x) < 0.0);
   param::untangle(problem, x);
@@ -58,20 +67,7 @@ TEST_CASE("untangle unfolds a single free corner of an inverted tetrahedron") {
 
 TEST_CASE("untangle with kept curvature pairs and a faster ε decrease also unfolds the corner") {
   // Same problem as above; the options only change the pace, not the fold-free outcome.
-  const Eigen::Matrix3d fixed = Eigen::Matrix3d::Identity();
-  auto jac = [&](const Eigen::VectorXd& x) {
-    Eigen::Matrix3d j;
-    for (int a = 0; a < 3; ++a) j.col(a) = fixed.col(a) - x;
-    return j;
-  };
-  param::UntangleProblem problem;
-  problem.energy = [&](const Eigen::VectorXd& x, double eps, Eigen::VectorXd* gradient) {
-    Eigen::Matrix3d g;
-    const double e = param::foldover_free_energy(jac(x), eps, 0.5, gradient ? &g : nullptr);
-    if (gradient) *gradient = -g.rowwise().sum();
-    return e;
-  };
-  problem.min_det = [&](const Eigen::VectorXd& x) { return jac(x).determinant(); };
+  const param::UntangleProblem problem = corner_problem();
   param::UntangleOptions options;
   options.keep_curvature = true;
   options.min_sigma = 0.75;
