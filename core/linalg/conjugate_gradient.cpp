@@ -2,6 +2,7 @@
 #include "core/linalg/conjugate_gradient.h"
 
 #include <algorithm>
+#include <cassert>
 #include <vector>
 
 namespace volspline::linalg::detail {
@@ -196,6 +197,129 @@ double backward_dot(const IncompleteCholesky0& ic, const double* r, double* y) {
     rz += r[i] * zi;
   }
   return rz;
+}
+
+namespace {
+
+template <int K>
+void spmv_block(const SymmetricMatrix& a, const double* const* p, double* const* q, double* pq) {
+  const int n = a.strict_upper.rows();
+  const int* offsets = a.strict_upper.row_offsets().data();
+  const int* cols = a.strict_upper.col_indices().data();
+  const double* vals = a.strict_upper.values().data();
+  const double* diag = a.diagonal.data();
+  double dot[K] = {};
+  for (int i = 0; i < n; ++i) {
+    double pi[K], sum[K];
+    for (int c = 0; c < K; ++c) {
+      pi[c] = p[c][i];
+      sum[c] = q[c][i] + diag[i] * pi[c];
+    }
+    for (int k = offsets[i]; k < offsets[i + 1]; ++k) {
+      const int j = cols[k];
+      const double v = vals[k];
+      for (int c = 0; c < K; ++c) {
+        sum[c] += v * p[c][j];
+        q[c][j] += v * pi[c];
+      }
+    }
+    for (int c = 0; c < K; ++c) {
+      q[c][i] = sum[c];
+      dot[c] += pi[c] * sum[c];
+    }
+  }
+  for (int c = 0; c < K; ++c) pq[c] = dot[c];
+}
+
+template <int K>
+void update_forward_k(const IncompleteCholesky0& ic, const double* alpha, const BlockVectors& v,
+                      double* rr) {
+  const CsrMatrix& lower = ic.strict_lower();
+  const int n = lower.rows();
+  const int* offsets = lower.row_offsets().data();
+  const int* cols = lower.col_indices().data();
+  const double* vals = lower.values().data();
+  const double* inv = ic.inverse_diagonal().data();
+  double acc[K] = {};
+  for (int i = 0; i < n; ++i) {
+    double s[K];
+    for (int c = 0; c < K; ++c) {
+      v.x[c][i] += alpha[c] * v.p[c][i];
+      const double ri = v.r[c][i] - alpha[c] * v.q[c][i];
+      v.r[c][i] = ri;
+      acc[c] += ri * ri;
+      s[c] = ri;
+    }
+    for (int k = offsets[i]; k < offsets[i + 1]; ++k) {
+      const double l = vals[k];
+      const int j = cols[k];
+      for (int c = 0; c < K; ++c) s[c] -= l * v.z[c][j];
+    }
+    for (int c = 0; c < K; ++c) v.z[c][i] = s[c] * inv[i];
+  }
+  for (int c = 0; c < K; ++c) rr[c] = acc[c];
+}
+
+template <int K>
+void backward_dot_k(const IncompleteCholesky0& ic, const double* const* r, double* const* y,
+                    double* rz) {
+  const CsrMatrix& upper = ic.strict_upper();
+  const int n = upper.rows();
+  const int* offsets = upper.row_offsets().data();
+  const int* cols = upper.col_indices().data();
+  const double* vals = upper.values().data();
+  const double* inv = ic.inverse_diagonal().data();
+  double acc[K] = {};
+  for (int i = n - 1; i >= 0; --i) {
+    double s[K];
+    for (int c = 0; c < K; ++c) s[c] = y[c][i];
+    for (int k = offsets[i]; k < offsets[i + 1]; ++k) {
+      const double u = vals[k];
+      const int j = cols[k];
+      for (int c = 0; c < K; ++c) s[c] -= u * y[c][j];
+    }
+    for (int c = 0; c < K; ++c) {
+      const double zi = s[c] * inv[i];
+      y[c][i] = zi;
+      acc[c] += r[c][i] * zi;
+    }
+  }
+  for (int c = 0; c < K; ++c) rz[c] = acc[c];
+}
+
+}  // namespace
+
+void symmetric_spmv_block(const SymmetricMatrix& a, int k, const double* const* p,
+                          double* const* q, double* pq) {
+  switch (k) {
+    case 1: pq[0] = symmetric_spmv(a, p[0], q[0]); break;
+    case 2: spmv_block<2>(a, p, q, pq); break;
+    case 3: spmv_block<3>(a, p, q, pq); break;
+    case 4: spmv_block<4>(a, p, q, pq); break;
+    default: assert(false);
+  }
+}
+
+void update_forward_block(const IncompleteCholesky0& ic, int k, const double* alpha,
+                          const BlockVectors& v, double* rr) {
+  switch (k) {
+    case 1: rr[0] = update_forward(ic, alpha[0], v.p[0], v.q[0], v.x[0], v.r[0], v.z[0]); break;
+    case 2: update_forward_k<2>(ic, alpha, v, rr); break;
+    case 3: update_forward_k<3>(ic, alpha, v, rr); break;
+    case 4: update_forward_k<4>(ic, alpha, v, rr); break;
+    default: assert(false);
+  }
+}
+
+void backward_dot_block(const IncompleteCholesky0& ic, int k, const double* const* r,
+                        double* const* y, double* rz) {
+  switch (k) {
+    case 1: rz[0] = backward_dot(ic, r[0], y[0]); break;
+    case 2: backward_dot_k<2>(ic, r, y, rz); break;
+    case 3: backward_dot_k<3>(ic, r, y, rz); break;
+    case 4: backward_dot_k<4>(ic, r, y, rz); break;
+    default: assert(false);
+  }
 }
 
 }  // namespace volspline::linalg::detail

@@ -5,7 +5,10 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
+#include <cstddef>
 #include <type_traits>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -54,6 +57,35 @@ double update_forward(const IncompleteCholesky0& ic, double alpha, const double*
 /// In place y → z = L⁻ᵀ y (backward substitution with IC(0)); returns r·z.
 double backward_dot(const IncompleteCholesky0& ic, const double* r, double* y);
 
+// Block kernels: the same arithmetic as their one-column counterparts, column by column, for
+// up to kMaxBlock columns at once (the matrix or factor is read once for all of them).
+constexpr int kMaxBlock = 4;
+/// Per column: q += A p, pq = p·q.
+void symmetric_spmv_block(const SymmetricMatrix& a, int k, const double* const* p,
+                          double* const* q, double* pq);
+/// Column pointers of update_forward_block.
+struct BlockVectors {
+  const double* p[kMaxBlock];
+  const double* q[kMaxBlock];
+  double* x[kMaxBlock];
+  double* r[kMaxBlock];
+  double* z[kMaxBlock];
+};
+/// Per column: update_forward with alpha[c] (y = v.z), rr[c] = r·r.
+void update_forward_block(const IncompleteCholesky0& ic, int k, const double* alpha,
+                          const BlockVectors& v, double* rr);
+/// Per column: backward_dot, rz[c] = r·z.
+void backward_dot_block(const IncompleteCholesky0& ic, int k, const double* const* r,
+                        double* const* y, double* rz);
+
+/// Whether a preconditioner offers solve_block(k, r, z) (k ≤ kMaxBlock columns at once).
+template <class P, class = void>
+struct HasBlockSolve : std::false_type {};
+template <class P>
+struct HasBlockSolve<P, std::void_t<decltype(std::declval<const P&>().solve_block(
+                            0, std::declval<const double* const*>(), std::declval<double* const*>()))>>
+    : std::true_type {};
+
 }  // namespace detail
 
 /// Preconditioned conjugate gradients for a symmetric positive definite CsrMatrix, after
@@ -79,22 +111,18 @@ class ConjugateGradient {
   explicit ConjugateGradient(const CsrMatrix& a) { compute(a); }
 
   /// a: square n×n, symmetric positive definite, both triangles stored. Copies its diagonal
-  /// and upper triangle, computes the preconditioner and allocates all work vectors, so that
-  /// solves do not allocate in iterations.
+  /// and upper triangle and computes the preconditioner. A solve allocates its work arrays
+  /// once, never in iterations.
   ConjugateGradient& compute(const CsrMatrix& a) {
     assert(a.rows() == a.cols());
     matrix_ = detail::symmetric_from_upper(a);
     preconditioner_.compute(a);
-    const int n = a.rows();
-    r_.resize(n);
-    p_.resize(n);
-    q_.resize(n);
-    z_.resize(n);
     return *this;
   }
 
-  /// Solves A x = b from x0 = 0. b is n×1 (returns a vector) or n×k (returns n×k, k solves;
-  /// info() is the worst, iterations() and residual() the largest over the columns).
+  /// Solves A x = b from x0 = 0. b is n×1 (returns a vector) or n×k (returns n×k: k solves
+  /// run in lockstep, each bit-identical to its lone solve; info() is the worst, iterations()
+  /// and residual() the largest over the columns).
   template <class Rhs>
   Eigen::Matrix<double, Eigen::Dynamic, Rhs::ColsAtCompileTime == 1 ? 1 : Eigen::Dynamic> solve(
       const Eigen::MatrixBase<Rhs>& b) {
@@ -145,139 +173,278 @@ class ConjugateGradient {
   int size() const { return static_cast<int>(matrix_.diagonal.size()); }
 
  private:
+  // Where each column of a block solve stands in the iteration of the class comment.
+  enum class Phase {
+    Check,    // true residual rr just computed: converged, out of budget, or (re)start
+    Iterate,  // inside the recursive-residual loop
+    Done,
+  };
+  struct Column {
+    const double* b;
+    double *x, *r, *p, *q, *z;
+    double bb, threshold, rr, rz, rz_new, beta, pq;
+    int iterations;
+    SolverInfo info;
+    Phase phase;
+  };
+
+  // Hestenes–Stiefel PCG with Eigen's stopping rule, run on all columns in lockstep: the
+  // matrix (and IC(0)'s factor) is streamed once per iteration for all of them, and each
+  // column does exactly the arithmetic of a lone solve, so results do not depend on k.
   template <class Rhs, class Dest>
   void solve_columns(const Eigen::MatrixBase<Rhs>& b, Dest& x) {
     assert(b.rows() == size());
+    const int n = size();
+    const int k = static_cast<int>(b.cols());
+    b_ = b;
+    r_.resize(n, k);
+    p_.resize(n, k);
+    q_.resize(n, k);
+    z_.resize(n, k);
+    columns_.resize(k);
+    const int max_iter = max_iterations();
+    for (int c = 0; c < k; ++c) {
+      Column& col = columns_[c];
+      col = Column{};
+      col.b = b_.col(c).data();
+      col.x = x.data() + std::ptrdiff_t(c) * n;
+      col.r = r_.col(c).data();
+      col.p = p_.col(c).data();
+      col.q = q_.col(c).data();
+      col.z = z_.col(c).data();
+      col.bb = detail::dot(n, col.b, col.b);
+      col.info = SolverInfo::NotConverged;
+      col.phase = Phase::Check;
+      if (!std::isfinite(col.bb)) {
+        col.info = SolverInfo::NumericalIssue;
+        col.rr = std::numeric_limits<double>::quiet_NaN();
+        col.bb = 1.0;
+        col.phase = Phase::Done;
+      } else if (col.bb == 0.0) {
+        std::fill(col.x, col.x + n, 0.0);
+        col.info = SolverInfo::Success;
+        col.rr = 0.0;
+        col.bb = 1.0;
+        col.phase = Phase::Done;
+      } else {
+        col.threshold = std::max(tolerance_ * tolerance_ * col.bb, std::numeric_limits<double>::min());
+        col.rr = detail::residual(matrix_, col.b, col.x, col.r);
+      }
+    }
+    std::vector<Column*> active, survivors;
+    active.reserve(k);
+    survivors.reserve(k);
+    while (true) {
+      // Outer loop head: decide on the true residual, else (re)start with p = z.
+      for (Column& col : columns_) {
+        if (col.phase != Phase::Check) continue;
+        if (!std::isfinite(col.rr)) {
+          finish(col, SolverInfo::NumericalIssue);
+        } else if (col.rr < col.threshold) {
+          finish(col, SolverInfo::Success);
+        } else if (col.iterations >= max_iter) {
+          finish(col, SolverInfo::NotConverged);
+        } else {
+          std::fill(col.p, col.p + n, 0.0);
+          col.rz = precondition(col);
+          col.beta = 0.0;
+          col.phase = Phase::Iterate;
+        }
+      }
+      // Inner loop head and the new direction.
+      active.clear();
+      for (Column& col : columns_) {
+        if (col.phase != Phase::Iterate) continue;
+        if (col.iterations >= max_iter) {
+          check(col);
+        } else if (!(col.rz > 0.0) || !std::isfinite(col.rz)) {
+          finish(col, SolverInfo::NumericalIssue);
+        } else {
+          new_direction(col);
+          active.push_back(&col);
+        }
+      }
+      if (active.empty()) {
+        bool done = true;
+        for (const Column& col : columns_) done = done && col.phase == Phase::Done;
+        if (done) break;
+        continue;
+      }
+      spmv(active);
+      survivors.clear();
+      for (Column* col : active) {
+        if (!(col->pq > 0.0) || !std::isfinite(col->pq)) {
+          finish(*col, SolverInfo::NumericalIssue);
+        } else {
+          survivors.push_back(col);
+        }
+      }
+      update(survivors);
+      active.clear();
+      for (Column* col : survivors) {
+        ++col->iterations;
+        // The recursive residual claims convergence (or broke down): the loop head decides
+        // on the true residual.
+        if (!std::isfinite(col->rr) || col->rr < col->threshold) {
+          check(*col);
+        } else {
+          active.push_back(col);
+        }
+      }
+      precondition_after_update(active);
+      for (Column* col : active) {
+        col->beta = col->rz_new / col->rz;
+        col->rz = col->rz_new;
+      }
+    }
     info_ = SolverInfo::Success;
     iterations_ = 0;
     residual_ = 0.0;
-    Eigen::VectorXd b_col;
-    Eigen::VectorXd x_col;
-    for (Eigen::Index c = 0; c < b.cols(); ++c) {
-      b_col = b.col(c);
-      x_col = x.col(c);
-      const SolverInfo info = solve_one(b_col.data(), x_col.data());
-      x.col(c) = x_col;
-      if (static_cast<int>(info) > static_cast<int>(info_)) info_ = info;
-      iterations_ = std::max(iterations_, last_iterations_);
-      residual_ = std::max(residual_, last_residual_);
+    for (const Column& col : columns_) {
+      if (static_cast<int>(col.info) > static_cast<int>(info_)) info_ = col.info;
+      iterations_ = std::max(iterations_, col.iterations);
+      residual_ = std::max(residual_, std::sqrt(col.rr / col.bb));
     }
   }
 
-  // Preconditioned direction z = M⁻¹ r of the current residual; returns r·z.
-  double precondition(double rr) {
-    if constexpr (std::is_same_v<Preconditioner, IdentityPreconditioner>) {
-      return rr;
-    } else if constexpr (std::is_same_v<Preconditioner, JacobiPreconditioner>) {
-      z_ = preconditioner_.inverse_diagonal().cwiseProduct(r_);
-      return detail::dot(static_cast<int>(r_.size()), r_.data(), z_.data());
-    } else {
-      preconditioner_.solve(r_.data(), z_.data());
-      return detail::dot(static_cast<int>(r_.size()), r_.data(), z_.data());
-    }
+  void check(Column& col) {
+    col.rr = detail::residual(matrix_, col.b, col.x, col.r);
+    col.phase = Phase::Check;
   }
 
-  // Algorithm: Hestenes–Stiefel PCG with Eigen's stopping rule; see the class comment.
-  SolverInfo solve_one(const double* b, double* x) {
-    const detail::SymmetricMatrix& a = matrix_;
+  void finish(Column& col, SolverInfo info) {
+    col.info = info;
+    if (info == SolverInfo::NumericalIssue)
+      col.rr = detail::residual(matrix_, col.b, col.x, col.r);
+    col.phase = Phase::Done;
+  }
+
+  // Preconditioned direction z = M⁻¹ r of the column's residual; returns r·z.
+  double precondition(Column& col) {
     const int n = size();
-    last_iterations_ = 0;
-    last_residual_ = 0.0;
-    const double bb = detail::dot(n, b, b);
-    if (!std::isfinite(bb)) {
-      last_residual_ = std::numeric_limits<double>::quiet_NaN();
-      return SolverInfo::NumericalIssue;
+    if constexpr (std::is_same_v<Preconditioner, IdentityPreconditioner>) {
+      return col.rr;
+    } else if constexpr (std::is_same_v<Preconditioner, JacobiPreconditioner>) {
+      const double* inv = preconditioner_.inverse_diagonal().data();
+      for (int i = 0; i < n; ++i) col.z[i] = inv[i] * col.r[i];
+      return detail::dot(n, col.r, col.z);
+    } else {
+      preconditioner_.solve(col.r, col.z);
+      return detail::dot(n, col.r, col.z);
     }
-    if (bb == 0.0) {
-      std::fill(x, x + n, 0.0);
-      return SolverInfo::Success;
+  }
+
+  void new_direction(Column& col) {
+    const int n = size();
+    if constexpr (std::is_same_v<Preconditioner, IdentityPreconditioner>) {
+      detail::new_direction(n, col.r, nullptr, col.beta, col.p, col.q);
+    } else if constexpr (std::is_same_v<Preconditioner, JacobiPreconditioner>) {
+      detail::new_direction(n, col.r, preconditioner_.inverse_diagonal().data(), col.beta, col.p,
+                            col.q);
+    } else {
+      detail::new_direction(n, col.z, nullptr, col.beta, col.p, col.q);
     }
-    const double threshold =
-        std::max(tolerance_ * tolerance_ * bb, std::numeric_limits<double>::min());
-    const int max_iter = max_iterations();
-    double rr = detail::residual(a, b, x, r_.data());
-    SolverInfo info = SolverInfo::NotConverged;
-    int iter = 0;
-    while (true) {
-      if (!std::isfinite(rr)) {
-        info = SolverInfo::NumericalIssue;
-        break;
+  }
+
+  // q = A p and p·q for every listed column, streaming A once per block of columns.
+  void spmv(const std::vector<Column*>& cols) {
+    for (std::size_t first = 0; first < cols.size(); first += detail::kMaxBlock) {
+      const int m = static_cast<int>(std::min<std::size_t>(detail::kMaxBlock, cols.size() - first));
+      const double* p[detail::kMaxBlock];
+      double* q[detail::kMaxBlock];
+      double pq[detail::kMaxBlock];
+      for (int c = 0; c < m; ++c) {
+        p[c] = cols[first + c]->p;
+        q[c] = cols[first + c]->q;
       }
-      if (rr < threshold) {
-        info = SolverInfo::Success;
-        break;
-      }
-      if (iter >= max_iter) break;
-      // (Re)start: p = z via beta = 0 on a zeroed p.
-      p_.setZero();
-      double rz = precondition(rr);
-      double beta = 0.0;
-      while (iter < max_iter) {
-        if (!(rz > 0.0) || !std::isfinite(rz)) {
-          info = SolverInfo::NumericalIssue;
-          break;
+      detail::symmetric_spmv_block(matrix_, m, p, q, pq);
+      for (int c = 0; c < m; ++c) cols[first + c]->pq = pq[c];
+    }
+  }
+
+  // x += αp, r −= αq with α = rz/pq; sets rr (and rz_new where the preconditioner is fused).
+  void update(const std::vector<Column*>& cols) {
+    const int n = size();
+    if constexpr (std::is_same_v<Preconditioner, IncompleteCholesky0>) {
+      for (std::size_t first = 0; first < cols.size(); first += detail::kMaxBlock) {
+        const int m = static_cast<int>(std::min<std::size_t>(detail::kMaxBlock, cols.size() - first));
+        detail::BlockVectors v;
+        double alpha[detail::kMaxBlock], rr[detail::kMaxBlock];
+        for (int c = 0; c < m; ++c) {
+          Column& col = *cols[first + c];
+          alpha[c] = col.rz / col.pq;
+          v.p[c] = col.p;
+          v.q[c] = col.q;
+          v.x[c] = col.x;
+          v.r[c] = col.r;
+          v.z[c] = col.z;
         }
+        detail::update_forward_block(preconditioner_, m, alpha, v, rr);
+        for (int c = 0; c < m; ++c) cols[first + c]->rr = rr[c];
+      }
+    } else {
+      for (Column* col : cols) {
+        const double alpha = col->rz / col->pq;
         if constexpr (std::is_same_v<Preconditioner, IdentityPreconditioner>) {
-          detail::new_direction(n, r_.data(), nullptr, beta, p_.data(), q_.data());
+          col->rr = detail::update(n, alpha, col->p, col->q, nullptr, col->x, col->r, nullptr);
+          col->rz_new = col->rr;
         } else if constexpr (std::is_same_v<Preconditioner, JacobiPreconditioner>) {
-          detail::new_direction(n, r_.data(), preconditioner_.inverse_diagonal().data(), beta,
-                                p_.data(), q_.data());
+          col->rr = detail::update(n, alpha, col->p, col->q,
+                                   preconditioner_.inverse_diagonal().data(), col->x, col->r,
+                                   &col->rz_new);
         } else {
-          detail::new_direction(n, z_.data(), nullptr, beta, p_.data(), q_.data());
+          col->rr = detail::update(n, alpha, col->p, col->q, nullptr, col->x, col->r, nullptr);
         }
-        const double pq = detail::symmetric_spmv(a, p_.data(), q_.data());
-        if (!(pq > 0.0) || !std::isfinite(pq)) {
-          info = SolverInfo::NumericalIssue;
-          break;
-        }
-        const double alpha = rz / pq;
-        double rz_new = 0.0;
-        if constexpr (std::is_same_v<Preconditioner, IdentityPreconditioner>) {
-          rr = detail::update(n, alpha, p_.data(), q_.data(), nullptr, x, r_.data(), nullptr);
-          rz_new = rr;
-        } else if constexpr (std::is_same_v<Preconditioner, JacobiPreconditioner>) {
-          rr = detail::update(n, alpha, p_.data(), q_.data(),
-                              preconditioner_.inverse_diagonal().data(), x, r_.data(), &rz_new);
-        } else if constexpr (std::is_same_v<Preconditioner, IncompleteCholesky0>) {
-          rr = detail::update_forward(preconditioner_, alpha, p_.data(), q_.data(), x,
-                                      r_.data(), z_.data());
-        } else {
-          rr = detail::update(n, alpha, p_.data(), q_.data(), nullptr, x, r_.data(), nullptr);
-        }
-        ++iter;
-        if (!std::isfinite(rr)) break;
-        if (rr < threshold) break;
-        if constexpr (std::is_same_v<Preconditioner, IncompleteCholesky0>) {
-          rz_new = detail::backward_dot(preconditioner_, r_.data(), z_.data());
-        } else if constexpr (!std::is_same_v<Preconditioner, IdentityPreconditioner> &&
-                             !std::is_same_v<Preconditioner, JacobiPreconditioner>) {
-          preconditioner_.solve(r_.data(), z_.data());
-          rz_new = detail::dot(n, r_.data(), z_.data());
-        }
-        beta = rz_new / rz;
-        rz = rz_new;
       }
-      if (info == SolverInfo::NumericalIssue) break;
-      // The recursive residual claims convergence, or the budget ran out: the loop head
-      // decides on the true residual.
-      rr = detail::residual(a, b, x, r_.data());
     }
-    last_iterations_ = iter;
-    if (info == SolverInfo::NumericalIssue) rr = detail::residual(a, b, x, r_.data());
-    last_residual_ = std::sqrt(rr / bb);
-    return info;
+  }
+
+  // z = M⁻¹ r and rz_new = r·z after an update, for preconditioners not fused into update.
+  void precondition_after_update(const std::vector<Column*>& cols) {
+    const int n = size();
+    if constexpr (std::is_same_v<Preconditioner, IncompleteCholesky0>) {
+      for (std::size_t first = 0; first < cols.size(); first += detail::kMaxBlock) {
+        const int m = static_cast<int>(std::min<std::size_t>(detail::kMaxBlock, cols.size() - first));
+        const double* r[detail::kMaxBlock];
+        double* z[detail::kMaxBlock];
+        double rz[detail::kMaxBlock];
+        for (int c = 0; c < m; ++c) {
+          r[c] = cols[first + c]->r;
+          z[c] = cols[first + c]->z;
+        }
+        detail::backward_dot_block(preconditioner_, m, r, z, rz);
+        for (int c = 0; c < m; ++c) cols[first + c]->rz_new = rz[c];
+      }
+    } else if constexpr (!std::is_same_v<Preconditioner, IdentityPreconditioner> &&
+                         !std::is_same_v<Preconditioner, JacobiPreconditioner>) {
+      if constexpr (detail::HasBlockSolve<Preconditioner>::value) {
+        for (std::size_t first = 0; first < cols.size(); first += detail::kMaxBlock) {
+          const int m =
+              static_cast<int>(std::min<std::size_t>(detail::kMaxBlock, cols.size() - first));
+          const double* r[detail::kMaxBlock];
+          double* z[detail::kMaxBlock];
+          for (int c = 0; c < m; ++c) {
+            r[c] = cols[first + c]->r;
+            z[c] = cols[first + c]->z;
+          }
+          preconditioner_.solve_block(m, r, z);
+        }
+      } else {
+        for (Column* col : cols) preconditioner_.solve(col->r, col->z);
+      }
+      for (Column* col : cols) col->rz_new = detail::dot(n, col->r, col->z);
+    }
   }
 
   detail::SymmetricMatrix matrix_;
   Preconditioner preconditioner_;
   double tolerance_ = 1e-10;
   int max_iterations_ = -1;
-  Eigen::VectorXd r_, p_, q_, z_;
+  Eigen::MatrixXd b_, r_, p_, q_, z_;  // n×k work arrays of the last solve, one column each
+  std::vector<Column> columns_;
   SolverInfo info_ = SolverInfo::Success;
   int iterations_ = 0;
   double residual_ = 0.0;
-  int last_iterations_ = 0;
-  double last_residual_ = 0.0;
 };
 
 }  // namespace volspline::linalg

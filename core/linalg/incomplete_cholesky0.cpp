@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "core/linalg/incomplete_cholesky0.h"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <limits>
@@ -113,6 +114,48 @@ void IncompleteCholesky0::solve(const double* r, double* z) const {
     double s = z[i];
     for (int k = uo[i]; k < uo[i + 1]; ++k) s -= uv[k] * z[uc[k]];
     z[i] = s * inv[i];
+  }
+}
+
+namespace {
+
+template <int K>
+void solve_k(const CsrMatrix& lower, const CsrMatrix& upper, const double* inv,
+             const double* const* r, double* const* z) {
+  const int n = lower.rows();
+  const int* lo = lower.row_offsets().data();
+  const int* lc = lower.col_indices().data();
+  const double* lv = lower.values().data();
+  const int* uo = upper.row_offsets().data();
+  const int* uc = upper.col_indices().data();
+  const double* uv = upper.values().data();
+  for (int i = 0; i < n; ++i) {
+    double s[K];
+    for (int c = 0; c < K; ++c) s[c] = r[c][i];
+    for (int k = lo[i]; k < lo[i + 1]; ++k)
+      for (int c = 0; c < K; ++c) s[c] -= lv[k] * z[c][lc[k]];
+    for (int c = 0; c < K; ++c) z[c][i] = s[c] * inv[i];
+  }
+  for (int i = n - 1; i >= 0; --i) {
+    double s[K];
+    for (int c = 0; c < K; ++c) s[c] = z[c][i];
+    for (int k = uo[i]; k < uo[i + 1]; ++k)
+      for (int c = 0; c < K; ++c) s[c] -= uv[k] * z[c][uc[k]];
+    for (int c = 0; c < K; ++c) z[c][i] = s[c] * inv[i];
+  }
+}
+
+}  // namespace
+
+void IncompleteCholesky0::solve_block(int k, const double* const* r, double* const* z) const {
+  const double* inv = inverse_diagonal_.data();
+  for (int first = 0; first < k; first += 4) {
+    switch (std::min(4, k - first)) {
+      case 1: solve(r[first], z[first]); break;
+      case 2: solve_k<2>(lower_, upper_, inv, r + first, z + first); break;
+      case 3: solve_k<3>(lower_, upper_, inv, r + first, z + first); break;
+      default: solve_k<4>(lower_, upper_, inv, r + first, z + first); break;
+    }
   }
 }
 

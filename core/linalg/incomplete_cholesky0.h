@@ -25,6 +25,10 @@ class IncompleteCholesky0 {
   /// may alias.
   void solve(const double* r, double* z) const;
 
+  /// solve for k columns at once (r[c] → z[c]), streaming L once for up to 4 of them; each
+  /// column's result is bit-identical to solve's. r[c] and z[c] may alias.
+  void solve_block(int k, const double* const* r, double* const* z) const;
+
   /// Returns (L Lᵀ)⁻¹ r; r has n entries.
   Eigen::VectorXd solve(const Eigen::VectorXd& r) const;
 

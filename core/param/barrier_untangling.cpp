@@ -61,11 +61,15 @@ int minimize_lbfgs(const UntangleProblem& problem, Eigen::VectorXd& x, double ep
     Eigen::VectorXd x_new, g_new;
     double f_new = f;
     bool accepted = false;
+    // Along a prepared line the trials need only the energy; the gradient follows at the step taken.
+    const bool line = problem.set_line && problem.line_energy;
+    if (line) problem.set_line(x, d);
     for (double t = 1.0; t > 1e-9; t *= 0.5) {
       x_new = x + t * d;
-      f_new = problem.energy(x_new, eps, &g_new);
+      f_new = line ? problem.line_energy(t, eps, nullptr) : problem.energy(x_new, eps, &g_new);
       if (f_new <= f + 1e-4 * t * slope) {
         accepted = true;
+        if (line) f_new = problem.line_energy(t, eps, &g_new);
         break;
       }
     }

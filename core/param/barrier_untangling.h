@@ -20,6 +20,12 @@ struct UntangleProblem {
   std::function<double(const Eigen::VectorXd& x, double eps, Eigen::VectorXd* gradient)> energy;
   /// Smallest det J over the elements at x.
   std::function<double(const Eigen::VectorXd& x)> min_det;
+  /// Optional (both or neither), for energies whose element Jacobians are linear in x:
+  /// set_line(x, d) prepares the line x + t·d once per L-BFGS step, then line_energy(t, ε,
+  /// gradient) equals energy(x + t·d, ε, gradient) up to rounding, without new Jacobians per
+  /// trial of the line search.
+  std::function<void(const Eigen::VectorXd& x, const Eigen::VectorXd& d)> set_line;
+  std::function<double(double t, double eps, Eigen::VectorXd* gradient)> line_energy;
 };
 
 /// Options of untangle.

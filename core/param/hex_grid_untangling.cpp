@@ -4,14 +4,40 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <memory>
 
 #include <Eigen/LU>
+#include <Eigen/SparseCore>
 
 #include "core/param/barrier_untangling.h"
+#include "core/param/preconditioned_untangling.h"
 
 namespace volspline::param {
 
 namespace {
+
+// Least σ of the ε update, as UntangleOptions::min_sigma.
+constexpr double kMinSigma = 0.5;
+// Steps without a new low of the folded corner count after which the continuation stops.
+constexpr int kCountStallSteps = 3;
+
+// x^(−1/3) for normal x > 0 to a few ulps, without division or libm (a third of the energy's
+// time went to cbrt): the exponent divided by 3 as an integer (≤ 4 % off), then 4 Newton
+// steps y ← y(4 − x y³)/3 on y⁻³ = x, which converge quadratically (4 % → 1e-16).
+double inverse_cbrt(double x) {
+  std::uint64_t bits;
+  std::memcpy(&bits, &x, sizeof bits);
+  bits = 0x553edc82c19c9000ULL - bits / 3;
+  double y;
+  std::memcpy(&y, &bits, sizeof y);
+  for (int step = 0; step < 4; ++step) y = y * (4.0 - x * (y * y * y)) * (1.0 / 3.0);
+  return y;
+}
+
+double barrier_chi(double d, double eps) { return 0.5 * (d + std::sqrt(eps * eps + d * d)); }
 
 int node_id(const std::array<int, 3>& n, int i, int j, int k) { return i + n[0] * (j + n[1] * k); }
 
@@ -20,6 +46,8 @@ int node_id(const std::array<int, 3>& n, int i, int j, int k) { return i + n[0] 
 struct Corner {
   std::array<int, 4> node;
   std::array<double, 3> sign;
+  int hex;    // i + (n0 − 1)·(j + (n1 − 1)·k)
+  int index;  // c
 };
 
 std::vector<Corner> all_corners(const std::array<int, 3>& n) {
@@ -31,6 +59,8 @@ std::vector<Corner> all_corners(const std::array<int, 3>& n) {
           Corner corner;
           const int ci = i + (c & 1), cj = j + ((c >> 1) & 1), ck = k + ((c >> 2) & 1);
           corner.node[0] = node_id(n, ci, cj, ck);
+          corner.hex = i + (n[0] - 1) * (j + (n[1] - 1) * k);
+          corner.index = c;
           for (int a = 0; a < 3; ++a) {
             const int o = c ^ (1 << a);
             corner.node[a + 1] = node_id(n, i + (o & 1), j + ((o >> 1) & 1), k + ((o >> 2) & 1));
@@ -52,13 +82,28 @@ Eigen::Matrix3d corner_edges(const Corner& c, const mesh::Positions& xyz) {
 // doubles; the arithmetic is that of corner_edges, so results do not depend on the layout.
 class Energy {
  public:
-  Energy(std::vector<Corner> corners, std::vector<int> free_nodes, mesh::Positions& xyz, double h, double theta)
+  Energy(const std::array<int, 3>& n, std::vector<Corner> corners, std::vector<int> free_nodes, mesh::Positions& xyz,
+         double h, double theta)
       : corners_(std::move(corners)), free_(std::move(free_nodes)), xyz_(xyz), inv_h_(1.0 / h), theta_(theta) {
     var_of_.assign(xyz.rows(), -1);
     for (std::size_t v = 0; v < free_.size(); ++v) var_of_[free_[v]] = static_cast<int>(v);
     flat_.resize(3 * static_cast<std::size_t>(xyz.rows()));
     for (Eigen::Index v = 0; v < xyz.rows(); ++v)
       for (int d = 0; d < 3; ++d) flat_[3 * v + d] = xyz(v, d);
+    // The terms grouped by hex, in order (all_corners lists a hex's 8 corners in a row).
+    for (const Corner& c : corners_) {
+      if (hexes_.empty() || hexes_.back().id != c.hex) {
+        Hex hex;
+        hex.id = c.hex;
+        const int i = c.hex % (n[0] - 1), j = (c.hex / (n[0] - 1)) % (n[1] - 1), k = c.hex / ((n[0] - 1) * (n[1] - 1));
+        for (int q = 0; q < 8; ++q) {
+          hex.node[q] = node_id(n, i + (q & 1), j + ((q >> 1) & 1), k + ((q >> 2) & 1));
+          hex.var[q] = var_of_[hex.node[q]];
+        }
+        hexes_.push_back(hex);
+      }
+      hexes_.back().corners |= 1u << c.index;
+    }
   }
 
   int num_variables() const { return 3 * static_cast<int>(free_.size()); }
@@ -83,21 +128,108 @@ class Energy {
     return worst;
   }
 
+  // Number of corners with det J ≤ 0 at the current positions.
+  int num_inverted() const {
+    int count = 0;
+    for (const Corner& c : corners_) count += jacobian(c).determinant() <= 0.0;
+    return count;
+  }
+
+  // Hessian of the energy's shape term Σ tr(JᵀJ) over the free nodes, per coordinate: the
+  // Laplacian of the hex edges (each corner term contributes its 3 edges with weight 2/h²).
+  Eigen::SparseMatrix<double> edge_laplacian() const {
+    std::vector<Eigen::Triplet<double>> entries;
+    entries.reserve(12 * corners_.size() + free_.size());
+    const double w = 2.0 * inv_h_ * inv_h_;
+    for (const Corner& c : corners_) {
+      const int v0 = var_of_[c.node[0]];
+      for (int a = 1; a <= 3; ++a) {
+        const int va = var_of_[c.node[a]];
+        if (v0 >= 0) entries.emplace_back(v0, v0, w);
+        if (va >= 0) entries.emplace_back(va, va, w);
+        if (v0 >= 0 && va >= 0) {
+          entries.emplace_back(v0, va, -w);
+          entries.emplace_back(va, v0, -w);
+        }
+      }
+    }
+    // Keeps M definite if a group of free nodes touches no fixed one (all-free grids).
+    for (std::size_t v = 0; v < free_.size(); ++v) entries.emplace_back(static_cast<int>(v), static_cast<int>(v), 1e-9 * w);
+    Eigen::SparseMatrix<double> m(static_cast<Eigen::Index>(free_.size()), static_cast<Eigen::Index>(free_.size()));
+    m.setFromTriplets(entries.begin(), entries.end());
+    return m;
+  }
+
   // Energy at x (set as the free node positions) with barrier parameter eps; gradient if asked.
+  // Per corner the energy and ∂f/∂J of foldover_free_energy, fused and per hex: the 12 edges
+  // are formed once (J's column a at corner c is the +axis edge through c), ∂f/∂J = a·J +
+  // b·cof(J) is summed per edge, and the 8 node gradients are written once.
   double evaluate(const Eigen::VectorXd& x, double eps, Eigen::VectorXd* gradient) {
     set_variables(x);
     if (gradient) gradient->setZero(num_variables());
+    double* g_out = gradient ? gradient->data() : nullptr;
+    const double eps2 = eps * eps, theta = theta_, shape = 1.0 - theta_;
     double total = 0.0;
-    Eigen::Matrix3d df;
-    for (const Corner& c : corners_) {
-      total += foldover_free_energy(jacobian(c), eps, theta_, gradient ? &df : nullptr);
-      if (!gradient) continue;
-      const int vc = var_of_[c.node[0]];
-      for (int a = 0; a < 3; ++a) {
-        const Eigen::Vector3d g = c.sign[a] * inv_h_ * df.col(a);
-        const int vo = var_of_[c.node[a + 1]];
-        if (vo >= 0) gradient->segment<3>(3 * vo) += g;
-        if (vc >= 0) gradient->segment<3>(3 * vc) -= g;
+    for (const Hex& hex : hexes_) {
+      double p[8][3];
+      for (int q = 0; q < 8; ++q) {
+        const double* src = flat_.data() + 3 * static_cast<std::size_t>(hex.node[q]);
+        p[q][0] = src[0], p[q][1] = src[1], p[q][2] = src[2];
+      }
+      double edge[3][8][3], edge_grad[3][8][3];  // [axis][lower corner][coordinate]
+      for (int a = 0; a < 3; ++a)
+        for (int q = 0; q < 8; ++q) {
+          if (q & (1 << a)) continue;
+          for (int d = 0; d < 3; ++d) {
+            edge[a][q][d] = (p[q | (1 << a)][d] - p[q][d]) * inv_h_;
+            edge_grad[a][q][d] = 0.0;
+          }
+        }
+      for (int c = 0; c < 8; ++c) {
+        if (!(hex.corners & (1u << c))) continue;
+        const double* j[3] = {edge[0][c & ~1], edge[1][c & ~2], edge[2][c & ~4]};
+        double cof[3][3];
+        for (int a = 0; a < 3; ++a) {
+          const double* u = j[(a + 1) % 3];
+          const double* v = j[(a + 2) % 3];
+          cof[a][0] = u[1] * v[2] - u[2] * v[1];
+          cof[a][1] = u[2] * v[0] - u[0] * v[2];
+          cof[a][2] = u[0] * v[1] - u[1] * v[0];
+        }
+        const double det = j[0][0] * cof[0][0] + j[0][1] * cof[0][1] + j[0][2] * cof[0][2];
+        double tr = 0.0;
+        for (int a = 0; a < 3; ++a) tr += j[a][0] * j[a][0] + j[a][1] * j[a][1] + j[a][2] * j[a][2];
+        const double root = std::sqrt(eps2 + det * det);
+        // χ = (D + √(ε² + D²))/2, in the cancellation-free form for D < 0.
+        const double chi = det >= 0.0 ? 0.5 * (det + root) : 0.5 * eps2 / (root - det);
+        const double inv_cbrt = inverse_cbrt(chi);
+        const double inv_chi23 = inv_cbrt * inv_cbrt, inv_chi = inv_chi23 * inv_cbrt;
+        total += shape * tr * inv_chi23 + theta * (det * det + 1.0) * inv_chi;
+        if (!g_out) continue;
+        const double dchi = chi / root;  // ∂χ/∂D = (1 + D/√(ε² + D²))/2
+        const double ja = 2.0 * shape * inv_chi23;
+        const double jb = -(2.0 / 3.0) * shape * tr * inv_chi23 * inv_chi * dchi +
+                          theta * (2.0 * det * inv_chi - (det * det + 1.0) * dchi * inv_chi * inv_chi);
+        for (int a = 0; a < 3; ++a) {
+          double* g = edge_grad[a][c & ~(1 << a)];
+          for (int d = 0; d < 3; ++d) g[d] += ja * j[a][d] + jb * cof[a][d];
+        }
+      }
+      if (!g_out) continue;
+      double node_grad[8][3] = {};
+      for (int a = 0; a < 3; ++a)
+        for (int q = 0; q < 8; ++q) {
+          if (q & (1 << a)) continue;
+          for (int d = 0; d < 3; ++d) {
+            const double g = edge_grad[a][q][d] * inv_h_;
+            node_grad[q | (1 << a)][d] += g;
+            node_grad[q][d] -= g;
+          }
+        }
+      for (int q = 0; q < 8; ++q) {
+        if (hex.var[q] < 0) continue;
+        double* dst = g_out + 3 * static_cast<std::size_t>(hex.var[q]);
+        dst[0] += node_grad[q][0], dst[1] += node_grad[q][1], dst[2] += node_grad[q][2];
       }
     }
     return total;
@@ -115,7 +247,17 @@ class Energy {
     return j;
   }
 
+  // A hex with at least one term: its 8 nodes (node q at offset (q&1, q>>1&1, q>>2&1)), their
+  // variable ids (−1 if fixed) and a bit per corner term.
+  struct Hex {
+    int id = -1;
+    std::array<int, 8> node{};
+    std::array<int, 8> var{};
+    unsigned corners = 0;
+  };
+
   std::vector<Corner> corners_;
+  std::vector<Hex> hexes_;
   std::vector<int> free_;
   mesh::Positions& xyz_;
   std::vector<int> var_of_;
@@ -156,12 +298,8 @@ HexGridUntangleReport untangle_hex_grid(const std::array<int, 3>& n, const std::
     return count;
   };
   const int total = n[0] * n[1] * n[2];
-  std::vector<char> region(total, 0);
-  report.initial_inverted = report.final_inverted = count_inverted(&region);
-  for (int round = 0, rings = options.rings, before = report.initial_inverted + 1;
-       round < 3 && report.final_inverted > 0 && report.final_inverted < before; ++round, rings *= 2) {
-    before = report.final_inverted;
-    // Dilate the seeds by `rings` grid steps along each axis in turn (a Chebyshev ball).
+  // Dilates the seeds by `rings` grid steps along each axis in turn (a Chebyshev ball).
+  auto dilate = [&](std::vector<char>& region, int rings) {
     for (int a = 0; a < 3; ++a) {
       std::vector<char> next = region;
       for (int k = 0; k < n[2]; ++k)
@@ -177,33 +315,99 @@ HexGridUntangleReport untangle_hex_grid(const std::array<int, 3>& n, const std::
           }
       region.swap(next);
     }
-    std::vector<int> free_nodes;
-    std::vector<char> is_free(total, 0);
-    for (int v = 0; v < total; ++v)
-      if (region[v] && !fixed[v]) {
-        free_nodes.push_back(v);
-        is_free[v] = 1;
-      }
-    std::vector<Corner> terms;
-    for (const Corner& c : corners)
-      if (is_free[c.node[0]] || is_free[c.node[1]] || is_free[c.node[2]] || is_free[c.node[3]]) terms.push_back(c);
-    report.free_nodes = static_cast<int>(free_nodes.size());
-    if (free_nodes.empty()) break;
-    Energy energy(std::move(terms), std::move(free_nodes), xyz, h, options.volume_weight);
-    Eigen::VectorXd x = energy.variables();
+  };
+  std::vector<char> region(total, 0), is_free(total, 0);
+  report.initial_inverted = report.final_inverted = count_inverted(&region);
+  for (int round = 0, rings = options.rings, before = report.initial_inverted + 1;
+       round < 3 && report.final_inverted > 0 && report.final_inverted < before; ++round, rings *= 2) {
+    before = report.final_inverted;
+    dilate(region, rings);
+    // ε continuation of Garanzha et al. 2021 (§3) with untangle's update and stop rules, but the
+    // free nodes shrink after each step to those within `rings` of a hex still folded: most
+    // folds open in the first steps, and the remaining steps sharpen the barrier around a few.
+    std::unique_ptr<Energy> energy;
+    Eigen::SparseMatrix<double> metric;
+    std::vector<char> first_region;
     UntangleProblem problem;
-    problem.energy = [&](const Eigen::VectorXd& v, double eps, Eigen::VectorXd* g) { return energy.evaluate(v, eps, g); };
-    problem.min_det = [&](const Eigen::VectorXd& v) {
-      energy.set_variables(v);
-      return energy.min_det();
-    };
-    UntangleOptions untangle_options;
-    untangle_options.max_steps = options.max_steps;
-    untangle_options.max_inner = options.max_inner;
-    report.iterations += untangle(problem, x, untangle_options);
-    energy.set_variables(x);
+    problem.energy = [&](const Eigen::VectorXd& v, double eps, Eigen::VectorXd* g) { return energy->evaluate(v, eps, g); };
+    double eps = 0.0, previous_eps = 0.0, e_prev = 0.0, best_d_min = -std::numeric_limits<double>::infinity();
+    int stalled = 0, best_count = std::numeric_limits<int>::max(), count_stalled = 0, count = 1;
+    for (int step = 0; step < options.max_steps; ++step) {
+      if (step > 0 && count > 0) {
+        std::fill(region.begin(), region.end(), 0);
+        count_inverted(&region);
+        dilate(region, rings);
+      } else if (step > 0) {
+        region = first_region;  // all unfolded: settle the whole region, as untangle would
+      }
+      std::vector<int> free_nodes;
+      bool changed = !energy;
+      for (int v = 0; v < total; ++v) {
+        const char now = region[v] && !fixed[v];
+        changed = changed || now != is_free[v];
+        is_free[v] = now;
+        if (now) free_nodes.push_back(v);
+      }
+      if (free_nodes.empty()) break;
+      if (step == 0) {
+        report.free_nodes = static_cast<int>(free_nodes.size());
+        first_region = region;
+      }
+      if (changed) {
+        std::vector<Corner> terms;
+        for (const Corner& c : corners)
+          if (is_free[c.node[0]] || is_free[c.node[1]] || is_free[c.node[2]] || is_free[c.node[3]]) terms.push_back(c);
+        energy = std::make_unique<Energy>(n, std::move(terms), std::move(free_nodes), xyz, h, options.volume_weight);
+        metric = options.solver == HexGridSolver::LaplacianLbfgs ? energy->edge_laplacian() : Eigen::SparseMatrix<double>();
+      }
+      Eigen::VectorXd x = energy->variables();
+      if (step == 0) {
+        const double d_min = energy->min_det();
+        eps = d_min > 0.0 ? 1e-8 : 2.0 * std::sqrt(0.1 * (0.1 - d_min));
+        e_prev = energy->evaluate(x, eps, nullptr);
+      } else if (changed) {
+        e_prev = energy->evaluate(x, previous_eps, nullptr);  // the last step's energy on the new terms
+      }
+      report.iterations += minimize_preconditioned(problem, metric, eps, options.max_inner, x);
+      const double e = energy->evaluate(x, eps, nullptr);
+      const double d_min = energy->min_det();
+      count = energy->num_inverted();
+      const double sigma = std::max(1.0 - e / e_prev, kMinSigma);
+      const double mu = (1.0 - sigma) * barrier_chi(d_min, eps);
+      previous_eps = eps;
+      eps = d_min < mu ? 2.0 * std::sqrt(mu * (mu - d_min)) : 1e-8;
+      const bool settled = std::abs(e_prev - e) <= 1e-4 * std::abs(e);
+      e_prev = e;
+      if (d_min > 0.0 && settled) break;
+      // As untangle: a corner that cannot unfold stops the continuation once the worst
+      // determinant stops rising; and once the number of folded corners has not reached a new
+      // low for kCountStallSteps steps (the worst determinant of such a corner creeps up for
+      // many steps while the barrier sharpens).
+      stalled = d_min > best_d_min + 1e-3 ? 0 : stalled + 1;
+      best_d_min = std::max(best_d_min, d_min);
+      count_stalled = count < best_count ? 0 : count_stalled + 1;
+      best_count = std::min(best_count, count);
+      if (d_min <= 0.0 && (stalled >= 4 || count_stalled >= kCountStallSteps)) break;
+    }
     std::fill(region.begin(), region.end(), 0);
     report.final_inverted = count_inverted(&region);
+    // A larger region helps only folds that the region's border held: those with a movable node
+    // outside the first step's region within `rings` steps of their hex (folds that appeared
+    // during the round; a seed hex has its whole `rings` neighbourhood in that region).
+    bool border_held = false;
+    for (std::size_t c = 0; c < corners.size() && !border_held; ++c) {
+      if (!movable(corners[c]) || corner_edges(corners[c], xyz).determinant() > 0.0) continue;
+      const int hex = static_cast<int>(c / 8);
+      const std::array<int, 3> lo = {hex % (n[0] - 1), (hex / (n[0] - 1)) % (n[1] - 1), hex / ((n[0] - 1) * (n[1] - 1))};
+      for (int k = std::max(0, lo[2] - rings); k <= std::min(n[2] - 1, lo[2] + 1 + rings) && !border_held; ++k)
+        for (int j = std::max(0, lo[1] - rings); j <= std::min(n[1] - 1, lo[1] + 1 + rings) && !border_held; ++j)
+          for (int i = std::max(0, lo[0] - rings); i <= std::min(n[0] - 1, lo[0] + 1 + rings); ++i)
+            if (!fixed[node_id(n, i, j, k)] && !first_region[node_id(n, i, j, k)]) {
+              border_held = true;
+              break;
+            }
+    }
+    if (!border_held) break;
   }
   return report;
 }

@@ -8,15 +8,26 @@
 
 namespace volspline::param {
 
+/// Minimizer of untangle_hex_grid's energy.
+enum class HexGridSolver {
+  /// Plain L-BFGS. Default: the folds the barrier fights are local, so the Laplacian below
+  /// saves few iterations (bunny: 480 against 570) and costs more per iteration.
+  Lbfgs,
+  LaplacianLbfgs,  ///< L-BFGS preconditioned by the hex-edge Laplacian (minimize_preconditioned)
+};
+
 /// Options of untangle_hex_grid.
 struct HexGridUntangleOptions {
   /// Free nodes: the movable nodes within this many grid steps (Chebyshev) of a node of a hex
-  /// with an inverted movable corner, ≥ 1; doubled (at most twice) while folds remain.
+  /// with an inverted movable corner, ≥ 1, taken again after every ε step (so the free region
+  /// shrinks as folds open); doubled (at most twice) while folds remain that the region's
+  /// border held.
   int rings = 2;
   int max_steps = 40;          ///< ε-continuation steps, ≥ 1
   int max_inner = 30;          ///< L-BFGS iterations per step, ≥ 1
   /// Weight θ of the volume term (det² + 1)/χ against the shape term tr(JᵀJ)/χ^(2/3), in [0, 1).
   double volume_weight = 0.5;
+  HexGridSolver solver = HexGridSolver::Lbfgs;
 };
 
 /// Outcome of untangle_hex_grid. A corner is "movable" if one of its 4 nodes is not fixed;
@@ -24,7 +35,7 @@ struct HexGridUntangleOptions {
 struct HexGridUntangleReport {
   int initial_inverted = 0;  ///< movable corners with det ≤ 0 before
   int final_inverted = 0;    ///< and after
-  int free_nodes = 0;        ///< nodes the last round moved
+  int free_nodes = 0;        ///< nodes the last round's first step moved
   int iterations = 0;        ///< L-BFGS iterations, all rounds
 };
 
@@ -34,7 +45,9 @@ struct HexGridUntangleReport {
 /// χ(D, ε) = (D + √(ε² + D²))/2 in place of det J and ε decreased as the paper prescribes, by
 /// L-BFGS. The energy is finite for folded cells, so it starts from any grid, and its minimizers
 /// for ε → 0 have det J > 0 at every movable corner when a fold-free placement exists.
-/// Nodes far from folds are not moved. Corner c of hex (i, j, k) is node (i + (c&1), j +
+/// Nodes far from folds are not moved. The continuation stops as untangle does, and also once
+/// the number of folded corners has not reached a new low for 3 steps (corners that cannot
+/// unfold, e.g. of hexes along a cuboid edge with 6 fixed nodes, remain folded). Corner c of hex (i, j, k) is node (i + (c&1), j +
 /// (c>>1&1), k + (c>>2&1)); its Jacobian has the three hex edges leaving it along +axis
 /// orientation, as hex_min_scaled_jacobian. nodes: n0, n1, n2 ≥ 2; xyz: (n0·n1·n2)×3 in the
 /// order of grid_node_index, changed in place; fixed: one flag per node.

@@ -22,7 +22,10 @@ double surface_projection_distance(const spline::TSpline& spline, Eigen::Vector3
 /// Options of measure_mesh2spline; every field is checked on entry (volspline::Error).
 struct Mesh2SplineMeasureOptions {
   int surface_samples = 48;           ///< lattice points per axis per cuboid face, [8, 512]
-  int jacobian_lattice = 24;          ///< cell centres per axis for the scaled Jacobian, [2, 256]
+  /// Cell centres per axis for the scaled Jacobian, [2, 256]. 64: none of them is a point the
+  /// spline untangler checks (its nodes j/48), and the first layer lies 1/128 from the boundary,
+  /// so the measure is not the untangler's own target (24 was, until session 5).
+  int jacobian_lattice = 64;
   int semi_standard_samples = 100000; ///< random parameters for semi_standard_max_error, ≥ 1
   std::uint64_t seed = 1;             ///< seeds those random parameters
 };

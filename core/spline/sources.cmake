@@ -13,4 +13,5 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/component_solve.cpp
   ${CMAKE_CURRENT_LIST_DIR}/jacobian_repair.cpp
   ${CMAKE_CURRENT_LIST_DIR}/spline_untangling.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/grouped_gram.cpp
 )

@@ -79,7 +79,7 @@ class LatticeJacobians {
   LatticeJacobians(std::vector<FreeFunction> functions, std::vector<int> node_index, int m)
       : functions_(std::move(functions)), node_index_(std::move(node_index)), m_(m) {}
 
-  // jac[p] += Σ_c x_c (w∇B_c(p))ᵀ over the region nodes p (dense: over all m³ lattice nodes,
+  // jac[p] += Σ_c x_c (w∇B_c(p))ᵀ over the region nodes p (dense: over all m³ energy nodes,
   // jac indexed by node).
   void add(const Eigen::VectorXd& x, MatrixField& jac, bool dense = false) const {
     const std::size_t n = jac.size();
@@ -142,7 +142,7 @@ class LatticeJacobians {
   }
 
   std::vector<FreeFunction> functions_;
-  std::vector<int> node_index_;  // lattice node → region index, −1 outside
+  std::vector<int> node_index_;  // energy node → region index, −1 outside
   int m_ = 0;
 };
 
@@ -158,29 +158,23 @@ struct Region {
   std::vector<char> guarded;
 };
 
-// Smallest det(J·reference⁻¹) over the region's guarded nodes at x (jac: scratch).
-double min_det(const Region& r, const Eigen::VectorXd& x, MatrixField& jac) {
-  jac = r.fixed;
-  r.lattice.add(x, jac);
-  double worst = std::numeric_limits<double>::infinity();
-  for (std::size_t q = 0; q < jac.size(); ++q)
-    if (r.guarded[q]) worst = std::min(worst, (jac.get(q) * r.inverse_reference[q]).determinant());
-  return worst;
-}
-
 // One scan for seeds and one untangling of the points near them.
 // result stays as it is: the pass reads and moves `current` (its control points so far), and
-// `correction` holds J(current) − J(result) at the lattice nodes (empty: none yet).
+// `correction` holds J(current) − J(result) at the energy nodes (empty: none yet).
 SplineUntangleReport untangle_pass(const TSpline& result, Eigen::MatrixXd& current,
                                    MatrixField& correction, const Eigen::MatrixX3d& uvw,
                                    const Eigen::MatrixX3d& xyz, const SplineUntangleOptions& options) {
   SplineUntangleReport report;
   const int l = options.lattice, m = l - 1;  // m lattice nodes per axis, index i ↔ (i + 1)/l
+  // The energy's nodes: every es-th lattice node per axis, e ↔ lattice node e·es (they hold the
+  // scanned ones, es divides seed_stride).
+  const int es = options.energy_stride, me = (m - 1) / es + 1;
   const Eigen::Vector3d lo = result.domain_min(), hi = result.domain_max();
   auto point = [&](int i, int j, int k) {
     return Eigen::Vector3d(lo + (hi - lo).cwiseProduct(Eigen::Vector3d(i + 1, j + 1, k + 1) / l));
   };
-  auto index = [&](int i, int j, int k) { return i + m * (j + m * k); };
+  // Energy node index of lattice node (i, j, k), each a multiple of es.
+  auto index = [&](int i, int j, int k) { return i / es + me * (j / es + me * (k / es)); };
   auto jacobian_at = [&](int i, int j, int k) {
     double value[3];
     Eigen::Matrix3d jac;
@@ -267,13 +261,13 @@ SplineUntangleReport untangle_pass(const TSpline& result, Eigen::MatrixXd& curre
   std::sort(free_ids.begin(), free_ids.end());  // deterministic columns
   for (std::size_t c = 0; c < free_ids.size(); ++c) column_of[free_ids[c]] = static_cast<int>(c);
 
-  // Energy points: every lattice node in the support of a free function (so no point the
+  // Energy points: every energy node in the support of a free function (so no point the
   // free functions change goes unseen), with the functions' factors of w·∇B on their boxes.
   Eigen::VectorXd x(3 * free_ids.size());
   for (std::size_t c = 0; c < free_ids.size(); ++c) x.segment<3>(3 * c) = current.row(free_ids[c]).transpose();
   const Eigen::VectorXd x0 = x;
   auto make_region = [&]() {
-    std::vector<int> node_index(static_cast<std::size_t>(m) * m * m, -1);
+    std::vector<int> node_index(static_cast<std::size_t>(me) * me * me, -1);
     std::vector<FreeFunction> functions(free_ids.size());
     for (std::size_t c = 0; c < free_ids.size(); ++c) {
       const int f = free_ids[c];
@@ -281,13 +275,15 @@ SplineUntangleReport untangle_pass(const TSpline& result, Eigen::MatrixXd& curre
       for (int a = 0; a < 3; ++a) {
         const LocalKnots& r = result.knots()[f][a];
         const double t0 = (r[0] - lo(a)) / (hi(a) - lo(a)) * l, t1 = (r[4] - lo(a)) / (hi(a) - lo(a)) * l;
-        const int first = std::max(0, static_cast<int>(std::floor(t0)));  // node i sits at t = i + 1
-        const int last = std::min(m - 1, static_cast<int>(std::ceil(t1)) - 2);
+        // Lattice node i sits at t = i + 1: nodes first_node .. last_node are inside (t0, t1).
+        const int first_node = std::max(0, static_cast<int>(std::floor(t0)));
+        const int last_node = std::min(m - 1, static_cast<int>(std::ceil(t1)) - 2);
+        const int first = (first_node + es - 1) / es, last = last_node >= 0 ? last_node / es : -1;
         ff.first[a] = first;
         ff.count[a] = std::max(0, last - first + 1);
         const double scale = a == 0 ? w(f) : 1.0;
         for (int i = 0; i < ff.count[a]; ++i) {
-          const double t = lo(a) + (hi(a) - lo(a)) * (first + i + 1) / l;
+          const double t = lo(a) + (hi(a) - lo(a)) * ((first + i) * es + 1) / l;
           const BasisDerivatives d = cubic_basis_derivatives(r, t);
           ff.value[a].push_back(scale * d.value);
           ff.slope[a].push_back(scale * d.d1);
@@ -296,13 +292,13 @@ SplineUntangleReport untangle_pass(const TSpline& result, Eigen::MatrixXd& curre
       for (int k = 0; k < ff.count[2]; ++k)
         for (int j = 0; j < ff.count[1]; ++j)
           for (int i = 0; i < ff.count[0]; ++i)
-            node_index[index(ff.first[0] + i, ff.first[1] + j, ff.first[2] + k)] = 0;
+            node_index[ff.first[0] + i + me * (ff.first[1] + j + me * (ff.first[2] + k))] = 0;
     }
     Region region;
     std::vector<Eigen::Matrix3d> fixed;
-    for (int k = 0; k < m; ++k)
-      for (int j = 0; j < m; ++j)
-        for (int i = 0; i < m; ++i) {
+    for (int k = 0; k < m; k += es)
+      for (int j = 0; j < m; j += es)
+        for (int i = 0; i < m; i += es) {
           int& id = node_index[index(i, j, k)];
           if (id < 0) continue;
           id = static_cast<int>(fixed.size());
@@ -322,7 +318,7 @@ SplineUntangleReport untangle_pass(const TSpline& result, Eigen::MatrixXd& curre
     region.mean_scale /= std::max<std::size_t>(fixed.size(), 1);
     region.fixed = MatrixField(fixed.size());
     for (std::size_t q = 0; q < fixed.size(); ++q) region.fixed.set(q, fixed[q]);
-    region.lattice = LatticeJacobians(std::move(functions), std::move(node_index), m);
+    region.lattice = LatticeJacobians(std::move(functions), std::move(node_index), me);
     region.lattice.add(-x0, region.fixed);  // fixed: the part of J the free functions do not change
     return region;
   };
@@ -355,14 +351,23 @@ SplineUntangleReport untangle_pass(const TSpline& result, Eigen::MatrixXd& curre
   auto solve = [&](const Region& r) {
     const std::size_t num_points = r.fixed.size();
     dj = MatrixField(num_points);
-    param::UntangleProblem problem;
-    problem.energy = [&](const Eigen::VectorXd& y, double eps, Eigen::VectorXd* gradient) {
-      jac = r.fixed;
-      r.lattice.add(y, jac);
+    // jac holds J at jac_x. J is linear in x: along the line search's line x + t·d it is
+    // J(x) + t·J_d, so a trial needs no lattice sums.
+    Eigen::VectorXd jac_x, line_x, line_d;
+    MatrixField line_start, line_step;
+    auto jacobians = [&](const Eigen::VectorXd& y) -> const MatrixField& {
+      if (jac_x.size() != y.size() || jac_x != y) {
+        jac = r.fixed;
+        r.lattice.add(y, jac);
+        jac_x = y;
+      }
+      return jac;
+    };
+    auto energy = [&](const MatrixField& j, const Eigen::VectorXd& y, double eps, Eigen::VectorXd* gradient) {
       double total = 0.0;
       Eigen::Matrix3d df;
       for (std::size_t q = 0; q < num_points; ++q) {
-        total += param::foldover_free_energy(jac.get(q) * r.inverse_reference[q], eps, theta, gradient ? &df : nullptr);
+        total += param::foldover_free_energy(j.get(q) * r.inverse_reference[q], eps, theta, gradient ? &df : nullptr);
         if (gradient) dj.set(q, df * r.inverse_reference[q].transpose());  // ∂f/∂J
       }
       if (gradient) {
@@ -378,7 +383,29 @@ SplineUntangleReport untangle_pass(const TSpline& result, Eigen::MatrixXd& curre
       }
       return total;
     };
-    problem.min_det = [&](const Eigen::VectorXd& y) { return min_det(r, y, jac); };
+    param::UntangleProblem problem;
+    problem.energy = [&](const Eigen::VectorXd& y, double eps, Eigen::VectorXd* gradient) {
+      return energy(jacobians(y), y, eps, gradient);
+    };
+    problem.min_det = [&](const Eigen::VectorXd& y) {
+      const MatrixField& j = jacobians(y);
+      double worst = std::numeric_limits<double>::infinity();
+      for (std::size_t q = 0; q < num_points; ++q)
+        if (r.guarded[q]) worst = std::min(worst, (j.get(q) * r.inverse_reference[q]).determinant());
+      return worst;
+    };
+    problem.set_line = [&](const Eigen::VectorXd& y, const Eigen::VectorXd& d) {
+      line_start = jacobians(y);
+      line_x = y;
+      line_d = d;
+      line_step = MatrixField(num_points);
+      r.lattice.add(d, line_step);
+    };
+    problem.line_energy = [&](double t, double eps, Eigen::VectorXd* gradient) {
+      jac_x = line_x + t * line_d;  // the same bits as the minimizer's x + t·d
+      for (std::size_t e = 0; e < 9 * num_points; ++e) jac.data()[e] = line_start.data()[e] + t * line_step.data()[e];
+      return energy(jac, jac_x, eps, gradient);
+    };
     param::UntangleOptions untangle_options;
     untangle_options.max_steps = options.max_steps;
     untangle_options.max_inner = options.max_inner;
@@ -391,7 +418,7 @@ SplineUntangleReport untangle_pass(const TSpline& result, Eigen::MatrixXd& curre
   report.iterations = solve(region);
 
   for (std::size_t c = 0; c < free_ids.size(); ++c) current.row(free_ids[c]) = x.segment<3>(3 * c).transpose();
-  if (correction.size() == 0) correction = MatrixField(static_cast<std::size_t>(m) * m * m);
+  if (correction.size() == 0) correction = MatrixField(static_cast<std::size_t>(me) * me * me);
   region.lattice.add(x - x0, correction, true);
   scan(nullptr);
   return report;
@@ -404,6 +431,7 @@ SplineUntangleReport untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uv
   assert(spline.dimension() == 3 && uvw.rows() == xyz.rows());
   assert(options.lattice >= 4 && options.seed_stride >= 1 && options.rings >= 0 && options.max_support_steps >= 4);
   assert(options.passes >= 1);
+  assert(options.energy_stride >= 1 && options.seed_stride % options.energy_stride == 0);
   SplineUntangleReport total;
   Eigen::MatrixXd current = spline.points();
   MatrixField correction;

@@ -127,6 +127,38 @@ void fill_cell_polynomials(const std::vector<Cell>& cells, const std::vector<Ent
   }
 }
 
+// Adds Σ B_i·delta_i over the functions with changed[i] set to the cell numerators: the update of
+// fill_cell_polynomials for a few moved control points (delta: the change of w_i·p_i, n×D),
+// at a cost of the moved functions' entries only. Agrees with a full build to rounding.
+template <class Cell, class Entry>
+void add_cell_polynomial_changes(const std::vector<Cell>& cells, const std::vector<Entry>& entries,
+                                 const std::vector<std::uint32_t>& cell_pieces,
+                                 const std::array<std::vector<std::array<double, 4>>, 3>& pieces,
+                                 const std::vector<double>& delta, int dimension, const std::vector<char>& changed,
+                                 std::vector<double>& cell_numerator) {
+  for (size_t c = 0; c < cells.size(); ++c) {
+    const Cell& cell = cells[c];
+    const std::uint32_t* ids = cell_pieces.data() + cell.piece_begin;
+    const std::uint32_t* axis_ids[3] = {ids, ids + cell.num_pieces[0], ids + cell.num_pieces[0] + cell.num_pieces[1]};
+    double* numerator = cell_numerator.data() + c * 64 * dimension;
+    for (std::uint32_t e = cell.entry_begin; e < cell.entry_end; ++e) {
+      const Entry& entry = entries[e];
+      if (!changed[entry.function]) continue;
+      const std::array<double, 4>& pu = pieces[0][axis_ids[0][entry.piece[0]]];
+      const std::array<double, 4>& pv = pieces[1][axis_ids[1][entry.piece[1]]];
+      const std::array<double, 4>& pw = pieces[2][axis_ids[2][entry.piece[2]]];
+      const double* dp = delta.data() + size_t(entry.function) * dimension;
+      for (int a = 0; a < 4; ++a)
+        for (int b = 0; b < 4; ++b)
+          for (int cc = 0; cc < 4; ++cc) {
+            const int m = (4 * a + b) * 4 + cc;
+            const double basis = pu[a] * pv[b] * pw[cc];
+            for (int d = 0; d < dimension; ++d) numerator[m * dimension + d] += basis * dp[d];
+          }
+    }
+  }
+}
+
 }  // namespace
 
 TSpline::TSpline(std::vector<BlendingKnots> knots, Eigen::VectorXd weights, Eigen::MatrixXd points,
@@ -190,16 +222,34 @@ void TSpline::set_points(Eigen::MatrixXd points) {
   // Only the cells of functions whose control point changed need new polynomials (the
   // untangling moves a few interior points of a large spline).
   std::vector<char> changed;
+  Eigen::Index num_changed = 0;
   if (!cell_numerator_.empty()) {
     changed.resize(size_t(points.rows()));
-    for (Eigen::Index i = 0; i < points.rows(); ++i) changed[size_t(i)] = points.row(i) != points_.row(i);
+    for (Eigen::Index i = 0; i < points.rows(); ++i) {
+      changed[size_t(i)] = points.row(i) != points_.row(i);
+      num_changed += changed[size_t(i)];
+    }
+  }
+  // At most half the points moved (the untangling moves a few interior ones): add their change
+  // to the cell numerators (Σ w_i B_i does not change); else rebuild the touched cells whole.
+  const bool incremental = !cell_numerator_.empty() && 2 * num_changed <= points.rows();
+  std::vector<double> delta;
+  if (incremental) {
+    delta.assign(size_t(points.rows()) * dimension_, 0.0);
+    for (Eigen::Index i = 0; i < points.rows(); ++i) {
+      if (!changed[size_t(i)]) continue;
+      for (int d = 0; d < dimension_; ++d)
+        delta[size_t(i) * dimension_ + d] = weights_[i] * points(i, d) - weighted_points_[size_t(i) * dimension_ + d];
+    }
   }
   points_ = std::move(points);
   weighted_points_.resize(size_t(points_.rows()) * dimension_);
   for (Eigen::Index i = 0; i < points_.rows(); ++i) {
     for (int d = 0; d < dimension_; ++d) weighted_points_[size_t(i) * dimension_ + d] = weights_[i] * points_(i, d);
   }
-  if (!cell_numerator_.empty()) {
+  if (incremental) {
+    add_cell_polynomial_changes(cells_, entries_, cell_pieces_, pieces_, delta, dimension_, changed, cell_numerator_);
+  } else if (!cell_numerator_.empty()) {
     fill_cell_polynomials(cells_, entries_, cell_pieces_, pieces_, weighted_points_, weights_, dimension_, &changed,
                           cell_numerator_, cell_denominator_);
   }

@@ -9,6 +9,7 @@
 
 #include "core/linalg/conjugate_gradient.h"
 #include "core/linalg/csr_matrix.h"
+#include "core/spline/grouped_gram.h"
 
 
 namespace volspline::spline {
@@ -78,21 +79,24 @@ void add_laplacian_rows(RowBuilder& builder, int nodes_requested, double scale,
       }
 }
 
-// Normal equations of the Eq. 4.7 rows scale·(F(u_g) − (1/6) Σ_nbr F(u_j)) at the interior
-// nodes g of a uniform grid, over the unknown columns (the fixed functions' part moves to the
-// right side). The basis is evaluated once per grid node and the rows are built sorted.
-struct FairingNormal {
-  linalg::CsrMatrix ata;  // n×n, sorted rows
-  Eigen::MatrixXd atb;    // n×3
-  int rows = 0;
+// The Eq. 4.7 rows scale·(F(u_g) − (1/6) Σ_nbr F(u_j)) at the interior nodes g of a uniform
+// grid, over the unknown columns (the fixed functions' part moves to the right side), grouped
+// by 2×2×2 blocks of neighbouring nodes: such rows share most of their columns, so each block is
+// one dense Gram update (GroupedGram) instead of one sparse outer product per row.
+struct FairingRows {
+  std::vector<int> group_offsets{0}, group_cols;  // union of the block's row columns, sorted
+  std::vector<int> block_offsets{0};              // rows of each block
+  std::vector<int> row_offsets{0}, row_cols;      // row entries (sorted columns)
+  std::vector<double> row_values;
+  std::vector<Eigen::RowVector3d> rhs;
 };
-FairingNormal laplacian_normal_equations(const TSpline& spline, const std::vector<int>& column_of, int n,
-                                         int nodes_requested, double scale) {
+FairingRows laplacian_rows(const TSpline& spline, const std::vector<int>& column_of, int n, int nodes_requested,
+                           double scale) {
   const Eigen::Vector3d lo = spline.domain_min(), hi = spline.domain_max();
   std::array<int, 3> nodes;
   for (int a = 0; a < 3; ++a) nodes[a] = automatic_nodes(spline, a, nodes_requested);
   auto node_id = [&](int i, int j, int k) { return i + nodes[0] * (j + nodes[1] * k); };
-  // Basis at every grid node: unknown columns with w_i B_i, and the fixed part of F.
+  // Basis at every grid node, evaluated once: unknown columns with w_i B_i, and the fixed part of F.
   const int num_nodes = nodes[0] * nodes[1] * nodes[2];
   std::vector<int> node_offsets(num_nodes + 1, 0), node_cols;
   std::vector<double> node_values;
@@ -121,61 +125,64 @@ FairingNormal laplacian_normal_equations(const TSpline& spline, const std::vecto
         node_known[id] = known;
         node_offsets[id + 1] = static_cast<int>(node_cols.size());
       }
-  // Rows (sorted columns), skipping rows without unknowns.
-  std::vector<int> row_offsets(1, 0), row_cols;
-  std::vector<double> row_values;
-  std::vector<Eigen::RowVector3d> rhs;
+  FairingRows out;
   std::vector<double> accumulator(n, 0.0);
-  std::vector<int> marker(n, -1), cols;
-  int rows = 0;
-  for (int k = 1; k + 1 < nodes[2]; ++k)
-    for (int j = 1; j + 1 < nodes[1]; ++j)
-      for (int i = 1; i + 1 < nodes[0]; ++i) {
-        const std::array<int, 7> stencil = {node_id(i, j, k),     node_id(i - 1, j, k), node_id(i + 1, j, k),
-                                            node_id(i, j - 1, k), node_id(i, j + 1, k), node_id(i, j, k - 1),
-                                            node_id(i, j, k + 1)};
-        cols.clear();
-        Eigen::RowVector3d known = Eigen::RowVector3d::Zero();
-        for (int p = 0; p < 7; ++p) {
-          const double c = p == 0 ? scale : -scale / 6.0;
-          known += c * node_known[stencil[p]];
-          for (int q = node_offsets[stencil[p]]; q < node_offsets[stencil[p] + 1]; ++q) {
-            const int col = node_cols[q];
-            if (marker[col] != rows) {
-              marker[col] = rows;
-              accumulator[col] = 0.0;
-              cols.push_back(col);
+  std::vector<int> marker(n, -1), in_group(n, -1), cols, union_cols;
+  int row = 0, group = 0;
+  for (int k0 = 1; k0 + 1 < nodes[2]; k0 += 2)
+    for (int j0 = 1; j0 + 1 < nodes[1]; j0 += 2)
+      for (int i0 = 1; i0 + 1 < nodes[0]; i0 += 2) {
+        union_cols.clear();
+        for (int k = k0; k < std::min(k0 + 2, nodes[2] - 1); ++k)
+          for (int j = j0; j < std::min(j0 + 2, nodes[1] - 1); ++j)
+            for (int i = i0; i < std::min(i0 + 2, nodes[0] - 1); ++i) {
+              const std::array<int, 7> stencil = {node_id(i, j, k),     node_id(i - 1, j, k), node_id(i + 1, j, k),
+                                                  node_id(i, j - 1, k), node_id(i, j + 1, k), node_id(i, j, k - 1),
+                                                  node_id(i, j, k + 1)};
+              cols.clear();
+              Eigen::RowVector3d known = Eigen::RowVector3d::Zero();
+              for (int p = 0; p < 7; ++p) {
+                const double c = p == 0 ? scale : -scale / 6.0;
+                known += c * node_known[stencil[p]];
+                for (int q = node_offsets[stencil[p]]; q < node_offsets[stencil[p] + 1]; ++q) {
+                  const int col = node_cols[q];
+                  if (marker[col] != row) {
+                    marker[col] = row;
+                    accumulator[col] = 0.0;
+                    cols.push_back(col);
+                  }
+                  accumulator[col] += c * node_values[q];
+                }
+              }
+              if (cols.empty()) continue;  // only fixed control points: a constant row
+              std::sort(cols.begin(), cols.end());
+              for (int col : cols) {
+                out.row_cols.push_back(col);
+                out.row_values.push_back(accumulator[col]);
+                if (in_group[col] != group) {
+                  in_group[col] = group;
+                  union_cols.push_back(col);
+                }
+              }
+              out.row_offsets.push_back(static_cast<int>(out.row_cols.size()));
+              out.rhs.push_back(-known);
+              ++row;
             }
-            accumulator[col] += c * node_values[q];
-          }
-        }
-        if (cols.empty()) continue;  // only fixed control points: a constant row
-        std::sort(cols.begin(), cols.end());
-        for (int col : cols) {
-          row_cols.push_back(col);
-          row_values.push_back(accumulator[col]);
-        }
-        row_offsets.push_back(static_cast<int>(row_cols.size()));
-        rhs.push_back(-known);
-        ++rows;
+        if (union_cols.empty()) continue;
+        std::sort(union_cols.begin(), union_cols.end());
+        out.group_cols.insert(out.group_cols.end(), union_cols.begin(), union_cols.end());
+        out.group_offsets.push_back(static_cast<int>(out.group_cols.size()));
+        out.block_offsets.push_back(row);
+        ++group;
       }
-  Eigen::MatrixXd b(rows, 3);
-  for (int r = 0; r < rows; ++r) b.row(r) = rhs[r];
-  const linalg::CsrMatrix a = linalg::CsrMatrix::from_arrays(rows, n, std::move(row_offsets), std::move(row_cols),
-                                                             std::move(row_values));
-  linalg::NormalEquations normal = linalg::normal_equations(a, b);
-  FairingNormal out;
-  out.ata = std::move(normal.ata);
-  out.atb = std::move(normal.atb);
-  out.rows = rows;
   return out;
 }
-
 // IC(0) of A with the weak couplings |a_ij| < drop·sqrt(a_ii a_jj) removed: a CG preconditioner
 // whose factorization stays cheap when refined T-splines make AᵀA rows long (hundreds of
 // overlapping blending functions), at the price of a few more iterations.
-// 0.01: on bunny_closed level 4, 64 instead of 22 CG iterations, 5× less time in the solve.
-constexpr double kPreconditionerDrop = 0.01;
+// 0.05: more iterations but a much cheaper factorization; bunny_closed levels 2–3 solve in
+// 0.31 s CPU against 0.44–0.53 s with 0.01 (0.58 s with 0.15), bimba about the same (1.4 vs 1.3 s).
+constexpr double kPreconditionerDrop = 0.05;
 class DroppedIncompleteCholesky {
  public:
   void compute(const linalg::CsrMatrix& a) {
@@ -203,6 +210,7 @@ class DroppedIncompleteCholesky {
                                                std::move(values)));
   }
   void solve(const double* r, double* z) const { ic_.solve(r, z); }
+  void solve_block(int k, const double* const* r, double* const* z) const { ic_.solve_block(k, r, z); }
 
  private:
   double drop_ = kPreconditionerDrop;
@@ -271,53 +279,20 @@ TSplineFitReport solve_stacked(TSpline& spline, const std::vector<int>& unknown_
                       regularization, tolerance, max_iterations);
 }
 
-// Sum of two n×n matrices with sorted rows (the pattern is the union).
-linalg::CsrMatrix add_matrices(const linalg::CsrMatrix& a, const linalg::CsrMatrix& b) {
-  const int n = a.rows();
-  std::vector<int> offsets(1, 0), cols;
-  std::vector<double> values;
-  cols.reserve(a.nnz() + b.nnz() / 2);
-  values.reserve(a.nnz() + b.nnz() / 2);
-  const auto& ao = a.row_offsets();
-  const auto& ac = a.col_indices();
-  const auto& av = a.values();
-  const auto& bo = b.row_offsets();
-  const auto& bc = b.col_indices();
-  const auto& bv = b.values();
-  for (int r = 0; r < n; ++r) {
-    int i = ao[r], j = bo[r];
-    while (i < ao[r + 1] || j < bo[r + 1]) {
-      if (j == bo[r + 1] || (i < ao[r + 1] && ac[i] < bc[j])) {
-        cols.push_back(ac[i]);
-        values.push_back(av[i++]);
-      } else if (i == ao[r + 1] || bc[j] < ac[i]) {
-        cols.push_back(bc[j]);
-        values.push_back(bv[j++]);
-      } else {
-        cols.push_back(ac[i]);
-        values.push_back(av[i++] + bv[j++]);
-      }
-    }
-    offsets.push_back(static_cast<int>(cols.size()));
-  }
-  return linalg::CsrMatrix::from_arrays(n, n, std::move(offsets), std::move(cols), std::move(values));
-}
-
-// Normal equations AᵀA, Aᵀb of the sample rows of Eq. 3.5 (row s: w_i B_i(uvw_s) over the
-// unknown columns, right side xyz_s minus the fixed functions' part). The samples are grouped
-// by the knot-line cell holding them: all samples of a cell share its blending functions, so
-// each cell adds one small dense Gram matrix (a few hundred samples share a cell's functions
-// on refined splines, far cheaper than one sparse outer product per sample).
-struct SampleNormal {
-  linalg::CsrMatrix ata;  // n×n, the diagonal always in the pattern
-  Eigen::MatrixXd atb;    // n×3
-  int rows = 0;
+// The sample rows of Eq. 3.5 (row s: w_i B_i(uvw_s) over the unknown columns, right side xyz_s
+// minus the fixed functions' part), grouped by the knot-line cell holding them: all samples of
+// a cell share its blending functions, so each cell is one dense Gram update (GroupedGram).
+struct SampleBlocks {
+  std::vector<std::pair<std::int64_t, int>> order;  // (cell, sample), sorted
+  std::vector<int> begin, end;                      // range of `order` per block
+  std::vector<int> slot_offsets{0}, slots;          // position in the cell's function list per column
+  std::vector<int> group_offsets{0}, group_cols;    // unknown columns, increasing
 };
-SampleNormal sample_normal_equations(const TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
-                                     const std::vector<int>& column_of, int n) {
+SampleBlocks sample_blocks(const TSpline& spline, const Eigen::MatrixX3d& uvw, const std::vector<int>& column_of) {
   const Eigen::Index m = uvw.rows();
+  SampleBlocks out;
   // Cell of each sample by the rule of TSpline's lookup (the last cell is closed).
-  std::vector<std::pair<std::int64_t, int>> order(m);
+  out.order.resize(m);
   for (Eigen::Index s = 0; s < m; ++s) {
     std::int64_t cell = 0, stride = 1;
     for (int a = 0; a < 3; ++a) {
@@ -328,102 +303,32 @@ SampleNormal sample_normal_equations(const TSpline& spline, const Eigen::MatrixX
       cell += k * stride;
       stride *= intervals;
     }
-    order[s] = {cell, static_cast<int>(s)};
+    out.order[s] = {cell, static_cast<int>(s)};
   }
-  std::sort(order.begin(), order.end());
-  struct Block {
-    int begin, end;          // range of `order`
-    std::vector<int> slot;   // position in the cell's function list of each unknown column
-    std::vector<int> cols;   // unknown columns, increasing
-  };
-  std::vector<Block> blocks;
+  std::sort(out.order.begin(), out.order.end());
   std::vector<int> ids;
   std::vector<double> values;
-  for (std::size_t b = 0; b < order.size();) {
+  for (std::size_t b = 0; b < out.order.size();) {
     std::size_t e = b;
-    while (e < order.size() && order[e].first == order[b].first) ++e;
-    spline.basis_at(uvw.row(order[b].second).transpose(), {0, 0, 0}, ids, values);
-    Block block{static_cast<int>(b), static_cast<int>(e), {}, {}};
+    while (e < out.order.size() && out.order[e].first == out.order[b].first) ++e;
+    spline.basis_at(uvw.row(out.order[b].second).transpose(), {0, 0, 0}, ids, values);
+    const std::size_t first = out.group_cols.size();
     for (std::size_t k = 0; k < ids.size(); ++k)
       if (column_of[ids[k]] >= 0) {
-        block.slot.push_back(static_cast<int>(k));
-        block.cols.push_back(column_of[ids[k]]);
+        out.slots.push_back(static_cast<int>(k));
+        out.group_cols.push_back(column_of[ids[k]]);
       }
-    assert(std::is_sorted(block.cols.begin(), block.cols.end()));
-    if (!block.cols.empty()) blocks.push_back(std::move(block));
+    assert(std::is_sorted(out.group_cols.begin() + static_cast<std::ptrdiff_t>(first), out.group_cols.end()));
+    if (out.group_cols.size() > first) {
+      out.begin.push_back(static_cast<int>(b));
+      out.end.push_back(static_cast<int>(e));
+      out.slot_offsets.push_back(static_cast<int>(out.slots.size()));
+      out.group_offsets.push_back(static_cast<int>(out.group_cols.size()));
+    }
     b = e;
   }
-  // Pattern: row r couples with the columns of every block holding r (and itself).
-  std::vector<int> holder_offsets(n + 1, 0);
-  for (const Block& block : blocks)
-    for (int c : block.cols) ++holder_offsets[c + 1];
-  for (int c = 0; c < n; ++c) holder_offsets[c + 1] += holder_offsets[c];
-  std::vector<int> holders(holder_offsets.back()), fill(holder_offsets.begin(), holder_offsets.end() - 1);
-  for (std::size_t b = 0; b < blocks.size(); ++b)
-    for (int c : blocks[b].cols) holders[fill[c]++] = static_cast<int>(b);
-  std::vector<int> offsets(n + 1, 0), pattern;
-  std::vector<int> marker(n, -1);
-  std::vector<int> row_cols;
-  for (int r = 0; r < n; ++r) {
-    row_cols.assign(1, r);
-    marker[r] = r;
-    for (int h = holder_offsets[r]; h < holder_offsets[r + 1]; ++h)
-      for (int c : blocks[holders[h]].cols)
-        if (marker[c] != r) {
-          marker[c] = r;
-          row_cols.push_back(c);
-        }
-    std::sort(row_cols.begin(), row_cols.end());
-    pattern.insert(pattern.end(), row_cols.begin(), row_cols.end());
-    offsets[r + 1] = static_cast<int>(pattern.size());
-  }
-  std::vector<int> diagonal(n);
-  for (int r = 0; r < n; ++r) diagonal[r] = static_cast<int>(std::lower_bound(pattern.begin() + offsets[r], pattern.begin() + offsets[r + 1], r) - pattern.begin());
-  SampleNormal out;
-  std::vector<double> ata_values(pattern.size(), 0.0);
-  out.atb = Eigen::MatrixXd::Zero(n, 3);
-  Eigen::MatrixXd rows_b, gram;
-  Eigen::MatrixX3d rhs_b;
-  const Eigen::VectorXd& weights = spline.weights();
-  const Eigen::MatrixXd& points = spline.points();
-  for (const Block& block : blocks) {
-    const int count = block.end - block.begin, k = static_cast<int>(block.cols.size());
-    rows_b.resize(count, k);
-    rhs_b.resize(count, 3);
-    for (int r = 0; r < count; ++r) {
-      const int s = order[block.begin + r].second;
-      spline.basis_at(uvw.row(s).transpose(), {0, 0, 0}, ids, values);
-      Eigen::RowVector3d known = Eigen::RowVector3d::Zero();
-      for (std::size_t q = 0; q < ids.size(); ++q)
-        if (column_of[ids[q]] < 0) known += (weights(ids[q]) * values[q]) * points.row(ids[q]);
-      for (int c = 0; c < k; ++c) {
-        const int q = block.slot[c];
-        rows_b(r, c) = weights(ids[q]) * values[q];
-      }
-      rhs_b.row(r) = xyz.row(s) - known;
-    }
-    out.rows += count;
-    gram.noalias() = rows_b.transpose() * rows_b;
-    out.atb(block.cols, Eigen::all) += rows_b.transpose() * rhs_b;
-    // Scatter the upper triangle: block.cols is a sorted subset of every row's sorted pattern,
-    // so each row is walked once from its diagonal.
-    for (int a = 0; a < k; ++a) {
-      int p = diagonal[block.cols[a]];
-      const double* g = gram.col(a).data();
-      for (int c = a; c < k; ++c) {
-        while (pattern[p] != block.cols[c]) ++p;
-        ata_values[p] += g[c];
-      }
-    }
-  }
-  // Mirror: rows in increasing order meet the lower entries of each row in increasing order.
-  std::vector<int> next_lower(offsets.begin(), offsets.end() - 1);
-  for (int r = 0; r < n; ++r)
-    for (int p = diagonal[r] + 1; p < offsets[r + 1]; ++p) ata_values[next_lower[pattern[p]]++] = ata_values[p];
-  out.ata = linalg::CsrMatrix::from_arrays(n, n, std::move(offsets), std::move(pattern), std::move(ata_values));
   return out;
 }
-
 }  // namespace
 
 bool touches_domain_boundary(const BlendingKnots& knots, const Eigen::Vector3d& lo,
@@ -443,19 +348,61 @@ TSplineFitReport fit_columns(TSpline& spline, const Eigen::MatrixX3d& uvw, const
                              const Eigen::MatrixX3d& prior, const std::vector<int>& ids,
                              const std::vector<int>& column_of, const TSplineFitOptions& options) {
   const int n = static_cast<int>(ids.size());
-  SampleNormal normal = sample_normal_equations(spline, uvw, xyz, column_of, n);
-  int rows = normal.rows;
-  if (options.smoothing > 0.0 && n > 0) {
-    const FairingNormal fairing =
-        laplacian_normal_equations(spline, column_of, n, options.laplacian_nodes, std::sqrt(options.smoothing));
-    normal.ata = add_matrices(normal.ata, fairing.ata);
-    normal.atb += fairing.atb;
-    rows += fairing.rows;
+  const SampleBlocks samples = sample_blocks(spline, uvw, column_of);
+  FairingRows fairing;
+  if (options.smoothing > 0.0 && n > 0)
+    fairing = laplacian_rows(spline, column_of, n, options.laplacian_nodes, std::sqrt(options.smoothing));
+  // One pattern for both kinds of rows: the sample blocks' groups, then the fairing blocks'.
+  const int sample_groups = static_cast<int>(samples.begin.size());
+  std::vector<int> group_offsets = samples.group_offsets, group_cols = samples.group_cols;
+  for (std::size_t g = 1; g < fairing.group_offsets.size(); ++g)
+    group_offsets.push_back(fairing.group_offsets[g] + static_cast<int>(samples.group_cols.size()));
+  group_cols.insert(group_cols.end(), fairing.group_cols.begin(), fairing.group_cols.end());
+  GroupedGram gram(n, 3, std::move(group_offsets), std::move(group_cols));
+  int rows = 0;
+  Eigen::MatrixXd block, rhs;
+  std::vector<int> ids_at;
+  std::vector<double> values;
+  const Eigen::VectorXd& weights = spline.weights();
+  const Eigen::MatrixXd& points = spline.points();
+  for (int g = 0; g < sample_groups; ++g) {
+    const int count = samples.end[g] - samples.begin[g], k = gram.group_size(g);
+    const int* slot = samples.slots.data() + samples.slot_offsets[g];
+    block.resize(count, k);
+    rhs.resize(count, 3);
+    for (int r = 0; r < count; ++r) {
+      const int s = samples.order[samples.begin[g] + r].second;
+      spline.basis_at(uvw.row(s).transpose(), {0, 0, 0}, ids_at, values);
+      Eigen::RowVector3d known = Eigen::RowVector3d::Zero();
+      for (std::size_t q = 0; q < ids_at.size(); ++q)
+        if (column_of[ids_at[q]] < 0) known += (weights(ids_at[q]) * values[q]) * points.row(ids_at[q]);
+      for (int c = 0; c < k; ++c) block(r, c) = weights(ids_at[slot[c]]) * values[slot[c]];
+      rhs.row(r) = xyz.row(s) - known;
+    }
+    rows += count;
+    gram.add(g, block, rhs);
   }
-  return solve_normal(spline, ids, std::move(normal.ata), std::move(normal.atb), rows, prior,
-                      options.regularization, options.tolerance, options.max_iterations);
+  std::vector<int> slot_of(n, -1);
+  for (std::size_t f = 0; f + 1 < fairing.block_offsets.size(); ++f) {
+    const int g = sample_groups + static_cast<int>(f);
+    const int k = gram.group_size(g);
+    const int* cols = gram.group_columns(g);
+    for (int c = 0; c < k; ++c) slot_of[cols[c]] = c;
+    const int first = fairing.block_offsets[f], count = fairing.block_offsets[f + 1] - first;
+    block.setZero(count, k);
+    rhs.resize(count, 3);
+    for (int r = 0; r < count; ++r) {
+      for (int q = fairing.row_offsets[first + r]; q < fairing.row_offsets[first + r + 1]; ++q)
+        block(r, slot_of[fairing.row_cols[q]]) = fairing.row_values[q];
+      rhs.row(r) = fairing.rhs[first + r];
+    }
+    rows += count;
+    gram.add(g, block, rhs);
+  }
+  Eigen::MatrixXd atb = std::move(gram.rhs());
+  return solve_normal(spline, ids, gram.take_symmetric(), std::move(atb), rows, prior, options.regularization,
+                      options.tolerance, options.max_iterations);
 }
-
 }  // namespace
 
 TSplineFitReport fit_tspline(TSpline& spline, const Eigen::MatrixX3d& uvw,

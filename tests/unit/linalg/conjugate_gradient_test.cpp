@@ -29,6 +29,19 @@ class GenericJacobi {
   linalg::JacobiPreconditioner inner_;
 };
 
+// IC(0) known only through the generic interface, with the optional block solve.
+class GenericBlockCholesky {
+ public:
+  void compute(const CsrMatrix& a) { inner_.compute(a); }
+  void solve(const double* r, double* z) const { inner_.solve(r, z); }
+  void solve_block(int k, const double* const* r, double* const* z) const {
+    inner_.solve_block(k, r, z);
+  }
+
+ private:
+  linalg::IncompleteCholesky0 inner_;
+};
+
 struct TestSystem {
   const char* name;
   CsrMatrix a;
@@ -216,6 +229,63 @@ TEST_CASE("several right-hand sides are solved column by column") {
   const Eigen::MatrixXd warm = cg.solve(b, x);
   CHECK(cg.iterations() == 0);
   CHECK(warm == x);
+}
+
+TEST_CASE_TEMPLATE("a block solve gives each column exactly its lone solve", P,
+                   linalg::IdentityPreconditioner, linalg::JacobiPreconditioner,
+                   linalg::IncompleteCholesky0, GenericJacobi, GenericBlockCholesky) {
+  const auto sphere = linalg::testing::icosphere(2);
+  const CsrMatrix a =
+      linalg::testing::cotan_laplacian_plus_mass(sphere.first, sphere.second, 1e-2);
+  const int n = a.rows();
+  // 7 columns: more than one block of 4; one zero column, one scaled copy (converges at the
+  // same step), one with a warm start at its solution (no iteration).
+  Eigen::MatrixXd b(n, 7);
+  for (int c = 0; c < 7; ++c) b.col(c) = linalg::testing::pseudo_random_vector(n, 300 + c);
+  b.col(2).setZero();
+  b.col(5) = 1e3 * b.col(0);
+  ConjugateGradient<P> cg(a);
+  cg.set_tolerance(1e-9);
+  const Eigen::VectorXd solution6 = cg.solve(Eigen::VectorXd(b.col(6)));
+  Eigen::MatrixXd x0 = Eigen::MatrixXd::Zero(n, 7);
+  x0.col(6) = solution6;
+  x0.col(3) = linalg::testing::pseudo_random_vector(n, 999);
+  for (int cap : {-1, 7}) {  // converged, and stopped by the iteration cap
+    cg.set_max_iterations(cap);
+    const Eigen::MatrixXd x = cg.solve(b, x0);
+    const linalg::SolverInfo block_info = cg.info();
+    const int block_iterations = cg.iterations();
+    const double block_residual = cg.residual();
+    int worst = 0, most = 0;
+    double largest = 0.0;
+    for (int c = 0; c < 7; ++c) {
+      const Eigen::VectorXd xc = cg.solve(Eigen::VectorXd(b.col(c)), Eigen::VectorXd(x0.col(c)));
+      CHECK(xc == x.col(c));
+      worst = std::max(worst, static_cast<int>(cg.info()));
+      most = std::max(most, cg.iterations());
+      largest = std::max(largest, cg.residual());
+    }
+    CHECK(static_cast<int>(block_info) == worst);
+    CHECK(block_iterations == most);
+    CHECK(block_residual == largest);
+    if (cap > 0) CHECK(block_info == SolverInfo::NotConverged);
+    if (cap < 0) CHECK(block_info == SolverInfo::Success);
+  }
+}
+
+TEST_CASE("a non-finite column fails alone in a block solve") {
+  const CsrMatrix a = linalg::testing::grid_laplacian(5, 4, 3);
+  const int n = a.rows();
+  Eigen::MatrixXd b(n, 2);
+  b.col(0) = linalg::testing::pseudo_random_vector(n, 7);
+  b.col(1) = b.col(0);
+  b(3, 1) = std::numeric_limits<double>::quiet_NaN();
+  ConjugateGradient<linalg::IncompleteCholesky0> cg(a);
+  const Eigen::MatrixXd x = cg.solve(b);
+  CHECK(cg.info() == SolverInfo::NumericalIssue);
+  const Eigen::VectorXd x0 = cg.solve(Eigen::VectorXd(b.col(0)));
+  CHECK(cg.info() == SolverInfo::Success);
+  CHECK(x0 == x.col(0));
 }
 
 TEST_CASE("compute copies what it needs: the matrix may go away") {

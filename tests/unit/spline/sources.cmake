@@ -12,4 +12,5 @@ set(TEST_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/jacobian_repair_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/spline_untangling_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/scattered_density_fitting_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/grouped_gram_test.cpp
 )
