@@ -21,6 +21,8 @@ class SparsifiedCholesky {
   void compute(const linalg::CsrMatrix& a);
   /// z = M⁻¹ r for n = a.rows() entries; r and z may alias.
   void solve(const double* r, double* z) const { ic_.solve(r, z); }
+  /// solve for k columns at once (r[c] → z[c]; see IncompleteCholesky0::solve_block).
+  void solve_block(int k, const double* const* r, double* const* z) const { ic_.solve_block(k, r, z); }
 
  private:
   double drop_;
