@@ -57,15 +57,15 @@ struct Mesh2SplineStats {
   double rms_geo_rel = 0;          ///< RMS of the same two-sided distances / bbox diagonal
   int control_points = 0;
   int levels = 0;                  ///< refinement levels done after level 0
-  double min_scaled_jacobian = 0;  ///< at the cell centres of a 24³ lattice of the domain
+  double min_scaled_jacobian = 0;  ///< at the cell centres of a 64³ lattice of the domain
   double negative_jacobian_fraction = 0;
   double semi_standard_max_error = 0;  ///< max |Σ w_i B_i − 1| at 10⁵ random parameters
   int cuboids = 1;
   int flipped_triangles = 0;           ///< of the surface map (0: bijective)
   int grid_inverted_hexes = 0;         ///< of the volumetric grid map (grid fit)
   double grid_min_scaled_jacobian = 1; ///< of the volumetric grid map (grid fit)
-  /// of the fit before the untangling and the repair, at the same 24³ cell centres as
-  /// negative_jacobian_fraction
+  /// of the fit before the untangling and the repair, at the points the untangler (24³ cell
+  /// centres) or the repair scans; without either, negative_jacobian_fraction
   double negative_jacobian_fraction_fit = 0;
   int repaired_control_points = 0;            ///< interior control points the repair moved
   int untangled_control_points = 0;           ///< interior control points free in the untangling

@@ -21,8 +21,8 @@ struct SplineUntangleOptions {
   /// The energy holds every energy_stride-th lattice node per axis (from the first), ≥ 1 and a
   /// divisor of seed_stride (so it holds the scanned nodes). 2: the 24³ cell centres, 8× fewer
   /// terms than 1 (bunny's stage ~5× faster); nodes between them are not held, so a finer check
-  /// may see folds (of 64³ points, folded after: bunny 1,169 against 1,390 with 1, bimba 666
-  /// against 459; the measures look at the 24³ centres).
+  /// sees folds (of 64³ points, folded after: bunny 1,169 against 1,390 with 1, bimba 666
+  /// against 459). The measures look at 64³ cell centres, none of which is a lattice node.
   int energy_stride = 2;
   int rings = 1;               ///< lattice steps around a seed whose interior functions move, [0, 4]
   /// Only interior functions whose support spans at most this many lattice steps per axis move
