@@ -23,8 +23,8 @@ struct LbfgsMemory {
 
 // L-BFGS (two-loop recursion, 7 pairs) with Armijo backtracking, from the pairs in memory
 // (updated); returns the iterations done.
-int minimize_lbfgs(const UntangleProblem& problem, Eigen::VectorXd& x, double eps, int max_iterations,
-                   LbfgsMemory& memory) {
+int lbfgs(const UntangleProblem& problem, Eigen::VectorXd& x, double eps, int max_iterations,
+          LbfgsMemory& memory) {
   constexpr int kPairs = 7;
   std::vector<Eigen::VectorXd>& s_list = memory.s_list;
   std::vector<Eigen::VectorXd>& y_list = memory.y_list;
@@ -118,6 +118,11 @@ double foldover_free_energy(const Eigen::Matrix3d& j, double eps, double theta, 
   return (1.0 - theta) * tr / x23 + theta * (d * d + 1.0) / x_d;
 }
 
+int minimize_lbfgs(const UntangleProblem& problem, double eps, int max_iterations, Eigen::VectorXd& x) {
+  LbfgsMemory memory;
+  return lbfgs(problem, x, eps, max_iterations, memory);
+}
+
 int untangle(const UntangleProblem& problem, Eigen::VectorXd& x, const UntangleOptions& options) {
   int iterations = 0;
   // ε continuation of Garanzha et al. 2021 (§3): ε shrinks with the energy decrease, and
@@ -130,7 +135,7 @@ int untangle(const UntangleProblem& problem, Eigen::VectorXd& x, const UntangleO
   LbfgsMemory memory;
   for (int step = 0; step < options.max_steps; ++step) {
     if (!options.keep_curvature) memory = LbfgsMemory();
-    iterations += minimize_lbfgs(problem, x, eps, options.max_inner, memory);
+    iterations += lbfgs(problem, x, eps, options.max_inner, memory);
     const double e = problem.energy(x, eps, nullptr);
     d_min = problem.min_det(x);
     const double sigma = std::max(1.0 - e / e_prev, options.min_sigma);

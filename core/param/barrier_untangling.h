@@ -44,6 +44,12 @@ struct UntangleOptions {
   double min_sigma = 0.5;
 };
 
+/// One ε step of untangle: at most max_iterations L-BFGS iterations (two-loop recursion, 7
+/// curvature pairs, Armijo backtracking; the first step moves the worst unknown by 1e-2) on
+/// problem.energy(·, eps) from x, updated in place; stops early when the energy decrease falls
+/// under 1e-10 of the energy. Returns the iterations done.
+int minimize_lbfgs(const UntangleProblem& problem, double eps, int max_iterations, Eigen::VectorXd& x);
+
 /// Minimizes the problem's energy from x (updated in place) by L-BFGS with the ε continuation
 /// of Garanzha et al. 2021: ε shrinks with the energy decrease and vanishes once every element
 /// has det J > μ. Stops when det J > 0 everywhere and the energy settles, when the smallest

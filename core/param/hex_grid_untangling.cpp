@@ -10,10 +10,8 @@
 #include <memory>
 
 #include <Eigen/LU>
-#include <Eigen/SparseCore>
 
 #include "core/param/barrier_untangling.h"
-#include "core/param/preconditioned_untangling.h"
 
 namespace volspline::param {
 
@@ -137,29 +135,6 @@ class Energy {
 
   // Hessian of the energy's shape term Σ tr(JᵀJ) over the free nodes, per coordinate: the
   // Laplacian of the hex edges (each corner term contributes its 3 edges with weight 2/h²).
-  Eigen::SparseMatrix<double> edge_laplacian() const {
-    std::vector<Eigen::Triplet<double>> entries;
-    entries.reserve(12 * corners_.size() + free_.size());
-    const double w = 2.0 * inv_h_ * inv_h_;
-    for (const Corner& c : corners_) {
-      const int v0 = var_of_[c.node[0]];
-      for (int a = 1; a <= 3; ++a) {
-        const int va = var_of_[c.node[a]];
-        if (v0 >= 0) entries.emplace_back(v0, v0, w);
-        if (va >= 0) entries.emplace_back(va, va, w);
-        if (v0 >= 0 && va >= 0) {
-          entries.emplace_back(v0, va, -w);
-          entries.emplace_back(va, v0, -w);
-        }
-      }
-    }
-    // Keeps M definite if a group of free nodes touches no fixed one (all-free grids).
-    for (std::size_t v = 0; v < free_.size(); ++v) entries.emplace_back(static_cast<int>(v), static_cast<int>(v), 1e-9 * w);
-    Eigen::SparseMatrix<double> m(static_cast<Eigen::Index>(free_.size()), static_cast<Eigen::Index>(free_.size()));
-    m.setFromTriplets(entries.begin(), entries.end());
-    return m;
-  }
-
   // Energy at x (set as the free node positions) with barrier parameter eps; gradient if asked.
   // Per corner the energy and ∂f/∂J of foldover_free_energy, fused and per hex: the 12 edges
   // are formed once (J's column a at corner c is the +axis edge through c), ∂f/∂J = a·J +
@@ -326,7 +301,6 @@ HexGridUntangleReport untangle_hex_grid(const std::array<int, 3>& n, const std::
     // free nodes shrink after each step to those within `rings` of a hex still folded: most
     // folds open in the first steps, and the remaining steps sharpen the barrier around a few.
     std::unique_ptr<Energy> energy;
-    Eigen::SparseMatrix<double> metric;
     std::vector<char> first_region;
     UntangleProblem problem;
     problem.energy = [&](const Eigen::VectorXd& v, double eps, Eigen::VectorXd* g) { return energy->evaluate(v, eps, g); };
@@ -358,7 +332,6 @@ HexGridUntangleReport untangle_hex_grid(const std::array<int, 3>& n, const std::
         for (const Corner& c : corners)
           if (is_free[c.node[0]] || is_free[c.node[1]] || is_free[c.node[2]] || is_free[c.node[3]]) terms.push_back(c);
         energy = std::make_unique<Energy>(n, std::move(terms), std::move(free_nodes), xyz, h, options.volume_weight);
-        metric = options.solver == HexGridSolver::LaplacianLbfgs ? energy->edge_laplacian() : Eigen::SparseMatrix<double>();
       }
       Eigen::VectorXd x = energy->variables();
       if (step == 0) {
@@ -368,7 +341,9 @@ HexGridUntangleReport untangle_hex_grid(const std::array<int, 3>& n, const std::
       } else if (changed) {
         e_prev = energy->evaluate(x, previous_eps, nullptr);  // the last step's energy on the new terms
       }
-      report.iterations += minimize_preconditioned(problem, metric, eps, options.max_inner, x);
+      // L-BFGS preconditioned by the hex-edge Laplacian was tried: it saves few iterations
+      // (bunny 480 against 570; the folds are local barrier stiffness) and costs more each.
+      report.iterations += minimize_lbfgs(problem, eps, options.max_inner, x);
       const double e = energy->evaluate(x, eps, nullptr);
       const double d_min = energy->min_det();
       count = energy->num_inverted();

@@ -8,14 +8,6 @@
 
 namespace volspline::param {
 
-/// Minimizer of untangle_hex_grid's energy.
-enum class HexGridSolver {
-  /// Plain L-BFGS. Default: the folds the barrier fights are local, so the Laplacian below
-  /// saves few iterations (bunny: 480 against 570) and costs more per iteration.
-  Lbfgs,
-  LaplacianLbfgs,  ///< L-BFGS preconditioned by the hex-edge Laplacian (minimize_preconditioned)
-};
-
 /// Options of untangle_hex_grid.
 struct HexGridUntangleOptions {
   /// Free nodes: the movable nodes within this many grid steps (Chebyshev) of a node of a hex
@@ -27,7 +19,6 @@ struct HexGridUntangleOptions {
   int max_inner = 30;          ///< L-BFGS iterations per step, ≥ 1
   /// Weight θ of the volume term (det² + 1)/χ against the shape term tr(JᵀJ)/χ^(2/3), in [0, 1).
   double volume_weight = 0.5;
-  HexGridSolver solver = HexGridSolver::Lbfgs;
 };
 
 /// Outcome of untangle_hex_grid. A corner is "movable" if one of its 4 nodes is not fixed;

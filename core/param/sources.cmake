@@ -6,5 +6,4 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/surface_distance.cpp
   ${CMAKE_CURRENT_LIST_DIR}/hex_grid_untangling.cpp
   ${CMAKE_CURRENT_LIST_DIR}/barrier_untangling.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/preconditioned_untangling.cpp
 )

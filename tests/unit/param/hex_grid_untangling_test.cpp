@@ -66,19 +66,6 @@ TEST_CASE("hex grid untangling leaves a valid grid alone") {
   CHECK(xyz == before);
 }
 
-TEST_CASE("hex grid untangling with the Laplacian preconditioner unfolds the same pushed node") {
-  const int n = 5;
-  std::vector<char> fixed;
-  mesh::Positions xyz = lattice(n, fixed);
-  xyz(param::grid_node_index({n, n, n}, 1, 2, 2), 0) = 0.8;
-  param::HexGridUntangleOptions options;
-  options.solver = param::HexGridSolver::LaplacianLbfgs;
-  const param::HexGridUntangleReport report = param::untangle_hex_grid({n, n, n}, fixed, xyz, options);
-  CHECK(report.initial_inverted > 0);
-  CHECK(report.final_inverted == 0);
-  CHECK(min_hex_quality(n, xyz) > 0.0);
-}
-
 TEST_CASE("hex grid untangling gives up on a fold no interior placement can open, early and deterministically") {
   const int n = 4;
   std::vector<char> fixed;
