@@ -46,31 +46,6 @@ SymmetricMatrix symmetric_from_upper(const CsrMatrix& a) {
   return s;
 }
 
-double symmetric_spmv(const SymmetricMatrix& a, const double* __restrict p,
-                      double* __restrict q) {
-  const int n = a.strict_upper.rows();
-  const int* offsets = a.strict_upper.row_offsets().data();
-  const int* cols = a.strict_upper.col_indices().data();
-  const double* vals = a.strict_upper.values().data();
-  const double* diag = a.diagonal.data();
-  double pq = 0.0;
-  // Row i gathers its upper part and scatters its transpose into later rows; when row i is
-  // done, every contribution to q[i] (from rows < i by scatter, its own by gather) is in.
-  for (int i = 0; i < n; ++i) {
-    const double pi = p[i];
-    double sum = q[i] + diag[i] * pi;
-    for (int k = offsets[i]; k < offsets[i + 1]; ++k) {
-      const int j = cols[k];
-      const double v = vals[k];
-      sum += v * p[j];
-      q[j] += v * pi;
-    }
-    q[i] = sum;
-    pq += pi * sum;
-  }
-  return pq;
-}
-
 double residual(const SymmetricMatrix& a, const double* b, const double* x, double* r) {
   const int n = a.strict_upper.rows();
   std::fill(r, r + n, 0.0);
@@ -158,45 +133,6 @@ double update(int n, double alpha, const double* __restrict p, const double* __r
     rr_acc.s[0] += ri * ri;
   }
   return rr_acc.total();
-}
-
-double update_forward(const IncompleteCholesky0& ic, double alpha, const double* p,
-                      const double* q, double* x, double* r, double* y) {
-  const CsrMatrix& lower = ic.strict_lower();
-  const int n = lower.rows();
-  const int* offsets = lower.row_offsets().data();
-  const int* cols = lower.col_indices().data();
-  const double* vals = lower.values().data();
-  const double* inv = ic.inverse_diagonal().data();
-  double rr = 0.0;
-  for (int i = 0; i < n; ++i) {
-    x[i] += alpha * p[i];
-    const double ri = r[i] - alpha * q[i];
-    r[i] = ri;
-    rr += ri * ri;
-    double s = ri;
-    for (int k = offsets[i]; k < offsets[i + 1]; ++k) s -= vals[k] * y[cols[k]];
-    y[i] = s * inv[i];
-  }
-  return rr;
-}
-
-double backward_dot(const IncompleteCholesky0& ic, const double* r, double* y) {
-  const CsrMatrix& upper = ic.strict_upper();
-  const int n = upper.rows();
-  const int* offsets = upper.row_offsets().data();
-  const int* cols = upper.col_indices().data();
-  const double* vals = upper.values().data();
-  const double* inv = ic.inverse_diagonal().data();
-  double rz = 0.0;
-  for (int i = n - 1; i >= 0; --i) {
-    double s = y[i];
-    for (int k = offsets[i]; k < offsets[i + 1]; ++k) s -= vals[k] * y[cols[k]];
-    const double zi = s * inv[i];
-    y[i] = zi;
-    rz += r[i] * zi;
-  }
-  return rz;
 }
 
 namespace {
@@ -289,10 +225,35 @@ void backward_dot_k(const IncompleteCholesky0& ic, const double* const* r, doubl
 
 }  // namespace
 
+double symmetric_spmv(const SymmetricMatrix& a, const double* p, double* q) {
+  double pq;
+  spmv_block<1>(a, &p, &q, &pq);
+  return pq;
+}
+
+double update_forward(const IncompleteCholesky0& ic, double alpha, const double* p,
+                      const double* q, double* x, double* r, double* y) {
+  BlockVectors v;
+  v.p[0] = p;
+  v.q[0] = q;
+  v.x[0] = x;
+  v.r[0] = r;
+  v.z[0] = y;
+  double rr;
+  update_forward_k<1>(ic, &alpha, v, &rr);
+  return rr;
+}
+
+double backward_dot(const IncompleteCholesky0& ic, const double* r, double* y) {
+  double rz;
+  backward_dot_k<1>(ic, &r, &y, &rz);
+  return rz;
+}
+
 void symmetric_spmv_block(const SymmetricMatrix& a, int k, const double* const* p,
                           double* const* q, double* pq) {
   switch (k) {
-    case 1: pq[0] = symmetric_spmv(a, p[0], q[0]); break;
+    case 1: spmv_block<1>(a, p, q, pq); break;
     case 2: spmv_block<2>(a, p, q, pq); break;
     case 3: spmv_block<3>(a, p, q, pq); break;
     case 4: spmv_block<4>(a, p, q, pq); break;
@@ -303,7 +264,7 @@ void symmetric_spmv_block(const SymmetricMatrix& a, int k, const double* const* 
 void update_forward_block(const IncompleteCholesky0& ic, int k, const double* alpha,
                           const BlockVectors& v, double* rr) {
   switch (k) {
-    case 1: rr[0] = update_forward(ic, alpha[0], v.p[0], v.q[0], v.x[0], v.r[0], v.z[0]); break;
+    case 1: update_forward_k<1>(ic, alpha, v, rr); break;
     case 2: update_forward_k<2>(ic, alpha, v, rr); break;
     case 3: update_forward_k<3>(ic, alpha, v, rr); break;
     case 4: update_forward_k<4>(ic, alpha, v, rr); break;
@@ -314,7 +275,7 @@ void update_forward_block(const IncompleteCholesky0& ic, int k, const double* al
 void backward_dot_block(const IncompleteCholesky0& ic, int k, const double* const* r,
                         double* const* y, double* rz) {
   switch (k) {
-    case 1: rz[0] = backward_dot(ic, r[0], y[0]); break;
+    case 1: backward_dot_k<1>(ic, r, y, rz); break;
     case 2: backward_dot_k<2>(ic, r, y, rz); break;
     case 3: backward_dot_k<3>(ic, r, y, rz); break;
     case 4: backward_dot_k<4>(ic, r, y, rz); break;

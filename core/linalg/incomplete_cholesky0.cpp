@@ -96,27 +96,6 @@ void IncompleteCholesky0::compute(const CsrMatrix& a) {
   upper_ = lower_.transpose();
 }
 
-void IncompleteCholesky0::solve(const double* r, double* z) const {
-  const int n = lower_.rows();
-  const int* lo = lower_.row_offsets().data();
-  const int* lc = lower_.col_indices().data();
-  const double* lv = lower_.values().data();
-  const int* uo = upper_.row_offsets().data();
-  const int* uc = upper_.col_indices().data();
-  const double* uv = upper_.values().data();
-  const double* inv = inverse_diagonal_.data();
-  for (int i = 0; i < n; ++i) {
-    double s = r[i];
-    for (int k = lo[i]; k < lo[i + 1]; ++k) s -= lv[k] * z[lc[k]];
-    z[i] = s * inv[i];
-  }
-  for (int i = n - 1; i >= 0; --i) {
-    double s = z[i];
-    for (int k = uo[i]; k < uo[i + 1]; ++k) s -= uv[k] * z[uc[k]];
-    z[i] = s * inv[i];
-  }
-}
-
 namespace {
 
 template <int K>
@@ -146,6 +125,10 @@ void solve_k(const CsrMatrix& lower, const CsrMatrix& upper, const double* inv,
 }
 
 }  // namespace
+
+void IncompleteCholesky0::solve(const double* r, double* z) const {
+  solve_k<1>(lower_, upper_, inverse_diagonal_.data(), &r, &z);
+}
 
 void IncompleteCholesky0::solve_block(int k, const double* const* r, double* const* z) const {
   const double* inv = inverse_diagonal_.data();
