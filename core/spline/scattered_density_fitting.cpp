@@ -14,6 +14,7 @@
 #include "core/linalg/conjugate_gradient.h"
 #include "core/linalg/csr_matrix.h"
 #include "core/spline/component_solve.h"
+#include "core/spline/grouped_gram.h"
 #include "core/spline/bspline_volume.h"
 #include "core/spline/sparsified_cholesky.h"
 
@@ -130,51 +131,10 @@ NormalEquations assemble_normal_equations(const TSpline& spline, const Eigen::Ma
     for (Eigen::Index s = 0; s < m; ++s) order[fill[group[s]]++] = static_cast<int>(s);
   }
   std::vector<int>().swap(group);
-  std::vector<int> stamp(n, -1);
-  // Pattern: row i couples with every function of every group holding i.
-  std::vector<int> groups_of_offset(n + 1, 0), groups_of;
-  for (int g = 0; g < groups; ++g)
-    for (int q = group_ids_offset[g]; q < group_ids_offset[g + 1]; ++q) ++groups_of_offset[group_ids[q] + 1];
-  for (int i = 0; i < n; ++i) groups_of_offset[i + 1] += groups_of_offset[i];
-  groups_of.resize(groups_of_offset[n]);
-  {
-    std::vector<int> fill(groups_of_offset.begin(), groups_of_offset.end() - 1);
-    for (int g = 0; g < groups; ++g)
-      for (int q = group_ids_offset[g]; q < group_ids_offset[g + 1]; ++q) groups_of[fill[group_ids[q]]++] = g;
-  }
-  // Upper triangle only (j ≥ i; the diagonal first in every row): all that CG and its
-  // preconditioner read, at half the memory and half the merge work.
-  std::vector<int> offsets(1, 0), cols;
-  std::fill(stamp.begin(), stamp.end(), -1);
-  for (int i = 0; i < n; ++i) {
-    const std::size_t first = cols.size();
-    cols.push_back(i);
-    stamp[i] = i;
-    for (int q = groups_of_offset[i]; q < groups_of_offset[i + 1]; ++q) {
-      const int g = groups_of[q];
-      // Group lists are sorted: only the part after i can add upper entries.
-      const int* begin = group_ids.data() + group_ids_offset[g];
-      const int* end = group_ids.data() + group_ids_offset[g + 1];
-      for (const int* r = std::upper_bound(begin, end, i); r != end; ++r)
-        if (stamp[*r] != i) {
-          stamp[*r] = i;
-          cols.push_back(*r);
-        }
-    }
-    std::sort(cols.begin() + static_cast<std::ptrdiff_t>(first) + 1, cols.end());
-    offsets.push_back(static_cast<int>(cols.size()));
-  }
-  cols.shrink_to_fit();
-  std::vector<int>().swap(groups_of);
-  std::vector<int>().swap(groups_of_offset);
-  std::vector<double> gram(cols.size(), 0.0);
-  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, k);
-  // Per group the lower triangle of the dense Gram block MᵀM (a symmetric rank update: half
-  // the products of a full MᵀM), merged into the sorted upper rows.
-  Eigen::MatrixXd block, t, local_gram, local_rhs;
+  GroupedGram normal(n, static_cast<int>(k), std::move(group_ids_offset), std::move(group_ids));
+  Eigen::MatrixXd block, t;
   for (int g = 0; g < groups; ++g) {
-    const int f = group_ids_offset[g + 1] - group_ids_offset[g];
-    const int* gid = group_ids.data() + group_ids_offset[g];
+    const int f = normal.group_size(g);
     const int rows = sample_start[g + 1] - sample_start[g];
     block.resize(rows, f);
     t.resize(rows, k);
@@ -185,24 +145,14 @@ NormalEquations assemble_normal_equations(const TSpline& spline, const Eigen::Ma
       for (int q = 0; q < f; ++q) block(r, q) = spline.weights()(ids[q]) * values[q];
       t.row(r) = targets.row(s);
     }
-    local_gram.setZero(f, f);
-    local_gram.selfadjointView<Eigen::Lower>().rankUpdate(block.transpose());
-    local_rhs.noalias() = block.transpose() * t;
-    for (int a = 0; a < f; ++a) {
-      const int i = gid[a];
-      rhs.row(i) += local_rhs.row(a);
-      // Merge of two sorted lists (gid ⊂ row i), skipping 8 columns at a time.
-      int p = offsets[i];
-      const int end = offsets[i + 1];
-      const double* column = local_gram.data() + static_cast<std::ptrdiff_t>(a) * f;
-      for (int b = a; b < f; ++b) {
-        const int j = gid[b];
-        while (p + 8 <= end && cols[p + 7] < j) p += 8;
-        while (cols[p] < j) ++p;
-        gram[p] += column[b];
-      }
-    }
+    normal.add(g, block, t);
   }
+  Eigen::MatrixXd rhs = std::move(normal.rhs());
+  // Upper triangle only (the diagonal first in every row): all that CG and its preconditioner
+  // read, at half the memory of both triangles.
+  linalg::CsrMatrix upper = normal.take_upper();
+  const std::vector<int>& offsets = upper.row_offsets();
+  std::vector<double>& gram = upper.values();
   double trace = 0.0;
   for (int i = 0; i < n; ++i) trace += gram[offsets[i]];
   const double mean = trace > 0.0 ? trace / n : 1.0;
@@ -212,8 +162,7 @@ NormalEquations assemble_normal_equations(const TSpline& spline, const Eigen::Ma
     ridge(i) = regularization * (d > 0.0 ? d : mean);
     d += ridge(i);
   }
-  return {linalg::CsrMatrix::from_arrays(n, n, std::move(offsets), std::move(cols), std::move(gram)), std::move(rhs),
-          std::move(ridge)};
+  return {std::move(upper), std::move(rhs), std::move(ridge)};
 }
 
 // Replaces a spline by a one-function placeholder, freeing its evaluation grid before the next
