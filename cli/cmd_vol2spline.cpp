@@ -13,6 +13,7 @@
 #include "core/io/file_bytes.h"
 #include "core/io/spline_json.h"
 #include "core/io/volume_io.h"
+#include "core/linalg/parallel_for.h"
 #include "core/pipeline/vol2spline_job.h"
 
 namespace volspline::cli {
@@ -201,7 +202,10 @@ int run_vol2spline(const std::vector<std::string>& argv) {
       {"iso", "V", "classify by the threshold V (sample units) instead of k-means"},
       {"corners", "FILE", "corner voxels, one 'x y z' per line (aligned; default automatic)"},
   };
-  for (const auto& common : common_job_options()) specs.push_back(common);
+  for (auto common : common_job_options()) {
+    if (common.name == "threads") common.help = "worker threads (default: the cores, at most 8; same output for any N)";
+    specs.push_back(common);
+  }
   const Args args = parse_args(argv, specs);
   if (args.has("help")) {
     std::fputs(format_help("volspline vol2spline VOLUME -o OUT.json [options]",
@@ -228,7 +232,7 @@ int run_vol2spline(const std::vector<std::string>& argv) {
   options.max_levels = args.get_int("max-levels", options.max_levels);
   options.min_gain_rate = args.get_double("min-gain-rate", options.min_gain_rate);
   options.initial_cells = args.get_int("initial-cells", options.initial_cells);
-  options.threads = args.get_int("threads", options.threads);
+  options.threads = args.get_int("threads", linalg::default_thread_count());
   options.clusters = args.get_int("clusters", options.clusters);
   if (args.has("iso")) options.iso = args.get_double("iso", 0.0);
   const std::string param = args.get("param", "identity");

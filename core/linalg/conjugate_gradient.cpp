@@ -5,6 +5,8 @@
 #include <cassert>
 #include <vector>
 
+#include "core/linalg/parallel_for.h"
+
 namespace volspline::linalg::detail {
 
 namespace {
@@ -18,7 +20,7 @@ struct Sum4 {
 
 }  // namespace
 
-SymmetricMatrix symmetric_from_upper(const CsrMatrix& a) {
+SymmetricMatrix symmetric_from_upper(const CsrMatrix& a, int threads) {
   const int n = a.rows();
   const std::vector<int>& off = a.row_offsets();
   const std::vector<int>& col = a.col_indices();
@@ -43,6 +45,28 @@ SymmetricMatrix symmetric_from_upper(const CsrMatrix& a) {
   }
   s.strict_upper =
       CsrMatrix::from_arrays(n, n, std::move(offsets), std::move(cols), std::move(vals));
+  s.threads = std::max(1, threads);
+  if (s.threads >= kMinSpmvThreads) {
+    // Transpose of the strict upper triangle; rows visited in increasing order give every
+    // lower row its columns in increasing order.
+    const std::vector<int>& up_off = s.strict_upper.row_offsets();
+    const std::vector<int>& up_col = s.strict_upper.col_indices();
+    const std::vector<double>& up_val = s.strict_upper.values();
+    std::vector<int> low_off(n + 1, 0);
+    for (int c : up_col) ++low_off[c + 1];
+    for (int i = 0; i < n; ++i) low_off[i + 1] += low_off[i];
+    std::vector<int> low_col(up_col.size());
+    std::vector<double> low_val(up_col.size());
+    std::vector<int> fill(low_off.begin(), low_off.end() - 1);
+    for (int i = 0; i < n; ++i)
+      for (int k = up_off[i]; k < up_off[i + 1]; ++k) {
+        const int at = fill[up_col[k]]++;
+        low_col[at] = i;
+        low_val[at] = up_val[k];
+      }
+    s.strict_lower =
+        CsrMatrix::from_arrays(n, n, std::move(low_off), std::move(low_col), std::move(low_val));
+  }
   return s;
 }
 
@@ -137,8 +161,56 @@ double update(int n, double alpha, const double* __restrict p, const double* __r
 
 namespace {
 
+// Rows per work chunk of the parallel product (a fixed partition; any one works, since each
+// row is computed whole by one thread).
+constexpr int kSpmvRowChunk = 512;
+
+// The product of spmv_block one row at a time: row i sums, in this order, q[i], the lower
+// entries (j < i, increasing j: the order in which spmv_block scatters them into q[i]), the
+// diagonal and the upper entries. The same operations in the same order, so the same bits,
+// but rows are independent and run in parallel; p·q is summed afterwards in row order.
+template <int K>
+void spmv_rows_parallel(const SymmetricMatrix& a, const double* const* p, double* const* q, double* pq) {
+  const int n = a.strict_upper.rows();
+  const int* up_off = a.strict_upper.row_offsets().data();
+  const int* up_col = a.strict_upper.col_indices().data();
+  const double* up_val = a.strict_upper.values().data();
+  const int* low_off = a.strict_lower.row_offsets().data();
+  const int* low_col = a.strict_lower.col_indices().data();
+  const double* low_val = a.strict_lower.values().data();
+  const double* diag = a.diagonal.data();
+  parallel_for(a.threads, (n + kSpmvRowChunk - 1) / kSpmvRowChunk, [&](int chunk) {
+    const int end = std::min(n, (chunk + 1) * kSpmvRowChunk);
+    for (int i = chunk * kSpmvRowChunk; i < end; ++i) {
+      double sum[K];
+      for (int c = 0; c < K; ++c) sum[c] = q[c][i];
+      for (int k = low_off[i]; k < low_off[i + 1]; ++k) {
+        const int j = low_col[k];
+        const double v = low_val[k];
+        for (int c = 0; c < K; ++c) sum[c] += v * p[c][j];
+      }
+      for (int c = 0; c < K; ++c) sum[c] = sum[c] + diag[i] * p[c][i];
+      for (int k = up_off[i]; k < up_off[i + 1]; ++k) {
+        const int j = up_col[k];
+        const double v = up_val[k];
+        for (int c = 0; c < K; ++c) sum[c] += v * p[c][j];
+      }
+      for (int c = 0; c < K; ++c) q[c][i] = sum[c];
+    }
+  });
+  for (int c = 0; c < K; ++c) {
+    double dot = 0.0;
+    for (int i = 0; i < n; ++i) dot += p[c][i] * q[c][i];
+    pq[c] = dot;
+  }
+}
+
 template <int K>
 void spmv_block(const SymmetricMatrix& a, const double* const* p, double* const* q, double* pq) {
+  if (a.threads >= kMinSpmvThreads) {
+    spmv_rows_parallel<K>(a, p, q, pq);
+    return;
+  }
   const int n = a.strict_upper.rows();
   const int* offsets = a.strict_upper.row_offsets().data();
   const int* cols = a.strict_upper.col_indices().data();

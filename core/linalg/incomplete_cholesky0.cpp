@@ -7,6 +7,8 @@
 #include <limits>
 #include <vector>
 
+#include "core/linalg/parallel_for.h"
+
 namespace volspline::linalg {
 
 namespace {
@@ -82,11 +84,35 @@ void IncompleteCholesky0::compute(const CsrMatrix& a) {
   }
   inverse_diagonal_.resize(n);
 
-  shift_ = 0.0;
-  bool ok = factorize(a_lower, diag, diag_scale, shift_, lower_, inverse_diagonal_);
-  for (int attempt = 0; !ok && attempt < 60; ++attempt) {
-    shift_ = attempt == 0 ? 1e-3 : 2.0 * shift_;
-    ok = factorize(a_lower, diag, diag_scale, shift_, lower_, inverse_diagonal_);
+  // Attempt t uses shift 0 (t = 0), then 1e-3 doubled t − 1 times, t ≤ 60.
+  constexpr int kAttempts = 61;
+  auto shift_of = [](int attempt) { return attempt == 0 ? 0.0 : std::ldexp(1e-3, attempt - 1); };
+  bool ok = false;
+  if (threads_ <= 1) {
+    for (int attempt = 0; !ok && attempt < kAttempts; ++attempt) {
+      shift_ = shift_of(attempt);
+      ok = factorize(a_lower, diag, diag_scale, shift_, lower_, inverse_diagonal_);
+    }
+  } else {
+    // Rounds of `width` consecutive attempts run concurrently; the first success in attempt
+    // order is the factor the sequential loop would keep.
+    const int width = std::min(threads_, 4);
+    std::vector<CsrMatrix> lower(static_cast<std::size_t>(width), lower_);
+    std::vector<Eigen::VectorXd> inverse(static_cast<std::size_t>(width), inverse_diagonal_);
+    std::vector<char> success(static_cast<std::size_t>(width));
+    for (int first = 0; !ok && first < kAttempts; first += width) {
+      const int count = std::min(width, kAttempts - first);
+      parallel_for(threads_, count, [&](int w) {
+        success[w] = factorize(a_lower, diag, diag_scale, shift_of(first + w), lower[w], inverse[w]);
+      });
+      for (int w = 0; w < count && !ok; ++w)
+        if (success[w]) {
+          ok = true;
+          shift_ = shift_of(first + w);
+          lower_ = std::move(lower[w]);
+          inverse_diagonal_ = std::move(inverse[w]);
+        }
+    }
   }
   if (!ok) {
     shift_ = std::numeric_limits<double>::infinity();

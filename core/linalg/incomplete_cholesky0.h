@@ -21,6 +21,11 @@ class IncompleteCholesky0 {
   /// a symmetric matrix may be stored in full).
   void compute(const CsrMatrix& a);
 
+  /// Threads of the next compute() (≥ 1, default 1: none created): with more, consecutive
+  /// shifts of the pivot fallback are tried concurrently and the first that succeeds is kept,
+  /// so the factor is bit-identical to the one-thread result.
+  void set_threads(int threads) { threads_ = threads < 1 ? 1 : threads; }
+
   /// z = (L Lᵀ)⁻¹ r for n entries (raw arrays, forward then backward substitution); r and z
   /// may alias.
   void solve(const double* r, double* z) const;
@@ -50,6 +55,7 @@ class IncompleteCholesky0 {
   CsrMatrix upper_;
   Eigen::VectorXd inverse_diagonal_;
   double shift_ = 0.0;
+  int threads_ = 1;
 };
 
 }  // namespace volspline::linalg

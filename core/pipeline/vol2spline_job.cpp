@@ -44,7 +44,7 @@ void check_options(const Vol2SplineOptions& o) {
   if (o.max_levels < 0 || o.max_levels > 20) throw Error("vol2spline: max_levels must be in [0, 20]");
   if (o.initial_cells < 0 || o.initial_cells > 256) throw Error("vol2spline: initial_cells must be in [0, 256]");
   if (o.clusters != 0 && (o.clusters < 2 || o.clusters > 16)) throw Error("vol2spline: clusters must be 0 or in [2, 16]");
-  if (o.threads < 1) throw Error("vol2spline: threads must be >= 1");
+  if (o.threads < 1 || o.threads > 256) throw Error("vol2spline: threads must be in [1, 256]");
 }
 
 // Smallest scaled Jacobian det J / (|J_u| |J_v| |J_w|) of the geometry (X, Y, Z) at the cell
@@ -91,7 +91,9 @@ Vol2SplineResult run_vol2spline(const volume::Volume& volume, const std::string&
     if (volume.nx < 5 || volume.ny < 5 || volume.nz < 5)
       throw Error("vol2spline: volume '" + name + "' needs at least 5 voxels along every axis for the frame field");
     progress.report("local cubic fit", 0.0);
-    const volume::LocalCubicFit fit = volume::fit_local_cubics(volume, {}, progress);
+    volume::LocalCubicFitOptions cubic;
+    cubic.threads = options.threads;
+    const volume::LocalCubicFit fit = volume::fit_local_cubics(volume, cubic, progress);
     timer.lap("local_cubic_fit");
     progress.report("hessian frames", 0.0);
     volume::FrameField initial{volume.nx, volume.ny, volume.nz, volume::hessian_frames(fit.hessian)};
@@ -118,6 +120,7 @@ Vol2SplineResult run_vol2spline(const volume::Volume& volume, const std::string&
     if (aligned) {
       progress.report("parameterization", 0.0);
       volume::FieldAlignedOptions param;
+      param.threads = options.threads;
       if (!options.corners.empty()) {
         for (std::size_t id : options.corners)
           if (id >= volume.num_voxels())
@@ -145,6 +148,7 @@ Vol2SplineResult run_vol2spline(const volume::Volume& volume, const std::string&
   fit.max_levels = options.max_levels;
   fit.min_gain_rate = options.min_gain_rate;
   fit.initial_cells = options.initial_cells;
+  fit.fit.threads = options.threads;
   std::vector<double> reconstruction;
   std::vector<spline::AdaptiveDensityLevel> curve;
   spline::GridError error;

@@ -35,7 +35,7 @@ struct Vol2SplineOptions {
   int clusters = 0;                 ///< k-means clusters, 0 = automatic, else [2, 16]
   double iso = std::numeric_limits<double>::quiet_NaN();  ///< if finite: threshold classification at this sample value
   std::vector<std::size_t> corners; ///< corner voxel ids (flat x + nx(y + ny z)); empty = automatic
-  int threads = 1;                  ///< accepted for the CLI; the job runs on one thread, ≥ 1
+  int threads = 1;                  ///< worker threads in [1, 256] (1 creates none); the output is the same for every count
 };
 
 /// The measures of DESIGN.md for volumes plus job facts (the stats JSON keys).

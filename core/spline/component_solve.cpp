@@ -10,11 +10,12 @@
 namespace volspline::spline {
 
 ComponentSolveReport solve_normal_equations(linalg::CsrMatrix gram, const Eigen::MatrixXd& rhs, Eigen::MatrixXd& x,
-                                            double tolerance, int max_iterations) {
+                                            double tolerance, int max_iterations, int threads) {
   assert(rhs.rows() == gram.rows() && x.rows() == rhs.rows() && x.cols() == rhs.cols());
   linalg::ConjugateGradient<SparsifiedCholesky> cg;
   cg.set_tolerance(tolerance);
   cg.set_max_iterations(max_iterations);
+  cg.set_threads(threads);
   cg.compute(gram);
   gram = linalg::CsrMatrix();
   x = cg.solve(rhs, x);

@@ -13,6 +13,7 @@
 #include "core/common/error.h"
 #include "core/linalg/conjugate_gradient.h"
 #include "core/linalg/csr_matrix.h"
+#include "core/linalg/parallel_for.h"
 #include "core/spline/component_solve.h"
 #include "core/spline/hierarchical_refinement.h"
 
@@ -151,26 +152,33 @@ double project(const Supports& s, int i, const std::vector<double>& f, const std
   return total;
 }
 
+// Σ_i c_i w_i B_i at every sample. Slabs of z planes are filled in parallel, each summing the
+// functions in increasing i as one pass would: the same bits for every thread count.
 std::vector<double> accumulate(const Supports& s, const Eigen::Ref<const Eigen::VectorXd>& coefficients,
-                               const std::array<int, 3>& dims) {
+                               const std::array<int, 3>& dims, int threads) {
   std::vector<double> out(static_cast<std::size_t>(dims[0]) * dims[1] * dims[2], 0.0);
-  for (int i = 0; i < static_cast<int>(s.lo.size()); ++i) {
-    if (s.empty(i) || coefficients(i) == 0.0) continue;
-    const int* lo = s.lo[i].data();
-    const int* hi = s.hi[i].data();
-    const double* nx = s.at(i, 0);
-    const double* ny = s.at(i, 1);
-    const double* nz = s.at(i, 2);
-    for (int z = lo[2]; z <= hi[2]; ++z) {
-      const double cz = coefficients(i) * nz[z - lo[2]];
-      if (cz == 0.0) continue;
-      for (int y = lo[1]; y <= hi[1]; ++y) {
-        const double cy = cz * ny[y - lo[1]];
-        double* row = out.data() + static_cast<std::size_t>(dims[0]) * (y + static_cast<std::size_t>(dims[1]) * z);
-        for (int x = lo[0]; x <= hi[0]; ++x) row[x] += cy * nx[x - lo[0]];
+  constexpr int kSlab = 4;
+  linalg::parallel_for(threads, (dims[2] + kSlab - 1) / kSlab, [&](int slab) {
+    const int slab_lo = slab * kSlab, slab_hi = std::min(dims[2] - 1, slab_lo + kSlab - 1);
+    for (int i = 0; i < static_cast<int>(s.lo.size()); ++i) {
+      if (s.empty(i) || coefficients(i) == 0.0) continue;
+      const int* lo = s.lo[i].data();
+      const int* hi = s.hi[i].data();
+      if (hi[2] < slab_lo || lo[2] > slab_hi) continue;
+      const double* nx = s.at(i, 0);
+      const double* ny = s.at(i, 1);
+      const double* nz = s.at(i, 2);
+      for (int z = std::max(lo[2], slab_lo); z <= std::min(hi[2], slab_hi); ++z) {
+        const double cz = coefficients(i) * nz[z - lo[2]];
+        if (cz == 0.0) continue;
+        for (int y = lo[1]; y <= hi[1]; ++y) {
+          const double cy = cz * ny[y - lo[1]];
+          double* row = out.data() + static_cast<std::size_t>(dims[0]) * (y + static_cast<std::size_t>(dims[1]) * z);
+          for (int x = lo[0]; x <= hi[0]; ++x) row[x] += cy * nx[x - lo[0]];
+        }
       }
     }
-  }
+  });
   return out;
 }
 
@@ -179,7 +187,7 @@ std::vector<double> accumulate(const Supports& s, const Eigen::Ref<const Eigen::
 // preconditioner read, so the matrix costs half the bytes and half the products. Neighbours are
 // found through buckets of 8 samples per axis.
 linalg::CsrMatrix gram_upper(const Supports& s, const std::array<int, 3>& dims, double ridge_rel,
-                             std::vector<double>& ridge) {
+                             std::vector<double>& ridge, int threads) {
   const int n = static_cast<int>(s.lo.size());
   constexpr int kBucket = 8;
   std::array<int, 3> nb;
@@ -200,39 +208,59 @@ linalg::CsrMatrix gram_upper(const Supports& s, const std::array<int, 3>& dims, 
     for (int i = 0; i < n; ++i)
       if (!s.empty(i)) for_buckets(i, [&](std::size_t b) { bucket_ids[fill[b]++] = i; });
   }
-  std::vector<int> stamp(n, -1);
-  std::vector<int> offsets(1, 0), cols;
-  std::vector<double> values;
-  std::vector<int> row;
-  for (int i = 0; i < n; ++i) {
-    row.clear();
-    row.push_back(i);
-    if (!s.empty(i)) {
-      stamp[i] = i;
-      for_buckets(i, [&](std::size_t b) {
-        for (int q = bucket_offsets[b]; q < bucket_offsets[b + 1]; ++q) {
-          const int j = bucket_ids[q];
-          if (j <= i || stamp[j] == i) continue;
-          stamp[j] = i;
-          row.push_back(j);
+  // Rows are independent: fixed row ranges are built apart and concatenated in order.
+  constexpr int kRows = 256;
+  const int chunks = (n + kRows - 1) / kRows;
+  std::vector<std::vector<int>> chunk_cols(static_cast<std::size_t>(chunks));
+  std::vector<std::vector<double>> chunk_values(static_cast<std::size_t>(chunks));
+  std::vector<int> row_size(static_cast<std::size_t>(n));
+  linalg::parallel_for(threads, chunks, [&](int chunk) {
+    std::vector<int> stamp(static_cast<std::size_t>(n), -1);
+    std::vector<int> row;
+    std::vector<int>& cols = chunk_cols[chunk];
+    std::vector<double>& values = chunk_values[chunk];
+    for (int i = chunk * kRows; i < std::min(n, (chunk + 1) * kRows); ++i) {
+      const std::size_t first = cols.size();
+      row.clear();
+      row.push_back(i);
+      if (!s.empty(i)) {
+        stamp[i] = i;
+        for_buckets(i, [&](std::size_t b) {
+          for (int q = bucket_offsets[b]; q < bucket_offsets[b + 1]; ++q) {
+            const int j = bucket_ids[q];
+            if (j <= i || stamp[j] == i) continue;
+            stamp[j] = i;
+            row.push_back(j);
+          }
+        });
+        std::sort(row.begin() + 1, row.end());
+      }
+      for (int j : row) {
+        double product = 1.0;
+        if (s.empty(i)) product = 0.0;
+        for (int a = 0; a < 3 && product != 0.0; ++a) {
+          const int lo = std::max(s.lo[i][a], s.lo[j][a]);
+          const int hi = std::min(s.hi[i][a], s.hi[j][a]);
+          product = lo > hi ? 0.0 : product * dot_overlap(s, i, j, a, lo, hi);
         }
-      });
-      std::sort(row.begin() + 1, row.end());
-    }
-    for (int j : row) {
-      double product = 1.0;
-      if (s.empty(i)) product = 0.0;
-      for (int a = 0; a < 3 && product != 0.0; ++a) {
-        const int lo = std::max(s.lo[i][a], s.lo[j][a]);
-        const int hi = std::min(s.hi[i][a], s.hi[j][a]);
-        product = lo > hi ? 0.0 : product * dot_overlap(s, i, j, a, lo, hi);
+        if (product != 0.0 || j == i) {
+          cols.push_back(j);
+          values.push_back(product);
+        }
       }
-      if (product != 0.0 || j == i) {
-        cols.push_back(j);
-        values.push_back(product);
-      }
+      row_size[i] = static_cast<int>(cols.size() - first);
     }
-    offsets.push_back(static_cast<int>(cols.size()));
+  });
+  std::vector<int> offsets(static_cast<std::size_t>(n) + 1, 0), cols;
+  std::vector<double> values;
+  for (int i = 0; i < n; ++i) offsets[i + 1] = offsets[i] + row_size[i];
+  cols.reserve(static_cast<std::size_t>(offsets[n]));
+  values.reserve(static_cast<std::size_t>(offsets[n]));
+  for (int c = 0; c < chunks; ++c) {
+    cols.insert(cols.end(), chunk_cols[c].begin(), chunk_cols[c].end());
+    values.insert(values.end(), chunk_values[c].begin(), chunk_values[c].end());
+    std::vector<int>().swap(chunk_cols[c]);
+    std::vector<double>().swap(chunk_values[c]);
   }
   // Ridge relative to each diagonal entry (the mean one for unsampled functions): keeps G SPD
   // and CG fast where refined cells hold about one sample per knot interval (nearly dependent
@@ -246,8 +274,6 @@ linalg::CsrMatrix gram_upper(const Supports& s, const std::array<int, 3>& dims, 
     ridge[i] = ridge_rel * (d > 0.0 ? d : mean);
     d += ridge[i];
   }
-  cols.shrink_to_fit();
-  values.shrink_to_fit();
   return linalg::CsrMatrix::from_arrays(n, n, std::move(offsets), std::move(cols), std::move(values));
 }
 
@@ -371,19 +397,22 @@ GridFitReport fit_functions_to_grid(RefinementGrid::Functions& functions, const 
   const int n = static_cast<int>(functions.knots.size());
   const int k = static_cast<int>(components.size());
   std::vector<double> ridge;
-  linalg::CsrMatrix gram = gram_upper(s, dims, options.regularization, ridge);
+  const int threads = std::max(1, options.threads);
+  linalg::CsrMatrix gram = gram_upper(s, dims, options.regularization, ridge, threads);
   Eigen::MatrixXd rhs(n, k), x(n, k);
   for (int c = 0; c < k; ++c) {
     assert(targets[c]->size() == static_cast<std::size_t>(dims[0]) * dims[1] * dims[2]);
     x.col(c) = functions.points.col(components[c]);
-    for (int i = 0; i < n; ++i)
-      rhs(i, c) = (s.empty(i) ? 0.0 : project(s, i, *targets[c], dims)) + ridge[i] * x(i, c);
+    linalg::parallel_for(threads, (n + 255) / 256, [&](int chunk) {
+      for (int i = chunk * 256; i < std::min(n, (chunk + 1) * 256); ++i)
+        rhs(i, c) = (s.empty(i) ? 0.0 : project(s, i, *targets[c], dims)) + ridge[i] * x(i, c);
+    });
   }
   GridFitReport report;
   report.unknowns = n;
   report.normal_nonzeros = 2LL * gram.nnz() - n;  // both triangles
   const ComponentSolveReport solve =
-      solve_normal_equations(std::move(gram), rhs, x, options.tolerance, options.max_iterations);
+      solve_normal_equations(std::move(gram), rhs, x, options.tolerance, options.max_iterations, threads);
   for (int c = 0; c < k; ++c) functions.points.col(components[c]) = x.col(c);
   report.cg_iterations = solve.cg_iterations;
   report.converged = solve.converged;
@@ -408,7 +437,7 @@ GridFitReport fit_tspline_to_grid(TSpline& spline, const std::array<int, 3>& dim
 
 std::vector<double> evaluate_on_grid(const TSpline& spline, int component, const std::array<int, 3>& dims) {
   const Supports s = compute_supports(spline.knots(), spline.weights(), spline.domain_max(), dims);
-  return accumulate(s, spline.points().col(component), dims);
+  return accumulate(s, spline.points().col(component), dims, 1);
 }
 
 AdaptiveDensityResult fit_density_adaptive(const GridSamples& samples, const AdaptiveDensityOptions& options,
@@ -428,6 +457,7 @@ AdaptiveDensityResult fit_density_adaptive(const GridSamples& samples, const Ada
     throw Error("density fit: min_decrease_rel must be in [0, 1)");
   if (!(options.fit.tolerance > 0.0) || options.fit.max_iterations < 1 || !(options.fit.regularization > 0.0))
     throw Error("density fit: CG tolerance and regularization must be > 0, max_iterations >= 1");
+  if (options.fit.threads < 1) throw Error("density fit: threads must be >= 1");
   const std::array<int, 3>& dims = samples.dims;
   const int budget = options.max_control_points > 0 ? options.max_control_points
                                                     : automatic_control_point_budget(samples.values.size());
@@ -466,7 +496,7 @@ AdaptiveDensityResult fit_density_adaptive(const GridSamples& samples, const Ada
   auto fit_and_measure = [&]() {
     const Supports s = compute_supports(current.knots, current.weights, hi, dims);
     const GridFitReport report = fit_functions_to_grid(current, s, dims, {0}, density_target, options.fit);
-    recon = accumulate(s, current.points.col(0), dims);
+    recon = accumulate(s, current.points.col(0), dims, options.fit.threads);
     error = grid_error(samples, recon);
     return report;
   };

@@ -50,6 +50,7 @@ struct GridFitOptions {
   double tolerance = 1e-5;      ///< relative CG residual of the normal equations (1e-5 moves the density RMS by < 1e-6 relative on the shared volumes)
   int max_iterations = 3000;    ///< CG iteration cap per solve
   double regularization = 1e-3; ///< ridge towards the current control points, relative to each diagonal entry (> 0)
+  int threads = 1;              ///< worker threads (≥ 1; 1 creates none); the result is the same for every count
 };
 
 /// Outcome of fit_tspline_to_grid.

@@ -7,6 +7,7 @@
 
 #include <map>
 #include <tuple>
+#include <unordered_map>
 
 #include "core/spline/knot_insertion.h"
 
@@ -161,7 +162,7 @@ RefinementGrid::Functions RefinementGrid::split_functions(const Functions& funct
     work.push_back({functions.knots[i], functions.weights(i),
                     functions.weights(i) * functions.points.row(i).transpose()});
   std::vector<Function> done;
-  std::map<BlendingKnots, int> index;  // knots -> position in `done`
+  std::unordered_map<BlendingKnots, int, KnotsHash> index;  // knots -> position in `done`
   // The T-mesh faces a ray crosses depend only on its line (axis and the two other anchor
   // coordinates), and many blending functions share a line: the planes are traced once per line.
   std::map<std::tuple<int, double, double>, std::vector<double>> line_cache;
@@ -206,15 +207,18 @@ RefinementGrid::Functions RefinementGrid::split_functions(const Functions& funct
       work.push_back({split.first, f.weight * split.first_coefficient,
                       split.first_coefficient * f.weighted_point});
   }
-  // Deterministic order: sorted by knot vectors.
+  // Deterministic order: sorted by knot vectors (distinct, so no ties).
+  std::vector<int> order(done.size());
+  for (std::size_t p = 0; p < done.size(); ++p) order[p] = static_cast<int>(p);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return done[a].knots < done[b].knots; });
   std::vector<BlendingKnots> knots;
   Eigen::VectorXd weights(static_cast<Eigen::Index>(done.size()));
   Eigen::MatrixXd points(static_cast<Eigen::Index>(done.size()), dimension);
   knots.reserve(done.size());
   int row = 0;
-  for (const auto& [k, position] : index) {
+  for (int position : order) {
     const Function& f = done[position];
-    knots.push_back(k);
+    knots.push_back(f.knots);
     weights(row) = f.weight;
     points.row(row) = (f.weighted_point / f.weight).transpose();
     ++row;

@@ -2,6 +2,8 @@
 #include "core/spline/scattered_density_fitting.h"
 
 #include <algorithm>
+#include <atomic>
+#include <optional>
 #include <unordered_map>
 #include <utility>
 #include <cassert>
@@ -13,6 +15,7 @@
 #include "core/common/error.h"
 #include "core/linalg/conjugate_gradient.h"
 #include "core/linalg/csr_matrix.h"
+#include "core/linalg/parallel_for.h"
 #include "core/spline/component_solve.h"
 #include "core/spline/grouped_gram.h"
 #include "core/spline/bspline_volume.h"
@@ -29,14 +32,23 @@ std::vector<double> clamped_uniform(int intervals) {
   return k;
 }
 
+// Samples per work chunk of the per-sample passes (a fixed partition: results never depend on
+// the thread count).
+constexpr Eigen::Index kSampleChunk = 4096;
+
+int sample_chunks(Eigen::Index m) { return static_cast<int>((m + kSampleChunk - 1) / kSampleChunk); }
+
 // The density (component 3) of the spline at every sample.
-std::vector<double> evaluate_density(const TSpline& spline, const Eigen::MatrixX3d& uvw) {
+std::vector<double> evaluate_density(const TSpline& spline, const Eigen::MatrixX3d& uvw, int threads) {
   std::vector<double> out(static_cast<std::size_t>(uvw.rows()));
-  double value[4];
-  for (Eigen::Index s = 0; s < uvw.rows(); ++s) {
-    spline.evaluate_to(uvw.row(s).transpose(), TSplineForm::SemiStandard, value);
-    out[static_cast<std::size_t>(s)] = value[3];
-  }
+  linalg::parallel_for(threads, sample_chunks(uvw.rows()), [&](int chunk) {
+    double value[4];
+    const Eigen::Index end = std::min(uvw.rows(), (chunk + 1) * kSampleChunk);
+    for (Eigen::Index s = chunk * kSampleChunk; s < end; ++s) {
+      spline.evaluate_to(uvw.row(s).transpose(), TSplineForm::SemiStandard, value);
+      out[static_cast<std::size_t>(s)] = value[3];
+    }
+  });
   return out;
 }
 
@@ -59,38 +71,96 @@ std::uint64_t hash_ids(const std::vector<int>& ids) {
   return h;
 }
 
-// Every sample of one knot-grid cell of the T-spline has the same blending functions (the
-// cell's list, from basis_at), so samples are grouped by that exact list and each group adds
-// one dense Gram block, a symmetric rank update, to the sparse upper triangle. Groups run in
-// order of their first sample, so consecutive groups touch neighbouring rows.
-NormalEquations assemble_normal_equations(const TSpline& spline, const Eigen::MatrixX3d& uvw,
-                                          const Eigen::MatrixXd& targets, double regularization) {
-  const int n = spline.num_functions();
-  const Eigen::Index m = uvw.rows();
-  const Eigen::Index k = targets.cols();
+// Samples grouped by their exact list of blending functions, groups numbered in order of their
+// first sample; group_ids_offset/group_ids hold each group's list.
+struct SampleGroups {
+  std::vector<int> group;  // per sample
+  std::vector<int> group_ids_offset{0}, group_ids;
+};
+
+// Exact grouping, one sample after the other; a hash collision is resolved by probing.
+SampleGroups group_samples_exact(const TSpline& spline, const Eigen::MatrixX3d& uvw) {
+  SampleGroups out;
   std::vector<int> ids;
   std::vector<double> values;
-  // Groups numbered in order of their first sample; a hash collision is resolved by probing.
   std::unordered_map<std::uint64_t, int> group_of_hash;
-  std::vector<int> group_ids_offset(1, 0), group_ids;
-  std::vector<int> group(static_cast<std::size_t>(m));
-  for (Eigen::Index s = 0; s < m; ++s) {
+  out.group.resize(static_cast<std::size_t>(uvw.rows()));
+  for (Eigen::Index s = 0; s < uvw.rows(); ++s) {
     spline.basis_at(uvw.row(s).transpose(), {0, 0, 0}, ids, values);
     for (std::uint64_t h = hash_ids(ids);; ++h) {
-      const auto [it, inserted] = group_of_hash.try_emplace(h, static_cast<int>(group_ids_offset.size()) - 1);
+      const auto [it, inserted] = group_of_hash.try_emplace(h, static_cast<int>(out.group_ids_offset.size()) - 1);
       const int g = it->second;
       if (inserted) {
-        group_ids.insert(group_ids.end(), ids.begin(), ids.end());
-        group_ids_offset.push_back(static_cast<int>(group_ids.size()));
-      } else if (!std::equal(ids.begin(), ids.end(), group_ids.begin() + group_ids_offset[g],
-                             group_ids.begin() + group_ids_offset[g + 1])) {
+        out.group_ids.insert(out.group_ids.end(), ids.begin(), ids.end());
+        out.group_ids_offset.push_back(static_cast<int>(out.group_ids.size()));
+      } else if (!std::equal(ids.begin(), ids.end(), out.group_ids.begin() + out.group_ids_offset[g],
+                             out.group_ids.begin() + out.group_ids_offset[g + 1])) {
         continue;
       }
-      group[static_cast<std::size_t>(s)] = g;
+      out.group[static_cast<std::size_t>(s)] = g;
       break;
     }
   }
-  group_of_hash = {};
+  return out;
+}
+
+// The same groups as group_samples_exact unless two different lists share a 64-bit hash:
+// the lists are hashed in parallel and grouped by hash. The caller checks every sample's list
+// against its group's (verify) and falls back to the exact grouping on a mismatch.
+SampleGroups group_samples_by_hash(const TSpline& spline, const Eigen::MatrixX3d& uvw, int threads) {
+  const Eigen::Index m = uvw.rows();
+  std::vector<std::uint64_t> hash(static_cast<std::size_t>(m));
+  linalg::parallel_for(threads, sample_chunks(m), [&](int chunk) {
+    std::vector<int> ids;
+    std::vector<double> values;
+    const Eigen::Index end = std::min(m, (chunk + 1) * kSampleChunk);
+    for (Eigen::Index s = chunk * kSampleChunk; s < end; ++s) {
+      spline.basis_at(uvw.row(s).transpose(), {0, 0, 0}, ids, values);
+      hash[static_cast<std::size_t>(s)] = hash_ids(ids);
+    }
+  });
+  SampleGroups out;
+  out.group.resize(static_cast<std::size_t>(m));
+  std::vector<Eigen::Index> first_sample;
+  {
+    std::unordered_map<std::uint64_t, int> group_of_hash;
+    for (Eigen::Index s = 0; s < m; ++s) {
+      const auto [it, inserted] = group_of_hash.try_emplace(hash[static_cast<std::size_t>(s)],
+                                                            static_cast<int>(first_sample.size()));
+      if (inserted) first_sample.push_back(s);
+      out.group[static_cast<std::size_t>(s)] = it->second;
+    }
+  }
+  const int groups = static_cast<int>(first_sample.size());
+  std::vector<std::vector<int>> lists(static_cast<std::size_t>(groups));
+  linalg::parallel_for(threads, (groups + 1023) / 1024, [&](int chunk) {
+    std::vector<double> values;
+    for (int g = chunk * 1024; g < std::min(groups, (chunk + 1) * 1024); ++g)
+      spline.basis_at(uvw.row(first_sample[g]).transpose(), {0, 0, 0}, lists[g], values);
+  });
+  for (const std::vector<int>& ids : lists) {
+    out.group_ids.insert(out.group_ids.end(), ids.begin(), ids.end());
+    out.group_ids_offset.push_back(static_cast<int>(out.group_ids.size()));
+  }
+  return out;
+}
+
+// Every sample of one knot-grid cell of the T-spline has the same blending functions (the
+// cell's list, from basis_at), so samples are grouped by that exact list and each group adds
+// one dense Gram block, a symmetric rank update, to the sparse upper triangle. Groups run in
+// Morton order of their first sample, so consecutive groups touch neighbouring rows. With
+// `exact` false the grouping is by hash; the result is then empty if a sample's list differs
+// from its group's (a hash collision), and the caller repeats with `exact`.
+std::optional<NormalEquations> assemble_normal_equations(const TSpline& spline, const Eigen::MatrixX3d& uvw,
+                                                         const Eigen::MatrixXd& targets, double regularization,
+                                                         int threads, bool exact) {
+  const int n = spline.num_functions();
+  const Eigen::Index m = uvw.rows();
+  const Eigen::Index k = targets.cols();
+  SampleGroups grouping = exact ? group_samples_exact(spline, uvw) : group_samples_by_hash(spline, uvw, threads);
+  std::vector<int>& group = grouping.group;
+  std::vector<int>& group_ids_offset = grouping.group_ids_offset;
+  std::vector<int>& group_ids = grouping.group_ids;
   const int groups = static_cast<int>(group_ids_offset.size()) - 1;
   // Groups in Morton order of their first sample's parameters: consecutive groups share most
   // functions, so the scatter below stays within a few cached rows.
@@ -131,22 +201,30 @@ NormalEquations assemble_normal_equations(const TSpline& spline, const Eigen::Ma
     for (Eigen::Index s = 0; s < m; ++s) order[fill[group[s]]++] = static_cast<int>(s);
   }
   std::vector<int>().swap(group);
-  GroupedGram normal(n, static_cast<int>(k), std::move(group_ids_offset), std::move(group_ids));
-  Eigen::MatrixXd block, t;
-  for (int g = 0; g < groups; ++g) {
+  GroupedGram normal(n, static_cast<int>(k), std::move(group_ids_offset), std::move(group_ids), threads);
+  std::atomic<bool> mismatch{false};
+  normal.add_all([&](int g, Eigen::MatrixXd& block, Eigen::MatrixXd& t) {
     const int f = normal.group_size(g);
+    const int* list = normal.group_columns(g);
     const int rows = sample_start[g + 1] - sample_start[g];
     block.resize(rows, f);
     t.resize(rows, k);
+    std::vector<int> ids;
+    std::vector<double> values;
     for (int r = 0; r < rows; ++r) {
       const int s = order[sample_start[g] + r];
       spline.basis_at(uvw.row(s).transpose(), {0, 0, 0}, ids, values);
-      assert(static_cast<int>(ids.size()) == f);  // the group's exact list
+      if (static_cast<int>(ids.size()) != f || !std::equal(ids.begin(), ids.end(), list)) {
+        mismatch = true;  // a hash collision merged two lists
+        block.resize(0, f);
+        t.resize(0, k);
+        return;
+      }
       for (int q = 0; q < f; ++q) block(r, q) = spline.weights()(ids[q]) * values[q];
       t.row(r) = targets.row(s);
     }
-    normal.add(g, block, t);
-  }
+  });
+  if (mismatch) return std::nullopt;
   Eigen::MatrixXd rhs = std::move(normal.rhs());
   // Upper triangle only (the diagonal first in every row): all that CG and its preconditioner
   // read, at half the memory of both triangles.
@@ -162,7 +240,14 @@ NormalEquations assemble_normal_equations(const TSpline& spline, const Eigen::Ma
     ridge(i) = regularization * (d > 0.0 ? d : mean);
     d += ridge(i);
   }
-  return {std::move(upper), std::move(rhs), std::move(ridge)};
+  return NormalEquations{std::move(upper), std::move(rhs), std::move(ridge)};
+}
+
+NormalEquations assemble_normal_equations(const TSpline& spline, const Eigen::MatrixX3d& uvw,
+                                          const Eigen::MatrixXd& targets, double regularization, int threads) {
+  std::optional<NormalEquations> eq = assemble_normal_equations(spline, uvw, targets, regularization, threads, false);
+  if (!eq) eq = assemble_normal_equations(spline, uvw, targets, regularization, threads, true);
+  return std::move(*eq);
 }
 
 // Replaces a spline by a one-function placeholder, freeing its evaluation grid before the next
@@ -177,7 +262,7 @@ void release(TSpline& spline) {
 ScatteredFitReport fit_tspline_scattered(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixXd& targets,
                                          const std::vector<int>& components, const GridFitOptions& options) {
   assert(targets.rows() == uvw.rows() && targets.cols() == static_cast<Eigen::Index>(components.size()));
-  NormalEquations eq = assemble_normal_equations(spline, uvw, targets, options.regularization);
+  NormalEquations eq = assemble_normal_equations(spline, uvw, targets, options.regularization, std::max(1, options.threads));
   const int n = spline.num_functions();
   const int k = static_cast<int>(components.size());
   Eigen::MatrixXd x0(n, k);
@@ -217,6 +302,8 @@ ScatteredDensityResult fit_scattered_adaptive(const Eigen::MatrixX3d& uvw, const
     throw Error("scattered density fit: max_levels, initial_cells >= 0, min_cell_width > 0, min_decrease_rel in [0, 1)");
   if (!(options.fit.tolerance > 0.0) || options.fit.max_iterations < 1 || !(options.fit.regularization > 0.0))
     throw Error("scattered density fit: CG tolerance and regularization must be > 0, max_iterations >= 1");
+  if (options.fit.threads < 1) throw Error("scattered density fit: threads must be >= 1");
+  const int threads = options.fit.threads;
   const double longest = std::max({dims[0], dims[1], dims[2]}) - 1.0;
   const int first = options.initial_cells > 0 ? options.initial_cells
                                               : std::max(1, static_cast<int>(std::lround(longest / 8.0)));
@@ -249,10 +336,11 @@ ScatteredDensityResult fit_scattered_adaptive(const Eigen::MatrixX3d& uvw, const
   Eigen::MatrixXd geometry_rhs;
   Eigen::VectorXd ridge;
   auto fit_density = [&]() {
-    NormalEquations eq = assemble_normal_equations(current, uvw, targets, options.fit.regularization);
+    NormalEquations eq = assemble_normal_equations(current, uvw, targets, options.fit.regularization, threads);
     solver = std::make_unique<linalg::ConjugateGradient<SparsifiedCholesky>>();
     solver->set_tolerance(options.fit.tolerance);
     solver->set_max_iterations(options.fit.max_iterations);
+    solver->set_threads(threads);
     solver->compute(eq.gram);
     eq.gram = linalg::CsrMatrix();
     const Eigen::VectorXd x0 = current.points().col(3);
@@ -262,7 +350,7 @@ ScatteredDensityResult fit_scattered_adaptive(const Eigen::MatrixX3d& uvw, const
     Eigen::MatrixXd points = current.points();
     points.col(3) = x;
     current.set_points(std::move(points));
-    recon = evaluate_density(current, uvw);
+    recon = evaluate_density(current, uvw, threads);
     double sum = 0.0, worst = 0.0;
     for (std::size_t s = 0; s < recon.size(); ++s) {
       const double d = recon[s] - density[s];
@@ -287,9 +375,17 @@ ScatteredDensityResult fit_scattered_adaptive(const Eigen::MatrixX3d& uvw, const
     progress.report("fit", static_cast<double>(level) / (options.max_levels + 1));
     const std::vector<int> leaf_ids = grid.leaves();
     std::vector<double> sse(static_cast<std::size_t>(leaf_ids.back()) + 1, 0.0);
-    for (Eigen::Index s = 0; s < uvw.rows(); ++s) {
-      const double d = recon[s] - density[s];
-      sse[grid.leaf_of(uvw.row(s).transpose())] += d * d;
+    {
+      // Leaves looked up in parallel, squared errors summed in sample order.
+      std::vector<int> leaf(static_cast<std::size_t>(uvw.rows()));
+      linalg::parallel_for(threads, sample_chunks(uvw.rows()), [&](int chunk) {
+        const Eigen::Index end = std::min(uvw.rows(), (chunk + 1) * kSampleChunk);
+        for (Eigen::Index s = chunk * kSampleChunk; s < end; ++s) leaf[s] = grid.leaf_of(uvw.row(s).transpose());
+      });
+      for (Eigen::Index s = 0; s < uvw.rows(); ++s) {
+        const double d = recon[s] - density[s];
+        sse[leaf[s]] += d * d;
+      }
     }
     double total = 0.0;
     std::vector<int> candidates;

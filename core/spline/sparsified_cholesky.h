@@ -19,6 +19,8 @@ class SparsifiedCholesky {
   /// Factorizes the kept entries of the square symmetric matrix a. Reads only the diagonal and
   /// the upper triangle, so a may be stored in full or as its upper triangle (as CG reads it).
   void compute(const linalg::CsrMatrix& a);
+  /// Threads of the next compute (see IncompleteCholesky0::set_threads; same factor for any count).
+  void set_threads(int threads) { ic_.set_threads(threads); }
   /// z = M⁻¹ r for n = a.rows() entries; r and z may alias.
   void solve(const double* r, double* z) const { ic_.solve(r, z); }
   /// solve for k columns at once (r[c] → z[c]; see IncompleteCholesky0::solve_block).

@@ -76,16 +76,15 @@ struct FreeFunction {
 class LatticeJacobians {
  public:
   LatticeJacobians() = default;
-  LatticeJacobians(std::vector<FreeFunction> functions, std::vector<int> node_index, int m)
-      : functions_(std::move(functions)), node_index_(std::move(node_index)), m_(m) {}
+  LatticeJacobians(std::vector<FreeFunction> functions, std::vector<int> node_index, std::array<int, 3> sizes)
+      : functions_(std::move(functions)), node_index_(std::move(node_index)), sizes_(sizes) {}
 
-  // jac[p] += Σ_c x_c (w∇B_c(p))ᵀ over the region nodes p (dense: over all m³ energy nodes,
-  // jac indexed by node).
-  void add(const Eigen::VectorXd& x, MatrixField& jac, bool dense = false) const {
+  // jac[p] += Σ_c x_c (w∇B_c(p))ᵀ over the region nodes p.
+  void add(const Eigen::VectorXd& x, MatrixField& jac) const {
     const std::size_t n = jac.size();
     for (std::size_t c = 0; c < functions_.size(); ++c) {
       const double xc[3] = {x(3 * c), x(3 * c + 1), x(3 * c + 2)};
-      for_each_row(functions_[c], dense, [&](int p0, double a, double b, double cc, const FreeFunction& f) {
+      for_each_row(functions_[c], [&](int p0, double a, double b, double cc, const FreeFunction& f) {
         const double *slope = f.slope[0].data(), *value = f.value[0].data();
         const int count = f.count[0];
         for (int r = 0; r < 3; ++r) {
@@ -108,7 +107,7 @@ class LatticeJacobians {
     const std::size_t n = d.size();
     for (std::size_t c = 0; c < functions_.size(); ++c) {
       double sum[3] = {0.0, 0.0, 0.0};
-      for_each_row(functions_[c], false, [&](int p0, double a, double b, double cc, const FreeFunction& f) {
+      for_each_row(functions_[c], [&](int p0, double a, double b, double cc, const FreeFunction& f) {
         const double *slope = f.slope[0].data(), *value = f.value[0].data();
         const int count = f.count[0];
         for (int r = 0; r < 3; ++r) {
@@ -131,19 +130,19 @@ class LatticeJacobians {
   // Calls row(p0, n₁n₂, n'₁n₂, n₁n'₂, f) per lattice row of f's box; p0: the region index of the
   // row's first node (a box row is consecutive in the region order).
   template <class Row>
-  void for_each_row(const FreeFunction& f, bool dense, Row&& row) const {
+  void for_each_row(const FreeFunction& f, Row&& row) const {
     for (int k = 0; k < f.count[2]; ++k)
       for (int j = 0; j < f.count[1]; ++j) {
         const double v = f.value[1][j], w = f.value[2][k];
-        const int node = f.first[0] + m_ * (f.first[1] + j + m_ * (f.first[2] + k));
-        const int p0 = dense ? node : node_index_[node];
+        const int node = f.first[0] + sizes_[0] * (f.first[1] + j + sizes_[1] * (f.first[2] + k));
+        const int p0 = node_index_[node];
         row(p0, v * w, f.slope[1][j] * w, v * f.slope[2][k], f);
       }
   }
 
   std::vector<FreeFunction> functions_;
   std::vector<int> node_index_;  // energy node → region index, −1 outside
-  int m_ = 0;
+  std::array<int, 3> sizes_{};   // energy nodes per axis
 };
 
 // The energy's nodes: J = fixed + lattice(x) at node q, reference shape inverse_reference[q].
@@ -156,30 +155,78 @@ struct Region {
   // off the scan that the free functions cannot reach (bimba has some) would otherwise hold
   // the ε continuation until its barrier dominates the energy.
   std::vector<char> guarded;
+  // Nodes on a cuboid edge (two coordinates on the domain boundary) are rows' fillers only:
+  // det J = 0 there wherever the surface is smooth across the edge (three tangents in a plane).
+  std::vector<char> held;
 };
 
-// One scan for seeds and one untangling of the points near them.
-// result stays as it is: the pass reads and moves `current` (its control points so far), and
-// `correction` holds J(current) − J(result) at the energy nodes (empty: none yet).
-SplineUntangleReport untangle_pass(const TSpline& result, Eigen::MatrixXd& current,
-                                   MatrixField& correction, const Eigen::MatrixX3d& uvw,
-                                   const Eigen::MatrixX3d& xyz, const SplineUntangleOptions& options) {
+// The lattice of one pass, per axis: the nodes' parameters (ascending) and which are scanned.
+struct AxisNodes {
+  std::vector<double> t;
+  std::vector<char> scanned;
+};
+
+// Per axis: nodes_per_knot_interval > 0: per interval of the spline's knot lines, the centres
+// of equal parts, as many as nodes_per_knot_interval and at least as many as the interval
+// holds steps of energy_stride/l (so coarse intervals keep the lattice's density), all scanned;
+// 0: the uniform lattice j/l (every energy_stride-th from j = 1, every seed_stride-th scanned).
+// Plus the boundary layers at boundary_layers[q] of the first (last) node's distance from the face.
+std::array<AxisNodes, 3> make_nodes(const TSpline& spline, int l, const SplineUntangleOptions& options) {
+  const Eigen::Vector3d lo = spline.domain_min(), hi = spline.domain_max();
+  std::array<AxisNodes, 3> nodes;
+  for (int a = 0; a < 3; ++a) {
+    std::vector<std::pair<double, char>> t;
+    if (options.nodes_per_knot_interval > 0) {
+      const double spacing = (hi(a) - lo(a)) * options.energy_stride / l;
+      const std::vector<double>& lines = spline.knot_lines(a);
+      for (std::size_t i = 0; i + 1 < lines.size(); ++i) {
+        const double width = lines[i + 1] - lines[i];
+        const int per = std::max(options.nodes_per_knot_interval, static_cast<int>(std::ceil(width / spacing - 1e-9)));
+        for (int q = 0; q < per; ++q) t.emplace_back(lines[i] + width * (q + 0.5) / per, char(1));
+      }
+    } else {
+      for (int j = 1; j < l; j += options.energy_stride)
+        t.emplace_back(lo(a) + (hi(a) - lo(a)) * j / l, char((j - 1) % options.seed_stride == 0));
+    }
+    std::sort(t.begin(), t.end());
+    const double first = t.front().first - lo(a), last = hi(a) - t.back().first;
+    for (double d : options.boundary_layers) {
+      t.emplace_back(lo(a) + d * first, char(1));
+      t.emplace_back(hi(a) - d * last, char(1));
+    }
+    std::sort(t.begin(), t.end());
+    for (const auto& [value, scanned] : t) {
+      nodes[a].t.push_back(value);
+      nodes[a].scanned.push_back(scanned);
+    }
+  }
+  return nodes;
+}
+
+// One scan of the lattice l for seeds and one untangling of the points near them; the moved
+// control points are written to spline.
+SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
+                                   const SplineUntangleOptions& options) {
   SplineUntangleReport report;
-  const int l = options.lattice, m = l - 1;  // m lattice nodes per axis, index i ↔ (i + 1)/l
-  // The energy's nodes: every es-th lattice node per axis, e ↔ lattice node e·es (they hold the
-  // scanned ones, es divides seed_stride).
-  const int es = options.energy_stride, me = (m - 1) / es + 1;
-  const Eigen::Vector3d lo = result.domain_min(), hi = result.domain_max();
-  auto point = [&](int i, int j, int k) {
-    return Eigen::Vector3d(lo + (hi - lo).cwiseProduct(Eigen::Vector3d(i + 1, j + 1, k + 1) / l));
+  const Eigen::Vector3d lo = spline.domain_min(), hi = spline.domain_max();
+  const std::array<AxisNodes, 3> nodes = make_nodes(spline, l, options);
+  const std::array<int, 3> sizes = {static_cast<int>(nodes[0].t.size()), static_cast<int>(nodes[1].t.size()),
+                                    static_cast<int>(nodes[2].t.size())};
+  auto point = [&](int i, int j, int k) { return Eigen::Vector3d(nodes[0].t[i], nodes[1].t[j], nodes[2].t[k]); };
+  auto index = [&](int i, int j, int k) { return i + sizes[0] * (j + sizes[1] * k); };
+  auto on_edge = [&](int i, int j, int k) {
+    const int idx[3] = {i, j, k};
+    int faces = 0;
+    for (int a = 0; a < 3; ++a) faces += nodes[a].t[idx[a]] == lo(a) || nodes[a].t[idx[a]] == hi(a);
+    return faces >= 2;
   };
-  // Energy node index of lattice node (i, j, k), each a multiple of es.
-  auto index = [&](int i, int j, int k) { return i / es + me * (j / es + me * (k / es)); };
+  auto is_scanned = [&](int i, int j, int k) {
+    return nodes[0].scanned[i] && nodes[1].scanned[j] && nodes[2].scanned[k] && !on_edge(i, j, k);
+  };
   auto jacobian_at = [&](int i, int j, int k) {
     double value[3];
     Eigen::Matrix3d jac;
-    result.evaluate_with_jacobian(point(i, j, k), TSplineForm::SemiStandard, value, jac.data());
-    if (correction.size() > 0) jac += correction.get(index(i, j, k));
+    spline.evaluate_with_jacobian(point(i, j, k), TSplineForm::SemiStandard, value, jac.data());
     return jac;
   };
 
@@ -188,9 +235,10 @@ SplineUntangleReport untangle_pass(const TSpline& result, Eigen::MatrixXd& curre
     report.scanned = 0;
     report.final_negative = 0;
     report.final_min_scaled = 1.0;
-    for (int k = 0; k < m; k += options.seed_stride)
-      for (int j = 0; j < m; j += options.seed_stride)
-        for (int i = 0; i < m; i += options.seed_stride) {
+    for (int k = 0; k < sizes[2]; ++k)
+      for (int j = 0; j < sizes[1]; ++j)
+        for (int i = 0; i < sizes[0]; ++i) {
+          if (!is_scanned(i, j, k)) continue;
           const double q = scaled_jacobian(jacobian_at(i, j, k));
           ++report.scanned;
           if (q <= 0.0) ++report.final_negative;
@@ -208,15 +256,15 @@ SplineUntangleReport untangle_pass(const TSpline& result, Eigen::MatrixXd& curre
   // lattice steps per axis. A seed whose small interior functions carry less than
   // kMinMovableShare of the gradient there (it lies under boundary functions and coarse ones)
   // cannot be unfolded by them: its limit doubles until they do.
-  const int n = result.num_functions();
-  const Eigen::VectorXd& w = result.weights();
+  const int n = spline.num_functions();
+  const Eigen::VectorXd& w = spline.weights();
   std::vector<int> column_of(n, -1), free_ids;
   std::vector<int> ids;
   std::vector<double> values;
   auto support_steps = [&](int f) {
     double steps = 0.0;
     for (int a = 0; a < 3; ++a) {
-      const LocalKnots& r = result.knots()[f][a];
+      const LocalKnots& r = spline.knots()[f][a];
       steps = std::max(steps, (r[4] - r[0]) / (hi(a) - lo(a)) * l);
     }
     return steps;
@@ -227,7 +275,7 @@ SplineUntangleReport untangle_pass(const TSpline& result, Eigen::MatrixXd& curre
     for (int a = 0; a < 3; ++a) {
       std::array<int, 3> order = {0, 0, 0};
       order[a] = 1;
-      result.basis_at(point(s[0], s[1], s[2]), order, d_ids[a], d_values[a]);
+      spline.basis_at(point(s[0], s[1], s[2]), order, d_ids[a], d_values[a]);
     }
     double limit = options.max_support_steps, total = 0.0, movable = 0.0;
     for (;; limit *= 2) {
@@ -236,7 +284,7 @@ SplineUntangleReport untangle_pass(const TSpline& result, Eigen::MatrixXd& curre
         const int f = d_ids[0][q];
         const double g = w(f) * Eigen::Vector3d(d_values[0][q], d_values[1][q], d_values[2][q]).norm();
         total += g;
-        if (support_steps(f) <= limit && !touches_domain_boundary(result.knots()[f], lo, hi)) movable += g;
+        if (support_steps(f) <= limit && !touches_domain_boundary(spline.knots()[f], lo, hi)) movable += g;
       }
       if (movable >= kMinMovableShare * total || limit >= l) break;
     }
@@ -244,11 +292,11 @@ SplineUntangleReport untangle_pass(const TSpline& result, Eigen::MatrixXd& curre
       for (int dj = -options.rings; dj <= options.rings; ++dj)
         for (int di = -options.rings; di <= options.rings; ++di) {
           const int i = s[0] + di, j = s[1] + dj, k = s[2] + dk;
-          if (i < 0 || j < 0 || k < 0 || i >= m || j >= m || k >= m) continue;
-          result.basis_at(point(i, j, k), {0, 0, 0}, ids, values);
+          if (i < 0 || j < 0 || k < 0 || i >= sizes[0] || j >= sizes[1] || k >= sizes[2]) continue;
+          spline.basis_at(point(i, j, k), {0, 0, 0}, ids, values);
           for (std::size_t q = 0; q < ids.size(); ++q) {
             const int f = ids[q];
-            if (values[q] == 0.0 || column_of[f] >= 0 || touches_domain_boundary(result.knots()[f], lo, hi) ||
+            if (values[q] == 0.0 || column_of[f] >= 0 || touches_domain_boundary(spline.knots()[f], lo, hi) ||
                 support_steps(f) > limit)
               continue;
             column_of[f] = static_cast<int>(free_ids.size());
@@ -261,30 +309,30 @@ SplineUntangleReport untangle_pass(const TSpline& result, Eigen::MatrixXd& curre
   std::sort(free_ids.begin(), free_ids.end());  // deterministic columns
   for (std::size_t c = 0; c < free_ids.size(); ++c) column_of[free_ids[c]] = static_cast<int>(c);
 
-  // Energy points: every energy node in the support of a free function (so no point the
+  // Energy points: every lattice node in the support of a free function (so no point the
   // free functions change goes unseen), with the functions' factors of w·∇B on their boxes.
+  Eigen::MatrixXd current = spline.points();
   Eigen::VectorXd x(3 * free_ids.size());
   for (std::size_t c = 0; c < free_ids.size(); ++c) x.segment<3>(3 * c) = current.row(free_ids[c]).transpose();
   const Eigen::VectorXd x0 = x;
   auto make_region = [&]() {
-    std::vector<int> node_index(static_cast<std::size_t>(me) * me * me, -1);
+    std::vector<int> node_index(static_cast<std::size_t>(sizes[0]) * sizes[1] * sizes[2], -1);
     std::vector<FreeFunction> functions(free_ids.size());
     for (std::size_t c = 0; c < free_ids.size(); ++c) {
       const int f = free_ids[c];
       FreeFunction& ff = functions[c];
       for (int a = 0; a < 3; ++a) {
-        const LocalKnots& r = result.knots()[f][a];
-        const double t0 = (r[0] - lo(a)) / (hi(a) - lo(a)) * l, t1 = (r[4] - lo(a)) / (hi(a) - lo(a)) * l;
-        // Lattice node i sits at t = i + 1: nodes first_node .. last_node are inside (t0, t1).
-        const int first_node = std::max(0, static_cast<int>(std::floor(t0)));
-        const int last_node = std::min(m - 1, static_cast<int>(std::ceil(t1)) - 2);
-        const int first = (first_node + es - 1) / es, last = last_node >= 0 ? last_node / es : -1;
+        const LocalKnots& r = spline.knots()[f][a];
+        // The nodes in the closed support [r0, r4] (the ends add zeros at most).
+        const std::vector<double>& t = nodes[a].t;
+        const int first = static_cast<int>(std::lower_bound(t.begin(), t.end(), r[0]) - t.begin());
+        const int end = static_cast<int>(std::upper_bound(t.begin(), t.end(), r[4]) - t.begin());
         ff.first[a] = first;
-        ff.count[a] = std::max(0, last - first + 1);
+        ff.count[a] = std::max(0, end - first);
         const double scale = a == 0 ? w(f) : 1.0;
+        const RightEnd right = r[4] == hi(a) ? RightEnd::Closed : RightEnd::Open;  // nodes on the face
         for (int i = 0; i < ff.count[a]; ++i) {
-          const double t = lo(a) + (hi(a) - lo(a)) * ((first + i) * es + 1) / l;
-          const BasisDerivatives d = cubic_basis_derivatives(r, t);
+          const BasisDerivatives d = cubic_basis_derivatives(r, t[first + i], right);
           ff.value[a].push_back(scale * d.value);
           ff.slope[a].push_back(scale * d.d1);
         }
@@ -292,33 +340,38 @@ SplineUntangleReport untangle_pass(const TSpline& result, Eigen::MatrixXd& curre
       for (int k = 0; k < ff.count[2]; ++k)
         for (int j = 0; j < ff.count[1]; ++j)
           for (int i = 0; i < ff.count[0]; ++i)
-            node_index[ff.first[0] + i + me * (ff.first[1] + j + me * (ff.first[2] + k))] = 0;
+            node_index[index(ff.first[0] + i, ff.first[1] + j, ff.first[2] + k)] = 0;
     }
     Region region;
     std::vector<Eigen::Matrix3d> fixed;
-    for (int k = 0; k < m; k += es)
-      for (int j = 0; j < m; j += es)
-        for (int i = 0; i < m; i += es) {
+    for (int k = 0; k < sizes[2]; ++k)
+      for (int j = 0; j < sizes[1]; ++j)
+        for (int i = 0; i < sizes[0]; ++i) {
           int& id = node_index[index(i, j, k)];
           if (id < 0) continue;
           id = static_cast<int>(fixed.size());
           const Eigen::Matrix3d jac = jacobian_at(i, j, k);
-          // Reference: the point's own Jacobian where it is good (the energy is then least where
-          // the map already is), else an orthogonal frame of its column lengths.
-          const Eigen::Vector3d norms(jac.col(0).norm(), jac.col(1).norm(), jac.col(2).norm());
-          region.mean_scale += norms;
-          region.inverse_reference.push_back(
-              scaled_jacobian(jac) >= kGoodScaledJacobian
-                  ? Eigen::Matrix3d(jac.inverse())
-                  : Eigen::Matrix3d(norms.cwiseMax(1e-300).cwiseInverse().asDiagonal()));
+          region.mean_scale += Eigen::Vector3d(jac.col(0).norm(), jac.col(1).norm(), jac.col(2).norm());
           fixed.push_back(jac);
-          const int ss = options.seed_stride;
-          region.guarded.push_back(jac.determinant() > 0.0 || (i % ss == 0 && j % ss == 0 && k % ss == 0));
+          const bool held = !on_edge(i, j, k);
+          region.held.push_back(held);
+          region.guarded.push_back(held && (jac.determinant() > 0.0 || is_scanned(i, j, k)));
         }
     region.mean_scale /= std::max<std::size_t>(fixed.size(), 1);
+    for (const Eigen::Matrix3d& jac : fixed) {
+      // Reference: the point's own Jacobian where it is good (the energy is then least where
+      // the map already is), else an orthogonal frame of its column lengths, each at least the
+      // region's mean: a folded column is short (bunny's faces: the normal derivative), and
+      // its own length would make a flat element the target.
+      const Eigen::Vector3d norms(jac.col(0).norm(), jac.col(1).norm(), jac.col(2).norm());
+      region.inverse_reference.push_back(
+          scaled_jacobian(jac) >= kGoodScaledJacobian
+              ? Eigen::Matrix3d(jac.inverse())
+              : Eigen::Matrix3d(norms.cwiseMax(region.mean_scale).cwiseMax(1e-300).cwiseInverse().asDiagonal()));
+    }
     region.fixed = MatrixField(fixed.size());
     for (std::size_t q = 0; q < fixed.size(); ++q) region.fixed.set(q, fixed[q]);
-    region.lattice = LatticeJacobians(std::move(functions), std::move(node_index), me);
+    region.lattice = LatticeJacobians(std::move(functions), std::move(node_index), sizes);
     region.lattice.add(-x0, region.fixed);  // fixed: the part of J the free functions do not change
     return region;
   };
@@ -328,7 +381,7 @@ SplineUntangleReport untangle_pass(const TSpline& result, Eigen::MatrixXd& curre
 
   std::vector<SampleTerm> samples;
   for (Eigen::Index s = 0; s < uvw.rows(); ++s) {
-    result.basis_at(uvw.row(s).transpose(), {0, 0, 0}, ids, values);
+    spline.basis_at(uvw.row(s).transpose(), {0, 0, 0}, ids, values);
     SampleTerm t;
     t.fixed.setZero();
     t.target = xyz.row(s).transpose();
@@ -367,6 +420,7 @@ SplineUntangleReport untangle_pass(const TSpline& result, Eigen::MatrixXd& curre
       double total = 0.0;
       Eigen::Matrix3d df;
       for (std::size_t q = 0; q < num_points; ++q) {
+        if (!r.held[q]) continue;  // dj stays 0 there
         total += param::foldover_free_energy(j.get(q) * r.inverse_reference[q], eps, theta, gradient ? &df : nullptr);
         if (gradient) dj.set(q, df * r.inverse_reference[q].transpose());  // ∂f/∂J
       }
@@ -409,7 +463,7 @@ SplineUntangleReport untangle_pass(const TSpline& result, Eigen::MatrixXd& curre
     param::UntangleOptions untangle_options;
     untangle_options.max_steps = options.max_steps;
     untangle_options.max_inner = options.max_inner;
-    untangle_options.stop_min_det = 0.0;
+    untangle_options.stop_min_det = options.stop_margin;
     untangle_options.keep_curvature = true;
     untangle_options.min_sigma = kMinSigma;
     return param::untangle(problem, x, untangle_options);
@@ -418,8 +472,7 @@ SplineUntangleReport untangle_pass(const TSpline& result, Eigen::MatrixXd& curre
   report.iterations = solve(region);
 
   for (std::size_t c = 0; c < free_ids.size(); ++c) current.row(free_ids[c]) = x.segment<3>(3 * c).transpose();
-  if (correction.size() == 0) correction = MatrixField(static_cast<std::size_t>(me) * me * me);
-  region.lattice.add(x - x0, correction, true);
+  spline.set_points(std::move(current));
   scan(nullptr);
   return report;
 }
@@ -432,13 +485,14 @@ SplineUntangleReport untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uv
   assert(options.lattice >= 4 && options.seed_stride >= 1 && options.rings >= 0 && options.max_support_steps >= 4);
   assert(options.passes >= 1);
   assert(options.energy_stride >= 1 && options.seed_stride % options.energy_stride == 0);
+  assert(options.nodes_per_knot_interval >= 0 && options.stop_margin >= 0.0 && options.stop_margin < 1.0);
+  assert(std::all_of(options.boundary_layers.begin(), options.boundary_layers.end(),
+                     [](double d) { return d >= 0.0 && d < 1.0; }));
   SplineUntangleReport total;
-  Eigen::MatrixXd current = spline.points();
-  MatrixField correction;
   SplineUntangleOptions pass_options = options;
   for (int pass = 0; pass < options.passes; ++pass, pass_options.max_support_steps *= 2) {
     // Each pass lets coarser functions move: the few seeds the fine ones could not fix.
-    const SplineUntangleReport r = untangle_pass(spline, current, correction, uvw, xyz, pass_options);
+    const SplineUntangleReport r = untangle_pass(spline, options.lattice, uvw, xyz, pass_options);
     if (pass == 0) {
       total.seeds = r.seeds;
       total.initial_negative = r.initial_negative;
@@ -452,7 +506,6 @@ SplineUntangleReport untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uv
     total.iterations += r.iterations;
     if (r.seeds == 0 || r.final_negative == 0) break;
   }
-  if (total.free_functions > 0) spline.set_points(std::move(current));
   return total;
 }
 

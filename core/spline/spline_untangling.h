@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "core/spline/tspline.h"
@@ -9,22 +11,32 @@ namespace volspline::spline {
 
 /// Options of untangle_spline.
 struct SplineUntangleOptions {
-  /// Check points: the nodes j/lattice, j = 1 .. lattice−1, per axis of the domain, in [4, 256];
-  /// 48 holds the cell centres of a 24³ lattice (the odd j), where the measures look.
+  /// The lattice j/lattice, j = 1 .. lattice−1, per axis of the domain, in [4, 256]: the nodes
+  /// themselves if nodes_per_knot_interval is 0, else their least density and the unit of
+  /// max_support_steps and the data term.
   int lattice = 48;
   /// Points whose scaled Jacobian is below this seed the untangling, in [0, 1).
   double min_scaled_jacobian = 0.02;
-  /// Only every seed_stride-th lattice node per axis (from the first odd one) is scanned for
-  /// seeds, in [1, 4]; 2 scans the 24³ cell centres of the 48 lattice. The energy then covers
-  /// every energy node near a seed.
+  /// Uniform lattice only: every seed_stride-th lattice node per axis (from the first odd one)
+  /// is scanned for seeds, in [1, 4]; 2 scans the 24³ cell centres of the 48 lattice.
   int seed_stride = 2;
-  /// The energy holds every energy_stride-th lattice node per axis (from the first), ≥ 1 and a
-  /// divisor of seed_stride (so it holds the scanned nodes). 2: the 24³ cell centres, 8× fewer
-  /// terms than 1 (bunny's stage ~5× faster); nodes between them are not held, so a finer check
-  /// sees folds (of 64³ points, folded after: bunny 1,169 against 1,390 with 1, bimba 666
-  /// against 459). The measures look at 64³ cell centres, none of which is a lattice node.
+  /// Every energy_stride-th lattice node per axis (from the first) is a node, ≥ 1 and a divisor
+  /// of seed_stride (so the nodes hold the scanned ones). Knot-interval nodes: at least one
+  /// per energy_stride lattice steps.
   int energy_stride = 2;
-  int rings = 1;               ///< lattice steps around a seed whose interior functions move, [0, 4]
+  /// Least number of nodes per interval of the spline's knot lines (per axis, the centres of
+  /// equal parts, at least one per energy_stride lattice steps; all scanned and energy nodes),
+  /// ≥ 0; 0: the uniform lattice instead. Knot intervals follow the refinement, so the nodes
+  /// are as fine as the finest cells (bunny: 1/64 where the lattice holds 1/24).
+  int nodes_per_knot_interval = 1;
+  /// Boundary layers: nodes (all scanned) at these fractions of the first (last) node's
+  /// distance from the face, at each end of each axis, each in [0, 1); 0 is the face itself
+  /// (nodes on the cuboid edges, where det J = 0 by construction, are left out; holding the
+  /// faces costs bunny 4.0 against 2.4 s and leaves as many 64³ points folded). Folds next
+  /// to the faces are the normal derivative on the wrong side of the surface (bunny: 2,045 of
+  /// the 2,290 folded points on the faces), which the second layer of control points fixes.
+  std::vector<double> boundary_layers = {0.25, 0.5};
+  int rings = 1;               ///< node steps around a seed whose interior functions move, [0, 4]
   /// Only interior functions whose support spans at most this many lattice steps per axis move
   /// (the energy covers their whole supports, so coarse functions would make it global), ≥ 4;
   /// doubled for a seed where such functions carry under a tenth of |w∇B| (they could not
@@ -33,13 +45,20 @@ struct SplineUntangleOptions {
   int passes = 3;              ///< scan + untangle rounds while seeds remain, ≥ 1
   double data_weight = 10.0;   ///< weight of the sample term (unitless ≥ 0), see untangle_spline
   double volume_weight = 0.5;  ///< θ of param::foldover_free_energy, in [0, 1)
-  int max_steps = 12;          ///< ε-continuation steps, ≥ 1
+  /// ε-continuation steps per pass, ≥ 1; more do not help (bunny, one node per knot interval:
+  /// of the 64³ points 270 folded after with 6, 308 with 12) and cost (0.9 against 2.0 s).
+  int max_steps = 6;
+  /// The continuation stops once every scanned node and every node not folded before has
+  /// det(J·S⁻¹) above this (S: the reference shape, see untangle_spline), in [0, 1): a margin
+  /// at the nodes keeps det J positive between them (the face-fold test: 0 leaves the fold
+  /// between two nodes).
+  double stop_margin = 0.2;
   int max_inner = 5;           ///< L-BFGS iterations per step, ≥ 1
 };
 
 /// Outcome of untangle_spline.
 struct SplineUntangleReport {
-  int scanned = 0;            ///< lattice points scanned for seeds (and checked after)
+  int scanned = 0;            ///< nodes scanned for seeds (and checked after), last pass
   int seeds = 0;              ///< scanned points below min_scaled_jacobian before
   int initial_negative = 0;   ///< scanned points with det J ≤ 0 before
   int final_negative = 0;     ///< and after
@@ -54,18 +73,24 @@ struct SplineUntangleReport {
 /// (blending functions that vanish on the domain boundary, §4.3.1), so the boundary surface
 /// and the surface fit stay exactly as they are.
 ///
-/// Seeds: scanned lattice points with scaled Jacobian < min_scaled_jacobian. Free: the interior
-/// functions non-zero within `rings` lattice steps of a seed (support limit: max_support_steps).
-/// Energy: Σ over the energy nodes (every energy_stride-th lattice node) in the support of a free
-/// function of param::foldover_free_energy(J·S⁻¹), S = the point's initial J where its scaled
-/// Jacobian is ≥ 0.1, else diag of its column norms |∂F/∂u_a| (the map's own local shape is the
-/// reference), plus
+/// Nodes (one tensor grid per pass): per axis, nodes_per_knot_interval (at least one per
+/// energy_stride/lattice of the domain) in every interval of the knot lines, plus the boundary
+/// layers between each face and the first node (folds next to the faces are the normal
+/// derivative on the wrong side; the second layer of control points is interior and fixes it).
+/// Seeds: nodes with scaled Jacobian < min_scaled_jacobian. Free: the interior functions
+/// non-zero within `rings` node steps of a seed (support limit: max_support_steps lattice steps).
+/// Energy: Σ over the nodes in the support of a free function of
+/// param::foldover_free_energy(J·S⁻¹), S = the node's initial J where its scaled Jacobian is
+/// ≥ 0.1, else diag of its column norms |∂F/∂u_a|, each at least the energy region's mean (the
+/// map's own local shape is the reference; a folded short column is not), plus
 /// data_weight·Σ_s ‖F(uvw_s) − xyz_s‖²/ℓ² over the samples where a free function is non-zero
 /// (ℓ: one lattice step in model units), so the interior stays near its samples. Minimized by
-/// param::untangle (L-BFGS with the barrier continuation of Garanzha et al. 2021), until every
-/// scanned point and every energy node not folded before has det J > 0. J at the energy
-/// nodes is a fixed linear map of the free control points (the knots do not move), so it is
-/// set up once per pass and each energy evaluation sums tensor products of univariate factors.
+/// param::untangle (L-BFGS with the barrier continuation of Garanzha et al. 2021) until every
+/// scanned node and every node not folded before has det(J·S⁻¹) > stop_margin, or max_steps.
+/// J at the nodes is a fixed linear map of the free control points (the knots do not move), so
+/// it is set up once per pass and each energy evaluation sums tensor products of univariate
+/// factors. Each pass writes its control points to spline. det J is held at the nodes only:
+/// a denser check can still find folded points between them (bunny: 56 of the 64³ cell centres).
 /// uvw, xyz: m×3 fitting samples (may be empty). Precondition: dimension() == 3.
 SplineUntangleReport untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
                                      const SplineUntangleOptions& options = {});

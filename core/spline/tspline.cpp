@@ -4,8 +4,9 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstring>
 #include <limits>
-#include <map>
+#include <unordered_map>
 #include <string>
 #include <utility>
 
@@ -62,6 +63,17 @@ inline void horner3_gradient(const double* coef, const double* s, double* out, d
     grad[1][d] = ((t2_1[3][d] * s[0] + t2_1[2][d]) * s[0] + t2_1[1][d]) * s[0] + t2_1[0][d];
     grad[2][d] = ((t2_2[3][d] * s[0] + t2_2[2][d]) * s[0] + t2_2[1][d]) * s[0] + t2_2[0][d];
   }
+}
+
+std::uint64_t hash_knots(std::uint64_t h, const LocalKnots& r) {
+  for (double k : r) {
+    const double normalized = k + 0.0;  // -0.0 == 0.0
+    std::uint64_t bits;
+    std::memcpy(&bits, &normalized, sizeof bits);
+    h = (h ^ bits) * 1099511628211ull;
+    h ^= h >> 29;
+  }
+  return h;
 }
 
 // Kept out of line so the hot lookup stays small.
@@ -159,7 +171,116 @@ void add_cell_polynomial_changes(const std::vector<Cell>& cells, const std::vect
   }
 }
 
+// Tensor-product pass of TSpline::evaluate_lattice_with_jacobian over the lattice points of one
+// cell (n[a] of them along axis a, local coordinates s[a][0..n[a])): stage 1 sums the functions
+// sharing a (v piece, w piece) pair along u, stage 2 those sharing a w piece along v, stage 3
+// along w. out: per point (k, j, i) the value and the three s-derivatives, D values each.
+// Cell and Entry are TSpline's (deduced: private types).
+struct LatticeScratch {
+  std::vector<double> piece_values[3];  // [piece][point][value, s-derivative]
+  std::vector<double> by_pair, by_w, out;
+  std::vector<int> pair_stamp, w_stamp, pairs, ws;
+  int stamp = 0;
+};
+template <int D, class Cell, class Entry>
+void lattice_cell(const Cell& cell, const Entry* entries, const std::uint32_t* ids,
+                  const std::array<std::vector<std::array<double, 4>>, 3>& pieces, const double* weighted_points,
+                  const int* n, const double* const* s, LatticeScratch& w) {
+  const int np[3] = {cell.num_pieces[0], cell.num_pieces[1], cell.num_pieces[2]};
+  for (int a = 0, offset = 0; a < 3; ++a) {
+    std::vector<double>& values = w.piece_values[a];
+    values.resize(size_t(np[a]) * n[a] * 2);
+    for (int p = 0; p < np[a]; ++p) {
+      const std::array<double, 4>& c = pieces[a][ids[offset + p]];
+      for (int i = 0; i < n[a]; ++i) {
+        const double t = s[a][i];
+        values[(size_t(p) * n[a] + i) * 2] = c[0] + t * (c[1] + t * (c[2] + t * c[3]));
+        values[(size_t(p) * n[a] + i) * 2 + 1] = c[1] + t * (2.0 * c[2] + 3.0 * t * c[3]);
+      }
+    }
+    offset += np[a];
+  }
+  const int nu = n[0], nv = n[1], nw = n[2];
+  const size_t pair_size = size_t(nu) * 2 * D, w_size = size_t(nv) * nu * 3 * D;
+  const size_t num_pairs = size_t(np[1]) * np[2];
+  if (w.pair_stamp.size() < num_pairs) w.pair_stamp.resize(num_pairs, -1);
+  if (w.w_stamp.size() < size_t(np[2])) w.w_stamp.resize(np[2], -1);
+  if (w.by_pair.size() < num_pairs * pair_size) w.by_pair.resize(num_pairs * pair_size);
+  if (w.by_w.size() < np[2] * w_size) w.by_w.resize(np[2] * w_size);
+  ++w.stamp;
+  w.pairs.clear();
+  w.ws.clear();
+  const double* u_values = w.piece_values[0].data();
+  for (std::uint32_t e = cell.entry_begin; e < cell.entry_end; ++e) {
+    const Entry& entry = entries[e];
+    const int pair = entry.piece[2] * np[1] + entry.piece[1];
+    double* t = w.by_pair.data() + pair * pair_size;
+    if (w.pair_stamp[pair] != w.stamp) {
+      w.pair_stamp[pair] = w.stamp;
+      w.pairs.push_back(pair);
+      std::fill(t, t + pair_size, 0.0);
+    }
+    const double* wp = weighted_points + size_t(entry.function) * D;
+    const double* bu = u_values + size_t(entry.piece[0]) * nu * 2;
+    for (int i = 0; i < nu; ++i)
+      for (int d = 0; d < D; ++d) {
+        t[(2 * i) * D + d] += bu[2 * i] * wp[d];
+        t[(2 * i + 1) * D + d] += bu[2 * i + 1] * wp[d];
+      }
+  }
+  const double* v_values = w.piece_values[1].data();
+  for (int pair : w.pairs) {
+    const int pv = pair % np[1], pw = pair / np[1];
+    double* t2 = w.by_w.data() + pw * w_size;
+    if (w.w_stamp[pw] != w.stamp) {
+      w.w_stamp[pw] = w.stamp;
+      w.ws.push_back(pw);
+      std::fill(t2, t2 + w_size, 0.0);
+    }
+    const double* t1 = w.by_pair.data() + pair * pair_size;
+    const double* bv = v_values + size_t(pv) * nv * 2;
+    for (int j = 0; j < nv; ++j)
+      for (int i = 0; i < nu; ++i) {
+        double* o = t2 + (size_t(j) * nu + i) * 3 * D;
+        const double* in = t1 + size_t(i) * 2 * D;
+        for (int d = 0; d < D; ++d) {
+          o[d] += in[d] * bv[2 * j];
+          o[D + d] += in[D + d] * bv[2 * j];
+          o[2 * D + d] += in[d] * bv[2 * j + 1];
+        }
+      }
+  }
+  const double* w_values = w.piece_values[2].data();
+  const size_t points = size_t(nu) * nv * nw;
+  w.out.assign(points * 4 * D, 0.0);
+  for (int pw : w.ws) {
+    const double* t2 = w.by_w.data() + pw * w_size;
+    const double* bw = w_values + size_t(pw) * nw * 2;
+    for (int k = 0; k < nw; ++k)
+      for (int ji = 0; ji < nv * nu; ++ji) {
+        double* o = w.out.data() + (size_t(k) * nv * nu + ji) * 4 * D;
+        const double* in = t2 + size_t(ji) * 3 * D;
+        for (int d = 0; d < D; ++d) {
+          o[d] += in[d] * bw[2 * k];
+          o[D + d] += in[D + d] * bw[2 * k];
+          o[2 * D + d] += in[2 * D + d] * bw[2 * k];
+          o[3 * D + d] += in[d] * bw[2 * k + 1];
+        }
+      }
+  }
+}
+
 }  // namespace
+
+std::size_t KnotsHash::operator()(const LocalKnots& knots) const {
+  return static_cast<std::size_t>(hash_knots(1469598103934665603ull, knots));
+}
+
+std::size_t KnotsHash::operator()(const BlendingKnots& knots) const {
+  std::uint64_t h = 1469598103934665603ull;
+  for (const LocalKnots& r : knots) h = hash_knots(h, r);
+  return static_cast<std::size_t>(h);
+}
 
 TSpline::TSpline(std::vector<BlendingKnots> knots, Eigen::VectorXd weights, Eigen::MatrixXd points,
                  TSplineAcceleration acceleration)
@@ -289,7 +410,8 @@ void TSpline::build_grid() {
   std::array<std::vector<int>, 3> first_cell;   // per function: first grid interval of support
   std::array<std::vector<int>, 3> first_piece;  // per function: piece id of that interval
   for (int a = 0; a < 3; ++a) {
-    std::map<std::pair<LocalKnots, int>, int> piece_ids;
+    // Knot vector -> its first piece (the first grid interval follows from r0).
+    std::unordered_map<LocalKnots, int, KnotsHash> piece_ids;
     pieces_[a].clear();
     first_cell[a].resize(n);
     first_piece[a].resize(n);
@@ -298,14 +420,14 @@ void TSpline::build_grid() {
       const int k0 = break_index(breaks_[a], r[0]);
       const int k1 = break_index(breaks_[a], r[4]);
       first_cell[a][i] = k0;
-      const auto found = piece_ids.find({r, k0});
+      const auto found = piece_ids.find(r);
       if (found != piece_ids.end()) {
         first_piece[a][i] = found->second;
         continue;
       }
       first_piece[a][i] = static_cast<int>(pieces_[a].size());
+      piece_ids.emplace(r, first_piece[a][i]);
       for (int k = k0; k < k1; ++k) {
-        piece_ids.emplace(std::make_pair(r, k), static_cast<int>(pieces_[a].size()));
         const double start = breaks_[a][k];
         const double h = breaks_[a][k + 1] - start;
         const BasisDerivatives d = cubic_basis_piece_derivatives(r, cubic_basis_interval(r, start, RightEnd::Open), start);
@@ -568,6 +690,69 @@ Eigen::MatrixXd TSpline::evaluate_batch(const Eigen::MatrixX3d& uvw, TSplineForm
     for (int d = 0; d < dimension_; ++d) out(i, d) = value[d];
   }
   return out;
+}
+
+template <int D>
+void TSpline::evaluate_lattice_impl(
+    const std::array<std::vector<double>, 3>& coords,
+    const std::function<void(int, int, int, const double*, const double*)>& visit) const {
+  // Per axis, the runs of lattice coordinates in one grid interval (the rule of locate()).
+  std::array<std::vector<std::array<int, 3>>, 3> runs;  // {interval, first, end}
+  std::array<std::vector<double>, 3> local;
+  for (int a = 0; a < 3; ++a) {
+    const std::vector<double>& b = breaks_[a];
+    const int m = int(b.size() - 1);
+    local[a].resize(coords[a].size());
+    for (size_t i = 0; i < coords[a].size(); ++i) {
+      const double t = coords[a][i];
+      if (!(t >= b.front() && t <= b.back())) throw_outside_domain(a, t, b.front(), b.back());
+      const int k = std::min(m - 1, int(std::upper_bound(b.begin(), b.end(), t) - b.begin()) - 1);
+      local[a][i] = (t - b[k]) * inverse_widths_[a][k];
+      if (runs[a].empty() || runs[a].back()[0] != k) runs[a].push_back({k, int(i), int(i)});
+      assert(runs[a].back()[0] == k);
+      runs[a].back()[2] = int(i) + 1;
+    }
+  }
+  const int nc0 = int(breaks_[0].size() - 1), nc1 = int(breaks_[1].size() - 1);
+  LatticeScratch scratch;
+  double value[D], jacobian[3 * D];
+  for (const auto& r2 : runs[2])
+    for (const auto& r1 : runs[1])
+      for (const auto& r0 : runs[0]) {
+        const std::array<int, 3>* r[3] = {&r0, &r1, &r2};
+        const Cell& cell = cells_[size_t(r0[0]) + size_t(nc0) * (size_t(r1[0]) + size_t(nc1) * size_t(r2[0]))];
+        int n[3];
+        const double* s[3];
+        double inverse_width[3];
+        for (int a = 0; a < 3; ++a) {
+          n[a] = (*r[a])[2] - (*r[a])[1];
+          s[a] = local[a].data() + (*r[a])[1];
+          inverse_width[a] = inverse_widths_[a][(*r[a])[0]];
+        }
+        lattice_cell<D>(cell, entries_.data(), cell_pieces_.data() + cell.piece_begin, pieces_,
+                        weighted_points_.data(), n, s, scratch);
+        for (int k = 0; k < n[2]; ++k)
+          for (int j = 0; j < n[1]; ++j)
+            for (int i = 0; i < n[0]; ++i) {
+              const double* o = scratch.out.data() + ((size_t(k) * n[1] + j) * n[0] + i) * 4 * D;
+              for (int d = 0; d < D; ++d) {
+                value[d] = o[d];
+                for (int a = 0; a < 3; ++a) jacobian[d + D * a] = o[(a + 1) * D + d] * inverse_width[a];
+              }
+              visit(r0[1] + i, r1[1] + j, r2[1] + k, value, jacobian);
+            }
+      }
+}
+
+void TSpline::evaluate_lattice_with_jacobian(
+    const std::array<std::vector<double>, 3>& coords,
+    const std::function<void(int, int, int, const double*, const double*)>& visit) const {
+  switch (dimension_) {
+    case 1: evaluate_lattice_impl<1>(coords, visit); break;
+    case 2: evaluate_lattice_impl<2>(coords, visit); break;
+    case 3: evaluate_lattice_impl<3>(coords, visit); break;
+    default: evaluate_lattice_impl<4>(coords, visit); break;
+  }
 }
 
 const TSpline::Cell& TSpline::piece_values(const Eigen::Vector3d& uvw, const std::array<int, 3>& order,

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -15,6 +16,13 @@ class BsplineVolume;
 
 /// Local knot vectors along u, v, w of one blending function B_i = N_u(u) N_v(v) N_w(w) (Eq. 4.2).
 using BlendingKnots = std::array<LocalKnots, 3>;
+
+/// Hash of knot vectors for unordered containers: equal knots (0.0 and −0.0 alike) hash equal.
+/// Only lookups may depend on it, never an output order.
+struct KnotsHash {
+  std::size_t operator()(const LocalKnots& knots) const;
+  std::size_t operator()(const BlendingKnots& knots) const;
+};
 
 /// Which formula TSpline evaluation uses.
 enum class TSplineForm {
@@ -100,6 +108,17 @@ class TSpline {
   /// Partial derivative ∂^(o0+o1+o2) / ∂u^o0 ∂v^o1 ∂w^o2 of the semi-standard form Σ w_i p_i B_i,
   /// D values; orders >= 0 (orders > 3 give 0). Throws like evaluate_to.
   Eigen::VectorXd derivative(const Eigen::Vector3d& uvw, const std::array<int, 3>& order) const;
+  /// The semi-standard F = Σ w_i p_i B_i (Eq. 4.3) and its D×3 Jacobian at every point
+  /// (u[i], v[j], w[k]) of the tensor lattice coords = {u, v, w} (each axis non-decreasing, inside
+  /// the domain), cell by cell: inside one knot-line cell every B_i is a product of fixed
+  /// univariate pieces, so the sums run as a tensor-product pass (u, then v, then w) instead of
+  /// one lookup and one pass over the cell's functions per point. visit(i, j, k, value, jacobian)
+  /// is called once per point (value[0..D), jacobian column-major as in evaluate_with_jacobian),
+  /// in cell order. Agrees with evaluate_with_jacobian to rounding. Throws like evaluate_to if a
+  /// coordinate is outside the domain.
+  void evaluate_lattice_with_jacobian(
+      const std::array<std::vector<double>, 3>& coords,
+      const std::function<void(int i, int j, int k, const double* value, const double* jacobian)>& visit) const;
   /// Σ w_i B_i(uvw): 1 everywhere for a semi-standard spline. Throws like evaluate_to.
   double weight_sum(const Eigen::Vector3d& uvw) const;
   /// F at each row of uvw (m×3), returns m×D. Throws like evaluate_to, naming the row.
@@ -142,6 +161,9 @@ class TSpline {
   int locate(const Eigen::Vector3d& uvw, double* local, int* k) const;
   template <int D, bool kRational, bool kJacobian>
   void evaluate_impl(const Eigen::Vector3d& uvw, double* value, double* jacobian) const;
+  template <int D>
+  void evaluate_lattice_impl(const std::array<std::vector<double>, 3>& coords,
+                             const std::function<void(int, int, int, const double*, const double*)>& visit) const;
   template <int D, bool kRational, bool kJacobian>
   void evaluate_polynomial(int cell, const double* s, const int* k, double* value, double* jacobian) const;
 

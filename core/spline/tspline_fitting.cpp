@@ -185,26 +185,37 @@ FairingRows laplacian_rows(const TSpline& spline, const std::vector<int>& column
 constexpr double kPreconditionerDrop = 0.05;
 class DroppedIncompleteCholesky {
  public:
+  // a: the upper triangle with the diagonal first in each row (what solve_normal passes; the
+  // CG reads only that triangle too). IC(0) reads a lower triangle: the kept entries are
+  // transposed, which gives row j its columns i < j increasing and then the diagonal.
   void compute(const linalg::CsrMatrix& a) {
     const int n = a.rows();
     const auto& off = a.row_offsets();
     const auto& col = a.col_indices();
     const auto& val = a.values();
     std::vector<double> diag(n, 0.0);
-    for (int i = 0; i < n; ++i)
-      for (int k = off[i]; k < off[i + 1]; ++k)
-        if (col[k] == i) diag[i] = std::abs(val[k]);
-    std::vector<int> offsets(1, 0), cols;
-    std::vector<double> values;
     for (int i = 0; i < n; ++i) {
-      for (int k = off[i]; k < off[i + 1]; ++k) {
-        const int j = col[k];
-        if (j == i || std::abs(val[k]) >= drop_ * std::sqrt(diag[i] * diag[j])) {
-          cols.push_back(j);
-          values.push_back(val[k]);
+      assert(off[i] < off[i + 1] && col[off[i]] == i);
+      diag[i] = std::abs(val[off[i]]);
+    }
+    auto keep = [&](int k, int i) { return std::abs(val[k]) >= drop_ * std::sqrt(diag[i] * diag[col[k]]); };
+    std::vector<int> offsets(n + 1, 0);
+    for (int i = 0; i < n; ++i) {
+      ++offsets[i + 1];
+      for (int k = off[i] + 1; k < off[i + 1]; ++k)
+        if (keep(k, i)) ++offsets[col[k] + 1];
+    }
+    for (int i = 0; i < n; ++i) offsets[i + 1] += offsets[i];
+    std::vector<int> fill(offsets.begin(), offsets.end() - 1), cols(offsets.back());
+    std::vector<double> values(offsets.back());
+    for (int i = 0; i < n; ++i) {
+      cols[fill[i]] = i;
+      values[fill[i]++] = val[off[i]];
+      for (int k = off[i] + 1; k < off[i + 1]; ++k)
+        if (keep(k, i)) {
+          cols[fill[col[k]]] = i;
+          values[fill[col[k]]++] = val[k];
         }
-      }
-      offsets.push_back(static_cast<int>(cols.size()));
     }
     ic_.compute(linalg::CsrMatrix::from_arrays(n, a.cols(), std::move(offsets), std::move(cols),
                                                std::move(values)));
@@ -217,9 +228,25 @@ class DroppedIncompleteCholesky {
   linalg::IncompleteCholesky0 ic_;
 };
 
+// The upper triangle of a (sorted rows holding their diagonal), the diagonal first in each row.
+linalg::CsrMatrix upper_triangle(const linalg::CsrMatrix& a) {
+  std::vector<int> offsets(1, 0), cols;
+  std::vector<double> values;
+  for (int i = 0; i < a.rows(); ++i) {
+    for (int k = a.row_offsets()[i]; k < a.row_offsets()[i + 1]; ++k)
+      if (a.col_indices()[k] >= i) {
+        cols.push_back(a.col_indices()[k]);
+        values.push_back(a.values()[k]);
+      }
+    offsets.push_back(static_cast<int>(cols.size()));
+  }
+  return linalg::CsrMatrix::from_arrays(a.rows(), a.cols(), std::move(offsets), std::move(cols), std::move(values));
+}
+
 // Solves (AᵀA + ε²I) x = Aᵀb + ε² prior for the unknown columns (the normal equations of
 // min ‖A x − b‖² + ε²‖x − prior‖², ε² = regularization · mean diagonal of AᵀA) by CG from the
-// current control points, and writes them back. ata must hold the diagonal in its pattern.
+// current control points, and writes them back. ata: the upper triangle of AᵀA, the diagonal
+// first in each row (GroupedGram::take_upper), all the CG and the preconditioner read.
 TSplineFitReport solve_normal(TSpline& spline, const std::vector<int>& unknown_ids, linalg::CsrMatrix ata,
                               Eigen::MatrixXd atb, int rows, const Eigen::MatrixX3d& prior,
                               double regularization, double tolerance, int max_iterations) {
@@ -236,11 +263,10 @@ TSplineFitReport solve_normal(TSpline& spline, const std::vector<int>& unknown_i
   std::vector<int> diagonal(n, -1);
   double trace = 0.0;
   for (int r = 0; r < n; ++r)
-    for (int k = off[r]; k < off[r + 1]; ++k)
-      if (col[k] == r) {
-        diagonal[r] = k;
-        trace += val[k];
-      }
+    if (off[r] < off[r + 1] && col[off[r]] == r) {
+      diagonal[r] = off[r];
+      trace += val[off[r]];
+    }
   const double mean = trace / n;
   const double eps2 = regularization * (mean > 0.0 ? mean : 1.0);
   for (int c = 0; c < n; ++c) {
@@ -275,7 +301,7 @@ TSplineFitReport solve_stacked(TSpline& spline, const std::vector<int>& unknown_
   rhs.conservativeResize(rows + 1, 3);
   rhs.row(rows).setZero();
   linalg::NormalEquations normal = linalg::normal_equations(a, rhs);
-  return solve_normal(spline, unknown_ids, std::move(normal.ata), std::move(normal.atb), rows, prior,
+  return solve_normal(spline, unknown_ids, upper_triangle(normal.ata), std::move(normal.atb), rows, prior,
                       regularization, tolerance, max_iterations);
 }
 
@@ -400,7 +426,7 @@ TSplineFitReport fit_columns(TSpline& spline, const Eigen::MatrixX3d& uvw, const
     gram.add(g, block, rhs);
   }
   Eigen::MatrixXd atb = std::move(gram.rhs());
-  return solve_normal(spline, ids, gram.take_symmetric(), std::move(atb), rows, prior, options.regularization,
+  return solve_normal(spline, ids, gram.take_upper(), std::move(atb), rows, prior, options.regularization,
                       options.tolerance, options.max_iterations);
 }
 }  // namespace

@@ -12,6 +12,7 @@
 
 #include "core/common/error.h"
 #include "core/linalg/conjugate_gradient.h"
+#include "core/linalg/parallel_for.h"
 #include "core/linalg/csr_matrix.h"
 
 namespace volspline::volume {
@@ -36,6 +37,7 @@ void check_options(const FieldAlignedOptions& o, std::size_t num_voxels) {
     throw Error("field-aligned parameterization: corner_weight must be > 0");
   if (!(o.cg_tolerance > 0)) throw Error("field-aligned parameterization: cg_tolerance must be > 0");
   if (o.cg_max_iterations < 1) throw Error("field-aligned parameterization: cg_max_iterations must be >= 1");
+  if (o.threads < 1) throw Error("field-aligned parameterization: threads must be >= 1");
   if (o.corner_selection == CornerSelection::Given)
     for (std::size_t id : o.corner_voxels)
       if (id >= num_voxels)
@@ -475,7 +477,10 @@ FieldAlignedParam compute_field_aligned_param(const Volume& volume, const FrameF
   result.converged = true;
   auto solve = [&](System& sys) {
     if (sys.unknowns == 0) return;
-    for (int c = 0; c < 3; ++c) {
+    // The three coordinates are independent systems: solved concurrently, combined in order.
+    std::array<int, 3> iterations{};
+    std::array<bool, 3> converged{};
+    linalg::parallel_for(options.threads, 3, [&](int c) {
       const linalg::CsrMatrix a = linalg::CsrMatrix::from_arrays(sys.unknowns, sys.unknowns, sys.row_offsets, sys.col_indices, sys.values[c]);
       linalg::ConjugateGradient<linalg::IncompleteCholesky0> cg(a);
       cg.set_tolerance(options.cg_tolerance).set_max_iterations(options.cg_max_iterations);
@@ -484,11 +489,15 @@ FieldAlignedParam compute_field_aligned_param(const Volume& volume, const FrameF
         for (int jj = 1; jj < g.m[1] - 1; ++jj)
           for (int ii = 1; ii < g.m[0] - 1; ++ii) x0[sys.unknown(g, ii, jj, kk)] = nodes[c][g.node(ii, jj, kk)];
       const Eigen::VectorXd x = cg.solve(sys.rhs[c], x0);
-      result.cg_iterations += cg.iterations();
-      if (cg.info() != linalg::SolverInfo::Success) result.converged = false;
+      iterations[c] = cg.iterations();
+      converged[c] = cg.info() == linalg::SolverInfo::Success;
       for (int kk = 1; kk < g.m[2] - 1; ++kk)
         for (int jj = 1; jj < g.m[1] - 1; ++jj)
           for (int ii = 1; ii < g.m[0] - 1; ++ii) nodes[c][g.node(ii, jj, kk)] = x[sys.unknown(g, ii, jj, kk)];
+    });
+    for (int c = 0; c < 3; ++c) {
+      result.cg_iterations += iterations[c];
+      if (!converged[c]) result.converged = false;
     }
   };
   solve(s);

@@ -41,6 +41,7 @@ struct FieldAlignedOptions {
   double corner_weight = 1.0;     ///< penalty of a corner constraint relative to the mean diagonal of the system, > 0 (stronger pins fold the cells around a corner)
   double cg_tolerance = 1e-8;     ///< relative residual of the CG solves, > 0
   int cg_max_iterations = 2000;   ///< >= 1
+  int threads = 1;               ///< worker threads, >= 1 (1 creates none): the three coordinate solves run concurrently; the result is the same for every count
 };
 
 /// A field-aligned parameterization of the voxel grid (§5.3).

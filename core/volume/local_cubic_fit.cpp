@@ -4,10 +4,12 @@
 #include <algorithm>
 #include <array>
 #include <string>
+#include <vector>
 
 #include <Eigen/QR>
 
 #include "core/common/error.h"
+#include "core/linalg/parallel_for.h"
 
 namespace volspline::volume {
 
@@ -109,10 +111,15 @@ LocalCubicFit fit_local_cubics(const Volume& volume, const LocalCubicFitOptions&
   result.hessian.resize(n);
   const Eigen::Vector3d inv_spacing = volume.spacing.cwiseInverse();
 
-  Eigen::VectorXd window(side * side * side);
-  Eigen::VectorXd coefficients(kNumCubicMonomials);
-  for (int z = 0; z < volume.nz; ++z) {
-    progress.report("local cubic fit", static_cast<double>(z) / volume.nz);
+  if (options.threads < 1) throw Error("local cubic fit: threads must be >= 1, got " + std::to_string(options.threads));
+  // One z plane per work chunk, in blocks of planes between progress reports (which stay on
+  // the calling thread).
+  // Per-plane scratch vectors allocated once up front (not inside the worker).
+  std::vector<Eigen::VectorXd> windows(static_cast<std::size_t>(volume.nz), Eigen::VectorXd(side * side * side));
+  std::vector<Eigen::VectorXd> coefficient_vectors(static_cast<std::size_t>(volume.nz), Eigen::VectorXd(kNumCubicMonomials));
+  auto fit_plane = [&](int z) {
+    Eigen::VectorXd& window = windows[static_cast<std::size_t>(z)];
+    Eigen::VectorXd& coefficients = coefficient_vectors[static_cast<std::size_t>(z)];
     const int cz = std::clamp(z, k, volume.nz - 1 - k);
     for (int y = 0; y < volume.ny; ++y) {
       const int cy = std::clamp(y, k, volume.ny - 1 - k);
@@ -141,6 +148,12 @@ LocalCubicFit fit_local_cubics(const Volume& volume, const LocalCubicFitOptions&
         result.hessian[id] = inv_spacing.asDiagonal() * hessian * inv_spacing.asDiagonal();
       }
     }
+  };
+  constexpr int kPlanesPerReport = 16;
+  for (int z0 = 0; z0 < volume.nz; z0 += kPlanesPerReport) {
+    progress.report("local cubic fit", static_cast<double>(z0) / volume.nz);
+    const int planes = std::min(kPlanesPerReport, volume.nz - z0);
+    linalg::parallel_for(options.threads, planes, [&](int p) { fit_plane(z0 + p); });
   }
   progress.report("local cubic fit", 1.0);
   return result;

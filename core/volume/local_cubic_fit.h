@@ -13,6 +13,7 @@ namespace volspline::volume {
 /// Options of fit_local_cubics.
 struct LocalCubicFitOptions {
   int ring = 2;  ///< k of the k-ring neighbourhood: a (2k+1)^3 voxel window; k >= 2 (k = 1 cannot determine a cubic)
+  int threads = 1;  ///< worker threads, >= 1 (1 creates none); every voxel's fit is independent, so the result is the same for every count
 };
 
 /// Per-voxel local cubic fit, voxel order as Volume::samples (x fastest).

@@ -93,3 +93,24 @@ TEST_CASE("IC(0) falls back to the identity on non-finite values") {
   const Eigen::VectorXd r = Eigen::VectorXd::LinSpaced(4, 1.0, 4.0);
   CHECK(ic.solve(r) == r);
 }
+
+TEST_CASE("IC(0) with threads keeps the first shift that works: the same factor bit for bit") {
+  // The 3x3 indefinite matrix needs several doublings of the shift; a matrix with NaN fails
+  // all 61 attempts and falls back to the identity.
+  const CsrMatrix indefinite = CsrMatrix::from_triplets(
+      3, 3, {{0, 0, 1.0}, {1, 1, 1.0}, {2, 2, 1.0}, {0, 1, 2.0}, {1, 0, 2.0}});
+  CsrMatrix broken = tridiagonal(4);
+  broken.values()[0] = std::numeric_limits<double>::quiet_NaN();
+  for (const CsrMatrix* a : {&indefinite, static_cast<const CsrMatrix*>(&broken)}) {
+    linalg::IncompleteCholesky0 one;
+    one.compute(*a);
+    for (int threads : {2, 3, 4}) {
+      linalg::IncompleteCholesky0 many;
+      many.set_threads(threads);
+      many.compute(*a);
+      CHECK(many.shift() == one.shift());
+      CHECK(many.strict_lower().values() == one.strict_lower().values());
+      CHECK(many.inverse_diagonal() == one.inverse_diagonal());
+    }
+  }
+}

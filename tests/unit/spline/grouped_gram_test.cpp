@@ -77,3 +77,44 @@ TEST_CASE("an unused column keeps its diagonal with zero value") {
   CHECK(a.values()[a.row_offsets()[1]] == 0.0);
   CHECK(gram.rhs()(2, 0) == 6.0);
 }
+
+TEST_CASE("add_all gives the bits of add in group order for every thread count") {
+  // 600 columns in 900 overlapping groups of 40 sorted columns, 1 to 6 rows each: several
+  // batches and row ranges.
+  const int n = 600, groups = 900;
+  std::vector<int> offsets(1, 0), cols;
+  std::mt19937_64 rng(11);
+  for (int g = 0; g < groups; ++g) {
+    const int start = static_cast<int>(rng() % (n - 80));
+    for (int c = 0; c < 40; ++c) cols.push_back(start + 2 * c);
+    offsets.push_back(static_cast<int>(cols.size()));
+  }
+  auto rows = [](int g, Eigen::MatrixXd& block, Eigen::MatrixXd& t) {
+    std::mt19937_64 local(1000 + g);  // the rows of a group depend only on g
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    const int r = 1 + g % 6;
+    block.resize(r, 40);
+    t.resize(r, 3);
+    for (int i = 0; i < r; ++i) {
+      for (int c = 0; c < 40; ++c) block(i, c) = u(local);
+      for (int c = 0; c < 3; ++c) t(i, c) = u(local);
+    }
+  };
+  spline::GroupedGram reference(n, 3, offsets, cols);
+  for (int g = 0; g < groups; ++g) {
+    Eigen::MatrixXd block, t;
+    rows(g, block, t);
+    reference.add(g, block, t);
+  }
+  const Eigen::MatrixXd reference_rhs = reference.rhs();
+  const linalg::CsrMatrix expected = reference.take_upper();
+  for (int threads : {1, 2, 3}) {
+    spline::GroupedGram gram(n, 3, offsets, cols, threads);
+    gram.add_all(rows);
+    CHECK(gram.rhs() == reference_rhs);
+    const linalg::CsrMatrix got = gram.take_upper();
+    CHECK(got.row_offsets() == expected.row_offsets());
+    CHECK(got.col_indices() == expected.col_indices());
+    CHECK(got.values() == expected.values());  // exact: every entry summed in group order
+  }
+}

@@ -42,6 +42,8 @@ TEST_CASE("spline untangling unfolds a near-boundary fold, keeps the boundary an
   options.lattice = 16;
   options.seed_stride = 1;
   options.energy_stride = 1;
+  options.nodes_per_knot_interval = 0;  // the scan is then exactly the j/16 lattice checked below
+  options.boundary_layers.clear();
   const spline::SplineUntangleReport report = spline::untangle_spline(ts, uvw, uvw, options);
   CHECK(report.initial_negative > 0);
   CHECK(report.final_negative == 0);
@@ -73,6 +75,8 @@ TEST_CASE("spline untangling on the cell-centre energy nodes unfolds the fold; t
   for (int s = 0; s < 125; ++s) uvw.row(s) = Eigen::RowVector3d(s % 5 + 0.5, s / 5 % 5 + 0.5, s / 25 + 0.5) / 5.0;
   spline::SplineUntangleOptions options;
   options.lattice = 16;  // seed_stride 2 and energy_stride 2: the 8³ cell centres of the 16 lattice
+  options.nodes_per_knot_interval = 0;
+  options.boundary_layers.clear();
   const spline::SplineUntangleReport report = spline::untangle_spline(ts, uvw, uvw, options);
   CHECK(report.scanned == 8 * 8 * 8);
   CHECK(report.initial_negative > 0);
@@ -97,8 +101,85 @@ TEST_CASE("spline untangling leaves a valid map alone") {
   spline::TSpline ts = test::identity_test_volume();
   const Eigen::MatrixXd before = ts.points();
   const spline::SplineUntangleReport report = spline::untangle_spline(ts, Eigen::MatrixX3d(0, 3), Eigen::MatrixX3d(0, 3));
-  CHECK(report.scanned == 24 * 24 * 24);  // the cell centres of the 24³ lattice
+  // Per axis 6 nodes in each of the 4 knot intervals (one per 2/48) and 2 boundary layers per end.
+  CHECK(report.scanned == 28 * 28 * 28);
   CHECK(report.seeds == 0);
   CHECK(report.free_functions == 0);
   CHECK(ts.points() == before);
+}
+
+namespace {
+
+// det J ≤ 0 count over points the untangler never holds: the cell centres of a 20³ lattice
+// (odd j/40) and 32² points per face at 1/1000 inside.
+int unseen_negative_points(const spline::TSpline& ts) {
+  int count = 0;
+  for (int k = 0; k < 20; ++k)
+    for (int j = 0; j < 20; ++j)
+      for (int i = 0; i < 20; ++i)
+        if (ts.jacobian(Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5) / 20.0).determinant() <= 0.0) ++count;
+  for (int a = 0; a < 3; ++a)
+    for (int side = 0; side < 2; ++side)
+      for (int j = 0; j < 32; ++j)
+        for (int i = 0; i < 32; ++i) {
+          Eigen::Vector3d p;
+          p(a) = side ? 1.0 - 1e-3 : 1e-3;
+          p((a + 1) % 3) = (i + 0.5) / 32.0;
+          p((a + 2) % 3) = (j + 0.5) / 32.0;
+          if (ts.jacobian(p).determinant() <= 0.0) ++count;
+        }
+  return count;
+}
+
+}  // namespace
+
+TEST_CASE("spline untangling unfolds a fold at a face (normal derivative outward) at points it never held") {
+  spline::TSpline ts = test::identity_test_volume();
+  // The second-layer point (1, 3, 3) (zero on the face u = 0, so interior) moved past the face:
+  // x 0.083 → −0.3, so ∂F/∂u points out of the solid at the face's middle; the surface itself
+  // (the boundary points) stays as it is.
+  Eigen::MatrixXd points = ts.points();
+  points(1 + 7 * (3 + 7 * 3), 0) = -0.3;
+  ts.set_points(points);
+  // ∂x/∂u at (0, ½, ½) = 12·(−0.3·(2/3)² + 0.083·(1 − (2/3)²)) < 0 (2/3: the middle function at ½).
+  REQUIRE(ts.jacobian(Eigen::Vector3d(0.0, 0.5, 0.5)).determinant() < 0.0);
+  const int folded = unseen_negative_points(ts);
+  REQUIRE(folded > 0);
+  Eigen::MatrixX3d uvw(5 * 5 * 5, 3);
+  for (int s = 0; s < 125; ++s) uvw.row(s) = Eigen::RowVector3d(s % 5 + 0.5, s / 5 % 5 + 0.5, s / 25 + 0.5) / 5.0;
+  spline::SplineUntangleOptions options;
+  options.lattice = 16;
+  SUBCASE("without boundary layers the cell-centre nodes (first at 1/16) miss most of it") {
+    spline::TSpline plain = ts;
+    options.boundary_layers.clear();
+    spline::untangle_spline(plain, uvw, uvw, options);
+    CHECK(unseen_negative_points(plain) > 0);
+  }
+  SUBCASE("with them it is gone everywhere the check looks") {
+    REQUIRE(options.boundary_layers.size() == 2);  // the defaults: 1/4 and 1/2 of the first node's depth
+    const spline::SplineUntangleReport report = spline::untangle_spline(ts, uvw, uvw, options);
+    CHECK(report.initial_negative > 0);
+    CHECK(report.final_negative == 0);
+    CHECK(unseen_negative_points(ts) == 0);
+    CHECK(ts.jacobian(Eigen::Vector3d(0.0, 0.5, 0.5)).determinant() > 0.0);
+    const Eigen::Vector3d lo = ts.domain_min(), hi = ts.domain_max();
+    for (int i = 0; i < ts.num_functions(); ++i)
+      if (spline::touches_domain_boundary(ts.knots()[i], lo, hi)) CHECK(ts.points().row(i) == points.row(i));
+  }
+}
+
+TEST_CASE("spline untangling with a boundary layer on the faces themselves leaves out the cuboid edges") {
+  spline::TSpline ts = test::identity_test_volume();
+  Eigen::MatrixXd points = ts.points();
+  points(1 + 7 * (3 + 7 * 3), 0) = -0.3;  // the face fold of the test above
+  ts.set_points(points);
+  spline::SplineUntangleOptions options;
+  options.lattice = 16;
+  options.boundary_layers = {0.0, 0.5};
+  const spline::SplineUntangleReport report = spline::untangle_spline(ts, Eigen::MatrixX3d(0, 3), Eigen::MatrixX3d(0, 3), options);
+  // Per axis 2 nodes in each of the 4 knot intervals and 2 layers per end; the 3·2²·10 + 8
+  // nodes on two or three faces (edges, where a smooth surface has det J = 0) are not scanned.
+  CHECK(report.scanned == 12 * 12 * 12 - 3 * 4 * 10 - 8);
+  CHECK(report.final_negative == 0);
+  CHECK(unseen_negative_points(ts) == 0);
 }
