@@ -46,27 +46,8 @@ SymmetricMatrix symmetric_from_upper(const CsrMatrix& a, int threads) {
   s.strict_upper =
       CsrMatrix::from_arrays(n, n, std::move(offsets), std::move(cols), std::move(vals));
   s.threads = std::max(1, threads);
-  if (s.threads >= kMinSpmvThreads) {
-    // Transpose of the strict upper triangle; rows visited in increasing order give every
-    // lower row its columns in increasing order.
-    const std::vector<int>& up_off = s.strict_upper.row_offsets();
-    const std::vector<int>& up_col = s.strict_upper.col_indices();
-    const std::vector<double>& up_val = s.strict_upper.values();
-    std::vector<int> low_off(n + 1, 0);
-    for (int c : up_col) ++low_off[c + 1];
-    for (int i = 0; i < n; ++i) low_off[i + 1] += low_off[i];
-    std::vector<int> low_col(up_col.size());
-    std::vector<double> low_val(up_col.size());
-    std::vector<int> fill(low_off.begin(), low_off.end() - 1);
-    for (int i = 0; i < n; ++i)
-      for (int k = up_off[i]; k < up_off[i + 1]; ++k) {
-        const int at = fill[up_col[k]]++;
-        low_col[at] = i;
-        low_val[at] = up_val[k];
-      }
-    s.strict_lower =
-        CsrMatrix::from_arrays(n, n, std::move(low_off), std::move(low_col), std::move(low_val));
-  }
+  // Rows of the transpose come out with increasing columns (CsrMatrix::transpose).
+  if (s.threads >= kMinSpmvThreads) s.strict_lower = s.strict_upper.transpose();
   return s;
 }
 
