@@ -46,8 +46,17 @@ SymmetricMatrix symmetric_from_upper(const CsrMatrix& a, int threads) {
   s.strict_upper =
       CsrMatrix::from_arrays(n, n, std::move(offsets), std::move(cols), std::move(vals));
   s.threads = std::max(1, threads);
-  // Rows of the transpose come out with increasing columns (CsrMatrix::transpose).
-  if (s.threads >= kMinSpmvThreads) s.strict_lower = s.strict_upper.transpose();
+  const int nnz = s.strict_upper.nnz();
+  const int parts = nnz >= kMinPartedSpmvNnz ? kSpmvParts : 1;
+  const std::vector<int>& up = s.strict_upper.row_offsets();
+  s.part_rows.assign(1, 0);
+  for (int t = 1; t < parts; ++t) {
+    // First row whose entries start at or after t/parts of all entries.
+    const long long target = static_cast<long long>(nnz) * t / parts;
+    const int row = static_cast<int>(std::lower_bound(up.begin(), up.end(), target) - up.begin());
+    s.part_rows.push_back(std::clamp(row, s.part_rows.back(), n));
+  }
+  s.part_rows.push_back(n);
   return s;
 }
 
@@ -142,82 +151,73 @@ double update(int n, double alpha, const double* __restrict p, const double* __r
 
 namespace {
 
-// Rows per work chunk of the parallel product (a fixed partition; any one works, since each
-// row is computed whole by one thread).
-constexpr int kSpmvRowChunk = 512;
-
-// The product of spmv_block one row at a time: row i sums, in this order, q[i], the lower
-// entries (j < i, increasing j: the order in which spmv_block scatters them into q[i]), the
-// diagonal and the upper entries. The same operations in the same order, so the same bits,
-// but rows are independent and run in parallel; p·q is summed afterwards in row order.
+// Rows [begin, end) of the product: acc[i − first] gets the diagonal and upper terms of row i
+// added to the terms scattered into it so far, and every row j > i the term A_ij p_i scattered
+// into acc[j − first]. With acc = q, first = 0 and one part this is the plain one-pass symmetric
+// product.
 template <int K>
-void spmv_rows_parallel(const SymmetricMatrix& a, const double* const* p, double* const* q, double* pq) {
-  const int n = a.strict_upper.rows();
-  const int* up_off = a.strict_upper.row_offsets().data();
-  const int* up_col = a.strict_upper.col_indices().data();
-  const double* up_val = a.strict_upper.values().data();
-  const int* low_off = a.strict_lower.row_offsets().data();
-  const int* low_col = a.strict_lower.col_indices().data();
-  const double* low_val = a.strict_lower.values().data();
-  const double* diag = a.diagonal.data();
-  parallel_for(a.threads, (n + kSpmvRowChunk - 1) / kSpmvRowChunk, [&](int chunk) {
-    const int end = std::min(n, (chunk + 1) * kSpmvRowChunk);
-    for (int i = chunk * kSpmvRowChunk; i < end; ++i) {
-      double sum[K];
-      for (int c = 0; c < K; ++c) sum[c] = q[c][i];
-      for (int k = low_off[i]; k < low_off[i + 1]; ++k) {
-        const int j = low_col[k];
-        const double v = low_val[k];
-        for (int c = 0; c < K; ++c) sum[c] += v * p[c][j];
-      }
-      for (int c = 0; c < K; ++c) sum[c] = sum[c] + diag[i] * p[c][i];
-      for (int k = up_off[i]; k < up_off[i + 1]; ++k) {
-        const int j = up_col[k];
-        const double v = up_val[k];
-        for (int c = 0; c < K; ++c) sum[c] += v * p[c][j];
-      }
-      for (int c = 0; c < K; ++c) q[c][i] = sum[c];
-    }
-  });
-  for (int c = 0; c < K; ++c) {
-    double dot = 0.0;
-    for (int i = 0; i < n; ++i) dot += p[c][i] * q[c][i];
-    pq[c] = dot;
-  }
-}
-
-template <int K>
-void spmv_block(const SymmetricMatrix& a, const double* const* p, double* const* q, double* pq) {
-  if (a.threads >= kMinSpmvThreads) {
-    spmv_rows_parallel<K>(a, p, q, pq);
-    return;
-  }
-  const int n = a.strict_upper.rows();
+void spmv_part(const SymmetricMatrix& a, int begin, int end, int first, const double* const* p,
+               double* const* acc) {
   const int* offsets = a.strict_upper.row_offsets().data();
   const int* cols = a.strict_upper.col_indices().data();
   const double* vals = a.strict_upper.values().data();
   const double* diag = a.diagonal.data();
-  double dot[K] = {};
-  for (int i = 0; i < n; ++i) {
+  for (int i = begin; i < end; ++i) {
     double pi[K], sum[K];
     for (int c = 0; c < K; ++c) {
       pi[c] = p[c][i];
-      sum[c] = q[c][i] + diag[i] * pi[c];
+      sum[c] = acc[c][i - first] + diag[i] * pi[c];
     }
     for (int k = offsets[i]; k < offsets[i + 1]; ++k) {
       const int j = cols[k];
       const double v = vals[k];
       for (int c = 0; c < K; ++c) {
         sum[c] += v * p[c][j];
-        q[c][j] += v * pi[c];
+        acc[c][j - first] += v * pi[c];
       }
     }
-    for (int c = 0; c < K; ++c) {
-      q[c][i] = sum[c];
-      dot[c] += pi[c] * sum[c];
+    for (int c = 0; c < K; ++c) acc[c][i - first] = sum[c];
+  }
+}
+
+template <int K>
+void spmv_block(const SymmetricMatrix& a, const double* const* p, double* const* q, double* pq) {
+  const int n = a.strict_upper.rows();
+  const int parts = static_cast<int>(a.part_rows.size()) - 1;
+  if (parts <= 1) {
+    spmv_part<K>(a, 0, n, 0, p, q);
+  } else {
+    // Part 0 works in q itself; part t ≥ 1 in a private array over rows [part_rows[t], n)
+    // (stored from index 0), added to q afterwards in part order.
+    std::vector<std::vector<double>> scratch(static_cast<std::size_t>(parts - 1) * K);
+    parallel_for(a.threads >= kMinSpmvThreads ? a.threads : 1, parts, [&](int t) {
+      double* acc[K];
+      const int first = t == 0 ? 0 : a.part_rows[t];
+      for (int c = 0; c < K; ++c) {
+        if (t == 0) {
+          acc[c] = q[c];
+        } else {
+          std::vector<double>& buffer = scratch[static_cast<std::size_t>(t - 1) * K + c];
+          buffer.assign(static_cast<std::size_t>(n - first), 0.0);
+          acc[c] = buffer.data();
+        }
+      }
+      spmv_part<K>(a, a.part_rows[t], a.part_rows[t + 1], first, p, acc);
+    });
+    for (int t = 1; t < parts; ++t) {
+      const int first = a.part_rows[t];
+      for (int c = 0; c < K; ++c) {
+        const double* buffer = scratch[static_cast<std::size_t>(t - 1) * K + c].data();
+        double* qc = q[c];
+        for (int j = first; j < n; ++j) qc[j] += buffer[j - first];
+      }
     }
   }
-  for (int c = 0; c < K; ++c) pq[c] = dot[c];
+  for (int c = 0; c < K; ++c) {
+    double dot = 0.0;
+    for (int i = 0; i < n; ++i) dot += p[c][i] * q[c][i];
+    pq[c] = dot;
+  }
 }
 
 template <int K>

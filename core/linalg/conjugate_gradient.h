@@ -32,23 +32,31 @@ namespace detail {
 // The SpMV dominates the run time (streaming the matrix), so the solver keeps only the
 // diagonal and the strict upper triangle: half the bytes per product of a full CSR matrix.
 
-/// Fewest threads for which the products run in parallel: the parallel kernel reads both
-/// triangles, twice the bytes of the one-thread kernel, and on two threads that cost more CPU
-/// than the second core saved (neghip aligned, --threads 2: 1.5–2 s more CPU, no wall gain).
+/// Strict-upper entries from which a product is cut into kSpmvParts row ranges (smaller
+/// matrices keep one part: the products of a small fit are not worth a thread).
+constexpr int kMinPartedSpmvNnz = 1 << 17;
+/// Row ranges of a large matrix's product: a fixed count, never the thread count, so that the
+/// rounding and hence the results are the same for every thread count.
+constexpr int kSpmvParts = 4;
+/// Fewest threads for which the parts run concurrently (below, one after another, same bits):
+/// one thread already streams the matrix near the memory bandwidth, and on two threads of a
+/// loaded machine the concurrent parts were slower (neghip's last level, 1.2M entries:
+/// 2.0–2.8 ms per product against 1.4–1.8 ms).
 constexpr int kMinSpmvThreads = 3;
 
 /// Symmetric matrix as its diagonal plus strict upper triangle.
 struct SymmetricMatrix {
   Eigen::VectorXd diagonal;  ///< n entries
   CsrMatrix strict_upper;    ///< n×n, entries with col > row
-  /// With threads ≥ kMinSpmvThreads: the strict lower triangle (the transpose of strict_upper),
-  /// so that rows of a product are independent and computed in parallel with the same
-  /// operations, in the same order, as the one-thread kernel (bit-identical). Else empty.
-  CsrMatrix strict_lower;
+  /// First row of each part of the product and n at the end (1 or kSpmvParts parts, cut at
+  /// equal strict-upper entry counts). Part t reads only its rows of strict_upper and
+  /// accumulates its scattered terms (rows ≥ its first) privately; the parts are summed into
+  /// q in part order, so they run in parallel with the same bits as one after the other.
+  std::vector<int> part_rows;
   int threads = 1;
 };
 /// Diagonal and strict upper triangle of the square matrix a (the lower triangle is ignored);
-/// threads ≥ kMinSpmvThreads also stores the strict lower triangle for the parallel products.
+/// `threads` (≥ 1; from kMinSpmvThreads on) run the parts of the products concurrently.
 SymmetricMatrix symmetric_from_upper(const CsrMatrix& a, int threads = 1);
 /// q += A p (q zeroed by the caller for q = A p); returns p·q.
 double symmetric_spmv(const SymmetricMatrix& a, const double* p, double* q);
@@ -187,10 +195,9 @@ class ConjugateGradient {
     return max_iterations_ >= 0 ? max_iterations_ : 2 * size();
   }
 
-  /// Threads of the matrix products (from detail::kMinSpmvThreads on) and of the
-  /// preconditioner's compute if it has set_threads (≥ 1, default 1: none created), applied by
-  /// the next compute(). Results are bit-identical for every count; parallel products store
-  /// the matrix's lower triangle too (twice its memory).
+  /// Threads of the matrix products (large matrices, from detail::kMinSpmvThreads on) and
+  /// of the preconditioner's compute if it has set_threads (≥ 1, default 1: none created),
+  /// applied by the next compute(). Results are bit-identical for every count.
   ConjugateGradient& set_threads(int threads) {
     assert(threads >= 1);
     threads_ = threads;

@@ -96,7 +96,7 @@ Vol2SplineResult run_vol2spline(const volume::Volume& volume, const std::string&
     const volume::LocalCubicFit fit = volume::fit_local_cubics(volume, cubic, progress);
     timer.lap("local_cubic_fit");
     progress.report("hessian frames", 0.0);
-    volume::FrameField initial{volume.nx, volume.ny, volume.nz, volume::hessian_frames(fit.hessian)};
+    volume::FrameField initial{volume.nx, volume.ny, volume.nz, volume::hessian_frames(fit.hessian, options.threads)};
     timer.lap("hessian_frames");
     progress.report("classification", 0.0);
     volume::ClassificationOptions classification;
@@ -108,6 +108,7 @@ Vol2SplineResult run_vol2spline(const volume::Volume& volume, const std::string&
     timer.lap("classification");
     volume::FrameSmoothingOptions smoothing;
     smoothing.active = volume::foreground_mask(classes, 2);
+    smoothing.threads = options.threads;
     const volume::FrameSmoothingResult smooth =
         volume::smooth_frame_field(initial, classes.constraints, smoothing, progress);
     stats.frames_computed = true;

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <cstddef>
 #include <functional>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -37,13 +39,17 @@ class GroupedGram {
   int group_size(int g) const { return group_offsets_[g + 1] - group_offsets_[g]; }
 
   /// Adds the rows `block` (r×k, k = group_size(g), column c ↔ group_columns(g)[c]) with right
-  /// sides t (r×rhs_cols): MᵀM += blockᵀ block, Mᵀt += blockᵀ t.
+  /// sides t (r×rhs_cols): MᵀM += blockᵀ block (a rank update), Mᵀt += blockᵀ t. Each entry
+  /// gets one addition per call, so calls in a fixed order give fixed sums.
   void add(int g, const Eigen::MatrixXd& block, const Eigen::MatrixXd& t);
-  /// Adds the rows of every group, rows(g, ...) for g = 0 .. num_groups() − 1: bit for bit the
-  /// sums of add(g, block, t) in increasing g, for every thread count (the dense blocks of a
-  /// batch of groups are formed in parallel, then scattered by ranges of matrix rows, each
-  /// entry still summed in group order). rows must be safe to call concurrently.
-  void add_all(const GroupRows& rows);
+  /// Adds the rows of every group, rows(g, ...) for g = 0 .. num_groups() − 1, which writes
+  /// row_counts[g] rows (asserted), in batches of consecutive groups: a batch's rows are formed
+  /// in parallel (a group with at least as many rows as columns forms its Gram block at once);
+  /// then each matrix row it touches is visited once, the Gram entries of every group holding
+  /// it are formed and summed in group order into an accumulator, which is added to the row.
+  /// The sums are fixed by the groups alone: the same bits for every thread count (they may
+  /// differ from add() in the last bits). rows must be safe to call concurrently.
+  void add_all(const std::vector<int>& row_counts, const GroupRows& rows);
 
   /// The right side Mᵀt, n×rhs_cols.
   const Eigen::MatrixXd& rhs() const { return rhs_; }
@@ -57,9 +63,20 @@ class GroupedGram {
   linalg::CsrMatrix take_upper();
 
  private:
-  // Adds the lower triangle gram (k×k, column-major) and local_rhs (k×rhs_cols) of group g
-  // to the matrix rows [row_begin, row_end).
-  void scatter(int g, const double* gram, const Eigen::MatrixXd& local_rhs, int row_begin, int row_end);
+  using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  // The rows of a batch of consecutive groups: group q's block (rows[q]×k, row-major) at
+  // x[x_offset[q]], or with dense[q] set its Gram block there (k×k, lower triangle); its
+  // blockᵀ t in rhs[q]; rows[q] = 0 adds nothing.
+  struct Batch {
+    std::vector<std::size_t> x_offset;
+    std::vector<double> x;
+    std::vector<int> rows;
+    std::vector<char> dense;
+    std::vector<Eigen::MatrixXd> rhs;
+  };
+  // Adds the batch of groups batch_begin .. batch_begin + count − 1, every matrix entry summed
+  // in group order.
+  void scatter_batch(int batch_begin, int count, const Batch& batch);
 
   int n_ = 0;
   int threads_ = 1;
@@ -68,7 +85,12 @@ class GroupedGram {
   std::vector<int> offsets_, cols_;
   std::vector<double> values_;
   Eigen::MatrixXd rhs_;
-  Eigen::MatrixXd local_gram_, local_rhs_;
+  // scatter_batch scratch: per row its number of pairs (zero between batches), the touched rows,
+  // the (group in batch, column) pairs by row, and a dense accumulator (zero between rows) per
+  // row range.
+  std::vector<int> row_count_, touched_, pair_offsets_;
+  std::vector<std::pair<int, int>> pairs_;
+  std::vector<std::vector<double>> accumulator_;
 };
 
 }  // namespace volspline::spline

@@ -2,8 +2,6 @@
 #include "core/spline/scattered_density_fitting.h"
 
 #include <algorithm>
-#include <atomic>
-#include <optional>
 #include <unordered_map>
 #include <utility>
 #include <cassert>
@@ -71,93 +69,68 @@ std::uint64_t hash_ids(const std::vector<int>& ids) {
   return h;
 }
 
-// Samples grouped by their exact list of blending functions, groups numbered in order of their
-// first sample; group_ids_offset/group_ids hold each group's list.
+// Samples grouped by their list of blending functions, each group's list in
+// group_ids_offset/group_ids: every sample of a knot-line cell has the cell's list
+// (TSpline::cell_functions), and cells with equal lists form one group, so only one list per
+// occupied cell is looked at. Groups are numbered in order of their first cell's first sample.
 struct SampleGroups {
   std::vector<int> group;  // per sample
   std::vector<int> group_ids_offset{0}, group_ids;
 };
 
-// Exact grouping, one sample after the other; a hash collision is resolved by probing.
-SampleGroups group_samples_exact(const TSpline& spline, const Eigen::MatrixX3d& uvw) {
-  SampleGroups out;
-  std::vector<int> ids;
-  std::vector<double> values;
-  std::unordered_map<std::uint64_t, int> group_of_hash;
-  out.group.resize(static_cast<std::size_t>(uvw.rows()));
-  for (Eigen::Index s = 0; s < uvw.rows(); ++s) {
-    spline.basis_at(uvw.row(s).transpose(), {0, 0, 0}, ids, values);
-    for (std::uint64_t h = hash_ids(ids);; ++h) {
-      const auto [it, inserted] = group_of_hash.try_emplace(h, static_cast<int>(out.group_ids_offset.size()) - 1);
-      const int g = it->second;
-      if (inserted) {
-        out.group_ids.insert(out.group_ids.end(), ids.begin(), ids.end());
-        out.group_ids_offset.push_back(static_cast<int>(out.group_ids.size()));
-      } else if (!std::equal(ids.begin(), ids.end(), out.group_ids.begin() + out.group_ids_offset[g],
-                             out.group_ids.begin() + out.group_ids_offset[g + 1])) {
-        continue;
-      }
-      out.group[static_cast<std::size_t>(s)] = g;
-      break;
-    }
-  }
-  return out;
-}
-
-// The same groups as group_samples_exact unless two different lists share a 64-bit hash:
-// the lists are hashed in parallel and grouped by hash. The caller checks every sample's list
-// against its group's (verify) and falls back to the exact grouping on a mismatch.
-SampleGroups group_samples_by_hash(const TSpline& spline, const Eigen::MatrixX3d& uvw, int threads) {
+SampleGroups group_samples(const TSpline& spline, const Eigen::MatrixX3d& uvw, int threads) {
   const Eigen::Index m = uvw.rows();
-  std::vector<std::uint64_t> hash(static_cast<std::size_t>(m));
+  // (cell, sample) keys, sorted: the occupied cells with their samples in increasing order.
+  std::vector<std::uint64_t> key(static_cast<std::size_t>(m));
   linalg::parallel_for(threads, sample_chunks(m), [&](int chunk) {
-    std::vector<int> ids;
-    std::vector<double> values;
     const Eigen::Index end = std::min(m, (chunk + 1) * kSampleChunk);
-    for (Eigen::Index s = chunk * kSampleChunk; s < end; ++s) {
-      spline.basis_at(uvw.row(s).transpose(), {0, 0, 0}, ids, values);
-      hash[static_cast<std::size_t>(s)] = hash_ids(ids);
-    }
+    for (Eigen::Index s = chunk * kSampleChunk; s < end; ++s)
+      key[static_cast<std::size_t>(s)] =
+          (static_cast<std::uint64_t>(spline.cell_of(uvw.row(s).transpose())) << 32) | static_cast<std::uint64_t>(s);
   });
+  std::sort(key.begin(), key.end());
+  // Cells by their first sample, so that group numbers follow the samples.
+  std::vector<std::pair<int, std::size_t>> cells;  // (first sample, first key)
+  for (std::size_t q = 0; q < key.size(); ++q)
+    if (q == 0 || (key[q] >> 32) != (key[q - 1] >> 32)) cells.emplace_back(static_cast<int>(key[q] & 0xffffffffu), q);
+  std::sort(cells.begin(), cells.end());
   SampleGroups out;
   out.group.resize(static_cast<std::size_t>(m));
-  std::vector<Eigen::Index> first_sample;
-  {
-    std::unordered_map<std::uint64_t, int> group_of_hash;
-    for (Eigen::Index s = 0; s < m; ++s) {
-      const auto [it, inserted] = group_of_hash.try_emplace(hash[static_cast<std::size_t>(s)],
-                                                            static_cast<int>(first_sample.size()));
-      if (inserted) first_sample.push_back(s);
-      out.group[static_cast<std::size_t>(s)] = it->second;
+  std::unordered_map<std::uint64_t, std::vector<int>> groups_of_hash;  // lookups only
+  std::vector<int> ids;
+  for (const auto& [first_sample, first_key] : cells) {
+    const std::uint64_t cell = key[first_key] >> 32;
+    spline.cell_functions(static_cast<int>(cell), ids);
+    std::vector<int>& candidates = groups_of_hash[hash_ids(ids)];
+    int g = -1;
+    for (int c : candidates)
+      if (std::equal(ids.begin(), ids.end(), out.group_ids.begin() + out.group_ids_offset[c],
+                     out.group_ids.begin() + out.group_ids_offset[c + 1])) {
+        g = c;
+        break;
+      }
+    if (g < 0) {
+      g = static_cast<int>(out.group_ids_offset.size()) - 1;
+      candidates.push_back(g);
+      out.group_ids.insert(out.group_ids.end(), ids.begin(), ids.end());
+      out.group_ids_offset.push_back(static_cast<int>(out.group_ids.size()));
     }
-  }
-  const int groups = static_cast<int>(first_sample.size());
-  std::vector<std::vector<int>> lists(static_cast<std::size_t>(groups));
-  linalg::parallel_for(threads, (groups + 1023) / 1024, [&](int chunk) {
-    std::vector<double> values;
-    for (int g = chunk * 1024; g < std::min(groups, (chunk + 1) * 1024); ++g)
-      spline.basis_at(uvw.row(first_sample[g]).transpose(), {0, 0, 0}, lists[g], values);
-  });
-  for (const std::vector<int>& ids : lists) {
-    out.group_ids.insert(out.group_ids.end(), ids.begin(), ids.end());
-    out.group_ids_offset.push_back(static_cast<int>(out.group_ids.size()));
+    for (std::size_t q = first_key; q < key.size() && (key[q] >> 32) == cell; ++q)
+      out.group[static_cast<std::size_t>(key[q] & 0xffffffffu)] = g;
   }
   return out;
 }
 
-// Every sample of one knot-grid cell of the T-spline has the same blending functions (the
-// cell's list, from basis_at), so samples are grouped by that exact list and each group adds
-// one dense Gram block, a symmetric rank update, to the sparse upper triangle. Groups run in
-// Morton order of their first sample, so consecutive groups touch neighbouring rows. With
-// `exact` false the grouping is by hash; the result is then empty if a sample's list differs
-// from its group's (a hash collision), and the caller repeats with `exact`.
-std::optional<NormalEquations> assemble_normal_equations(const TSpline& spline, const Eigen::MatrixX3d& uvw,
-                                                         const Eigen::MatrixXd& targets, double regularization,
-                                                         int threads, bool exact) {
+// Every sample of one knot-line cell of the T-spline has the same blending functions, so
+// samples are grouped by that list (group_samples) and each group adds one dense Gram block, a
+// symmetric rank update, to the sparse upper triangle. Groups run in Morton order of their first
+// sample, so consecutive groups touch neighbouring rows.
+NormalEquations assemble_normal_equations(const TSpline& spline, const Eigen::MatrixX3d& uvw,
+                                          const Eigen::MatrixXd& targets, double regularization, int threads) {
   const int n = spline.num_functions();
   const Eigen::Index m = uvw.rows();
   const Eigen::Index k = targets.cols();
-  SampleGroups grouping = exact ? group_samples_exact(spline, uvw) : group_samples_by_hash(spline, uvw, threads);
+  SampleGroups grouping = group_samples(spline, uvw, threads);
   std::vector<int>& group = grouping.group;
   std::vector<int>& group_ids_offset = grouping.group_ids_offset;
   std::vector<int>& group_ids = grouping.group_ids;
@@ -202,10 +175,11 @@ std::optional<NormalEquations> assemble_normal_equations(const TSpline& spline, 
   }
   std::vector<int>().swap(group);
   GroupedGram normal(n, static_cast<int>(k), std::move(group_ids_offset), std::move(group_ids), threads);
-  std::atomic<bool> mismatch{false};
-  normal.add_all([&](int g, Eigen::MatrixXd& block, Eigen::MatrixXd& t) {
+  std::vector<int> row_counts(static_cast<std::size_t>(groups));
+  for (int g = 0; g < groups; ++g) row_counts[g] = sample_start[g + 1] - sample_start[g];
+  normal.add_all(row_counts, [&](int g, Eigen::MatrixXd& block, Eigen::MatrixXd& t) {
     const int f = normal.group_size(g);
-    const int* list = normal.group_columns(g);
+    [[maybe_unused]] const int* list = normal.group_columns(g);
     const int rows = sample_start[g + 1] - sample_start[g];
     block.resize(rows, f);
     t.resize(rows, k);
@@ -214,17 +188,11 @@ std::optional<NormalEquations> assemble_normal_equations(const TSpline& spline, 
     for (int r = 0; r < rows; ++r) {
       const int s = order[sample_start[g] + r];
       spline.basis_at(uvw.row(s).transpose(), {0, 0, 0}, ids, values);
-      if (static_cast<int>(ids.size()) != f || !std::equal(ids.begin(), ids.end(), list)) {
-        mismatch = true;  // a hash collision merged two lists
-        block.resize(0, f);
-        t.resize(0, k);
-        return;
-      }
+      assert(static_cast<int>(ids.size()) == f && std::equal(ids.begin(), ids.end(), list));
       for (int q = 0; q < f; ++q) block(r, q) = spline.weights()(ids[q]) * values[q];
       t.row(r) = targets.row(s);
     }
   });
-  if (mismatch) return std::nullopt;
   Eigen::MatrixXd rhs = std::move(normal.rhs());
   // Upper triangle only (the diagonal first in every row): all that CG and its preconditioner
   // read, at half the memory of both triangles.
@@ -241,13 +209,6 @@ std::optional<NormalEquations> assemble_normal_equations(const TSpline& spline, 
     d += ridge(i);
   }
   return NormalEquations{std::move(upper), std::move(rhs), std::move(ridge)};
-}
-
-NormalEquations assemble_normal_equations(const TSpline& spline, const Eigen::MatrixX3d& uvw,
-                                          const Eigen::MatrixXd& targets, double regularization, int threads) {
-  std::optional<NormalEquations> eq = assemble_normal_equations(spline, uvw, targets, regularization, threads, false);
-  if (!eq) eq = assemble_normal_equations(spline, uvw, targets, regularization, threads, true);
-  return std::move(*eq);
 }
 
 // Replaces a spline by a one-function placeholder, freeing its evaluation grid before the next

@@ -36,11 +36,13 @@ struct SplineUntangleOptions {
   /// to the faces are the normal derivative on the wrong side of the surface (bunny: 2,045 of
   /// the 2,290 folded points on the faces), which the second layer of control points fixes.
   std::vector<double> boundary_layers = {0.25, 0.5};
-  int rings = 1;               ///< node steps around a seed whose interior functions move, [0, 4]
+  /// Node steps around a seed whose interior functions move, [0, 4]; 0 in the passes after a
+  /// dense check (check_per_interval), whose bad points are held themselves.
+  int rings = 1;
   /// Only interior functions whose support spans at most this many lattice steps per axis move
   /// (the energy covers their whole supports, so coarse functions would make it global), ≥ 4;
   /// doubled for a seed where such functions carry under a tenth of |w∇B| (they could not
-  /// unfold it), and in each further pass.
+  /// unfold it), and in each further pass if check_per_interval is 0.
   double max_support_steps = 16;
   int passes = 3;              ///< scan + untangle rounds while seeds remain, ≥ 1
   double data_weight = 10.0;   ///< weight of the sample term (unitless ≥ 0), see untangle_spline
@@ -54,6 +56,14 @@ struct SplineUntangleOptions {
   /// between two nodes).
   double stop_margin = 0.2;
   int max_inner = 5;           ///< L-BFGS iterations per step, ≥ 1
+  /// Dense check after each pass but the last: the scaled Jacobian at check_per_interval points
+  /// per knot interval per axis (centres of equal parts, plus the boundary layers). Its points
+  /// below min_scaled_jacobian where the interior functions carry at least a tenth of |w∇B|
+  /// seed every later pass and are held there by a hinge W·max(0, min_scaled_jacobian −
+  /// det J/σ)² (σ: the column-norm product before the pass; the barrier would stall on those
+  /// it cannot lift to its margin); the passes go on while it finds any. ≥ 0; 0: no check, the
+  /// passes end once the nodes unfold (bunny at 64³: 56 folded points with 0, 9 with 3).
+  int check_per_interval = 3;
 };
 
 /// Outcome of untangle_spline.
@@ -67,6 +77,7 @@ struct SplineUntangleReport {
   int points = 0;             ///< energy nodes
   int samples = 0;            ///< samples in the data term
   int iterations = 0;         ///< L-BFGS iterations
+  int check_points = 0;       ///< bad points of the dense checks, held in later passes
 };
 
 /// Unfolds a geometric T-spline (D = 3) near its folds by moving only interior control points
@@ -89,8 +100,10 @@ struct SplineUntangleReport {
 /// scanned node and every node not folded before has det(J·S⁻¹) > stop_margin, or max_steps.
 /// J at the nodes is a fixed linear map of the free control points (the knots do not move), so
 /// it is set up once per pass and each energy evaluation sums tensor products of univariate
-/// factors. Each pass writes its control points to spline. det J is held at the nodes only:
-/// a denser check can still find folded points between them (bunny: 56 of the 64³ cell centres).
+/// factors. Each pass writes its control points to spline. Between passes a denser check
+/// (check_per_interval) adds the bad points between the nodes as scattered nodes of the later
+/// passes (an active set); det J is held at those points only, so a still denser check can
+/// find folded points (bunny: 9 of the 64³ cell centres, without the check 56).
 /// uvw, xyz: m×3 fitting samples (may be empty). Precondition: dimension() == 3.
 SplineUntangleReport untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
                                      const SplineUntangleOptions& options = {});

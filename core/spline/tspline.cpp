@@ -792,6 +792,20 @@ void TSpline::basis_at(const Eigen::Vector3d& uvw, const std::array<int, 3>& ord
   }
 }
 
+int TSpline::cell_of(const Eigen::Vector3d& uvw) const {
+  double s[3];
+  int k[3];
+  return locate(uvw, s, k);
+}
+
+void TSpline::cell_functions(int cell, std::vector<int>& function_ids) const {
+  assert(cell >= 0 && cell < num_cells());
+  const Cell& c = cells_[static_cast<std::size_t>(cell)];
+  function_ids.resize(c.entry_end - c.entry_begin);
+  for (std::uint32_t e = c.entry_begin; e < c.entry_end; ++e)
+    function_ids[e - c.entry_begin] = static_cast<int>(entries_[e].function);
+}
+
 Eigen::VectorXd TSpline::derivative(const Eigen::Vector3d& uvw, const std::array<int, 3>& order) const {
   std::vector<int> ids;
   std::vector<double> values;

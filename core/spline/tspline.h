@@ -130,6 +130,14 @@ class TSpline {
   /// Throws like evaluate_to.
   void basis_at(const Eigen::Vector3d& uvw, const std::array<int, 3>& order,
                 std::vector<int>& function_ids, std::vector<double>& values) const;
+  /// Index in [0, num_cells()) of the knot-line cell holding uvw, by the rule evaluation uses
+  /// (along each axis [b_k, b_k+1), the last interval closed). Every point of one cell has the
+  /// same basis_at list (cell_functions), so least-squares samples can be grouped by cell.
+  /// Throws like evaluate_to.
+  int cell_of(const Eigen::Vector3d& uvw) const;
+  /// Blending functions overlapping cell (0 <= cell < num_cells()), increasing: the list basis_at
+  /// gives at every point of the cell. function_ids is resized.
+  void cell_functions(int cell, std::vector<int>& function_ids) const;
   /// B_i(uvw) from its knot vectors directly (no grid), 0 outside the support; for tests and
   /// single queries. Precondition: 0 <= i < n.
   double blending_function(int i, const Eigen::Vector3d& uvw) const;

@@ -11,6 +11,7 @@
 #include <Eigen/SVD>
 
 #include "core/common/error.h"
+#include "core/linalg/parallel_for.h"
 
 namespace volspline::volume {
 
@@ -60,34 +61,46 @@ int sign_rank(int p, int bits) {
   return rank;
 }
 
-// Index of the cube rotation g maximizing tr(a^T g b), i.e. minimizing ||a - g b||_F^2, and that maximum.
-// Per permutation the best signs follow the terms' signs; if that breaks det g = +1 the smallest
-// term is flipped. 6 candidates instead of 24; ties keep the first permutation found.
-// Hot loop of the smoothing: plain doubles, and the group index is only formed for the winner.
-int best_match(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b, double& score) {
+// max over the cube rotations g of tr(a^T g b), i.e. minimizing ||a - g b||_F^2, and (kIndex) the
+// permutation p and sign bits attaining it. Per permutation the best signs follow the terms'
+// signs; if that breaks det g = +1 the smallest term is flipped. 6 candidates instead of 24; ties
+// keep the first permutation found. Hot loop of the smoothing: plain doubles.
+template <bool kIndex>
+double best_score(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b, int* best_p, int* best_bits) {
   double d[3][3];  // d[r][q] = a_r . b_q
   for (int r = 0; r < 3; ++r)
     for (int q = 0; q < 3; ++q) d[r][q] = a(r, 0) * b(q, 0) + a(r, 1) * b(q, 1) + a(r, 2) * b(q, 2);
-  int best_p = 0;
-  int best_bits = 0;
-  score = -1e300;
+  double score = -1e300;
   for (int p = 0; p < 6; ++p) {
     const double t0 = d[0][kPermutations[p][0]], t1 = d[1][kPermutations[p][1]], t2 = d[2][kPermutations[p][2]];
     const double a0 = std::abs(t0), a1 = std::abs(t1), a2 = std::abs(t2);
-    int bits = (t0 < 0) | ((t1 < 0) << 1) | ((t2 < 0) << 2);
     double sum = a0 + a1 + a2;
-    const int negatives = (t0 < 0) + (t1 < 0) + (t2 < 0);
-    if ((negatives % 2 == 1) != kOddPermutation[p]) {
-      const int smallest = a1 < a0 ? (a2 < a1 ? 2 : 1) : (a2 < a0 ? 2 : 0);
-      bits ^= 1 << smallest;
-      sum -= 2 * (smallest == 0 ? a0 : smallest == 1 ? a1 : a2);
-    }
-    if (sum > score) {
-      score = sum;
-      best_p = p;
-      best_bits = bits;
+    const bool flip = ((t0 < 0) != (t1 < 0)) != ((t2 < 0) != kOddPermutation[p]);
+    if constexpr (kIndex) {
+      int bits = (t0 < 0) | ((t1 < 0) << 1) | ((t2 < 0) << 2);
+      if (flip) {
+        const int smallest = a1 < a0 ? (a2 < a1 ? 2 : 1) : (a2 < a0 ? 2 : 0);
+        bits ^= 1 << smallest;
+        sum -= 2 * (smallest == 0 ? a0 : smallest == 1 ? a1 : a2);
+      }
+      if (sum > score) {
+        score = sum;
+        *best_p = p;
+        *best_bits = bits;
+      }
+    } else {
+      if (flip) sum -= 2 * std::min(a0, std::min(a1, a2));
+      score = std::max(score, sum);
     }
   }
+  return score;
+}
+
+// Index of the cube rotation g maximizing tr(a^T g b) (the group index is formed for the winner
+// only), and that maximum.
+int best_match(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b, double& score) {
+  int best_p = 0, best_bits = 0;
+  score = best_score<true>(a, b, &best_p, &best_bits);
   return 4 * best_p + sign_rank(best_p, best_bits);
 }
 
@@ -116,11 +129,7 @@ int neighbours(const FrameField& f, int x, int y, int z, std::array<std::size_t,
 
 double local_energy(const Eigen::Matrix3d& frame, const FrameField& f, const std::array<std::size_t, 6>& ids, int n) {
   double energy = 0.0;
-  for (int k = 0; k < n; ++k) {
-    double score = 0.0;
-    best_match(frame, f.frames[ids[k]], score);
-    energy += distance_from_score(score);
-  }
+  for (int k = 0; k < n; ++k) energy += distance_from_score(best_score<false>(frame, f.frames[ids[k]], nullptr, nullptr));
   return energy;
 }
 
@@ -211,20 +220,23 @@ const std::array<Eigen::Matrix3d, 24>& cube_group_rotations() {
 }
 
 double frame_distance_squared(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b, Eigen::Matrix3d* best) {
+  if (!best) return distance_from_score(best_score<false>(a, b, nullptr, nullptr));
   double score = 0.0;
   const int g = best_match(a, b, score);
   if (best) *best = cube_group_rotations()[g];
   return distance_from_score(score);
 }
 
-double frame_smoothness_energy(const FrameField& field, const std::vector<std::uint8_t>* active) {
-  // Eq. 5.6 over the 6-neighbour edges, each counted once, with jump matching.
+double frame_smoothness_energy(const FrameField& field, const std::vector<std::uint8_t>* active, int threads) {
+  // Eq. 5.6 over the 6-neighbour edges, each counted once, with jump matching; one partial sum
+  // per z plane, added in plane order (the same bits for every thread count).
   assert(!active || active->size() == field.frames.size());
-  double energy = 0.0;
   const std::size_t sy = field.nx;
   const std::size_t sz = static_cast<std::size_t>(field.nx) * field.ny;
   auto on = [&](std::size_t id) { return !active || (*active)[id] != 0; };
-  for (int z = 0; z < field.nz; ++z)
+  std::vector<double> plane_energy(static_cast<std::size_t>(std::max(0, field.nz)), 0.0);
+  linalg::parallel_for(threads, field.nz, [&](int z) {
+    double energy = 0.0;
     for (int y = 0; y < field.ny; ++y)
       for (int x = 0; x < field.nx; ++x) {
         const std::size_t id = x + sy * (y + static_cast<std::size_t>(field.ny) * z);
@@ -234,6 +246,10 @@ double frame_smoothness_energy(const FrameField& field, const std::vector<std::u
         if (y + 1 < field.ny && on(id + sy)) energy += frame_distance_squared(frame, field.frames[id + sy]);
         if (z + 1 < field.nz && on(id + sz)) energy += frame_distance_squared(frame, field.frames[id + sz]);
       }
+    plane_energy[z] = energy;
+  });
+  double energy = 0.0;
+  for (double e : plane_energy) energy += e;
   return energy;
 }
 
@@ -241,6 +257,8 @@ FrameSmoothingResult smooth_frame_field(const FrameField& initial, const std::ve
                                         const FrameSmoothingOptions& options, const pipeline::Progress& progress) {
   if (options.max_iterations < 1)
     throw Error("frame smoothing: max_iterations must be >= 1, got " + std::to_string(options.max_iterations));
+  if (options.threads < 1)
+    throw Error("frame smoothing: threads must be >= 1, got " + std::to_string(options.threads));
   if (!(options.energy_decrease_tol_rel >= 0))
     throw Error("frame smoothing: energy_decrease_tol_rel must be >= 0");
   if (initial.nx < 1 || initial.ny < 1 || initial.nz < 1)
@@ -302,7 +320,7 @@ FrameSmoothingResult smooth_frame_field(const FrameField& initial, const std::ve
       }
 
   const auto& table = signed_permutations();
-  result.initial_energy = frame_smoothness_energy(field, active);
+  result.initial_energy = frame_smoothness_energy(field, active, options.threads);
   if (options.initialization == FrameInitialization::Propagated) {
     // Deviation (the default; Given is the thesis): the Hessian frames of flat or step-like regions are defined only up to
     // a rotation about one axis, set by round-off, and Gauss-Seidel keeps the twists they start
@@ -340,71 +358,104 @@ FrameSmoothingResult smooth_frame_field(const FrameField& initial, const std::ve
       }
     }
   }
-  double energy = options.initialization == FrameInitialization::Given ? result.initial_energy : frame_smoothness_energy(field, active);
+  double energy = options.initialization == FrameInitialization::Given ? result.initial_energy : frame_smoothness_energy(field, active, options.threads);
   result.start_energy = energy;
-  // Visit stamps: a voxel whose last update left it (nearly) unchanged and whose neighbours have not
-  // moved since would get (nearly) the same result again, so it is skipped.
-  std::uint64_t clock = 1;
+  // Slab ordering (§5.2.2 sweeps in voxel order; deviation: the grid is cut into slabs of
+  // kSlabPlanes z planes, swept in voxel order inside each slab, forward and backward in turn as
+  // symmetric Gauss-Seidel; slabs of one parity only touch slabs of the other, so the even slabs
+  // run in parallel, then the odd ones (reversed on backward sweeps), with the same result for
+  // every thread count).
+  constexpr int kSlabPlanes = 4;
+  const int num_slabs = (field.nz + kSlabPlanes - 1) / kSlabPlanes;
+  std::vector<std::size_t> slab_begin(static_cast<std::size_t>(num_slabs) + 1, nodes.size());
+  const std::size_t plane = static_cast<std::size_t>(field.nx) * field.ny;
+  for (std::size_t s = nodes.size(); s-- > 0;) slab_begin[nodes[s].id / plane / kSlabPlanes] = s;
+  for (int slab = num_slabs; slab-- > 0;) slab_begin[slab] = std::min(slab_begin[slab], slab_begin[slab + 1]);
+  // Visit stamps: a voxel whose last update left it (nearly) unchanged and whose neighbours have
+  // not moved since would get (nearly) the same result again, so it is skipped. A stamp is the
+  // half-sweep number (high bits) and the step inside the slab (low bits): neighbours in other
+  // slabs do not move during a half-sweep, so the comparisons never depend on the scheduling.
+  std::uint64_t half_sweep = 0;
   std::vector<std::uint64_t> changed_at(n, 1);
   std::vector<std::uint64_t> visited_at(n, 0);
+  // Kahan sum of the energy decrease of one slab.
+  struct Decrease {
+    double sum = 0.0;
+    double carry = 0.0;
+    void add(double value) {
+      const double term = value - carry;
+      const double next = sum + term;
+      carry = (next - sum) - term;
+      sum = next;
+    }
+  };
+  auto update_voxel = [&](const Node& node, std::uint64_t clock, Decrease& decrease) {
+    const std::size_t id = node.id;
+    const int count = node.count;
+    bool stale = changed_at[id] >= visited_at[id];
+    for (int k = 0; k < count && !stale; ++k) stale = changed_at[node.ids[k]] > visited_at[id];
+    if (!stale) return;
+    visited_at[id] = clock;
+    const Eigen::Matrix3d current = field.frames[id];
+    // Jump matching: each neighbour's frame end points are relabelled by the cube rotation that
+    // best fits them to ours; the covariance of the matched end points (+-f_r against +-g f'_r)
+    // is twice the sum of the matched frames, so the registration rotation is its polar factor.
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+    double old_energy = 0.0;
+    for (int k = 0; k < count; ++k) {
+      double score = 0.0;
+      const int g = best_match(current, field.frames[node.ids[k]], score);
+      covariance += apply(table[g], field.frames[node.ids[k]]);
+      old_energy += distance_from_score(score);
+    }
+    if (old_energy == 0.0) return;
+    Eigen::Matrix3d updated;
+    if (constraint_of[id] >= 0) {
+      const Eigen::Vector3d& normal = normals[constraint_of[id]];
+      double sign = 1.0;
+      const int axis = closest_axis(current, normal, sign);
+      // Deviation: the thesis rotates the unconstrained update onto the normal; optimizing with
+      // the axis held fixed gives a frame on the constraint that provably does not raise Eq. 5.6.
+      updated = constrained_rotation(covariance, axis, sign * normal);
+    } else {
+      updated = polar_rotation(covariance);
+    }
+    const double new_energy = local_energy(updated, field, node.ids, count);
+    if (new_energy < old_energy) {
+      // Only a visible move (above ~1e-4 rad) wakes the neighbours: the sweeps then work on the
+      // part of the field that is still moving, the rest no longer affects the 0.1% criterion.
+      if ((updated - current).squaredNorm() > 1e-8) changed_at[id] = clock;
+      field.frames[id] = updated;
+      // The voxel's edges are all the terms of Eq. 5.6 it changes (node.ids are its active
+      // neighbours; those in other slabs do not move meanwhile), so the energy follows without a
+      // pass over the field.
+      decrease.add(old_energy - new_energy);
+    }
+  };
+  std::vector<Decrease> slab_decrease(static_cast<std::size_t>(num_slabs));
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
     progress.report("frame smoothing", static_cast<double>(iteration - 1) / options.max_iterations);
-    // §5.2.2, Gauss-Seidel; the sweep direction alternates (symmetric Gauss-Seidel) so updates
-    // travel both ways through the grid in two sweeps; the order is fixed, hence deterministic.
     const bool forward = iteration % 2 == 1;
-    double sweep_decrease = 0.0, decrease_carry = 0.0;
-    for (std::size_t step = 0; step < nodes.size(); ++step) {
-      const Node& node = nodes[forward ? step : nodes.size() - 1 - step];
-      const std::size_t id = node.id;
-      const int count = node.count;
-      ++clock;
-      bool stale = changed_at[id] >= visited_at[id];
-      for (int k = 0; k < count && !stale; ++k) stale = changed_at[node.ids[k]] > visited_at[id];
-      if (!stale) continue;
-      visited_at[id] = clock;
-      const Eigen::Matrix3d current = field.frames[id];
-      // Jump matching: each neighbour's frame end points are relabelled by the cube rotation that
-      // best fits them to ours; the covariance of the matched end points (+-f_r against +-g f'_r)
-      // is twice the sum of the matched frames, so the registration rotation is its polar factor.
-      Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-      double old_energy = 0.0;
-      for (int k = 0; k < count; ++k) {
-        double score = 0.0;
-        const int g = best_match(current, field.frames[node.ids[k]], score);
-        covariance += apply(table[g], field.frames[node.ids[k]]);
-        old_energy += distance_from_score(score);
-      }
-      if (old_energy == 0.0) continue;
-      Eigen::Matrix3d updated;
-      if (constraint_of[id] >= 0) {
-        const Eigen::Vector3d& normal = normals[constraint_of[id]];
-        double sign = 1.0;
-        const int axis = closest_axis(current, normal, sign);
-        // Deviation: the thesis rotates the unconstrained update onto the normal; optimizing with
-        // the axis held fixed gives a frame on the constraint that provably does not raise Eq. 5.6.
-        updated = constrained_rotation(covariance, axis, sign * normal);
-      } else {
-        updated = polar_rotation(covariance);
-      }
-      const double new_energy = local_energy(updated, field, node.ids, count);
-      if (new_energy < old_energy) {
-        // Only a visible move (above ~1e-4 rad) wakes the neighbours: the sweeps then work on the
-        // part of the field that is still moving, the rest no longer affects the 0.1% criterion.
-        if ((updated - current).squaredNorm() > 1e-8) changed_at[id] = clock;
-        field.frames[id] = updated;
-        // The voxel's edges are all the terms of Eq. 5.6 it changes (node.ids are its active
-        // neighbours), so the energy follows without a pass over the whole field.
-        // Kahan summation: the tracked energy stays within rounding of a fresh sum.
-        const double term = (old_energy - new_energy) - decrease_carry;
-        const double sum = sweep_decrease + term;
-        decrease_carry = (sum - sweep_decrease) - term;
-        sweep_decrease = sum;
-      }
+    std::fill(slab_decrease.begin(), slab_decrease.end(), Decrease{});
+    for (int half = 0; half < 2; ++half) {
+      const int parity = forward ? half : 1 - half;
+      ++half_sweep;
+      linalg::parallel_for(options.threads, (num_slabs + 1 - parity) / 2, [&](int k) {
+        const int slab = 2 * k + parity;
+        const std::size_t begin = slab_begin[slab], end = slab_begin[slab + 1];
+        for (std::size_t step = 0; step < end - begin; ++step) {
+          const std::uint64_t clock = (half_sweep << 32) + step + 1;
+          update_voxel(nodes[forward ? begin + step : end - 1 - step], clock, slab_decrease[slab]);
+        }
+      });
     }
+    // Slab sums in slab order: the same bits for every thread count.
+    Decrease sweep_decrease;
+    for (const Decrease& d : slab_decrease) sweep_decrease.add(d.sum);
     // Tracked differences carry a rounding error of ~1e-15 per update: fine against the energy of a
     // real volume, not against a field that is nearly smooth, which is summed afresh.
-    double next = energy - sweep_decrease;
-    if (next < 1e-2 * result.start_energy) next = frame_smoothness_energy(field, active);
+    double next = energy - sweep_decrease.sum;
+    if (next < 1e-2 * result.start_energy) next = frame_smoothness_energy(field, active, options.threads);
     result.energy_per_iteration.push_back(next);
     result.iterations = iteration;
     const double decrease = energy - next;
@@ -418,7 +469,7 @@ FrameSmoothingResult smooth_frame_field(const FrameField& initial, const std::ve
   }
   progress.report("frame smoothing", 1.0);
   // The tracked energy differs from a fresh sum by rounding only; the result reports the fresh sum.
-  energy = frame_smoothness_energy(field, active);
+  energy = frame_smoothness_energy(field, active, options.threads);
   if (!result.energy_per_iteration.empty()) result.energy_per_iteration.back() = energy;
   result.final_energy = energy;
   for (std::size_t i = 0; i < n; ++i) {

@@ -38,7 +38,8 @@ double frame_distance_squared(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b
 
 /// Eq. 5.6 with jump matching: the sum of frame_distance_squared over all 6-neighbour voxel pairs
 /// (if `active` is not null: one entry per voxel, only pairs of two voxels with a non-zero entry).
-double frame_smoothness_energy(const FrameField& field, const std::vector<std::uint8_t>* active = nullptr);
+/// threads >= 1: z planes are summed in parallel; the result is the same for every count.
+double frame_smoothness_energy(const FrameField& field, const std::vector<std::uint8_t>* active = nullptr, int threads = 1);
 
 /// Starting field of smooth_frame_field.
 enum class FrameInitialization {
@@ -55,6 +56,7 @@ struct FrameSmoothingOptions {
   /// given and left out of Eq. 5.6 (only edges between two active voxels count), e.g.
   /// foreground_mask(classes, margin). Constraints on inactive voxels are ignored.
   std::vector<std::uint8_t> active;
+  int threads = 1;  ///< worker threads (>= 1); the result is the same for every count
 };
 
 /// Result of smooth_frame_field.
@@ -71,8 +73,9 @@ struct FrameSmoothingResult {
 
 /// Smooths a frame field (§5.2.2). First every constrained voxel's frame is rotated by the
 /// smallest rotation taking its closest axis onto the normal, and the field is initialized (see
-/// FrameInitialization). Then Gauss-Seidel sweeps in voxel order, forward and backward in turn
-/// (symmetric Gauss-Seidel), skipping voxels whose neighbourhood has not moved: each voxel's frame is registered to its 6 neighbours' frames with jump matching over
+/// FrameInitialization). Then Gauss-Seidel sweeps in voxel order inside slabs of 4 z planes,
+/// forward and backward in turn (symmetric Gauss-Seidel), the even slabs in parallel, then the
+/// odd ones (reversed on backward sweeps), skipping voxels whose neighbourhood has not moved: each voxel's frame is registered to its 6 neighbours' frames with jump matching over
 /// the 24 cube rotations (matching the 6 frame end points), and replaced by the rotation of the
 /// polar decomposition of the matched covariance; for a constrained voxel the same registration
 /// is solved with one axis held on its normal. Each update cannot raise Eq. 5.6, so the energy

@@ -3,10 +3,13 @@
 
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <cmath>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
+
+#include "core/linalg/parallel_for.h"
 
 namespace volspline::volume {
 
@@ -37,9 +40,16 @@ Eigen::Matrix3d principal_frame(const Eigen::Matrix3d& tensor, Eigen::Vector3d* 
   return frame;
 }
 
-std::vector<Eigen::Matrix3d> hessian_frames(const std::vector<Eigen::Matrix3d>& hessians) {
+std::vector<Eigen::Matrix3d> hessian_frames(const std::vector<Eigen::Matrix3d>& hessians, int threads) {
+  assert(threads >= 1);
   std::vector<Eigen::Matrix3d> frames(hessians.size());
-  for (std::size_t i = 0; i < hessians.size(); ++i) frames[i] = principal_frame(hessians[i]);
+  // Each frame depends on its own tensor only: any split gives the same frames.
+  constexpr std::size_t kChunk = 4096;
+  const std::size_t chunks = (hessians.size() + kChunk - 1) / kChunk;
+  linalg::parallel_for(threads, static_cast<int>(chunks), [&](int chunk) {
+    const std::size_t end = std::min(hessians.size(), (chunk + 1) * kChunk);
+    for (std::size_t i = chunk * kChunk; i < end; ++i) frames[i] = principal_frame(hessians[i]);
+  });
   return frames;
 }
 

@@ -16,6 +16,7 @@ namespace volspline::volume {
 Eigen::Matrix3d principal_frame(const Eigen::Matrix3d& tensor, Eigen::Vector3d* eigenvalues = nullptr);
 
 /// principal_frame of every tensor (Eq. 5.5 Hessians from fit_local_cubics), same order.
-std::vector<Eigen::Matrix3d> hessian_frames(const std::vector<Eigen::Matrix3d>& hessians);
+/// threads (>= 1) share the tensors; the frames are the same for every count.
+std::vector<Eigen::Matrix3d> hessian_frames(const std::vector<Eigen::Matrix3d>& hessians, int threads = 1);
 
 }  // namespace volspline::volume

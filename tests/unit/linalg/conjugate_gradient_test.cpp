@@ -3,6 +3,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -306,8 +307,8 @@ TEST_CASE("compute copies what it needs: the matrix may go away") {
 TEST_CASE_TEMPLATE("threaded matrix products give bit-identical solves", P,
                    linalg::IdentityPreconditioner, linalg::JacobiPreconditioner,
                    linalg::IncompleteCholesky0) {
-  // 1,848 unknowns: several 512-row chunks of the parallel product (3 threads; 2 keep the
-  // one-thread product but factorize IC(0) concurrently); 1, 3 and 4 columns.
+  // 1,848 unknowns: a product in one part (too few entries to cut), the IC(0) factorization
+  // concurrent; 1, 3 and 4 columns. The parted product has its own case below.
   const CsrMatrix a = linalg::testing::grid_laplacian(14, 12, 11);
   const int n = a.rows();
   Eigen::MatrixXd b(n, 4);
@@ -325,4 +326,52 @@ TEST_CASE_TEMPLATE("threaded matrix products give bit-identical solves", P,
       CHECK(one.residual() == many.residual());
     }
   }
+}
+
+TEST_CASE("a large product is cut into parts: the exact product within rounding, the same bits for every thread count") {
+  // Banded SPD matrix with 2,400 rows and 60 upper diagonals: 141,570 strict-upper entries,
+  // above detail::kMinPartedSpmvNnz, so the products run in detail::kSpmvParts parts.
+  const int n = 2400, band = 60;
+  std::vector<linalg::Triplet> triplets;
+  for (int i = 0; i < n; ++i) {
+    double off_sum = 0.0;
+    for (int j = std::max(0, i - band); j <= std::min(n - 1, i + band); ++j) {
+      if (j == i) continue;
+      const double v = -1.0 / (1.0 + std::abs(i - j) + 0.001 * ((i + j) % 7));
+      triplets.push_back({i, j, v});
+      off_sum += std::abs(v);
+    }
+    triplets.push_back({i, i, off_sum + 1.0});
+  }
+  const CsrMatrix a = CsrMatrix::from_triplets(n, n, triplets);
+  const linalg::detail::SymmetricMatrix one = linalg::detail::symmetric_from_upper(a, 1);
+  REQUIRE(one.strict_upper.nnz() >= linalg::detail::kMinPartedSpmvNnz);
+  REQUIRE(static_cast<int>(one.part_rows.size()) == linalg::detail::kSpmvParts + 1);
+  const Eigen::VectorXd p = linalg::testing::pseudo_random_vector(n, 7);
+  const Eigen::VectorXd expected = a * p;
+  Eigen::VectorXd q1 = Eigen::VectorXd::Zero(n);
+  const double pq1 = linalg::detail::symmetric_spmv(one, p.data(), q1.data());
+  // Tolerance: sums of 121 terms of size <= 4 in another order, rounding ~1e-13 relative.
+  CHECK((q1 - expected).norm() <= 1e-12 * expected.norm());
+  CHECK(std::abs(pq1 - p.dot(expected)) <= 1e-12 * std::abs(p.dot(expected)));
+  for (int threads : {2, 3, 4}) {
+    const linalg::detail::SymmetricMatrix many = linalg::detail::symmetric_from_upper(a, threads);
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(n);
+    const double pq = linalg::detail::symmetric_spmv(many, p.data(), q.data());
+    CHECK(q == q1);  // exact: the parts are summed in part order whatever the threads
+    CHECK(pq == pq1);
+  }
+  Eigen::MatrixXd b(n, 3);
+  for (int c = 0; c < 3; ++c) b.col(c) = linalg::testing::pseudo_random_vector(n, 50 + c);
+  ConjugateGradient<linalg::IncompleteCholesky0> cg1;
+  cg1.set_tolerance(1e-10).compute(a);
+  const Eigen::MatrixXd x1 = cg1.solve(b);
+  CHECK(cg1.info() == SolverInfo::Success);
+  const Eigen::MatrixXd dense_x = a.to_dense().llt().solve(b);
+  // Tolerance: residual 1e-10 and a diagonally dominant matrix (condition number ~ 200).
+  CHECK((x1 - dense_x).norm() <= 1e-7 * dense_x.norm());
+  ConjugateGradient<linalg::IncompleteCholesky0> cg2;
+  cg2.set_tolerance(1e-10).set_threads(2).compute(a);
+  CHECK(cg2.solve(b) == x1);
+  CHECK(cg2.iterations() == cg1.iterations());
 }

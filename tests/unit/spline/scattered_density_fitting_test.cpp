@@ -111,3 +111,25 @@ TEST_CASE("adaptive scattered fit: geometry from the last normal matrix reproduc
   // The reconstruction is the final spline's density at the samples.
   CHECK(r.reconstruction[100] == doctest::Approx(r.spline.evaluate(uvw.row(100).transpose())(3)).epsilon(1e-12));
 }
+
+TEST_CASE("the scattered fit gives the same bits for every thread count") {
+  // Samples grouped by knot-line cell, several cells sharing a list (the split cells' lines run
+  // through their neighbours): the normal matrix, hence the solution, must not depend on threads.
+  const Eigen::MatrixX3d uvw = scattered_samples();
+  Eigen::MatrixXd targets(uvw.rows(), 1);
+  for (Eigen::Index r = 0; r < uvw.rows(); ++r) targets(r, 0) = scattered_cubic(uvw.row(r).transpose());
+  Eigen::MatrixXd first;
+  for (int threads : {1, 2, 3}) {
+    CAPTURE(threads);
+    spline::RefinementGrid grid(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), {3, 3, 3});
+    spline::TSpline s = scattered_refined_spline(grid, 1);
+    spline::GridFitOptions options;
+    options.threads = threads;
+    const spline::ScatteredFitReport report = spline::fit_tspline_scattered(s, uvw, targets, {0}, options);
+    CHECK(report.converged);
+    if (threads == 1)
+      first = s.points();
+    else
+      CHECK(s.points() == first);
+  }
+}

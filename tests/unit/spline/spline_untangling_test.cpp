@@ -152,8 +152,19 @@ TEST_CASE("spline untangling unfolds a fold at a face (normal derivative outward
   SUBCASE("without boundary layers the cell-centre nodes (first at 1/16) miss most of it") {
     spline::TSpline plain = ts;
     options.boundary_layers.clear();
+    options.check_per_interval = 0;
     spline::untangle_spline(plain, uvw, uvw, options);
     CHECK(unseen_negative_points(plain) > 0);
+  }
+  SUBCASE("without boundary layers the dense check's points (first at 1/24) catch what the nodes miss") {
+    options.boundary_layers.clear();
+    REQUIRE(options.check_per_interval == 3);  // the default
+    const spline::SplineUntangleReport report = spline::untangle_spline(ts, uvw, uvw, options);
+    CHECK(report.check_points > 0);  // the first check found bad points between the nodes
+    CHECK(unseen_negative_points(ts) == 0);
+    const Eigen::Vector3d lo = ts.domain_min(), hi = ts.domain_max();
+    for (int i = 0; i < ts.num_functions(); ++i)
+      if (spline::touches_domain_boundary(ts.knots()[i], lo, hi)) CHECK(ts.points().row(i) == points.row(i));
   }
   SUBCASE("with them it is gone everywhere the check looks") {
     REQUIRE(options.boundary_layers.size() == 2);  // the defaults: 1/4 and 1/2 of the first node's depth

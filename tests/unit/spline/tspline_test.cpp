@@ -279,6 +279,40 @@ TEST_CASE("weight_sum and basis_at agree with each other and the knot vectors on
   }
 }
 
+TEST_CASE("cell_of and cell_functions give the knot-line cell and the basis_at list of a point") {
+  const TSpline spline = random_tspline(70, 3, 5, TSplineAcceleration::FunctionLists);
+  std::vector<Eigen::Vector3d> points = random_parameters(spline.domain_min(), spline.domain_max(), 500, 4);
+  // Points on knot lines and at the domain ends, where the half-open intervals matter.
+  for (int i = 0; i < 200; ++i) {
+    Eigen::Vector3d p = points[static_cast<std::size_t>(i)];
+    for (int a = 0; a < 3; ++a)
+      if ((i >> a) & 1) p[a] = spline.knot_lines(a)[static_cast<std::size_t>(i * 7 + a) % spline.knot_lines(a).size()];
+    points.push_back(p);
+  }
+  points.push_back(spline.domain_min());
+  points.push_back(spline.domain_max());
+  std::vector<int> ids, cell_ids;
+  std::vector<double> values;
+  for (const Eigen::Vector3d& p : points) {
+    CAPTURE(p.transpose());
+    const int cell = spline.cell_of(p);
+    // Expected: along each axis the last knot line <= t, the last interval closed.
+    int expected = 0, stride = 1;
+    for (int a = 0; a < 3; ++a) {
+      const std::vector<double>& lines = spline.knot_lines(a);
+      const int intervals = static_cast<int>(lines.size()) - 1;
+      const int k = std::min(intervals - 1, static_cast<int>(std::upper_bound(lines.begin(), lines.end(), p[a]) - lines.begin()) - 1);
+      expected += k * stride;
+      stride *= intervals;
+    }
+    CHECK(cell == expected);
+    spline.basis_at(p, {0, 0, 0}, ids, values);
+    spline.cell_functions(cell, cell_ids);
+    CHECK(cell_ids == ids);
+  }
+  CHECK_THROWS_WITH_AS(spline.cell_of(Eigen::Vector3d(0.5, 1.5, 0.5)), doctest::Contains("parameter v = 1.5"), Error);
+}
+
 TEST_CASE("lattice evaluation equals evaluate_with_jacobian at every lattice point") {
   for (int dimension : {3, 4}) {
     const TSpline spline = random_tspline(70, dimension, 11 + dimension, TSplineAcceleration::FunctionLists);

@@ -50,6 +50,8 @@ TEST_CASE("hessian_frames: a Gaussian blob's fitted Hessian has a radial and two
         v.samples[v.index(x, y, z)] = static_cast<float>(1000 * std::exp(-(Eigen::Vector3d(x, y, z) - c).squaredNorm() / (2 * s * s)));
   const LocalCubicFit fit = fit_local_cubics(v);
   const auto frames = hessian_frames(fit.hessian);
+  REQUIRE(frames.size() > 4096);  // several chunks of the threaded version
+  CHECK(hessian_frames(fit.hessian, 3) == frames);  // exact: each frame depends on its tensor only
   int checked = 0;
   for (int z = 2; z < n - 2; ++z)
     for (int y = 2; y < n - 2; ++y)
@@ -99,6 +101,8 @@ TEST_CASE("hessian_frames: a torus density's fitted frame is radial, toroidal an
       }
   const LocalCubicFit fit = fit_local_cubics(v);
   const auto frames = hessian_frames(fit.hessian);
+  REQUIRE(frames.size() > 4096);  // several chunks of the threaded version
+  CHECK(hessian_frames(fit.hessian, 3) == frames);  // exact: each frame depends on its tensor only
   int checked = 0;
   double worst_cos = 1.0;
   for (int z = 2; z < n - 2; ++z)
