@@ -57,7 +57,10 @@ int run_lens(const std::vector<std::string>& argv_in) {
       {"method", "NAME", "metric | fisheye | bifocal | zoom (default metric)"},
       {"mesh-out", "FILE", "flattened textured mesh, .obj (with texture coordinates) or .glb (geometry)"},
   };
-  for (const auto& spec : common_job_options()) specs.push_back(spec);
+  for (auto spec : common_job_options()) {
+    if (spec.name == "threads") spec.help = "accepted for scripts; the lens runs on one thread";
+    specs.push_back(spec);
+  }
   const Args args = parse_args(argv_in, specs);
   if (args.has("help")) {
     std::fputs(format_help("volspline lens IMAGE.png -o OUT.png --roi SPEC [--roi SPEC ...] [options]",

@@ -59,7 +59,10 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
       {"compare-uniform", "", "also fit uniform B-splines to the same rms_rel (stats: uniform_control_points)"},
       {"no-untangle", "", "skip the untangling of folded interior control points after the fit (the thesis's plain fit)"},
   };
-  for (const auto& common : common_job_options()) specs.push_back(common);
+  for (auto common : common_job_options()) {
+    if (common.name == "threads") common.help = "accepted for scripts; the job runs on one thread (same output for any N)";
+    specs.push_back(common);
+  }
   const Args args = parse_args(argv, specs);
   if (args.has("help")) {
     std::fputs(format_help("volspline mesh2spline MESH -o OUT.json [options]",
