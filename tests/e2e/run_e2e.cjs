@@ -159,7 +159,11 @@ async function meshToSpline(page) {
   const statsFile = JSON.parse((await save('#mesh-download-stats', 'sphere.stats.json')).toString());
   check(statsFile.rms_rel === stats.rms_rel && statsFile.control_points === stats.control_points, 'Download stats gives the stats JSON');
 
-  // Cancel a run: the job stops, the page keeps its previous result and stays usable.
+  // Cancel a run: the job stops, the page keeps its previous result and stays usable. On bimba
+  // (seconds in WebAssembly): sphere with 4 levels can finish before the cancel button is enabled.
+  await page.selectOption('#mesh-samples', meshSamples.find((v) => v.endsWith('bimba.off')));
+  await waitStat(page, 'mesh-stats', 'file', (v) => v === 'bimba.off');
+  await page.waitForFunction(() => !document.getElementById('mesh-run').disabled, null, { timeout: 10000 }).catch(() => {});
   const cancelled = await page.evaluate(async () => {
     const { jobs } = window.volspline;
     document.getElementById('mesh-levels').value = '4';
