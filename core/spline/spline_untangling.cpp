@@ -217,11 +217,13 @@ std::array<AxisNodes, 3> make_nodes(const TSpline& spline, int l, const SplineUn
 
 // One scan of the lattice l for seeds and one untangling of the points near them; the moved
 // control points are written to spline.
+// given_nodes: the pass's nodes instead of make_nodes'; seed_from_scan false: only `extra` seeds.
 SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
-                                   const std::vector<Eigen::Vector3d>& extra, const SplineUntangleOptions& options) {
+                                   const std::vector<Eigen::Vector3d>& extra, const SplineUntangleOptions& options,
+                                   const std::array<AxisNodes, 3>* given_nodes = nullptr, bool seed_from_scan = true) {
   SplineUntangleReport report;
   const Eigen::Vector3d lo = spline.domain_min(), hi = spline.domain_max();
-  const std::array<AxisNodes, 3> nodes = make_nodes(spline, l, options);
+  const std::array<AxisNodes, 3> nodes = given_nodes ? *given_nodes : make_nodes(spline, l, options);
   const std::array<int, 3> sizes = {static_cast<int>(nodes[0].t.size()), static_cast<int>(nodes[1].t.size()),
                                     static_cast<int>(nodes[2].t.size())};
   auto point = [&](int i, int j, int k) { return Eigen::Vector3d(nodes[0].t[i], nodes[1].t[j], nodes[2].t[k]); };
@@ -236,24 +238,28 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
     return nodes[0].scanned[i] && nodes[1].scanned[j] && nodes[2].scanned[k] && !on_edge(i, j, k);
   };
   // J at every node, one tensor-product pass per knot-line cell (refreshed after the solve).
+  // Nodes box_lo .. box_hi − 1 per axis are evaluated and scanned: all of them, or (seeds
+  // from `extra` only) the box of the free functions' supports.
+  std::array<int, 3> box_lo = {0, 0, 0}, box_hi = sizes;
   std::vector<Eigen::Matrix3d> node_jacobians(static_cast<std::size_t>(sizes[0]) * sizes[1] * sizes[2]);
   auto evaluate_nodes = [&] {
-    spline.evaluate_lattice_with_jacobian({nodes[0].t, nodes[1].t, nodes[2].t},
-                                          [&](int i, int j, int k, const double*, const double* jacobian) {
-                                            node_jacobians[index(i, j, k)] = Eigen::Map<const Eigen::Matrix3d>(jacobian);
-                                          });
+    std::array<std::vector<double>, 3> coords;
+    for (int a = 0; a < 3; ++a) coords[a].assign(nodes[a].t.begin() + box_lo[a], nodes[a].t.begin() + box_hi[a]);
+    spline.evaluate_lattice_with_jacobian(coords, [&](int i, int j, int k, const double*, const double* jacobian) {
+      node_jacobians[index(i + box_lo[0], j + box_lo[1], k + box_lo[2])] = Eigen::Map<const Eigen::Matrix3d>(jacobian);
+    });
   };
   auto jacobian_at = [&](int i, int j, int k) -> const Eigen::Matrix3d& { return node_jacobians[index(i, j, k)]; };
-  evaluate_nodes();
+  if (seed_from_scan) evaluate_nodes();
 
   // The scanned points: counts of non-positive ones, the minimum, and the seeds (if asked).
   auto scan = [&](std::vector<std::array<int, 3>>* seeds) {
     report.scanned = 0;
     report.final_negative = 0;
     report.final_min_scaled = 1.0;
-    for (int k = 0; k < sizes[2]; ++k)
-      for (int j = 0; j < sizes[1]; ++j)
-        for (int i = 0; i < sizes[0]; ++i) {
+    for (int k = box_lo[2]; k < box_hi[2]; ++k)
+      for (int j = box_lo[1]; j < box_hi[1]; ++j)
+        for (int i = box_lo[0]; i < box_hi[0]; ++i) {
           if (!is_scanned(i, j, k)) continue;
           const double q = scaled_jacobian(jacobian_at(i, j, k));
           ++report.scanned;
@@ -263,7 +269,7 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
         }
   };
   std::vector<std::array<int, 3>> seeds;
-  scan(&seeds);
+  scan(seed_from_scan ? &seeds : nullptr);
   report.seeds = static_cast<int>(seeds.size());
   report.initial_negative = report.final_negative;
   // A bad point of the dense check seeds at its nearest node.
@@ -337,6 +343,19 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
   if (free_ids.empty()) return report;
   std::sort(free_ids.begin(), free_ids.end());  // deterministic columns
   for (std::size_t c = 0; c < free_ids.size(); ++c) column_of[free_ids[c]] = static_cast<int>(c);
+  if (!seed_from_scan) {
+    box_lo = sizes;
+    box_hi = {0, 0, 0};
+    for (int f : free_ids)
+      for (int a = 0; a < 3; ++a) {
+        const LocalKnots& r = spline.knots()[f][a];
+        const std::vector<double>& t = nodes[a].t;
+        box_lo[a] = std::min(box_lo[a], static_cast<int>(std::lower_bound(t.begin(), t.end(), r[0]) - t.begin()));
+        box_hi[a] = std::max(box_hi[a], static_cast<int>(std::upper_bound(t.begin(), t.end(), r[4]) - t.begin()));
+      }
+    for (int a = 0; a < 3; ++a) box_hi[a] = std::max(box_hi[a], box_lo[a]);
+    evaluate_nodes();
+  }
 
   // Energy points: every lattice node in the support of a free function (so no point the
   // free functions change goes unseen), with the functions' factors of w·∇B on their boxes.
@@ -613,6 +632,42 @@ std::vector<Eigen::Vector3d> folded_points(const TSpline& spline, const SplineUn
   return folded;  // lattice order is lexicographic in (w, v, u); sorted by the caller's merge
 }
 
+// The polish lattice: per axis the centres of equal parts of the domain as wide as the finest
+// knot interval of any axis (bunny: 1/64, the 64³ cell centres), at least min_per_axis and at
+// most max_per_axis of them, all scanned. No boundary
+// layers: 1/512 from the faces det J is at its most fragile, and holding it there cost bunny
+// 12 s for 175 such points.
+std::array<AxisNodes, 3> finest_nodes(const TSpline& spline, int min_per_axis, int max_per_axis) {
+  const Eigen::Vector3d lo = spline.domain_min(), hi = spline.domain_max();
+  double finest = 1.0;  // a fraction of the domain's extent
+  for (int a = 0; a < 3; ++a) {
+    const std::vector<double>& lines = spline.knot_lines(a);
+    for (std::size_t i = 0; i + 1 < lines.size(); ++i)
+      finest = std::min(finest, (lines[i + 1] - lines[i]) / (hi(a) - lo(a)));
+  }
+  const int per_axis =
+      std::min(max_per_axis, std::max(min_per_axis, static_cast<int>(std::ceil(1.0 / finest - 1e-9))));
+  std::array<AxisNodes, 3> nodes;
+  for (int a = 0; a < 3; ++a) {
+    for (int q = 0; q < per_axis; ++q) nodes[a].t.push_back(lo(a) + (hi(a) - lo(a)) * (q + 0.5) / per_axis);
+    nodes[a].scanned.assign(per_axis, 1);
+  }
+  return nodes;
+}
+
+// The lattice points with scaled Jacobian ≤ threshold, in lattice order.
+std::vector<Eigen::Vector3d> bad_lattice_points(const TSpline& spline, const std::array<AxisNodes, 3>& nodes,
+                                                double threshold) {
+  std::vector<Eigen::Vector3d> bad;
+  spline.evaluate_lattice_with_jacobian({nodes[0].t, nodes[1].t, nodes[2].t},
+                                        [&](int i, int j, int k, const double*, const double* jacobian) {
+                                          if (scaled_jacobian(Eigen::Map<const Eigen::Matrix3d>(jacobian)) <= threshold)
+                                            bad.emplace_back(nodes[0].t[i], nodes[1].t[j], nodes[2].t[k]);
+                                        });
+  std::sort(bad.begin(), bad.end(), lexicographic_less);
+  return bad;
+}
+
 }  // namespace
 
 SplineUntangleReport untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
@@ -623,6 +678,7 @@ SplineUntangleReport untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uv
   assert(options.energy_stride >= 1 && options.seed_stride % options.energy_stride == 0);
   assert(options.nodes_per_knot_interval >= 0 && options.stop_margin >= 0.0 && options.stop_margin < 1.0);
   assert(options.check_per_interval >= 0);
+  assert(options.polish_rounds >= 0 && options.polish_max_per_axis >= 2);
   assert(std::all_of(options.boundary_layers.begin(), options.boundary_layers.end(),
                      [](double d) { return d >= 0.0 && d < 1.0; }));
   SplineUntangleReport total;
@@ -661,6 +717,28 @@ SplineUntangleReport untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uv
     pass_options.rings = 0;
     extra.erase(std::unique(extra.begin(), extra.end()), extra.end());
     total.check_points = static_cast<int>(extra.size());
+  }
+  // Polish (not in the thesis): the points of the finest lattice still folded seed local passes
+  // whose nodes are that lattice, so the barrier holds every lattice point the free functions
+  // touch; the passes above hold their nodes only, and folds between them remain (bunny: 8 of
+  // the 64³ cell centres after 3 passes with dense checks).
+  if (options.polish_rounds > 0) {
+    const std::array<AxisNodes, 3> fine = finest_nodes(spline, options.lattice, options.polish_max_per_axis);
+    SplineUntangleOptions polish_options = options;
+    polish_options.rings = 0;
+    std::size_t previous = std::numeric_limits<std::size_t>::max();
+    for (int round = 0; round < options.polish_rounds; ++round) {
+      const std::vector<Eigen::Vector3d> bad = bad_lattice_points(spline, fine, 0.0);
+      total.polish_folded = static_cast<int>(bad.size());
+      if (bad.empty() || bad.size() >= previous) break;  // done, or no progress
+      previous = bad.size();
+      const SplineUntangleReport r = untangle_pass(spline, options.lattice, uvw, xyz, bad, polish_options, &fine, false);
+      ++total.polish_passes;
+      total.free_functions += r.free_functions;
+      total.iterations += r.iterations;
+      if (r.free_functions == 0) break;
+      if (round + 1 == options.polish_rounds) total.polish_folded = static_cast<int>(bad_lattice_points(spline, fine, 0.0).size());
+    }
   }
   return total;
 }

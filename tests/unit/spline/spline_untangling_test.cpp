@@ -153,15 +153,46 @@ TEST_CASE("spline untangling unfolds a fold at a face (normal derivative outward
     spline::TSpline plain = ts;
     options.boundary_layers.clear();
     options.check_per_interval = 0;
+    options.passes = 3;
+    options.polish_rounds = 0;
     spline::untangle_spline(plain, uvw, uvw, options);
     CHECK(unseen_negative_points(plain) > 0);
   }
   SUBCASE("without boundary layers the dense check's points (first at 1/24) catch what the nodes miss") {
     options.boundary_layers.clear();
     REQUIRE(options.check_per_interval == 3);  // the default
+    options.passes = 3;                        // the check runs between passes
+    options.polish_rounds = 0;
     const spline::SplineUntangleReport report = spline::untangle_spline(ts, uvw, uvw, options);
     CHECK(report.check_points > 0);  // the first check found bad points between the nodes
     CHECK(unseen_negative_points(ts) == 0);
+    const Eigen::Vector3d lo = ts.domain_min(), hi = ts.domain_max();
+    for (int i = 0; i < ts.num_functions(); ++i)
+      if (spline::touches_domain_boundary(ts.knots()[i], lo, hi)) CHECK(ts.points().row(i) == points.row(i));
+  }
+  SUBCASE("the polish holds the finest lattice that one pass on coarse nodes leaves folded") {
+    // One pass on 2 nodes per knot interval (no boundary layers, no check): the fold stays at
+    // points of the polish lattice (per axis the centres of `lattice` = 16 parts).
+    options.boundary_layers.clear();
+    options.check_per_interval = 0;
+    options.passes = 1;
+    auto lattice_folded = [](const spline::TSpline& s) {
+      int count = 0;
+      for (int k = 0; k < 16; ++k)
+        for (int j = 0; j < 16; ++j)
+          for (int i = 0; i < 16; ++i)
+            if (s.jacobian(Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5) / 16.0).determinant() <= 0.0) ++count;
+      return count;
+    };
+    spline::TSpline unpolished = ts;
+    options.polish_rounds = 0;
+    spline::untangle_spline(unpolished, uvw, uvw, options);
+    CHECK(lattice_folded(unpolished) > 0);
+    options.polish_rounds = 8;
+    const spline::SplineUntangleReport report = spline::untangle_spline(ts, uvw, uvw, options);
+    CHECK(report.polish_passes > 0);
+    CHECK(report.polish_folded == 0);
+    CHECK(lattice_folded(ts) == 0);
     const Eigen::Vector3d lo = ts.domain_min(), hi = ts.domain_max();
     for (int i = 0; i < ts.num_functions(); ++i)
       if (spline::touches_domain_boundary(ts.knots()[i], lo, hi)) CHECK(ts.points().row(i) == points.row(i));
