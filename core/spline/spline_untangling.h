@@ -117,7 +117,8 @@ struct SplineUntangleReport {
 /// factors. Each pass writes its control points to spline. Between passes a denser check
 /// (check_per_interval) adds the bad points between the nodes as scattered nodes of the later
 /// passes (an active set); det J is held at those points only, so a still denser check can
-/// find folded points (bunny: 9 of the 64³ cell centres, without the check 56).
+/// find folded points (bunny: 9 of the 64³ cell centres, without the check 56). After the passes
+/// the polish (polish_rounds) holds the finest lattice: bunny 8 → 0 folded of 64³.
 /// uvw, xyz: m×3 fitting samples (may be empty). Precondition: dimension() == 3.
 SplineUntangleReport untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
                                      const SplineUntangleOptions& options = {});
