@@ -2,6 +2,7 @@
 #include "core/spline/tspline_fitting.h"
 
 #include <algorithm>
+#include <numeric>
 #include <cassert>
 #include <cmath>
 #include <cstdint>
@@ -385,46 +386,43 @@ TSplineFitReport fit_columns(TSpline& spline, const Eigen::MatrixX3d& uvw, const
     group_offsets.push_back(fairing.group_offsets[g] + static_cast<int>(samples.group_cols.size()));
   group_cols.insert(group_cols.end(), fairing.group_cols.begin(), fairing.group_cols.end());
   GroupedGram gram(n, 3, std::move(group_offsets), std::move(group_cols));
-  int rows = 0;
-  Eigen::MatrixXd block, rhs;
-  std::vector<int> ids_at;
-  std::vector<double> values;
+  const int groups = gram.num_groups();
+  std::vector<int> row_counts(static_cast<std::size_t>(groups));
+  for (int g = 0; g < sample_groups; ++g) row_counts[g] = samples.end[g] - samples.begin[g];
+  for (int g = sample_groups; g < groups; ++g)
+    row_counts[g] = fairing.block_offsets[g - sample_groups + 1] - fairing.block_offsets[g - sample_groups];
+  const int rows = std::accumulate(row_counts.begin(), row_counts.end(), 0);
   const Eigen::VectorXd& weights = spline.weights();
   const Eigen::MatrixXd& points = spline.points();
-  for (int g = 0; g < sample_groups; ++g) {
-    const int count = samples.end[g] - samples.begin[g], k = gram.group_size(g);
-    const int* slot = samples.slots.data() + samples.slot_offsets[g];
-    block.resize(count, k);
+  gram.add_all(row_counts, [&](int g, Eigen::MatrixXd& block, Eigen::MatrixXd& rhs) {
+    const int count = row_counts[g], k = gram.group_size(g);
     rhs.resize(count, 3);
-    for (int r = 0; r < count; ++r) {
-      const int s = samples.order[samples.begin[g] + r].second;
-      spline.basis_at(uvw.row(s).transpose(), {0, 0, 0}, ids_at, values);
-      Eigen::RowVector3d known = Eigen::RowVector3d::Zero();
-      for (std::size_t q = 0; q < ids_at.size(); ++q)
-        if (column_of[ids_at[q]] < 0) known += (weights(ids_at[q]) * values[q]) * points.row(ids_at[q]);
-      for (int c = 0; c < k; ++c) block(r, c) = weights(ids_at[slot[c]]) * values[slot[c]];
-      rhs.row(r) = xyz.row(s) - known;
+    if (g < sample_groups) {
+      const int* slot = samples.slots.data() + samples.slot_offsets[g];
+      std::vector<int> ids_at;
+      std::vector<double> values;
+      block.resize(count, k);
+      for (int r = 0; r < count; ++r) {
+        const int s = samples.order[samples.begin[g] + r].second;
+        spline.basis_at(uvw.row(s).transpose(), {0, 0, 0}, ids_at, values);
+        Eigen::RowVector3d known = Eigen::RowVector3d::Zero();
+        for (std::size_t q = 0; q < ids_at.size(); ++q)
+          if (column_of[ids_at[q]] < 0) known += (weights(ids_at[q]) * values[q]) * points.row(ids_at[q]);
+        for (int c = 0; c < k; ++c) block(r, c) = weights(ids_at[slot[c]]) * values[slot[c]];
+        rhs.row(r) = xyz.row(s) - known;
+      }
+      return;
     }
-    rows += count;
-    gram.add(g, block, rhs);
-  }
-  std::vector<int> slot_of(n, -1);
-  for (std::size_t f = 0; f + 1 < fairing.block_offsets.size(); ++f) {
-    const int g = sample_groups + static_cast<int>(f);
-    const int k = gram.group_size(g);
+    // A fairing block: its rows' entries placed by their column's slot in the group's list.
     const int* cols = gram.group_columns(g);
-    for (int c = 0; c < k; ++c) slot_of[cols[c]] = c;
-    const int first = fairing.block_offsets[f], count = fairing.block_offsets[f + 1] - first;
+    const int first = fairing.block_offsets[g - sample_groups];
     block.setZero(count, k);
-    rhs.resize(count, 3);
     for (int r = 0; r < count; ++r) {
       for (int q = fairing.row_offsets[first + r]; q < fairing.row_offsets[first + r + 1]; ++q)
-        block(r, slot_of[fairing.row_cols[q]]) = fairing.row_values[q];
+        block(r, std::lower_bound(cols, cols + k, fairing.row_cols[q]) - cols) = fairing.row_values[q];
       rhs.row(r) = fairing.rhs[first + r];
     }
-    rows += count;
-    gram.add(g, block, rhs);
-  }
+  });
   Eigen::MatrixXd atb = std::move(gram.rhs());
   return solve_normal(spline, ids, gram.take_upper(), std::move(atb), rows, prior, options.regularization,
                       options.tolerance, options.max_iterations);
