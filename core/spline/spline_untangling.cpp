@@ -634,9 +634,8 @@ std::vector<Eigen::Vector3d> folded_points(const TSpline& spline, const SplineUn
 
 // The polish lattice: per axis the centres of equal parts of the domain as wide as the finest
 // knot interval of any axis (bunny: 1/64, the 64³ cell centres), at least min_per_axis and at
-// most max_per_axis of them, all scanned. No boundary
-// layers: 1/512 from the faces det J is at its most fragile, and holding it there cost bunny
-// 12 s for 175 such points.
+// most max_per_axis of them, all scanned. No boundary layers: 1/512 from the faces det J is at
+// its most fragile, and holding them cost bunny 12 s for 175 such points.
 std::array<AxisNodes, 3> finest_nodes(const TSpline& spline, int min_per_axis, int max_per_axis) {
   const Eigen::Vector3d lo = spline.domain_min(), hi = spline.domain_max();
   double finest = 1.0;  // a fraction of the domain's extent
