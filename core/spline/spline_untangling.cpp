@@ -45,30 +45,6 @@ struct SampleTerm {
   std::vector<std::pair<int, double>> entries;
 };
 
-// 3×3 matrices at n nodes, structure of arrays: entry (r, a) of node p at data()[(r + 3a)·n + p].
-class MatrixField {
- public:
-  explicit MatrixField(std::size_t n = 0) : n_(n), values_(9 * n, 0.0) {}
-  std::size_t size() const { return n_; }
-  double* data() { return values_.data(); }
-  const double* data() const { return values_.data(); }
-  Eigen::Matrix3d get(std::size_t p) const {
-    Eigen::Matrix3d m;
-    for (int e = 0; e < 9; ++e) m.data()[e] = values_[e * n_ + p];
-    return m;
-  }
-  void set(std::size_t p, const Eigen::Matrix3d& m) {
-    for (int e = 0; e < 9; ++e) values_[e * n_ + p] = m.data()[e];
-  }
-  void add(std::size_t p, const Eigen::Matrix3d& m) {
-    for (int e = 0; e < 9; ++e) values_[e * n_ + p] += m.data()[e];
-  }
-
- private:
-  std::size_t n_;
-  std::vector<double> values_;
-};
-
 // A free function on the lattice: the box of nodes where it may be non-zero, first[a] ..
 // first[a] + count[a] − 1 per axis, and the factors of w·∇B there: w·N_a and w·N_a' per axis
 // (the weight folded into axis 0), so w·∇B = (n'₀n₁n₂, n₀n'₁n₂, n₀n₁n'₂).
@@ -77,85 +53,74 @@ struct FreeFunction {
   std::array<std::vector<double>, 3> value, slope;
 };
 
-// The Jacobians at the region nodes as a fixed linear map of the free control points: the knots
-// do not change while untangling, so each evaluation is a sum over the functions' node boxes of
-// tensor products (no basis evaluation, no per-node entry lists).
-class LatticeJacobians {
+// The Jacobians at the region nodes as a fixed linear map of the free control points (the
+// knots do not change while untangling): per node, the free functions non-zero there and their
+// w·∇B (compressed rows), so J(node) = fixed + Σ_c x_c·(w∇B_c)ᵀ sums in registers, and the
+// energy's gradient scatters back through the same rows in the same sweep.
+class NodeJacobians {
  public:
-  LatticeJacobians() = default;
-  LatticeJacobians(std::vector<FreeFunction> functions, std::vector<int> node_index, std::array<int, 3> sizes)
-      : functions_(std::move(functions)), node_index_(std::move(node_index)), sizes_(sizes) {}
-
-  // jac[p] += Σ_c x_c (w∇B_c(p))ᵀ over the region nodes p.
-  void add(const Eigen::VectorXd& x, MatrixField& jac) const {
-    const std::size_t n = jac.size();
-    for (std::size_t c = 0; c < functions_.size(); ++c) {
-      const double xc[3] = {x(3 * c), x(3 * c + 1), x(3 * c + 2)};
-      for_each_row(functions_[c], [&](int p0, double a, double b, double cc, const FreeFunction& f) {
-        const double *slope = f.slope[0].data(), *value = f.value[0].data();
-        const int count = f.count[0];
-        for (int r = 0; r < 3; ++r) {
-          double* j0 = jac.data() + r * n + p0;
-          double* j1 = jac.data() + (r + 3) * n + p0;
-          double* j2 = jac.data() + (r + 6) * n + p0;
-          const double xa = xc[r] * a, xb = xc[r] * b, xcc = xc[r] * cc;
-          for (int i = 0; i < count; ++i) {
-            j0[i] += xa * slope[i];
-            j1[i] += xb * value[i];
-            j2[i] += xcc * value[i];
-          }
-        }
-      });
-    }
+  NodeJacobians() = default;
+  // Rows from the functions' node boxes; node_index: lattice node → region node (−1: none),
+  // sizes: lattice nodes per axis, num_nodes: region nodes.
+  NodeJacobians(const std::vector<FreeFunction>& functions, const std::vector<int>& node_index,
+                std::array<int, 3> sizes, std::size_t num_nodes)
+      : start_(num_nodes + 1, 0) {
+    auto for_each_entry = [&](auto&& visit) {
+      for (std::size_t c = 0; c < functions.size(); ++c) {
+        const FreeFunction& f = functions[c];
+        for (int k = 0; k < f.count[2]; ++k)
+          for (int j = 0; j < f.count[1]; ++j)
+            for (int i = 0; i < f.count[0]; ++i) {
+              const Eigen::Vector3d g(f.slope[0][i] * f.value[1][j] * f.value[2][k],
+                                      f.value[0][i] * f.slope[1][j] * f.value[2][k],
+                                      f.value[0][i] * f.value[1][j] * f.slope[2][k]);
+              if (g.isZero(0.0)) continue;
+              const int node = f.first[0] + i + sizes[0] * (f.first[1] + j + sizes[1] * (f.first[2] + k));
+              visit(node_index[node], static_cast<int>(c), g);
+            }
+      }
+    };
+    for_each_entry([&](int q, int, const Eigen::Vector3d&) { ++start_[q + 1]; });
+    for (std::size_t q = 0; q < num_nodes; ++q) start_[q + 1] += start_[q];
+    column_.resize(start_.back());
+    gradient_.resize(3 * static_cast<std::size_t>(start_.back()));
+    std::vector<int> fill(start_.begin(), start_.end() - 1);
+    for_each_entry([&](int q, int c, const Eigen::Vector3d& g) {  // columns ascending per row
+      const int e = fill[q]++;
+      column_[e] = c;
+      for (int a = 0; a < 3; ++a) gradient_[3 * e + a] = g(a);
+    });
   }
 
-  // gradient_c += Σ_p d[p]·w∇B_c(p), d[p] = ∂E/∂J at node p.
-  void add_gradient(const MatrixField& d, Eigen::VectorXd& gradient) const {
-    const std::size_t n = d.size();
-    for (std::size_t c = 0; c < functions_.size(); ++c) {
-      double sum[3] = {0.0, 0.0, 0.0};
-      for_each_row(functions_[c], [&](int p0, double a, double b, double cc, const FreeFunction& f) {
-        const double *slope = f.slope[0].data(), *value = f.value[0].data();
-        const int count = f.count[0];
-        for (int r = 0; r < 3; ++r) {
-          const double* d0 = d.data() + r * n + p0;
-          const double* d1 = d.data() + (r + 3) * n + p0;
-          const double* d2 = d.data() + (r + 6) * n + p0;
-          double s0 = 0.0, s1 = 0.0;
-          for (int i = 0; i < count; ++i) {
-            s0 += d0[i] * slope[i];
-            s1 += d1[i] * b * value[i] + d2[i] * cc * value[i];
-          }
-          sum[r] += a * s0 + s1;
-        }
-      });
-      for (int r = 0; r < 3; ++r) gradient(3 * c + r) += sum[r];
+  // Σ_c x_c·(w∇B_c)ᵀ at node q.
+  Eigen::Matrix3d linear(const Eigen::VectorXd& x, std::size_t q) const {
+    Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+    for (int e = start_[q]; e < start_[q + 1]; ++e) {
+      const double* g = gradient_.data() + 3 * e;
+      const double* xc = x.data() + 3 * column_[e];
+      for (int a = 0; a < 3; ++a)
+        for (int r = 0; r < 3; ++r) m(r, a) += xc[r] * g[a];
+    }
+    return m;
+  }
+
+  // gradient_c += d·w∇B_c(q) for the functions at node q (d = ∂E/∂J there).
+  void add_gradient(const Eigen::Matrix3d& d, std::size_t q, Eigen::VectorXd& gradient) const {
+    for (int e = start_[q]; e < start_[q + 1]; ++e) {
+      const double* g = gradient_.data() + 3 * e;
+      gradient.segment<3>(3 * column_[e]) += d.col(0) * g[0] + d.col(1) * g[1] + d.col(2) * g[2];
     }
   }
 
  private:
-  // Calls row(p0, n₁n₂, n'₁n₂, n₁n'₂, f) per lattice row of f's box; p0: the region index of the
-  // row's first node (a box row is consecutive in the region order).
-  template <class Row>
-  void for_each_row(const FreeFunction& f, Row&& row) const {
-    for (int k = 0; k < f.count[2]; ++k)
-      for (int j = 0; j < f.count[1]; ++j) {
-        const double v = f.value[1][j], w = f.value[2][k];
-        const int node = f.first[0] + sizes_[0] * (f.first[1] + j + sizes_[1] * (f.first[2] + k));
-        const int p0 = node_index_[node];
-        row(p0, v * w, f.slope[1][j] * w, v * f.slope[2][k], f);
-      }
-  }
-
-  std::vector<FreeFunction> functions_;
-  std::vector<int> node_index_;  // energy node → region index, −1 outside
-  std::array<int, 3> sizes_{};   // energy nodes per axis
+  std::vector<int> start_, column_;
+  std::vector<double> gradient_;  // w∇B, 3 per entry
 };
 
 // The energy's nodes: J = fixed + lattice(x) at node q, reference shape inverse_reference[q].
 struct Region {
-  LatticeJacobians lattice;
-  MatrixField fixed;
+  NodeJacobians lattice;
+  std::vector<Eigen::Matrix3d> fixed;
   std::vector<Eigen::Matrix3d> inverse_reference;
   Eigen::Vector3d mean_scale = Eigen::Vector3d::Zero();  // of the column norms of J
   // Nodes that must end unfolded: the scanned ones and those not folded before. A folded node
@@ -445,10 +410,10 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
       region.point_fixed.push_back(jac);
       region.point_entries.push_back(std::move(entries));
     }
-    region.fixed = MatrixField(fixed.size());
-    for (std::size_t q = 0; q < fixed.size(); ++q) region.fixed.set(q, fixed[q]);
-    region.lattice = LatticeJacobians(std::move(functions), std::move(node_index), sizes);
-    region.lattice.add(-x0, region.fixed);  // fixed: the part of J the free functions do not change
+    region.lattice = NodeJacobians(functions, node_index, sizes, fixed.size());
+    // fixed: the part of J the free functions do not change.
+    for (std::size_t q = 0; q < fixed.size(); ++q) fixed[q] -= region.lattice.linear(x0, q);
+    region.fixed = std::move(fixed);
     return region;
   };
   const Region region = make_region();
@@ -475,16 +440,16 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
   const double data_scale = options.data_weight / (step * step);
   const double theta = options.volume_weight;
   const double hinge_target = options.min_scaled_jacobian;
-  MatrixField jac, dj;
+  std::vector<Eigen::Matrix3d> jac;
   // Minimizes the energy over the region's nodes: the barrier of Garanzha et al. 2021 (§3, with
   // its ε continuation; the thesis has no untangling step).
   auto solve = [&](const Region& r) {
     const std::size_t num_points = r.fixed.size();
-    dj = MatrixField(num_points);
+    jac.resize(num_points);
     // jac holds J at jac_x. J is linear in x: along the line search's line x + t·d it is
-    // J(x) + t·J_d, so a trial needs no lattice sums.
+    // J(x) + t·J_d, so a trial needs no sums over the functions.
     Eigen::VectorXd jac_x, line_x, line_d;
-    MatrixField line_start, line_step;
+    std::vector<Eigen::Matrix3d> line_start, line_step(num_points);
     const std::size_t num_extra = r.point_fixed.size();
     std::vector<Eigen::Matrix3d> extra_jac(num_extra), extra_start(num_extra), extra_step(num_extra);
     auto extra_linear = [&](const Eigen::VectorXd& y, std::size_t e) {
@@ -492,26 +457,23 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
       for (const auto& [c, g] : r.point_entries[e]) m += y.segment<3>(3 * c) * g.transpose();
       return m;
     };
-    auto jacobians = [&](const Eigen::VectorXd& y) -> const MatrixField& {
+    auto jacobians = [&](const Eigen::VectorXd& y) -> const std::vector<Eigen::Matrix3d>& {
       if (jac_x.size() != y.size() || jac_x != y) {
-        jac = r.fixed;
-        r.lattice.add(y, jac);
+        for (std::size_t q = 0; q < num_points; ++q) jac[q] = r.fixed[q] + r.lattice.linear(y, q);
         for (std::size_t e = 0; e < num_extra; ++e) extra_jac[e] = r.point_fixed[e] + extra_linear(y, e);
         jac_x = y;
       }
       return jac;
     };
-    auto energy = [&](const MatrixField& j, const Eigen::VectorXd& y, double eps, Eigen::VectorXd* gradient) {
+    auto energy = [&](const std::vector<Eigen::Matrix3d>& j, const Eigen::VectorXd& y, double eps,
+                      Eigen::VectorXd* gradient) {
       double total = 0.0;
       Eigen::Matrix3d df;
+      if (gradient) gradient->setZero(y.size());
       for (std::size_t q = 0; q < num_points; ++q) {
-        if (!r.held[q]) continue;  // dj stays 0 there
-        total += param::foldover_free_energy(j.get(q) * r.inverse_reference[q], eps, theta, gradient ? &df : nullptr);
-        if (gradient) dj.set(q, df * r.inverse_reference[q].transpose());  // ∂f/∂J
-      }
-      if (gradient) {
-        gradient->setZero(y.size());
-        r.lattice.add_gradient(dj, *gradient);
+        if (!r.held[q]) continue;
+        total += param::foldover_free_energy(j[q] * r.inverse_reference[q], eps, theta, gradient ? &df : nullptr);
+        if (gradient) r.lattice.add_gradient(df * r.inverse_reference[q].transpose(), q, *gradient);  // ∂f/∂J
       }
       // Scattered nodes: the hinge W·max(0, τ − det J/σ)², zero where they are good enough.
       for (std::size_t e = 0; e < num_extra; ++e) {
@@ -541,18 +503,17 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
       return energy(jacobians(y), y, eps, gradient);
     };
     problem.min_det = [&](const Eigen::VectorXd& y) {
-      const MatrixField& j = jacobians(y);
+      const std::vector<Eigen::Matrix3d>& j = jacobians(y);
       double worst = std::numeric_limits<double>::infinity();
       for (std::size_t q = 0; q < num_points; ++q)
-        if (r.guarded[q]) worst = std::min(worst, (j.get(q) * r.inverse_reference[q]).determinant());
+        if (r.guarded[q]) worst = std::min(worst, (j[q] * r.inverse_reference[q]).determinant());
       return worst;
     };
     problem.set_line = [&](const Eigen::VectorXd& y, const Eigen::VectorXd& d) {
       line_start = jacobians(y);
       line_x = y;
       line_d = d;
-      line_step = MatrixField(num_points);
-      r.lattice.add(d, line_step);
+      for (std::size_t q = 0; q < num_points; ++q) line_step[q] = r.lattice.linear(d, q);
       for (std::size_t e = 0; e < num_extra; ++e) {
         extra_start[e] = extra_jac[e];
         extra_step[e] = extra_linear(d, e);
@@ -560,7 +521,7 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
     };
     problem.line_energy = [&](double t, double eps, Eigen::VectorXd* gradient) {
       jac_x = line_x + t * line_d;  // the same bits as the minimizer's x + t·d
-      for (std::size_t e = 0; e < 9 * num_points; ++e) jac.data()[e] = line_start.data()[e] + t * line_step.data()[e];
+      for (std::size_t q = 0; q < num_points; ++q) jac[q] = line_start[q] + t * line_step[q];
       for (std::size_t e = 0; e < num_extra; ++e) extra_jac[e] = extra_start[e] + t * extra_step[e];
       return energy(jac, jac_x, eps, gradient);
     };
