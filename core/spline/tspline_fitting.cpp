@@ -399,8 +399,8 @@ TSplineFitReport fit_columns(TSpline& spline, const Eigen::MatrixX3d& uvw, const
     rhs.resize(count, 3);
     if (g < sample_groups) {
       const int* slot = samples.slots.data() + samples.slot_offsets[g];
-      std::vector<int> ids_at;
-      std::vector<double> values;
+      thread_local std::vector<int> ids_at;  // scratch: the callback may run on several threads
+      thread_local std::vector<double> values;
       block.resize(count, k);
       for (int r = 0; r < count; ++r) {
         const int s = samples.order[samples.begin[g] + r].second;
