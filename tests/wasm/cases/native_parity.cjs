@@ -7,7 +7,7 @@
 // residual of 1e-5, so the points agree to that order (bimba: 2.5e-5 of the diagonal; sphere:
 // under 1e-9). The untangler is left out on bimba:
 // its seeds are thresholds on det J, so rounding-level differences pick other free control
-// points there (level 0: 360 native, 270 WebAssembly) and the two valid results differ.
+// points there (level 0: 360 native, 270 WebAssembly) and the two results differ.
 // The native binary: $VOLSPLINE_NATIVE, else build/release/cli/volspline in the source tree
 // (run_all.sh builds it first); without one the case says so and checks nothing.
 'use strict';
