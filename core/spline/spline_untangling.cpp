@@ -104,6 +104,14 @@ class NodeJacobians {
     return m;
   }
 
+  // Rows of node q times s (J·s = fixed·s + Σ_c x_c·(sᵀ w∇B_c)ᵀ): the energy then sees J·S⁻¹.
+  void transform(std::size_t q, const Eigen::Matrix3d& s) {
+    for (int e = start_[q]; e < start_[q + 1]; ++e) {
+      Eigen::Map<Eigen::Vector3d> g(gradient_.data() + 3 * e);
+      g = s.transpose() * Eigen::Vector3d(g);
+    }
+  }
+
   // gradient_c += d·w∇B_c(q) for the functions at node q (d = ∂E/∂J there).
   void add_gradient(const Eigen::Matrix3d& d, std::size_t q, Eigen::VectorXd& gradient) const {
     for (int e = start_[q]; e < start_[q + 1]; ++e) {
@@ -117,7 +125,8 @@ class NodeJacobians {
   std::vector<double> gradient_;  // w∇B, 3 per entry
 };
 
-// The energy's nodes: J = fixed + lattice(x) at node q, reference shape inverse_reference[q].
+// The energy's nodes: J·S⁻¹ = fixed + lattice(x) at node q (S⁻¹ = inverse_reference[q], the
+// inverse of the node's reference shape, already applied to fixed and to the lattice's rows).
 struct Region {
   NodeJacobians lattice;
   std::vector<Eigen::Matrix3d> fixed;
@@ -411,8 +420,12 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
       region.point_entries.push_back(std::move(entries));
     }
     region.lattice = NodeJacobians(functions, node_index, sizes, fixed.size());
-    // fixed: the part of J the free functions do not change.
-    for (std::size_t q = 0; q < fixed.size(); ++q) fixed[q] -= region.lattice.linear(x0, q);
+    // The rows and fixed parts carry S⁻¹, so the energy's sweeps need no 3×3 products: fixed is
+    // the part of J·S⁻¹ the free functions do not change.
+    for (std::size_t q = 0; q < fixed.size(); ++q) {
+      region.lattice.transform(q, region.inverse_reference[q]);
+      fixed[q] = fixed[q] * region.inverse_reference[q] - region.lattice.linear(x0, q);
+    }
     region.fixed = std::move(fixed);
     return region;
   };
@@ -446,7 +459,7 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
   auto solve = [&](const Region& r) {
     const std::size_t num_points = r.fixed.size();
     jac.resize(num_points);
-    // jac holds J at jac_x. J is linear in x: along the line search's line x + t·d it is
+    // jac holds J·S⁻¹ at jac_x. It is linear in x: along the line search's line x + t·d it is
     // J(x) + t·J_d, so a trial needs no sums over the functions.
     Eigen::VectorXd jac_x, line_x, line_d;
     std::vector<Eigen::Matrix3d> line_start, line_step(num_points);
@@ -472,8 +485,8 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
       if (gradient) gradient->setZero(y.size());
       for (std::size_t q = 0; q < num_points; ++q) {
         if (!r.held[q]) continue;
-        total += param::foldover_free_energy(j[q] * r.inverse_reference[q], eps, theta, gradient ? &df : nullptr);
-        if (gradient) r.lattice.add_gradient(df * r.inverse_reference[q].transpose(), q, *gradient);  // ∂f/∂J
+        total += param::foldover_free_energy(j[q], eps, theta, gradient ? &df : nullptr);
+        if (gradient) r.lattice.add_gradient(df, q, *gradient);
       }
       // Scattered nodes: the hinge W·max(0, τ − det J/σ)², zero where they are good enough.
       for (std::size_t e = 0; e < num_extra; ++e) {
@@ -506,7 +519,7 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
       const std::vector<Eigen::Matrix3d>& j = jacobians(y);
       double worst = std::numeric_limits<double>::infinity();
       for (std::size_t q = 0; q < num_points; ++q)
-        if (r.guarded[q]) worst = std::min(worst, (j[q] * r.inverse_reference[q]).determinant());
+        if (r.guarded[q]) worst = std::min(worst, j[q].determinant());
       return worst;
     };
     problem.set_line = [&](const Eigen::VectorXd& y, const Eigen::VectorXd& d) {
