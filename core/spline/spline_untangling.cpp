@@ -128,7 +128,7 @@ class NodeJacobians {
 // The energy's nodes: J·S⁻¹ = fixed + lattice(x) at node q (S⁻¹ = inverse_reference[q], the
 // inverse of the node's reference shape, already applied to fixed and to the lattice's rows).
 struct Region {
-  NodeJacobians lattice;
+  NodeJacobians rows;
   std::vector<Eigen::Matrix3d> fixed;
   std::vector<Eigen::Matrix3d> inverse_reference;
   Eigen::Vector3d mean_scale = Eigen::Vector3d::Zero();  // of the column norms of J
@@ -419,12 +419,12 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
       region.point_fixed.push_back(jac);
       region.point_entries.push_back(std::move(entries));
     }
-    region.lattice = NodeJacobians(functions, node_index, sizes, fixed.size());
+    region.rows = NodeJacobians(functions, node_index, sizes, fixed.size());
     // The rows and fixed parts carry S⁻¹, so the energy's sweeps need no 3×3 products: fixed is
     // the part of J·S⁻¹ the free functions do not change.
     for (std::size_t q = 0; q < fixed.size(); ++q) {
-      region.lattice.transform(q, region.inverse_reference[q]);
-      fixed[q] = fixed[q] * region.inverse_reference[q] - region.lattice.linear(x0, q);
+      region.rows.transform(q, region.inverse_reference[q]);
+      fixed[q] = fixed[q] * region.inverse_reference[q] - region.rows.linear(x0, q);
     }
     region.fixed = std::move(fixed);
     return region;
@@ -472,7 +472,7 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
     };
     auto jacobians = [&](const Eigen::VectorXd& y) -> const std::vector<Eigen::Matrix3d>& {
       if (jac_x.size() != y.size() || jac_x != y) {
-        for (std::size_t q = 0; q < num_points; ++q) jac[q] = r.fixed[q] + r.lattice.linear(y, q);
+        for (std::size_t q = 0; q < num_points; ++q) jac[q] = r.fixed[q] + r.rows.linear(y, q);
         for (std::size_t e = 0; e < num_extra; ++e) extra_jac[e] = r.point_fixed[e] + extra_linear(y, e);
         jac_x = y;
       }
@@ -486,7 +486,7 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
       for (std::size_t q = 0; q < num_points; ++q) {
         if (!r.held[q]) continue;
         total += param::foldover_free_energy(j[q], eps, theta, gradient ? &df : nullptr);
-        if (gradient) r.lattice.add_gradient(df, q, *gradient);
+        if (gradient) r.rows.add_gradient(df, q, *gradient);
       }
       // Scattered nodes: the hinge W·max(0, τ − det J/σ)², zero where they are good enough.
       for (std::size_t e = 0; e < num_extra; ++e) {
@@ -526,7 +526,7 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
       line_start = jacobians(y);
       line_x = y;
       line_d = d;
-      for (std::size_t q = 0; q < num_points; ++q) line_step[q] = r.lattice.linear(d, q);
+      for (std::size_t q = 0; q < num_points; ++q) line_step[q] = r.rows.linear(d, q);
       for (std::size_t e = 0; e < num_extra; ++e) {
         extra_start[e] = extra_jac[e];
         extra_step[e] = extra_linear(d, e);

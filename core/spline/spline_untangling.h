@@ -112,13 +112,14 @@ struct SplineUntangleReport {
 /// (ℓ: one lattice step in model units), so the interior stays near its samples. Minimized by
 /// param::untangle (L-BFGS with the barrier continuation of Garanzha et al. 2021) until every
 /// scanned node and every node not folded before has det(J·S⁻¹) > stop_margin, or max_steps.
-/// J at the nodes is a fixed linear map of the free control points (the knots do not move), so
-/// it is set up once per pass and each energy evaluation sums tensor products of univariate
-/// factors. Each pass writes its control points to spline. Between passes a denser check
-/// (check_per_interval) adds the bad points between the nodes as scattered nodes of the later
-/// passes (an active set); det J is held at those points only, so a still denser check can
-/// find folded points (bunny: 9 of the 64³ cell centres, without the check 56). After the passes
-/// the polish (polish_rounds) holds the finest lattice: bunny 8 → 0 folded of 64³.
+/// J·S⁻¹ at the nodes is a fixed linear map of the free control points (the knots do not move),
+/// so it is set up once per pass as per-node rows of (free function, S⁻ᵀw∇B) and each energy
+/// evaluation sums a node's row in registers and scatters its gradient back. Each pass writes
+/// its control points to spline. Between passes a denser check (check_per_interval) adds the bad
+/// points between the nodes as scattered nodes of the later passes (an active set); det J is
+/// held at those points only, so a still denser check can find folded points (bunny: 9 of the
+/// 64³ cell centres, without the check 56). After the passes the polish (polish_rounds) holds
+/// the finest lattice: bunny 8 → 0 folded of 64³.
 /// uvw, xyz: m×3 fitting samples (may be empty). Precondition: dimension() == 3.
 SplineUntangleReport untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
                                      const SplineUntangleOptions& options = {});
