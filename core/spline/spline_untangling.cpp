@@ -112,7 +112,8 @@ class NodeJacobians {
     }
   }
 
-  // gradient_c += d·w∇B_c(q) for the functions at node q (d = ∂E/∂J there).
+  // gradient_c += d·g_c(q) for the functions at node q (g: w∇B, or S⁻ᵀw∇B after transform;
+  // d = ∂E/∂J, or ∂E/∂(J·S⁻¹)).
   void add_gradient(const Eigen::Matrix3d& d, std::size_t q, Eigen::VectorXd& gradient) const {
     for (int e = start_[q]; e < start_[q + 1]; ++e) {
       const double* g = gradient_.data() + 3 * e;
@@ -122,11 +123,11 @@ class NodeJacobians {
 
  private:
   std::vector<int> start_, column_;
-  std::vector<double> gradient_;  // w∇B, 3 per entry
+  std::vector<double> gradient_;  // w∇B (S⁻ᵀw∇B after transform), 3 per entry
 };
 
-// The energy's nodes: J·S⁻¹ = fixed + lattice(x) at node q (S⁻¹ = inverse_reference[q], the
-// inverse of the node's reference shape, already applied to fixed and to the lattice's rows).
+// The energy's nodes: J·S⁻¹ = fixed + rows(x) at node q (S⁻¹ = inverse_reference[q], the
+// inverse of the node's reference shape, already applied to fixed and to the rows).
 struct Region {
   NodeJacobians rows;
   std::vector<Eigen::Matrix3d> fixed;
@@ -459,8 +460,8 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
   auto solve = [&](const Region& r) {
     const std::size_t num_points = r.fixed.size();
     jac.resize(num_points);
-    // jac holds J·S⁻¹ at jac_x. It is linear in x: along the line search's line x + t·d it is
-    // J(x) + t·J_d, so a trial needs no sums over the functions.
+    // jac holds M = J·S⁻¹ at jac_x. M is linear in x: along the line search's line x + t·d it
+    // is M(x) + t·M_d, so a trial needs no sums over the functions.
     Eigen::VectorXd jac_x, line_x, line_d;
     std::vector<Eigen::Matrix3d> line_start, line_step(num_points);
     const std::size_t num_extra = r.point_fixed.size();
