@@ -190,12 +190,28 @@ std::array<AxisNodes, 3> make_nodes(const TSpline& spline, int l, const SplineUn
   return nodes;
 }
 
+// The node Jacobians of the last pass, kept for the next one: the same nodes (passes differ in
+// rings only) and the spline as that pass left it need no second evaluation.
+struct NodeCache {
+  std::array<AxisNodes, 3> nodes;
+  std::vector<Eigen::Matrix3d> jacobians;
+  bool current = false;  // jacobians hold J at every node of `nodes` for the spline as it is
+};
+
+bool same_nodes(const std::array<AxisNodes, 3>& a, const std::array<AxisNodes, 3>& b) {
+  for (int k = 0; k < 3; ++k)
+    if (a[k].t != b[k].t || a[k].scanned != b[k].scanned) return false;
+  return true;
+}
+
 // One scan of the lattice l for seeds and one untangling of the points near them; the moved
 // control points are written to spline.
-// given_nodes: the pass's nodes instead of make_nodes'; seed_from_scan false: only `extra` seeds.
+// given_nodes: the pass's nodes instead of make_nodes'; seed_from_scan false: only `extra`
+// seeds, and no scan after the pass (the report's scan fields are those before it, in the box).
 SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
                                    const std::vector<Eigen::Vector3d>& extra, const SplineUntangleOptions& options,
-                                   const std::array<AxisNodes, 3>* given_nodes = nullptr, bool seed_from_scan = true) {
+                                   NodeCache& cache, const std::array<AxisNodes, 3>* given_nodes = nullptr,
+                                   bool seed_from_scan = true) {
   SplineUntangleReport report;
   const Eigen::Vector3d lo = spline.domain_min(), hi = spline.domain_max();
   const std::array<AxisNodes, 3> nodes = given_nodes ? *given_nodes : make_nodes(spline, l, options);
@@ -216,7 +232,10 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
   // Nodes box_lo .. box_hi − 1 per axis are evaluated and scanned: all of them, or (seeds
   // from `extra` only) the box of the free functions' supports.
   std::array<int, 3> box_lo = {0, 0, 0}, box_hi = sizes;
-  std::vector<Eigen::Matrix3d> node_jacobians(static_cast<std::size_t>(sizes[0]) * sizes[1] * sizes[2]);
+  const bool cached = seed_from_scan && cache.current && same_nodes(cache.nodes, nodes);
+  cache.current = false;
+  std::vector<Eigen::Matrix3d>& node_jacobians = cache.jacobians;
+  node_jacobians.resize(static_cast<std::size_t>(sizes[0]) * sizes[1] * sizes[2]);
   auto evaluate_nodes = [&] {
     std::array<std::vector<double>, 3> coords;
     for (int a = 0; a < 3; ++a) coords[a].assign(nodes[a].t.begin() + box_lo[a], nodes[a].t.begin() + box_hi[a]);
@@ -225,7 +244,11 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
     });
   };
   auto jacobian_at = [&](int i, int j, int k) -> const Eigen::Matrix3d& { return node_jacobians[index(i, j, k)]; };
-  if (seed_from_scan) evaluate_nodes();
+  if (seed_from_scan) {
+    if (!cached) evaluate_nodes();
+    cache.nodes = nodes;
+    cache.current = true;  // until the pass moves control points
+  }
 
   // The scanned points: counts of non-positive ones, the minimum, and the seeds (if asked).
   auto scan = [&](std::vector<std::array<int, 3>>* seeds) {
@@ -552,7 +575,10 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
 
   for (std::size_t c = 0; c < free_ids.size(); ++c) current.row(free_ids[c]) = x.segment<3>(3 * c).transpose();
   spline.set_points(std::move(current));
+  cache.current = false;
+  if (!seed_from_scan) return report;  // the polish scans its whole lattice itself
   evaluate_nodes();
+  cache.current = true;
   scan(nullptr);
   return report;
 }
@@ -656,10 +682,11 @@ SplineUntangleReport untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uv
   assert(std::all_of(options.boundary_layers.begin(), options.boundary_layers.end(),
                      [](double d) { return d >= 0.0 && d < 1.0; }));
   SplineUntangleReport total;
+  NodeCache cache;  // node Jacobians from one pass to the next
   SplineUntangleOptions pass_options = options;
   std::vector<Eigen::Vector3d> extra;
   for (int pass = 0; pass < options.passes; ++pass) {
-    const SplineUntangleReport r = untangle_pass(spline, options.lattice, uvw, xyz, extra, pass_options);
+    const SplineUntangleReport r = untangle_pass(spline, options.lattice, uvw, xyz, extra, pass_options, cache);
     if (pass == 0) {
       total.seeds = r.seeds;
       total.initial_negative = r.initial_negative;
@@ -706,7 +733,8 @@ SplineUntangleReport untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uv
       total.polish_folded = static_cast<int>(bad.size());
       if (bad.empty() || bad.size() >= previous) break;  // done, or no progress
       previous = bad.size();
-      const SplineUntangleReport r = untangle_pass(spline, options.lattice, uvw, xyz, bad, polish_options, &fine, false);
+      const SplineUntangleReport r =
+          untangle_pass(spline, options.lattice, uvw, xyz, bad, polish_options, cache, &fine, false);
       ++total.polish_passes;
       total.free_functions += r.free_functions;
       total.iterations += r.iterations;
