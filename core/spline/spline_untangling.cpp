@@ -739,7 +739,8 @@ SplineUntangleReport untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uv
       total.free_functions += r.free_functions;
       total.iterations += r.iterations;
       if (r.free_functions == 0) break;
-      if (round + 1 == options.polish_rounds) total.polish_folded = static_cast<int>(bad_lattice_points(spline, fine, 0.0).size());
+      if (round + 1 == options.polish_rounds)
+        total.polish_folded = static_cast<int>(bad_lattice_points(spline, fine, 0.0).size());
     }
   }
   return total;

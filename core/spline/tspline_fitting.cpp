@@ -2,10 +2,10 @@
 #include "core/spline/tspline_fitting.h"
 
 #include <algorithm>
-#include <numeric>
 #include <cassert>
 #include <cmath>
 #include <cstdint>
+#include <numeric>
 #include <utility>
 
 #include "core/linalg/conjugate_gradient.h"
