@@ -2,12 +2,14 @@
 // The volspline command: a thin driver over core/pipeline. Exit codes: 0 ok, 1 failed job,
 // 2 bad usage or bad input.
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <string>
 #include <vector>
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/heap_tuning.h"
 #include "core/common/error.h"
 #include "core/common/version.h"
 
@@ -54,6 +56,9 @@ int main(int argc, char** argv) {
     return 0;
   }
   const std::string name = args[0];
+  // VOLSPLINE_HEAP_TUNING=0 keeps glibc's defaults (to measure the tuning, or to rule it out).
+  const char* tuning = std::getenv("VOLSPLINE_HEAP_TUNING");
+  if (!tuning || std::string(tuning) != "0") volspline::cli::tune_heap();
   for (const auto& command : kCommands) {
     if (name != command.name) continue;
     try {
