@@ -8,7 +8,13 @@
 #include <limits>
 #include <vector>
 
+#include <Eigen/Geometry>
 #include <Eigen/LU>
+
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(__EMSCRIPTEN__)
+#include <immintrin.h>
+#define VOLSPLINE_AVX2_ROWS 1
+#endif
 
 #include "core/param/barrier_untangling.h"
 #include "core/spline/bspline_basis.h"
@@ -94,6 +100,9 @@ class NodeJacobians {
 
   // Σ_c x_c·(w∇B_c)ᵀ at node q.
   Eigen::Matrix3d linear(const Eigen::VectorXd& x, std::size_t q) const {
+#ifdef VOLSPLINE_AVX2_ROWS
+    if (avx2_) return linear_avx2(x.data(), q);
+#endif
     Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
     for (int e = start_[q]; e < start_[q + 1]; ++e) {
       const double* g = gradient_.data() + 3 * e;
@@ -115,6 +124,9 @@ class NodeJacobians {
   // gradient_c += d·g_c(q) for the functions at node q (g: w∇B, or S⁻ᵀw∇B after transform;
   // d = ∂E/∂J, or ∂E/∂(J·S⁻¹)).
   void add_gradient(const Eigen::Matrix3d& d, std::size_t q, Eigen::VectorXd& gradient) const {
+#ifdef VOLSPLINE_AVX2_ROWS
+    if (avx2_) return add_gradient_avx2(d, q, gradient.data());
+#endif
     for (int e = start_[q]; e < start_[q + 1]; ++e) {
       const double* g = gradient_.data() + 3 * e;
       gradient.segment<3>(3 * column_[e]) += d.col(0) * g[0] + d.col(1) * g[1] + d.col(2) * g[2];
@@ -122,6 +134,47 @@ class NodeJacobians {
   }
 
  private:
+#ifdef VOLSPLINE_AVX2_ROWS
+  // The row sweeps with one 4-lane register per column of J (lane 3 unused): the same
+  // products and sums per entry as the scalar loops, in the same order, and no FMA (the
+  // target is avx2 alone), so both paths give the same bits; about twice as fast on bunny.
+  // (p0, p1, p2, 0) and back: 128-bit and scalar moves (masked moves are slow on some CPUs).
+  __attribute__((target("avx2"), always_inline)) static __m256d load3(const double* p) {
+    return _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p)), _mm_load_sd(p + 2), 1);
+  }
+  __attribute__((target("avx2"), always_inline)) static void store3(double* p, __m256d v) {
+    _mm_storeu_pd(p, _mm256_castpd256_pd128(v));
+    _mm_store_sd(p + 2, _mm256_extractf128_pd(v, 1));
+  }
+  __attribute__((target("avx2"))) Eigen::Matrix3d linear_avx2(const double* x, std::size_t q) const {
+    __m256d m0 = _mm256_setzero_pd(), m1 = _mm256_setzero_pd(), m2 = _mm256_setzero_pd();
+    for (int e = start_[q]; e < start_[q + 1]; ++e) {
+      const double* g = gradient_.data() + 3 * e;
+      const __m256d xc = load3(x + 3 * column_[e]);
+      m0 = _mm256_add_pd(m0, _mm256_mul_pd(xc, _mm256_broadcast_sd(g)));
+      m1 = _mm256_add_pd(m1, _mm256_mul_pd(xc, _mm256_broadcast_sd(g + 1)));
+      m2 = _mm256_add_pd(m2, _mm256_mul_pd(xc, _mm256_broadcast_sd(g + 2)));
+    }
+    Eigen::Matrix3d m;
+    store3(m.data(), m0);
+    store3(m.data() + 3, m1);
+    store3(m.data() + 6, m2);
+    return m;
+  }
+  __attribute__((target("avx2"))) void add_gradient_avx2(const Eigen::Matrix3d& d, std::size_t q,
+                                                         double* gradient) const {
+    const __m256d d0 = load3(d.data()), d1 = load3(d.data() + 3), d2 = load3(d.data() + 6);
+    for (int e = start_[q]; e < start_[q + 1]; ++e) {
+      const double* g = gradient_.data() + 3 * e;
+      double* out = gradient + 3 * column_[e];
+      const __m256d t = _mm256_add_pd(
+          _mm256_add_pd(_mm256_mul_pd(d0, _mm256_broadcast_sd(g)), _mm256_mul_pd(d1, _mm256_broadcast_sd(g + 1))),
+          _mm256_mul_pd(d2, _mm256_broadcast_sd(g + 2)));
+      store3(out, _mm256_add_pd(load3(out), t));
+    }
+  }
+  bool avx2_ = __builtin_cpu_supports("avx2");
+#endif
   std::vector<int> start_, column_;
   std::vector<double> gradient_;  // w∇B (S⁻ᵀw∇B after transform), 3 per entry
 };
