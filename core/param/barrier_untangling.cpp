@@ -9,6 +9,8 @@
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 
+#include "core/param/foldover_kernel.h"
+
 namespace volspline::param {
 
 namespace {
@@ -100,22 +102,20 @@ int lbfgs(const UntangleProblem& problem, Eigen::VectorXd& x, double eps, int ma
 
 }  // namespace
 
+// The same kernel for one element and for a batch (bit-identical lanes; the scalar libm cbrt
+// of earlier versions gave other bits on other machines).
 double foldover_free_energy(const Eigen::Matrix3d& j, double eps, double theta, Eigen::Matrix3d* gradient) {
-  const double d = j.determinant();
-  const double root = std::sqrt(eps * eps + d * d);
-  const double x_d = 0.5 * (d + root);
-  const double tr = j.squaredNorm();
-  const double x23 = std::cbrt(x_d * x_d);
-  if (gradient) {
-    const double dchi = 0.5 * (1.0 + d / root);
-    Eigen::Matrix3d cof;  // ∂ det J / ∂J
-    cof.col(0) = j.col(1).cross(j.col(2));
-    cof.col(1) = j.col(2).cross(j.col(0));
-    cof.col(2) = j.col(0).cross(j.col(1));
-    *gradient = (1.0 - theta) * (2.0 * j / x23 - (2.0 / 3.0) * tr / (x23 * x_d) * dchi * cof) +
-                theta * (2.0 * d / x_d - (d * d + 1.0) * dchi / (x_d * x_d)) * cof;
-  }
-  return (1.0 - theta) * tr / x23 + theta * (d * d + 1.0) / x_d;
+  double energy;
+  detail::foldover_kernel<1>(j.data(), eps, theta, &energy, gradient ? gradient->data() : nullptr);
+  return energy;
+}
+
+void foldover_free_energy_batch(const double* j, double eps, double theta, double* energy, double* gradient) {
+#if defined(VOLSPLINE_FOLDOVER_AVX2)
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  if (avx2) return detail::foldover_kernel4_avx2(j, eps, theta, energy, gradient);
+#endif
+  detail::foldover_kernel<kFoldoverBatch>(j, eps, theta, energy, gradient);
 }
 
 int minimize_lbfgs(const UntangleProblem& problem, double eps, int max_iterations, Eigen::VectorXd& x) {

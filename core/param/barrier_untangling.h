@@ -14,6 +14,14 @@ namespace volspline::param {
 /// Jacobian against its reference shape (3×3); theta in [0, 1); gradient (if not null): ∂f/∂J.
 double foldover_free_energy(const Eigen::Matrix3d& j, double eps, double theta, Eigen::Matrix3d* gradient);
 
+/// Elements per call of foldover_free_energy_batch.
+constexpr int kFoldoverBatch = 4;
+
+/// foldover_free_energy of kFoldoverBatch elements at once: j[k·4 + l] is entry k (column-major)
+/// of element l's J, energy[l] its energy, gradient (if not null) ∂f/∂J laid out like j. Runs
+/// AVX2 code where the CPU has it; every lane gives the same bits as foldover_free_energy.
+void foldover_free_energy_batch(const double* j, double eps, double theta, double* energy, double* gradient);
+
 /// A sum of foldover_free_energy terms (plus any smooth extra term) over unknowns x.
 struct UntangleProblem {
   /// Energy at x with barrier parameter ε; writes ∂E/∂x to gradient if not null.

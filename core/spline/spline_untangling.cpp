@@ -555,15 +555,31 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
       }
       return jac;
     };
+    std::vector<int> held_nodes;
+    for (std::size_t q = 0; q < num_points; ++q)
+      if (r.held[q]) held_nodes.push_back(static_cast<int>(q));
     auto energy = [&](const std::vector<Eigen::Matrix3d>& j, const Eigen::VectorXd& y, double eps,
                       Eigen::VectorXd* gradient) {
       double total = 0.0;
-      Eigen::Matrix3d df;
       if (gradient) gradient->setZero(y.size());
-      for (std::size_t q = 0; q < num_points; ++q) {
-        if (!r.held[q]) continue;
-        total += param::foldover_free_energy(j[q], eps, theta, gradient ? &df : nullptr);
-        if (gradient) r.rows.add_gradient(df, q, *gradient);
+      // The held nodes kFoldoverBatch at a time (the last batch padded with its last node); the
+      // energies are summed and the gradients scattered in node order, as one at a time.
+      constexpr int kBatch = param::kFoldoverBatch;
+      double in[9 * kBatch], out[9 * kBatch], e[kBatch];
+      for (std::size_t first = 0; first < held_nodes.size(); first += kBatch) {
+        const int count = static_cast<int>(std::min<std::size_t>(kBatch, held_nodes.size() - first));
+        for (int l = 0; l < kBatch; ++l) {
+          const double* m = j[held_nodes[first + std::min(l, count - 1)]].data();
+          for (int k = 0; k < 9; ++k) in[k * kBatch + l] = m[k];
+        }
+        param::foldover_free_energy_batch(in, eps, theta, e, gradient ? out : nullptr);
+        for (int l = 0; l < count; ++l) {
+          total += e[l];
+          if (!gradient) continue;
+          Eigen::Matrix3d df;
+          for (int k = 0; k < 9; ++k) df.data()[k] = out[k * kBatch + l];
+          r.rows.add_gradient(df, held_nodes[first + l], *gradient);
+        }
       }
       // Scattered nodes: the hinge W·max(0, τ − det J/σ)², zero where they are good enough.
       for (std::size_t e = 0; e < num_extra; ++e) {
