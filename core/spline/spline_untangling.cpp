@@ -62,7 +62,11 @@ struct FreeFunction {
 // The Jacobians at the region nodes as a fixed linear map of the free control points (the
 // knots do not change while untangling): per node, the free functions non-zero there and their
 // w·∇B (compressed rows), so J(node) = fixed + Σ_c x_c·(w∇B_c)ᵀ sums in registers, and the
-// energy's gradient scatters back through the same rows in the same sweep.
+// energy's gradient scatters back through the same rows in the same sweep. The row entries are
+// stored in single precision (sums in double): the sweeps are bound by memory (bunny's first
+// pass streams 1.7M entries twice per iteration), and the rounding only perturbs the search's
+// model of how J changes with x, not J itself (fixed is made with the same rows, so J at the
+// start point is exact, and the spline is evaluated anew after the pass).
 class NodeJacobians {
  public:
   NodeJacobians() = default;
@@ -94,7 +98,7 @@ class NodeJacobians {
     for_each_entry([&](int q, int c, const Eigen::Vector3d& g) {  // columns ascending per row
       const int e = fill[q]++;
       column_[e] = c;
-      for (int a = 0; a < 3; ++a) gradient_[3 * e + a] = g(a);
+      for (int a = 0; a < 3; ++a) gradient_[3 * e + a] = static_cast<float>(g(a));
     });
   }
 
@@ -105,10 +109,10 @@ class NodeJacobians {
 #endif
     Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
     for (int e = start_[q]; e < start_[q + 1]; ++e) {
-      const double* g = gradient_.data() + 3 * e;
+      const float* g = gradient_.data() + 3 * e;
       const double* xc = x.data() + 3 * column_[e];
       for (int a = 0; a < 3; ++a)
-        for (int r = 0; r < 3; ++r) m(r, a) += xc[r] * g[a];
+        for (int r = 0; r < 3; ++r) m(r, a) += xc[r] * double(g[a]);
     }
     return m;
   }
@@ -116,8 +120,9 @@ class NodeJacobians {
   // Rows of node q times s (J·s = fixed·s + Σ_c x_c·(sᵀ w∇B_c)ᵀ): the energy then sees J·S⁻¹.
   void transform(std::size_t q, const Eigen::Matrix3d& s) {
     for (int e = start_[q]; e < start_[q + 1]; ++e) {
-      Eigen::Map<Eigen::Vector3d> g(gradient_.data() + 3 * e);
-      g = s.transpose() * Eigen::Vector3d(g);
+      float* g = gradient_.data() + 3 * e;
+      const Eigen::Vector3d t = s.transpose() * Eigen::Vector3d(g[0], g[1], g[2]);
+      for (int a = 0; a < 3; ++a) g[a] = static_cast<float>(t(a));
     }
   }
 
@@ -128,8 +133,8 @@ class NodeJacobians {
     if (avx2_) return add_gradient_avx2(d, q, gradient.data());
 #endif
     for (int e = start_[q]; e < start_[q + 1]; ++e) {
-      const double* g = gradient_.data() + 3 * e;
-      gradient.segment<3>(3 * column_[e]) += d.col(0) * g[0] + d.col(1) * g[1] + d.col(2) * g[2];
+      const float* g = gradient_.data() + 3 * e;
+      gradient.segment<3>(3 * column_[e]) += d.col(0) * double(g[0]) + d.col(1) * double(g[1]) + d.col(2) * double(g[2]);
     }
   }
 
@@ -146,14 +151,17 @@ class NodeJacobians {
     _mm_storeu_pd(p, _mm256_castpd256_pd128(v));
     _mm_store_sd(p + 2, _mm256_extractf128_pd(v, 1));
   }
+  __attribute__((target("avx2"), always_inline)) static __m256d broadcast(const float* g) {
+    return _mm256_cvtps_pd(_mm_broadcast_ss(g));  // exact, as double(*g)
+  }
   __attribute__((target("avx2"))) Eigen::Matrix3d linear_avx2(const double* x, std::size_t q) const {
     __m256d m0 = _mm256_setzero_pd(), m1 = _mm256_setzero_pd(), m2 = _mm256_setzero_pd();
     for (int e = start_[q]; e < start_[q + 1]; ++e) {
-      const double* g = gradient_.data() + 3 * e;
+      const float* g = gradient_.data() + 3 * e;
       const __m256d xc = load3(x + 3 * column_[e]);
-      m0 = _mm256_add_pd(m0, _mm256_mul_pd(xc, _mm256_broadcast_sd(g)));
-      m1 = _mm256_add_pd(m1, _mm256_mul_pd(xc, _mm256_broadcast_sd(g + 1)));
-      m2 = _mm256_add_pd(m2, _mm256_mul_pd(xc, _mm256_broadcast_sd(g + 2)));
+      m0 = _mm256_add_pd(m0, _mm256_mul_pd(xc, broadcast(g)));
+      m1 = _mm256_add_pd(m1, _mm256_mul_pd(xc, broadcast(g + 1)));
+      m2 = _mm256_add_pd(m2, _mm256_mul_pd(xc, broadcast(g + 2)));
     }
     Eigen::Matrix3d m;
     store3(m.data(), m0);
@@ -165,18 +173,17 @@ class NodeJacobians {
                                                          double* gradient) const {
     const __m256d d0 = load3(d.data()), d1 = load3(d.data() + 3), d2 = load3(d.data() + 6);
     for (int e = start_[q]; e < start_[q + 1]; ++e) {
-      const double* g = gradient_.data() + 3 * e;
+      const float* g = gradient_.data() + 3 * e;
       double* out = gradient + 3 * column_[e];
-      const __m256d t = _mm256_add_pd(
-          _mm256_add_pd(_mm256_mul_pd(d0, _mm256_broadcast_sd(g)), _mm256_mul_pd(d1, _mm256_broadcast_sd(g + 1))),
-          _mm256_mul_pd(d2, _mm256_broadcast_sd(g + 2)));
+      const __m256d t = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(d0, broadcast(g)), _mm256_mul_pd(d1, broadcast(g + 1))),
+                                      _mm256_mul_pd(d2, broadcast(g + 2)));
       store3(out, _mm256_add_pd(load3(out), t));
     }
   }
   bool avx2_ = __builtin_cpu_supports("avx2");
 #endif
   std::vector<int> start_, column_;
-  std::vector<double> gradient_;  // w∇B (S⁻ᵀw∇B after transform), 3 per entry
+  std::vector<float> gradient_;  // w∇B (S⁻ᵀw∇B after transform), 3 per entry
 };
 
 // The energy's nodes: J·S⁻¹ = fixed + rows(x) at node q (S⁻¹ = inverse_reference[q], the
