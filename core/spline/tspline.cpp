@@ -182,6 +182,79 @@ struct LatticeScratch {
   std::vector<int> pair_stamp, w_stamp, pairs, ws;
   int stamp = 0;
 };
+// lattice_cell from the cell's tricubic power form (coef: 64·D, index ((4a + b)·4 + c)·D + d for
+// s0^a s1^b s2^c): the same tensor-product pass over 64 coefficients instead of the cell's
+// blending functions (bunny: up to 145 per cell), w first as the coefficients are laid out.
+template <int D>
+void lattice_cell_polynomial(const double* coef, const int* n, const double* const* s, LatticeScratch& w) {
+  const int nu = n[0], nv = n[1], nw = n[2];
+  // Powers and their derivatives per axis and point: [point][value 0..3, derivative 0..3].
+  for (int a = 0; a < 3; ++a) {
+    std::vector<double>& p = w.piece_values[a];
+    p.resize(size_t(n[a]) * 8);
+    for (int i = 0; i < n[a]; ++i) {
+      const double t = s[a][i];
+      double* q = p.data() + size_t(i) * 8;
+      q[0] = 1.0, q[1] = t, q[2] = t * t, q[3] = t * t * t;
+      q[4] = 0.0, q[5] = 1.0, q[6] = 2.0 * t, q[7] = 3.0 * t * t;
+    }
+  }
+  const double* pu = w.piece_values[0].data();
+  const double* pv = w.piece_values[1].data();
+  const double* pw = w.piece_values[2].data();
+  // t1[(ab)·nw + k][value, ∂w][d] = Σ_c coef[ab c] pw_k[c].
+  w.by_pair.resize(size_t(16) * nw * 2 * D);
+  double* t1 = w.by_pair.data();
+  for (int ab = 0; ab < 16; ++ab)
+    for (int k = 0; k < nw; ++k) {
+      const double* q = coef + size_t(ab) * 4 * D;
+      const double* b = pw + size_t(k) * 8;
+      double* o = t1 + (size_t(ab) * nw + k) * 2 * D;
+      for (int d = 0; d < D; ++d) {
+        o[d] = q[d] * b[0] + q[D + d] * b[1] + q[2 * D + d] * b[2] + q[3 * D + d] * b[3];
+        o[D + d] = q[D + d] * b[5] + q[2 * D + d] * b[6] + q[3 * D + d] * b[7];
+      }
+    }
+  // t2[(a·nv + j)·nw + k][value, ∂v, ∂w][d] = Σ_b t1[ab k] pv_j[b].
+  w.by_w.resize(size_t(4) * nv * nw * 3 * D);
+  double* t2 = w.by_w.data();
+  for (int a = 0; a < 4; ++a)
+    for (int j = 0; j < nv; ++j) {
+      const double* b = pv + size_t(j) * 8;
+      for (int k = 0; k < nw; ++k) {
+        double* o = t2 + ((size_t(a) * nv + j) * nw + k) * 3 * D;
+        const double* q0 = t1 + (size_t(4 * a + 0) * nw + k) * 2 * D;
+        const double* q1 = t1 + (size_t(4 * a + 1) * nw + k) * 2 * D;
+        const double* q2 = t1 + (size_t(4 * a + 2) * nw + k) * 2 * D;
+        const double* q3 = t1 + (size_t(4 * a + 3) * nw + k) * 2 * D;
+        for (int d = 0; d < D; ++d) {
+          o[d] = q0[d] * b[0] + q1[d] * b[1] + q2[d] * b[2] + q3[d] * b[3];
+          o[D + d] = q1[d] * b[5] + q2[d] * b[6] + q3[d] * b[7];
+          o[2 * D + d] = q0[D + d] * b[0] + q1[D + d] * b[1] + q2[D + d] * b[2] + q3[D + d] * b[3];
+        }
+      }
+    }
+  // out[(k·nv + j)·nu + i][value, ∂u, ∂v, ∂w][d] = Σ_a t2[a j k] pu_i[a].
+  w.out.resize(size_t(nu) * nv * nw * 4 * D);
+  for (int k = 0; k < nw; ++k)
+    for (int j = 0; j < nv; ++j) {
+      const double* q0 = t2 + ((size_t(0) * nv + j) * nw + k) * 3 * D;
+      const double* q1 = t2 + ((size_t(1) * nv + j) * nw + k) * 3 * D;
+      const double* q2 = t2 + ((size_t(2) * nv + j) * nw + k) * 3 * D;
+      const double* q3 = t2 + ((size_t(3) * nv + j) * nw + k) * 3 * D;
+      for (int i = 0; i < nu; ++i) {
+        const double* b = pu + size_t(i) * 8;
+        double* o = w.out.data() + ((size_t(k) * nv + j) * nu + i) * 4 * D;
+        for (int d = 0; d < D; ++d) {
+          o[d] = q0[d] * b[0] + q1[d] * b[1] + q2[d] * b[2] + q3[d] * b[3];
+          o[D + d] = q1[d] * b[5] + q2[d] * b[6] + q3[d] * b[7];
+          o[2 * D + d] = q0[D + d] * b[0] + q1[D + d] * b[1] + q2[D + d] * b[2] + q3[D + d] * b[3];
+          o[3 * D + d] = q0[2 * D + d] * b[0] + q1[2 * D + d] * b[1] + q2[2 * D + d] * b[2] + q3[2 * D + d] * b[3];
+        }
+      }
+    }
+}
+
 template <int D, class Cell, class Entry>
 void lattice_cell(const Cell& cell, const Entry* entries, const std::uint32_t* ids,
                   const std::array<std::vector<std::array<double, 4>>, 3>& pieces, const double* weighted_points,
@@ -720,7 +793,8 @@ void TSpline::evaluate_lattice_impl(
     for (const auto& r1 : runs[1])
       for (const auto& r0 : runs[0]) {
         const std::array<int, 3>* r[3] = {&r0, &r1, &r2};
-        const Cell& cell = cells_[size_t(r0[0]) + size_t(nc0) * (size_t(r1[0]) + size_t(nc1) * size_t(r2[0]))];
+        const size_t cell_id = size_t(r0[0]) + size_t(nc0) * (size_t(r1[0]) + size_t(nc1) * size_t(r2[0]));
+        const Cell& cell = cells_[cell_id];
         int n[3];
         const double* s[3];
         double inverse_width[3];
@@ -729,8 +803,11 @@ void TSpline::evaluate_lattice_impl(
           s[a] = local[a].data() + (*r[a])[1];
           inverse_width[a] = inverse_widths_[a][(*r[a])[0]];
         }
-        lattice_cell<D>(cell, entries_.data(), cell_pieces_.data() + cell.piece_begin, pieces_,
-                        weighted_points_.data(), n, s, scratch);
+        if (has_cell_polynomials())
+          lattice_cell_polynomial<D>(cell_numerator_.data() + cell_id * 64 * D, n, s, scratch);
+        else
+          lattice_cell<D>(cell, entries_.data(), cell_pieces_.data() + cell.piece_begin, pieces_,
+                          weighted_points_.data(), n, s, scratch);
         for (int k = 0; k < n[2]; ++k)
           for (int j = 0; j < n[1]; ++j)
             for (int i = 0; i < n[0]; ++i) {

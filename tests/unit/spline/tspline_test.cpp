@@ -314,34 +314,37 @@ TEST_CASE("cell_of and cell_functions give the knot-line cell and the basis_at l
 }
 
 TEST_CASE("lattice evaluation equals evaluate_with_jacobian at every lattice point") {
-  for (int dimension : {3, 4}) {
-    const TSpline spline = random_tspline(70, dimension, 11 + dimension, TSplineAcceleration::FunctionLists);
-    // Random coordinates plus knot lines and the domain ends, where the half-open cells matter;
-    // a repeated coordinate too.
-    std::mt19937 rng(3);
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
-    std::array<std::vector<double>, 3> coords;
-    for (int a = 0; a < 3; ++a) {
-      const double lo = spline.domain_min()[a], hi = spline.domain_max()[a];
-      for (int i = 0; i < 9; ++i) coords[a].push_back(lo + (hi - lo) * unit(rng));
-      coords[a].insert(coords[a].end(), spline.knot_lines(a).begin(), spline.knot_lines(a).end());
-      coords[a].push_back(coords[a][0]);
-      std::sort(coords[a].begin(), coords[a].end());
+  // Both paths: the cells' blending functions, and the cells' power-form polynomials.
+  for (TSplineAcceleration acceleration : {TSplineAcceleration::FunctionLists, TSplineAcceleration::CellPolynomials}) {
+    for (int dimension : {3, 4}) {
+      const TSpline spline = random_tspline(70, dimension, 11 + dimension, acceleration);
+      // Random coordinates plus knot lines and the domain ends, where the half-open cells matter;
+      // a repeated coordinate too.
+      std::mt19937 rng(3);
+      std::uniform_real_distribution<double> unit(0.0, 1.0);
+      std::array<std::vector<double>, 3> coords;
+      for (int a = 0; a < 3; ++a) {
+        const double lo = spline.domain_min()[a], hi = spline.domain_max()[a];
+        for (int i = 0; i < 9; ++i) coords[a].push_back(lo + (hi - lo) * unit(rng));
+        coords[a].insert(coords[a].end(), spline.knot_lines(a).begin(), spline.knot_lines(a).end());
+        coords[a].push_back(coords[a][0]);
+        std::sort(coords[a].begin(), coords[a].end());
+      }
+      std::vector<int> visits(coords[0].size() * coords[1].size() * coords[2].size(), 0);
+      double worst = 0.0;
+      spline.evaluate_lattice_with_jacobian(coords, [&](int i, int j, int k, const double* value, const double* jac) {
+        ++visits[i + coords[0].size() * (j + coords[1].size() * k)];
+        const Eigen::Vector3d p(coords[0][i], coords[1][j], coords[2][k]);
+        double expected_value[4], expected_jac[12];
+        spline.evaluate_with_jacobian(p, TSplineForm::SemiStandard, expected_value, expected_jac);
+        for (int d = 0; d < dimension; ++d) worst = std::max(worst, std::abs(value[d] - expected_value[d]));
+        for (int m = 0; m < 3 * dimension; ++m)
+          worst = std::max(worst, std::abs(jac[m] - expected_jac[m]) / (1.0 + std::abs(expected_jac[m])));
+      });
+      CHECK(std::count(visits.begin(), visits.end(), 1) == static_cast<long>(visits.size()));
+      // Same sums in another order: rounding only (values O(1), derivatives scaled by 1/width).
+      CHECK(worst < 1e-11);
     }
-    std::vector<int> visits(coords[0].size() * coords[1].size() * coords[2].size(), 0);
-    double worst = 0.0;
-    spline.evaluate_lattice_with_jacobian(coords, [&](int i, int j, int k, const double* value, const double* jac) {
-      ++visits[i + coords[0].size() * (j + coords[1].size() * k)];
-      const Eigen::Vector3d p(coords[0][i], coords[1][j], coords[2][k]);
-      double expected_value[4], expected_jac[12];
-      spline.evaluate_with_jacobian(p, TSplineForm::SemiStandard, expected_value, expected_jac);
-      for (int d = 0; d < dimension; ++d) worst = std::max(worst, std::abs(value[d] - expected_value[d]));
-      for (int m = 0; m < 3 * dimension; ++m)
-        worst = std::max(worst, std::abs(jac[m] - expected_jac[m]) / (1.0 + std::abs(expected_jac[m])));
-    });
-    CHECK(std::count(visits.begin(), visits.end(), 1) == static_cast<long>(visits.size()));
-    // Same sums in another order: rounding only (values O(1), derivatives scaled by 1/width).
-    CHECK(worst < 1e-11);
   }
   const TSpline spline = random_tspline(20, 3, 2, TSplineAcceleration::FunctionLists);
   std::array<std::vector<double>, 3> outside = {std::vector<double>{0.5}, std::vector<double>{1.5},
