@@ -443,6 +443,9 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
   // only, so the boundary and its surface fit stay exactly as they are.
   if (options.untangle) {
     progress.report("untangle", 0.7);
+    // From here on the control points change only a few at a time (incremental cell updates)
+    // while the untangler and the measures evaluate whole lattices: per-cell polynomials pay.
+    ts.use_cell_polynomials();
     const spline::SplineUntangleReport untangled = spline::untangle_spline(ts, samples.uvw, samples.xyz);
     stats.negative_jacobian_fraction_fit = double(untangled.initial_negative) / untangled.scanned;
     stats.untangled_control_points = untangled.free_functions;

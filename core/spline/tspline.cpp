@@ -97,6 +97,66 @@ double piece_derivative(const std::array<double, 4>& c, double s, int order, dou
   }
 }
 
+// Σ_e pu_e ⊗ pv_e ⊗ pw_e · values(f_e) over the entries e of one cell whose function f_e has
+// values (a pointer to `channels` numbers, or null to skip it), in power form: sum[m·channels +
+// ch], m = (4a + b)·4 + c for s0^a s1^b s2^c. A tensor-product pass as lattice_cell: the entries
+// sharing a (v piece, w piece) pair are summed along u, then per w piece along v, then along w,
+// so an entry costs 4 products per channel instead of 64.
+struct CellSumScratch {
+  std::vector<double> by_pair, by_w;
+  std::vector<char> pair_used, w_used;
+  std::vector<int> pairs;
+};
+template <class Cell, class Entry, class Values>
+void cell_power_sum(const Cell& cell, const Entry* entries, const std::uint32_t* ids,
+                    const std::array<std::vector<std::array<double, 4>>, 3>& pieces, int channels,
+                    const Values& values, CellSumScratch& w, double* sum) {
+  const std::uint32_t* axis_ids[3] = {ids, ids + cell.num_pieces[0], ids + cell.num_pieces[0] + cell.num_pieces[1]};
+  const int np1 = cell.num_pieces[1], np2 = cell.num_pieces[2];
+  w.by_pair.resize(size_t(np1) * np2 * 4 * channels);
+  w.by_w.resize(size_t(np2) * 16 * channels);
+  w.pair_used.assign(size_t(np1) * np2, 0);
+  w.w_used.assign(np2, 0);
+  w.pairs.clear();
+  for (std::uint32_t e = cell.entry_begin; e < cell.entry_end; ++e) {
+    const Entry& entry = entries[e];
+    const double* v = values(entry.function);
+    if (!v) continue;
+    const std::array<double, 4>& pu = pieces[0][axis_ids[0][entry.piece[0]]];
+    const int pair = entry.piece[2] * np1 + entry.piece[1];
+    double* t = w.by_pair.data() + size_t(pair) * 4 * channels;
+    if (!w.pair_used[pair]) {
+      w.pair_used[pair] = 1;
+      w.pairs.push_back(pair);
+      std::fill(t, t + 4 * channels, 0.0);
+    }
+    for (int a = 0; a < 4; ++a)
+      for (int ch = 0; ch < channels; ++ch) t[a * channels + ch] += pu[a] * v[ch];
+  }
+  std::sort(w.pairs.begin(), w.pairs.end());  // a fixed order of the sums
+  for (int pair : w.pairs) {
+    const int pw_id = pair / np1;
+    const double* t = w.by_pair.data() + size_t(pair) * 4 * channels;
+    const std::array<double, 4>& pv = pieces[1][axis_ids[1][pair % np1]];
+    double* t2 = w.by_w.data() + size_t(pw_id) * 16 * channels;
+    if (!w.w_used[pw_id]) {
+      w.w_used[pw_id] = 1;
+      std::fill(t2, t2 + 16 * channels, 0.0);
+    }
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b)
+        for (int ch = 0; ch < channels; ++ch) t2[(4 * a + b) * channels + ch] += t[a * channels + ch] * pv[b];
+  }
+  for (int pw_id = 0; pw_id < np2; ++pw_id) {
+    if (!w.w_used[pw_id]) continue;
+    const double* t2 = w.by_w.data() + size_t(pw_id) * 16 * channels;
+    const std::array<double, 4>& pw = pieces[2][axis_ids[2][pw_id]];
+    for (int ab = 0; ab < 16; ++ab)
+      for (int c = 0; c < 4; ++c)
+        for (int ch = 0; ch < channels; ++ch) sum[(ab * 4 + c) * channels + ch] += t2[ab * channels + ch] * pw[c];
+  }
+}
+
 // The cell polynomials of build_cell_polynomials, for the cells holding a function with
 // changed[function] set (all if changed is null); each is recomputed whole, so the result is the
 // same as a full build. Cell and Entry are TSpline's (deduced: private types).
@@ -107,6 +167,16 @@ void fill_cell_polynomials(const std::vector<Cell>& cells, const std::vector<Ent
                            const std::vector<double>& weighted_points, const Eigen::VectorXd& weights,
                            int dimension, const std::vector<char>* changed, std::vector<double>& cell_numerator,
                            std::vector<double>& cell_denominator) {
+  // (w p, w) per function: the numerator's and the denominator's channels in one pass.
+  const int channels = dimension + 1;
+  std::vector<double> values(size_t(weights.size()) * channels);
+  for (Eigen::Index f = 0; f < weights.size(); ++f) {
+    for (int d = 0; d < dimension; ++d) values[size_t(f) * channels + d] = weighted_points[size_t(f) * dimension + d];
+    values[size_t(f) * channels + dimension] = weights[f];
+  }
+  auto value_of = [&](std::uint32_t f) { return values.data() + size_t(f) * channels; };
+  CellSumScratch scratch;
+  double sum[64 * 5];
   for (size_t c = 0; c < cells.size(); ++c) {
     const Cell& cell = cells[c];
     if (changed) {
@@ -114,27 +184,14 @@ void fill_cell_polynomials(const std::vector<Cell>& cells, const std::vector<Ent
       for (std::uint32_t e = cell.entry_begin; e < cell.entry_end && !any; ++e) any = (*changed)[entries[e].function];
       if (!any) continue;
     }
-    const std::uint32_t* ids = cell_pieces.data() + cell.piece_begin;
-    const std::uint32_t* axis_ids[3] = {ids, ids + cell.num_pieces[0], ids + cell.num_pieces[0] + cell.num_pieces[1]};
+    std::fill(sum, sum + 64 * channels, 0.0);
+    cell_power_sum(cell, entries.data(), cell_pieces.data() + cell.piece_begin, pieces, channels, value_of, scratch,
+                   sum);
     double* numerator = cell_numerator.data() + c * 64 * dimension;
     double* denominator = cell_denominator.data() + c * 64;
-    std::fill(numerator, numerator + 64 * dimension, 0.0);
-    std::fill(denominator, denominator + 64, 0.0);
-    for (std::uint32_t e = cell.entry_begin; e < cell.entry_end; ++e) {
-      const Entry& entry = entries[e];
-      const std::array<double, 4>& pu = pieces[0][axis_ids[0][entry.piece[0]]];
-      const std::array<double, 4>& pv = pieces[1][axis_ids[1][entry.piece[1]]];
-      const std::array<double, 4>& pw = pieces[2][axis_ids[2][entry.piece[2]]];
-      const double* wp = weighted_points.data() + size_t(entry.function) * dimension;
-      const double w = weights[entry.function];
-      for (int a = 0; a < 4; ++a)
-        for (int b = 0; b < 4; ++b)
-          for (int cc = 0; cc < 4; ++cc) {
-            const int m = (4 * a + b) * 4 + cc;
-            const double basis = pu[a] * pv[b] * pw[cc];
-            for (int d = 0; d < dimension; ++d) numerator[m * dimension + d] += basis * wp[d];
-            denominator[m] += basis * w;
-          }
+    for (int m = 0; m < 64; ++m) {
+      for (int d = 0; d < dimension; ++d) numerator[m * dimension + d] = sum[m * channels + d];
+      denominator[m] = sum[m * channels + dimension];
     }
   }
 }
@@ -148,26 +205,15 @@ void add_cell_polynomial_changes(const std::vector<Cell>& cells, const std::vect
                                  const std::array<std::vector<std::array<double, 4>>, 3>& pieces,
                                  const std::vector<double>& delta, int dimension, const std::vector<char>& changed,
                                  std::vector<double>& cell_numerator) {
+  auto delta_of = [&](std::uint32_t f) { return changed[f] ? delta.data() + size_t(f) * dimension : nullptr; };
+  CellSumScratch scratch;
   for (size_t c = 0; c < cells.size(); ++c) {
     const Cell& cell = cells[c];
-    const std::uint32_t* ids = cell_pieces.data() + cell.piece_begin;
-    const std::uint32_t* axis_ids[3] = {ids, ids + cell.num_pieces[0], ids + cell.num_pieces[0] + cell.num_pieces[1]};
-    double* numerator = cell_numerator.data() + c * 64 * dimension;
-    for (std::uint32_t e = cell.entry_begin; e < cell.entry_end; ++e) {
-      const Entry& entry = entries[e];
-      if (!changed[entry.function]) continue;
-      const std::array<double, 4>& pu = pieces[0][axis_ids[0][entry.piece[0]]];
-      const std::array<double, 4>& pv = pieces[1][axis_ids[1][entry.piece[1]]];
-      const std::array<double, 4>& pw = pieces[2][axis_ids[2][entry.piece[2]]];
-      const double* dp = delta.data() + size_t(entry.function) * dimension;
-      for (int a = 0; a < 4; ++a)
-        for (int b = 0; b < 4; ++b)
-          for (int cc = 0; cc < 4; ++cc) {
-            const int m = (4 * a + b) * 4 + cc;
-            const double basis = pu[a] * pv[b] * pw[cc];
-            for (int d = 0; d < dimension; ++d) numerator[m * dimension + d] += basis * dp[d];
-          }
-    }
+    bool any = false;
+    for (std::uint32_t e = cell.entry_begin; e < cell.entry_end && !any; ++e) any = changed[entries[e].function];
+    if (!any) continue;
+    cell_power_sum(cell, entries.data(), cell_pieces.data() + cell.piece_begin, pieces, dimension, delta_of, scratch,
+                   cell_numerator.data() + c * 64 * dimension);
   }
 }
 
