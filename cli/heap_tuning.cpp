@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "cli/heap_tuning.h"
 
-#include <cstdint>
+#include <cstddef>
+
 
 #if defined(__has_feature)
 #if __has_feature(address_sanitizer) || __has_feature(memory_sanitizer) || __has_feature(thread_sanitizer)
@@ -14,8 +15,6 @@
 
 #if defined(__GLIBC__) && defined(__linux__) && !defined(VOLSPLINE_OWN_ALLOCATOR)
 #include <malloc.h>
-#include <sys/mman.h>
-#include <unistd.h>
 #define VOLSPLINE_TUNE_GLIBC 1
 #endif
 
@@ -28,20 +27,6 @@ void tune_heap() {
   // unmaps on free), and the heap is never trimmed.
   mallopt(M_MMAP_THRESHOLD, static_cast<int>(32 * kMiB));
   mallopt(M_TRIM_THRESHOLD, static_cast<int>(1024 * kMiB));
-  // A 256 MiB heap reserve (address space only: pages are made on first touch, 2 MiB at a time
-  // in the huge-page range), grown with blocks under the threshold and given back to malloc.
-  constexpr int kBlocks = 8;
-  constexpr std::size_t kBlock = 32 * kMiB - 64 * 1024;
-  void* start = sbrk(0);
-  void* blocks[kBlocks] = {};
-  for (void*& b : blocks) b = malloc(kBlock);
-  void* end = sbrk(0);
-  const std::uintptr_t huge = 2 * kMiB;
-  const std::uintptr_t lo = (reinterpret_cast<std::uintptr_t>(start) + huge - 1) & ~(huge - 1);
-  const std::uintptr_t hi = reinterpret_cast<std::uintptr_t>(end) & ~(huge - 1);
-  if (start != reinterpret_cast<void*>(-1) && end != reinterpret_cast<void*>(-1) && hi > lo)
-    madvise(reinterpret_cast<void*>(lo), hi - lo, MADV_HUGEPAGE);  // advice: failure is harmless
-  for (void* b : blocks) free(b);
 #endif
 }
 
