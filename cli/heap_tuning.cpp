@@ -3,7 +3,6 @@
 
 #include <cstddef>
 
-
 #if defined(__has_feature)
 #if __has_feature(address_sanitizer) || __has_feature(memory_sanitizer) || __has_feature(thread_sanitizer)
 #define VOLSPLINE_OWN_ALLOCATOR 1
