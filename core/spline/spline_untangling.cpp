@@ -364,6 +364,7 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
   };
   std::array<std::vector<int>, 3> d_ids;
   std::array<std::vector<double>, 3> d_values;
+  std::vector<double> visited_limit(static_cast<std::size_t>(sizes[0]) * sizes[1] * sizes[2], 0.0);
   for (const auto& s : seeds) {
     for (int a = 0; a < 3; ++a) {
       std::array<int, 3> order = {0, 0, 0};
@@ -386,6 +387,10 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
         for (int di = -options.rings; di <= options.rings; ++di) {
           const int i = s[0] + di, j = s[1] + dj, k = s[2] + dk;
           if (i < 0 || j < 0 || k < 0 || i >= sizes[0] || j >= sizes[1] || k >= sizes[2]) continue;
+          // A node visited with a limit at least as large added every function this visit would.
+          double& visited = visited_limit[index(i, j, k)];
+          if (visited >= limit) continue;
+          visited = limit;
           spline.basis_at(point(i, j, k), {0, 0, 0}, ids, values);
           for (std::size_t q = 0; q < ids.size(); ++q) {
             const int f = ids[q];
@@ -518,7 +523,16 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
   const double step = (region.mean_scale.array() * (hi - lo).array()).mean() / l;
 
   std::vector<SampleTerm> samples;
+  // Samples in a cell without free functions have no term: known per cell, without the basis.
+  std::vector<signed char> cell_has_free(static_cast<std::size_t>(spline.num_cells()), -1);
   for (Eigen::Index s = 0; s < uvw.rows(); ++s) {
+    const int cell = spline.cell_of(uvw.row(s).transpose());
+    signed char& has_free = cell_has_free[static_cast<std::size_t>(cell)];
+    if (has_free < 0) {
+      spline.cell_functions(cell, ids);
+      has_free = std::any_of(ids.begin(), ids.end(), [&](int f) { return column_of[f] >= 0; });
+    }
+    if (!has_free) continue;
     spline.basis_at(uvw.row(s).transpose(), {0, 0, 0}, ids, values);
     SampleTerm t;
     t.fixed.setZero();
