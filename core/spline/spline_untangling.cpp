@@ -551,16 +551,41 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
   const double data_scale = options.data_weight / (step * step);
   const double theta = options.volume_weight;
   const double hinge_target = options.min_scaled_jacobian;
-  std::vector<Eigen::Matrix3d> jac;
   // Minimizes the energy over the region's nodes: the barrier of Garanzha et al. 2021 (§3, with
   // its ε continuation; the thesis has no untangling step).
   auto solve = [&](const Region& r) {
     const std::size_t num_points = r.fixed.size();
-    jac.resize(num_points);
-    // jac holds M = J·S⁻¹ at jac_x. M is linear in x: along the line search's line x + t·d it
-    // is M(x) + t·M_d, so a trial needs no sums over the functions.
+    // The energy's nodes are the held ones (guarded ⊆ held), kFoldoverBatch to a batch; M = J·S⁻¹
+    // of a batch is stored as the batch kernel reads it (element k of lane l at 9·kBatch·b + k·kBatch
+    // + l), the last batch padded with its last node.
+    constexpr int kBatch = param::kFoldoverBatch;
+    std::vector<int> held_nodes;
+    for (std::size_t q = 0; q < num_points; ++q)
+      if (r.held[q]) held_nodes.push_back(static_cast<int>(q));
+    const std::size_t num_batches = (held_nodes.size() + kBatch - 1) / kBatch;
+    const std::size_t lanes = num_batches * kBatch;
+    auto put = [&](std::vector<double>& m, std::size_t h, const Eigen::Matrix3d& value) {
+      double* out = m.data() + (h / kBatch) * 9 * kBatch + h % kBatch;
+      for (int k = 0; k < 9; ++k) out[k * kBatch] = value.data()[k];
+    };
+    auto get = [&](const std::vector<double>& m, std::size_t h) {
+      const double* in = m.data() + (h / kBatch) * 9 * kBatch + h % kBatch;
+      Eigen::Matrix3d value;
+      for (int k = 0; k < 9; ++k) value.data()[k] = in[k * kBatch];
+      return value;
+    };
+    // M at every held node from the rows: fixed + rows(y), or rows(y) alone.
+    auto fill = [&](std::vector<double>& m, const Eigen::VectorXd& y, bool with_fixed) {
+      m.resize(9 * lanes);
+      for (std::size_t h = 0; h < lanes; ++h) {
+        const int q = held_nodes[std::min(h, held_nodes.size() - 1)];
+        put(m, h, with_fixed ? Eigen::Matrix3d(r.fixed[q] + r.rows.linear(y, q)) : r.rows.linear(y, q));
+      }
+    };
+    // jac holds M at jac_x. M is linear in x: along the line search's line x + t·d it is
+    // M(x) + t·M_d, so a trial needs no sums over the functions.
+    std::vector<double> jac, line_start, line_step;
     Eigen::VectorXd jac_x, line_x, line_d;
-    std::vector<Eigen::Matrix3d> line_start, line_step(num_points);
     const std::size_t num_extra = r.point_fixed.size();
     std::vector<Eigen::Matrix3d> extra_jac(num_extra), extra_start(num_extra), extra_step(num_extra);
     auto extra_linear = [&](const Eigen::VectorXd& y, std::size_t e) {
@@ -568,32 +593,23 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
       for (const auto& [c, g] : r.point_entries[e]) m += y.segment<3>(3 * c) * g.transpose();
       return m;
     };
-    auto jacobians = [&](const Eigen::VectorXd& y) -> const std::vector<Eigen::Matrix3d>& {
+    auto jacobians = [&](const Eigen::VectorXd& y) -> const std::vector<double>& {
       if (jac_x.size() != y.size() || jac_x != y) {
-        for (std::size_t q = 0; q < num_points; ++q) jac[q] = r.fixed[q] + r.rows.linear(y, q);
+        fill(jac, y, true);
         for (std::size_t e = 0; e < num_extra; ++e) extra_jac[e] = r.point_fixed[e] + extra_linear(y, e);
         jac_x = y;
       }
       return jac;
     };
-    std::vector<int> held_nodes;
-    for (std::size_t q = 0; q < num_points; ++q)
-      if (r.held[q]) held_nodes.push_back(static_cast<int>(q));
-    auto energy = [&](const std::vector<Eigen::Matrix3d>& j, const Eigen::VectorXd& y, double eps,
-                      Eigen::VectorXd* gradient) {
+    auto energy = [&](const std::vector<double>& j, const Eigen::VectorXd& y, double eps, Eigen::VectorXd* gradient) {
       double total = 0.0;
       if (gradient) gradient->setZero(y.size());
-      // The held nodes kFoldoverBatch at a time (the last batch padded with its last node); the
-      // energies are summed and the gradients scattered in node order, as one at a time.
-      constexpr int kBatch = param::kFoldoverBatch;
-      double in[9 * kBatch], out[9 * kBatch], e[kBatch];
-      for (std::size_t first = 0; first < held_nodes.size(); first += kBatch) {
+      // The energies are summed and the gradients scattered in node order, as one at a time.
+      double out[9 * kBatch], e[kBatch];
+      for (std::size_t batch = 0; batch < num_batches; ++batch) {
+        const std::size_t first = batch * kBatch;
         const int count = static_cast<int>(std::min<std::size_t>(kBatch, held_nodes.size() - first));
-        for (int l = 0; l < kBatch; ++l) {
-          const double* m = j[held_nodes[first + std::min(l, count - 1)]].data();
-          for (int k = 0; k < 9; ++k) in[k * kBatch + l] = m[k];
-        }
-        param::foldover_free_energy_batch(in, eps, theta, e, gradient ? out : nullptr);
+        param::foldover_free_energy_batch(j.data() + batch * 9 * kBatch, eps, theta, e, gradient ? out : nullptr);
         for (int l = 0; l < count; ++l) {
           total += e[l];
           if (!gradient) continue;
@@ -602,7 +618,7 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
           r.rows.add_gradient(df, held_nodes[first + l], *gradient);
         }
       }
-      // Scattered nodes: the hinge W·max(0, τ − det J/σ)², zero where they are good enough.
+    // Scattered nodes: the hinge W·max(0, τ − det J/σ)², zero where they are good enough.
       for (std::size_t e = 0; e < num_extra; ++e) {
         const Eigen::Matrix3d& m = extra_jac[e];
         const double gap = hinge_target - m.determinant() / r.point_scale[e];
@@ -630,17 +646,17 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
       return energy(jacobians(y), y, eps, gradient);
     };
     problem.min_det = [&](const Eigen::VectorXd& y) {
-      const std::vector<Eigen::Matrix3d>& j = jacobians(y);
+      const std::vector<double>& j = jacobians(y);
       double worst = std::numeric_limits<double>::infinity();
-      for (std::size_t q = 0; q < num_points; ++q)
-        if (r.guarded[q]) worst = std::min(worst, j[q].determinant());
+      for (std::size_t h = 0; h < held_nodes.size(); ++h)
+        if (r.guarded[held_nodes[h]]) worst = std::min(worst, get(j, h).determinant());
       return worst;
     };
     problem.set_line = [&](const Eigen::VectorXd& y, const Eigen::VectorXd& d) {
       line_start = jacobians(y);
       line_x = y;
       line_d = d;
-      for (std::size_t q = 0; q < num_points; ++q) line_step[q] = r.rows.linear(d, q);
+      fill(line_step, d, false);
       for (std::size_t e = 0; e < num_extra; ++e) {
         extra_start[e] = extra_jac[e];
         extra_step[e] = extra_linear(d, e);
@@ -648,7 +664,7 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
     };
     problem.line_energy = [&](double t, double eps, Eigen::VectorXd* gradient) {
       jac_x = line_x + t * line_d;  // the same bits as the minimizer's x + t·d
-      for (std::size_t q = 0; q < num_points; ++q) jac[q] = line_start[q] + t * line_step[q];
+      for (std::size_t i = 0; i < jac.size(); ++i) jac[i] = line_start[i] + t * line_step[i];
       for (std::size_t e = 0; e < num_extra; ++e) extra_jac[e] = extra_start[e] + t * extra_step[e];
       return energy(jac, jac_x, eps, gradient);
     };
