@@ -107,10 +107,10 @@ struct CellSumScratch {
   std::vector<char> pair_used, w_used;
   std::vector<int> pairs;
 };
-template <class Cell, class Entry, class Values>
-void cell_power_sum(const Cell& cell, const Entry* entries, const std::uint32_t* ids,
-                    const std::array<std::vector<std::array<double, 4>>, 3>& pieces, int channels,
-                    const Values& values, CellSumScratch& w, double* sum) {
+template <int channels, class Cell, class Entry, class Values>
+void cell_power_sum_impl(const Cell& cell, const Entry* entries, const std::uint32_t* ids,
+                         const std::array<std::vector<std::array<double, 4>>, 3>& pieces, const Values& values,
+                         CellSumScratch& w, double* sum) {
   const std::uint32_t* axis_ids[3] = {ids, ids + cell.num_pieces[0], ids + cell.num_pieces[0] + cell.num_pieces[1]};
   const int np1 = cell.num_pieces[1], np2 = cell.num_pieces[2];
   w.by_pair.resize(size_t(np1) * np2 * 4 * channels);
@@ -154,6 +154,20 @@ void cell_power_sum(const Cell& cell, const Entry* entries, const std::uint32_t*
     for (int ab = 0; ab < 16; ++ab)
       for (int c = 0; c < 4; ++c)
         for (int ch = 0; ch < channels; ++ch) sum[(ab * 4 + c) * channels + ch] += t2[ab * channels + ch] * pw[c];
+  }
+}
+
+// cell_power_sum_impl for 1 to 5 channels (D, or D + 1 with the weights), unrolled per count.
+template <class Cell, class Entry, class Values>
+void cell_power_sum(const Cell& cell, const Entry* entries, const std::uint32_t* ids,
+                    const std::array<std::vector<std::array<double, 4>>, 3>& pieces, int channels,
+                    const Values& values, CellSumScratch& w, double* sum) {
+  switch (channels) {
+    case 1: return cell_power_sum_impl<1>(cell, entries, ids, pieces, values, w, sum);
+    case 2: return cell_power_sum_impl<2>(cell, entries, ids, pieces, values, w, sum);
+    case 3: return cell_power_sum_impl<3>(cell, entries, ids, pieces, values, w, sum);
+    case 4: return cell_power_sum_impl<4>(cell, entries, ids, pieces, values, w, sum);
+    default: assert(channels == 5); return cell_power_sum_impl<5>(cell, entries, ids, pieces, values, w, sum);
   }
 }
 
