@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cstdint>
 #include <utility>
 
 #include <Eigen/Core>
@@ -77,31 +78,33 @@ GroupedGram::GroupedGram(int n, int rhs_cols, std::vector<int> group_offsets, st
   linalg::parallel_for(threads_, chunks, [&](int chunk) {
     const int row_begin = static_cast<int>(static_cast<long long>(n) * chunk / chunks);
     const int row_end = static_cast<int>(static_cast<long long>(n) * (chunk + 1) / chunks);
-    std::vector<int> stamp(static_cast<std::size_t>(n), -1), found;
+    // The columns after i of every group holding i, as bits (set in any order, read out
+    // increasing: no sort); the words between the row's least and largest column are read.
+    std::vector<std::uint64_t> bits(static_cast<std::size_t>(n) / 64 + 1, 0);
     std::vector<int>& cols = chunk_cols[chunk];
     const int* group_cols = group_cols_.data();
     for (int i = row_begin; i < row_end; ++i) {
-      // The columns after i of every group holding i: each is written, and the count only
-      // moves past a column not seen in this row (no branch).
-      std::size_t most = 0;
-      for (int h = holder_offsets[i]; h < holder_offsets[i + 1]; ++h) most += group_size(holders[h]);
-      if (found.size() < most) found.resize(most);
-      int* out = found.data();
-      std::size_t count = 0;
-      stamp[i] = i;
+      int least = n, largest = -1;
       for (int h = holder_offsets[i]; h < holder_offsets[i + 1]; ++h) {
         const int g = holders[h];
         const int* end = group_cols + group_offsets_[g + 1];
-        for (const int* p = std::upper_bound(group_cols + group_offsets_[g], end, i); p != end; ++p) {
-          const int j = *p;
-          out[count] = j;
-          count += stamp[j] != i;
-          stamp[j] = i;
+        const int* p = std::upper_bound(group_cols + group_offsets_[g], end, i);
+        if (p == end) continue;
+        least = std::min(least, *p);
+        largest = std::max(largest, *(end - 1));
+        for (; p != end; ++p) bits[static_cast<std::size_t>(*p) >> 6] |= std::uint64_t(1) << (*p & 63);
+      }
+      cols.push_back(i);
+      std::size_t count = 0;
+      for (int word = least >> 6; word <= (largest >> 6); ++word) {
+        std::uint64_t b = bits[static_cast<std::size_t>(word)];
+        bits[static_cast<std::size_t>(word)] = 0;
+        while (b) {
+          cols.push_back(word * 64 + __builtin_ctzll(b));
+          b &= b - 1;
+          ++count;
         }
       }
-      std::sort(out, out + count);
-      cols.push_back(i);
-      cols.insert(cols.end(), out, out + count);
       row_size[i] = static_cast<int>(count) + 1;
     }
   });
