@@ -22,17 +22,61 @@ constexpr double kMinSigma = 0.5;
 // Steps without a new low of the folded corner count after which the continuation stops.
 constexpr int kCountStallSteps = 3;
 
-// x^(−1/3) for normal x > 0 to a few ulps, without division or libm (a third of the energy's
-// time went to cbrt): the exponent divided by 3 as an integer (≤ 4 % off), then 4 Newton
-// steps y ← y(4 − x y³)/3 on y⁻³ = x, which converge quadratically (4 % → 1e-16).
-double inverse_cbrt(double x) {
+// The start of x^(−1/3) for normal x > 0 without division or libm (a third of the energy's time
+// once went to cbrt): the exponent divided by 3 as an integer (≤ 4 % off); hex_corner_terms then
+// takes 4 Newton steps y ← y(4 − x y³)/3 on y⁻³ = x, quadratic (4 % → 1e-16, a few ulps).
+double inverse_cbrt_guess(double x) {
   std::uint64_t bits;
   std::memcpy(&bits, &x, sizeof bits);
   bits = 0x553edc82c19c9000ULL - bits / 3;
   double y;
   std::memcpy(&y, &bits, sizeof y);
-  for (int step = 0; step < 4; ++step) y = y * (4.0 - x * (y * y * y)) * (1.0 / 3.0);
   return y;
+}
+
+// The 8 corner terms of one hex at once, lane c = corner c (j[a][d][c]: coordinate d of J's
+// column a; the lanes of corners without a term are computed and ignored): the energy e[c] and,
+// if asked, ∂f/∂J = ja·J + jb·cof(J) as g[a][d][c]. Every lane does the operations of the
+// per-corner formula in its order, and on x86-64 an AVX2 clone (no FMA) is chosen at run time,
+// so every build gives the same bits.
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(__EMSCRIPTEN__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void hex_corner_terms(const double (*j)[3][8], double eps2, double theta, double* e, double (*g)[3][8]) {
+  const double shape = 1.0 - theta;
+  double cof[3][3][8], det[8], tr[8], root[8], chi[8], inv_cbrt[8];
+  for (int a = 0; a < 3; ++a) {
+    const double(*u)[8] = j[(a + 1) % 3];
+    const double(*v)[8] = j[(a + 2) % 3];
+    for (int d = 0; d < 3; ++d)
+      for (int c = 0; c < 8; ++c)
+        cof[a][d][c] = u[(d + 1) % 3][c] * v[(d + 2) % 3][c] - u[(d + 2) % 3][c] * v[(d + 1) % 3][c];
+  }
+  for (int c = 0; c < 8; ++c) {
+    det[c] = j[0][0][c] * cof[0][0][c] + j[0][1][c] * cof[0][1][c] + j[0][2][c] * cof[0][2][c];
+    double t = 0.0;
+    for (int a = 0; a < 3; ++a) t += j[a][0][c] * j[a][0][c] + j[a][1][c] * j[a][1][c] + j[a][2][c] * j[a][2][c];
+    tr[c] = t;
+    root[c] = std::sqrt(eps2 + det[c] * det[c]);
+    // χ = (D + √(ε² + D²))/2, in the cancellation-free form for D < 0.
+    const double positive = 0.5 * (det[c] + root[c]), negative = 0.5 * eps2 / (root[c] - det[c]);
+    chi[c] = det[c] >= 0.0 ? positive : negative;
+  }
+  for (int c = 0; c < 8; ++c) inv_cbrt[c] = inverse_cbrt_guess(chi[c]);
+  for (int step = 0; step < 4; ++step)
+    for (int c = 0; c < 8; ++c)
+      inv_cbrt[c] = inv_cbrt[c] * (4.0 - chi[c] * (inv_cbrt[c] * inv_cbrt[c] * inv_cbrt[c])) * (1.0 / 3.0);
+  for (int c = 0; c < 8; ++c) {
+    const double inv_chi23 = inv_cbrt[c] * inv_cbrt[c], inv_chi = inv_chi23 * inv_cbrt[c];
+    e[c] = shape * tr[c] * inv_chi23 + theta * (det[c] * det[c] + 1.0) * inv_chi;
+    if (!g) continue;
+    const double dchi = chi[c] / root[c];  // ∂χ/∂D = (1 + D/√(ε² + D²))/2
+    const double ja = 2.0 * shape * inv_chi23;
+    const double jb = -(2.0 / 3.0) * shape * tr[c] * inv_chi23 * inv_chi * dchi +
+                      theta * (2.0 * det[c] * inv_chi - (det[c] * det[c] + 1.0) * dchi * inv_chi * inv_chi);
+    for (int a = 0; a < 3; ++a)
+      for (int d = 0; d < 3; ++d) g[a][d][c] = ja * j[a][d][c] + jb * cof[a][d][c];
+  }
 }
 
 double barrier_chi(double d, double eps) { return 0.5 * (d + std::sqrt(eps * eps + d * d)); }
@@ -143,7 +187,7 @@ class Energy {
     set_variables(x);
     if (gradient) gradient->setZero(num_variables());
     double* g_out = gradient ? gradient->data() : nullptr;
-    const double eps2 = eps * eps, theta = theta_, shape = 1.0 - theta_;
+    const double eps2 = eps * eps, theta = theta_;
     double total = 0.0;
     for (const Hex& hex : hexes_) {
       double p[8][3];
@@ -160,34 +204,19 @@ class Energy {
             edge_grad[a][q][d] = 0.0;
           }
         }
+      // Corner c's J: column a is the +axis edge through c.
+      double j[3][3][8], e[8], g[3][3][8];
+      for (int a = 0; a < 3; ++a)
+        for (int d = 0; d < 3; ++d)
+          for (int c = 0; c < 8; ++c) j[a][d][c] = edge[a][c & ~(1 << a)][d];
+      hex_corner_terms(j, eps2, theta, e, g_out ? g : nullptr);
       for (int c = 0; c < 8; ++c) {
         if (!(hex.corners & (1u << c))) continue;
-        const double* j[3] = {edge[0][c & ~1], edge[1][c & ~2], edge[2][c & ~4]};
-        double cof[3][3];
-        for (int a = 0; a < 3; ++a) {
-          const double* u = j[(a + 1) % 3];
-          const double* v = j[(a + 2) % 3];
-          cof[a][0] = u[1] * v[2] - u[2] * v[1];
-          cof[a][1] = u[2] * v[0] - u[0] * v[2];
-          cof[a][2] = u[0] * v[1] - u[1] * v[0];
-        }
-        const double det = j[0][0] * cof[0][0] + j[0][1] * cof[0][1] + j[0][2] * cof[0][2];
-        double tr = 0.0;
-        for (int a = 0; a < 3; ++a) tr += j[a][0] * j[a][0] + j[a][1] * j[a][1] + j[a][2] * j[a][2];
-        const double root = std::sqrt(eps2 + det * det);
-        // χ = (D + √(ε² + D²))/2, in the cancellation-free form for D < 0.
-        const double chi = det >= 0.0 ? 0.5 * (det + root) : 0.5 * eps2 / (root - det);
-        const double inv_cbrt = inverse_cbrt(chi);
-        const double inv_chi23 = inv_cbrt * inv_cbrt, inv_chi = inv_chi23 * inv_cbrt;
-        total += shape * tr * inv_chi23 + theta * (det * det + 1.0) * inv_chi;
+        total += e[c];
         if (!g_out) continue;
-        const double dchi = chi / root;  // ∂χ/∂D = (1 + D/√(ε² + D²))/2
-        const double ja = 2.0 * shape * inv_chi23;
-        const double jb = -(2.0 / 3.0) * shape * tr * inv_chi23 * inv_chi * dchi +
-                          theta * (2.0 * det * inv_chi - (det * det + 1.0) * dchi * inv_chi * inv_chi);
         for (int a = 0; a < 3; ++a) {
-          double* g = edge_grad[a][c & ~(1 << a)];
-          for (int d = 0; d < 3; ++d) g[d] += ja * j[a][d] + jb * cof[a][d];
+          double* eg = edge_grad[a][c & ~(1 << a)];
+          for (int d = 0; d < 3; ++d) eg[d] += g[a][d][c];
         }
       }
       if (!g_out) continue;
@@ -196,9 +225,9 @@ class Energy {
         for (int q = 0; q < 8; ++q) {
           if (q & (1 << a)) continue;
           for (int d = 0; d < 3; ++d) {
-            const double g = edge_grad[a][q][d] * inv_h_;
-            node_grad[q | (1 << a)][d] += g;
-            node_grad[q][d] -= g;
+            const double edge_term = edge_grad[a][q][d] * inv_h_;
+            node_grad[q | (1 << a)][d] += edge_term;
+            node_grad[q][d] -= edge_term;
           }
         }
       for (int q = 0; q < 8; ++q) {
