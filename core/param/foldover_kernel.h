@@ -11,6 +11,13 @@
 
 namespace volspline::param::detail {
 
+// Internal linkage: every translation unit keeps its own copy, compiled with its own flags. As
+// inline functions of external linkage the -mavx2 copy of foldover_batch_avx2.cpp and the
+// baseline copy were one symbol, and the linker kept one of them for both: the "AVX2" kernel ran
+// the SSE2 code (or, had the linker picked the other, the baseline path would run AVX2 code on
+// CPUs without it).
+namespace {
+
 // cbrt(y) for normal y > 0 in IEEE operations only (libm's cbrt differs between machines and
 // builds; this is the same everywhere): Kahan's exponent-third guess (≈5 %), then three Halley
 // steps r ← r − r·(r³ − y)/(2r³ + y) (cubic convergence; a fourth changes nothing): within 3 ulp
@@ -66,6 +73,8 @@ inline void foldover_kernel(const double* j, double eps, double theta, double* e
     }
   }
 }
+
+}  // namespace
 
 #if defined(VOLSPLINE_FOLDOVER_AVX2)
 /// foldover_kernel<4> built for AVX2 (foldover_batch_avx2.cpp).
