@@ -618,7 +618,7 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
           r.rows.add_gradient(df, held_nodes[first + l], *gradient);
         }
       }
-    // Scattered nodes: the hinge W·max(0, τ − det J/σ)², zero where they are good enough.
+      // Scattered nodes: the hinge W·max(0, τ − det J/σ)², zero where they are good enough.
       for (std::size_t e = 0; e < num_extra; ++e) {
         const Eigen::Matrix3d& m = extra_jac[e];
         const double gap = hinge_target - m.determinant() / r.point_scale[e];
