@@ -102,15 +102,27 @@ class NodeJacobians {
     });
   }
 
-  // Σ_c x_c·(w∇B_c)ᵀ at node q.
-  Eigen::Matrix3d linear(const Eigen::VectorXd& x, std::size_t q) const {
+  // The free control points x (3 per column) padded to 4 per column (the 4th is 0), as the
+  // sweeps read them and write gradients: one 4-lane load or store per entry.
+  static void pad(const Eigen::VectorXd& x, std::vector<double>& x4) {
+    x4.assign(x.size() / 3 * 4, 0.0);
+    for (Eigen::Index c = 0; c < x.size() / 3; ++c)
+      for (int r = 0; r < 3; ++r) x4[4 * c + r] = x(3 * c + r);
+  }
+  static void unpad(const std::vector<double>& x4, Eigen::VectorXd& x) {
+    for (Eigen::Index c = 0; c < x.size() / 3; ++c)
+      for (int r = 0; r < 3; ++r) x(3 * c + r) = x4[4 * c + r];
+  }
+
+  // Σ_c x_c·(w∇B_c)ᵀ at node q; x4: padded (see pad).
+  Eigen::Matrix3d linear(const double* x4, std::size_t q) const {
 #ifdef VOLSPLINE_AVX2_ROWS
-    if (avx2_) return linear_avx2(x.data(), q);
+    if (avx2_) return linear_avx2(x4, q);
 #endif
     Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
     for (int e = start_[q]; e < start_[q + 1]; ++e) {
       const float* g = gradient_.data() + 3 * e;
-      const double* xc = x.data() + 3 * column_[e];
+      const double* xc = x4 + 4 * column_[e];
       for (int a = 0; a < 3; ++a)
         for (int r = 0; r < 3; ++r) m(r, a) += xc[r] * double(g[a]);
     }
@@ -127,14 +139,15 @@ class NodeJacobians {
   }
 
   // gradient_c += d·g_c(q) for the functions at node q (g: w∇B, or S⁻ᵀw∇B after transform;
-  // d = ∂E/∂J, or ∂E/∂(J·S⁻¹)).
-  void add_gradient(const Eigen::Matrix3d& d, std::size_t q, Eigen::VectorXd& gradient) const {
+  // d = ∂E/∂J, or ∂E/∂(J·S⁻¹)); gradient4: padded (see pad).
+  void add_gradient(const Eigen::Matrix3d& d, std::size_t q, double* gradient4) const {
 #ifdef VOLSPLINE_AVX2_ROWS
-    if (avx2_) return add_gradient_avx2(d, q, gradient.data());
+    if (avx2_) return add_gradient_avx2(d, q, gradient4);
 #endif
     for (int e = start_[q]; e < start_[q + 1]; ++e) {
       const float* g = gradient_.data() + 3 * e;
-      gradient.segment<3>(3 * column_[e]) += d.col(0) * double(g[0]) + d.col(1) * double(g[1]) + d.col(2) * double(g[2]);
+      Eigen::Map<Eigen::Vector3d>(gradient4 + 4 * column_[e]) +=
+          d.col(0) * double(g[0]) + d.col(1) * double(g[1]) + d.col(2) * double(g[2]);
     }
   }
 
@@ -158,7 +171,7 @@ class NodeJacobians {
     __m256d m0 = _mm256_setzero_pd(), m1 = _mm256_setzero_pd(), m2 = _mm256_setzero_pd();
     for (int e = start_[q]; e < start_[q + 1]; ++e) {
       const float* g = gradient_.data() + 3 * e;
-      const __m256d xc = load3(x + 3 * column_[e]);
+      const __m256d xc = _mm256_loadu_pd(x + 4 * column_[e]);
       m0 = _mm256_add_pd(m0, _mm256_mul_pd(xc, broadcast(g)));
       m1 = _mm256_add_pd(m1, _mm256_mul_pd(xc, broadcast(g + 1)));
       m2 = _mm256_add_pd(m2, _mm256_mul_pd(xc, broadcast(g + 2)));
@@ -174,10 +187,10 @@ class NodeJacobians {
     const __m256d d0 = load3(d.data()), d1 = load3(d.data() + 3), d2 = load3(d.data() + 6);
     for (int e = start_[q]; e < start_[q + 1]; ++e) {
       const float* g = gradient_.data() + 3 * e;
-      double* out = gradient + 3 * column_[e];
+      double* out = gradient + 4 * column_[e];
       const __m256d t = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(d0, broadcast(g)), _mm256_mul_pd(d1, broadcast(g + 1))),
                                       _mm256_mul_pd(d2, broadcast(g + 2)));
-      store3(out, _mm256_add_pd(load3(out), t));
+      _mm256_storeu_pd(out, _mm256_add_pd(_mm256_loadu_pd(out), t));
     }
   }
   bool avx2_ = __builtin_cpu_supports("avx2");
@@ -426,6 +439,8 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
   Eigen::VectorXd x(3 * free_ids.size());
   for (std::size_t c = 0; c < free_ids.size(); ++c) x.segment<3>(3 * c) = current.row(free_ids[c]).transpose();
   const Eigen::VectorXd x0 = x;
+  std::vector<double> x0_padded;
+  NodeJacobians::pad(x0, x0_padded);
   auto make_region = [&]() {
     std::vector<int> node_index(static_cast<std::size_t>(sizes[0]) * sizes[1] * sizes[2], -1);
     std::vector<FreeFunction> functions(free_ids.size());
@@ -513,7 +528,7 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
     // the part of J·S⁻¹ the free functions do not change.
     for (std::size_t q = 0; q < fixed.size(); ++q) {
       region.rows.transform(q, region.inverse_reference[q]);
-      fixed[q] = fixed[q] * region.inverse_reference[q] - region.rows.linear(x0, q);
+      fixed[q] = fixed[q] * region.inverse_reference[q] - region.rows.linear(x0_padded.data(), q);
     }
     region.fixed = std::move(fixed);
     return region;
@@ -575,11 +590,14 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
       return value;
     };
     // M at every held node from the rows: fixed + rows(y), or rows(y) alone.
+    std::vector<double> padded, gradient_padded;
     auto fill = [&](std::vector<double>& m, const Eigen::VectorXd& y, bool with_fixed) {
       m.resize(9 * lanes);
+      NodeJacobians::pad(y, padded);
       for (std::size_t h = 0; h < lanes; ++h) {
         const int q = held_nodes[std::min(h, held_nodes.size() - 1)];
-        put(m, h, with_fixed ? Eigen::Matrix3d(r.fixed[q] + r.rows.linear(y, q)) : r.rows.linear(y, q));
+        const Eigen::Matrix3d sum = r.rows.linear(padded.data(), q);
+        put(m, h, with_fixed ? Eigen::Matrix3d(r.fixed[q] + sum) : sum);
       }
     };
     // jac holds M at jac_x. M is linear in x: along the line search's line x + t·d it is
@@ -603,7 +621,10 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
     };
     auto energy = [&](const std::vector<double>& j, const Eigen::VectorXd& y, double eps, Eigen::VectorXd* gradient) {
       double total = 0.0;
-      if (gradient) gradient->setZero(y.size());
+      if (gradient) {
+        gradient->setZero(y.size());
+        gradient_padded.assign(y.size() / 3 * 4, 0.0);
+      }
       // The energies are summed and the gradients scattered in node order, as one at a time.
       double out[9 * kBatch], e[kBatch];
       for (std::size_t batch = 0; batch < num_batches; ++batch) {
@@ -615,9 +636,10 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
           if (!gradient) continue;
           Eigen::Matrix3d df;
           for (int k = 0; k < 9; ++k) df.data()[k] = out[k * kBatch + l];
-          r.rows.add_gradient(df, held_nodes[first + l], *gradient);
+          r.rows.add_gradient(df, held_nodes[first + l], gradient_padded.data());
         }
       }
+      if (gradient) NodeJacobians::unpad(gradient_padded, *gradient);
       // Scattered nodes: the hinge W·max(0, τ − det J/σ)², zero where they are good enough.
       for (std::size_t e = 0; e < num_extra; ++e) {
         const Eigen::Matrix3d& m = extra_jac[e];
