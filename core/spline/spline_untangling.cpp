@@ -45,10 +45,13 @@ double scaled_jacobian(const Eigen::Matrix3d& j) {
   return norms > 0.0 ? j.determinant() / norms : -1.0;
 }
 
-// F(x) = fixed + Σ_e x_e b_e at one sample, target xyz.
-struct SampleTerm {
-  Eigen::Vector3d fixed, target;
-  std::vector<std::pair<int, double>> entries;
+// The samples' terms, one array each: F(x) − xyz_s = offset_s + Σ_e x_{column_e} b_e over
+// e in start_s .. start_{s+1} − 1 (offset: the fixed functions' part minus the target).
+struct SampleTerms {
+  std::vector<Eigen::Vector3d> offset;
+  std::vector<int> start{0}, column;
+  std::vector<double> b;
+  int size() const { return static_cast<int>(offset.size()); }
 };
 
 // A free function on the lattice: the box of nodes where it may be non-zero, first[a] ..
@@ -217,7 +220,9 @@ struct Region {
   // the barrier (some cannot reach its margin): J = fixed + Σ_c x_c·g_cᵀ, g_c = w_c∇B_c there.
   std::vector<Eigen::Matrix3d> point_fixed;
   std::vector<double> point_scale;  // σ: |J e0||J e1||J e2| before the pass
-  std::vector<std::vector<std::pair<int, Eigen::Vector3d>>> point_entries;
+  // Point e's (column, g) entries: point_columns/point_g[point_start[e] .. point_start[e+1]).
+  std::vector<int> point_start{0}, point_columns;
+  std::vector<Eigen::Vector3d> point_g;
 };
 
 // The lattice of one pass, per axis: the nodes' parameters (ascending) and which are scanned.
@@ -521,7 +526,11 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
       region.point_scale.push_back(
           std::max(full.col(0).norm() * full.col(1).norm() * full.col(2).norm(), 1e-300));
       region.point_fixed.push_back(jac);
-      region.point_entries.push_back(std::move(entries));
+      for (const auto& [c, g] : entries) {
+        region.point_columns.push_back(c);
+        region.point_g.push_back(g);
+      }
+      region.point_start.push_back(static_cast<int>(region.point_columns.size()));
     }
     region.rows = NodeJacobians(functions, node_index, sizes, fixed.size());
     // The rows and fixed parts carry S⁻¹, so the energy's sweeps need no 3×3 products: fixed is
@@ -537,7 +546,7 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
   // One lattice step in model units: the length unit of the data term.
   const double step = (region.mean_scale.array() * (hi - lo).array()).mean() / l;
 
-  std::vector<SampleTerm> samples;
+  SampleTerms samples;
   // Samples in a cell without free functions have no term: known per cell, without the basis.
   std::vector<signed char> cell_has_free(static_cast<std::size_t>(spline.num_cells()), -1);
   for (Eigen::Index s = 0; s < uvw.rows(); ++s) {
@@ -549,19 +558,22 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
     }
     if (!has_free) continue;
     spline.basis_at(uvw.row(s).transpose(), {0, 0, 0}, ids, values);
-    SampleTerm t;
-    t.fixed.setZero();
-    t.target = xyz.row(s).transpose();
+    Eigen::Vector3d fixed = Eigen::Vector3d::Zero();
+    const std::size_t first = samples.column.size();
     for (std::size_t q = 0; q < ids.size(); ++q) {
       const double b = w(ids[q]) * values[q];
-      if (column_of[ids[q]] >= 0 && b != 0.0)
-        t.entries.emplace_back(column_of[ids[q]], b);
-      else
-        t.fixed += b * current.row(ids[q]).transpose();
+      if (column_of[ids[q]] >= 0 && b != 0.0) {
+        samples.column.push_back(column_of[ids[q]]);
+        samples.b.push_back(b);
+      } else {
+        fixed += b * current.row(ids[q]).transpose();
+      }
     }
-    if (!t.entries.empty()) samples.push_back(std::move(t));
+    if (samples.column.size() == first) continue;
+    samples.offset.push_back(fixed - xyz.row(s).transpose());
+    samples.start.push_back(static_cast<int>(samples.column.size()));
   }
-  report.samples = static_cast<int>(samples.size());
+  report.samples = samples.size();
 
   const double data_scale = options.data_weight / (step * step);
   const double theta = options.volume_weight;
@@ -608,7 +620,8 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
     std::vector<Eigen::Matrix3d> extra_jac(num_extra), extra_start(num_extra), extra_step(num_extra);
     auto extra_linear = [&](const Eigen::VectorXd& y, std::size_t e) {
       Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
-      for (const auto& [c, g] : r.point_entries[e]) m += y.segment<3>(3 * c) * g.transpose();
+      for (int k = r.point_start[e]; k < r.point_start[e + 1]; ++k)
+        m += y.segment<3>(3 * r.point_columns[k]) * r.point_g[k].transpose();
       return m;
     };
     auto jacobians = [&](const Eigen::VectorXd& y) -> const std::vector<double>& {
@@ -652,14 +665,17 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
         cof.col(1) = m.col(2).cross(m.col(0));
         cof.col(2) = m.col(0).cross(m.col(1));
         const Eigen::Matrix3d d = (-2.0 * kHingeWeight * gap / r.point_scale[e]) * cof;
-        for (const auto& [c, g] : r.point_entries[e]) gradient->segment<3>(3 * c) += d * g;
+        for (int k = r.point_start[e]; k < r.point_start[e + 1]; ++k)
+          gradient->segment<3>(3 * r.point_columns[k]) += d * r.point_g[k];
       }
-      for (const SampleTerm& t : samples) {
-        Eigen::Vector3d res = t.fixed - t.target;
-        for (const auto& [e, b] : t.entries) res += b * y.segment<3>(3 * e);
+      for (int t = 0; t < samples.size(); ++t) {
+        Eigen::Vector3d res = samples.offset[t];
+        for (int k = samples.start[t]; k < samples.start[t + 1]; ++k)
+          res += samples.b[k] * y.segment<3>(3 * samples.column[k]);
         total += data_scale * res.squaredNorm();
         if (!gradient) continue;
-        for (const auto& [e, b] : t.entries) gradient->segment<3>(3 * e) += 2.0 * data_scale * b * res;
+        for (int k = samples.start[t]; k < samples.start[t + 1]; ++k)
+          gradient->segment<3>(3 * samples.column[k]) += 2.0 * data_scale * samples.b[k] * res;
       }
       return total;
     };
