@@ -447,11 +447,14 @@ TSpline::TSpline(std::vector<BlendingKnots> knots, Eigen::VectorXd weights, Eige
   }
   set_points(points_);
   build_grid();
+  if (acceleration == TSplineAcceleration::CellPolynomials) build_cell_polynomials();
+  if (acceleration == TSplineAcceleration::Auto) use_cell_polynomials();
+}
+
+bool TSpline::use_cell_polynomials() {
   const double polynomial_bytes = double(cells_.size()) * 64 * (dimension_ + 1) * sizeof(double);
-  if (acceleration == TSplineAcceleration::CellPolynomials ||
-      (acceleration == TSplineAcceleration::Auto && polynomial_bytes <= kAutoPolynomialBytes)) {
-    build_cell_polynomials();
-  }
+  if (!has_cell_polynomials() && polynomial_bytes <= kAutoPolynomialBytes) build_cell_polynomials();
+  return has_cell_polynomials();
 }
 
 // F and Σ w B restricted to one cell are sums of tensor products of the power-form pieces.

@@ -91,12 +91,11 @@ class TSpline {
   int max_functions_per_cell() const { return max_functions_per_cell_; }
   /// True if evaluation uses per-cell polynomials (see TSplineAcceleration).
   bool has_cell_polynomials() const { return !cell_numerator_.empty(); }
-  /// Switches to TSplineAcceleration::CellPolynomials (no-op if already there), whatever the
-  /// memory: for a spline about to be evaluated on many lattices (untangling, measures).
-  /// Evaluation then agrees with before to rounding.
-  void use_cell_polynomials() {
-    if (!has_cell_polynomials()) build_cell_polynomials();
-  }
+  /// Switches to TSplineAcceleration::CellPolynomials if they fit in the memory Auto allows
+  /// (256 MiB; no-op if already there): for a spline about to be evaluated on many lattices
+  /// (untangling, measures). Evaluation then agrees with before to rounding. Returns
+  /// has_cell_polynomials().
+  bool use_cell_polynomials();
 
   /// F(uvw) in the given form, written to value[0..D). No allocation.
   /// Throws volspline::Error if uvw is outside the domain or not finite. Rational form:

@@ -192,6 +192,31 @@ TEST_CASE("set_points keeps the grid and changes F") {
                        Error);
 }
 
+TEST_CASE("use_cell_polynomials switches a function-list spline to polynomials with the same F, also after moves") {
+  TSpline spline = random_tspline(70, 3, 5, TSplineAcceleration::FunctionLists);
+  const TSpline reference = random_tspline(70, 3, 5, TSplineAcceleration::FunctionLists);
+  REQUIRE_FALSE(spline.has_cell_polynomials());
+  CHECK(spline.use_cell_polynomials());
+  CHECK(spline.has_cell_polynomials());
+  CHECK(spline.use_cell_polynomials());  // already there: a no-op
+  // A few moved control points: the incremental cell update (as the untangler moves them).
+  Eigen::MatrixXd moved = spline.points();
+  for (int i = 0; i < moved.rows(); i += 9) moved.row(i) += Eigen::RowVector3d(0.3, -0.2, 0.1);
+  spline.set_points(moved);
+  TSpline moved_reference = reference;
+  moved_reference.set_points(moved);
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  double worst = 0.0;
+  for (int t = 0; t < 200; ++t) {
+    Eigen::Vector3d p;
+    for (int a = 0; a < 3; ++a)
+      p(a) = spline.domain_min()(a) + (spline.domain_max()(a) - spline.domain_min()(a)) * unit(rng);
+    worst = std::max(worst, (spline.evaluate(p) - moved_reference.evaluate(p)).norm());
+  }
+  CHECK(worst < 1e-12);  // the same sums in another order: rounding only (values O(1))
+}
+
 TEST_CASE("batch evaluation equals single evaluation") {
   const TSpline spline = from_bspline_volume(random_volume(2, 4));
   const auto params = random_parameters(spline.domain_min(), spline.domain_max(), 40, 2);
