@@ -191,8 +191,8 @@ class NodeJacobians {
     for (int e = start_[q]; e < start_[q + 1]; ++e) {
       const float* g = gradient_.data() + 3 * e;
       double* out = gradient + 4 * column_[e];
-      const __m256d t = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(d0, broadcast(g)), _mm256_mul_pd(d1, broadcast(g + 1))),
-                                      _mm256_mul_pd(d2, broadcast(g + 2)));
+      const __m256d t01 = _mm256_add_pd(_mm256_mul_pd(d0, broadcast(g)), _mm256_mul_pd(d1, broadcast(g + 1)));
+      const __m256d t = _mm256_add_pd(t01, _mm256_mul_pd(d2, broadcast(g + 2)));
       _mm256_storeu_pd(out, _mm256_add_pd(_mm256_loadu_pd(out), t));
     }
   }

@@ -95,8 +95,9 @@ int main(int argc, char** argv) {
         std::printf(", \"untangle_s\": %.3f, \"cpu_s\": %.3f}", untangle, cpu);
       }
     }
-    std::printf("\n  ],\n  \"folded_64\": %ld, \"folded_80\": %ld, \"folded_96\": %ld, \"folded_128\": %ld, \"cpu_s\": %.3f\n}\n",
-                negative_64, totals[0], totals[1], totals[2], cpu_total);
+    std::printf("\n  ],\n  \"folded_64\": %ld, \"folded_80\": %ld, \"folded_96\": %ld, \"folded_128\": %ld,",
+                negative_64, totals[0], totals[1], totals[2]);
+    std::printf(" \"cpu_s\": %.3f\n}\n", cpu_total);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_fold_ensemble: %s\n", e.what());
     return 1;
