@@ -66,10 +66,10 @@ struct FreeFunction {
 // knots do not change while untangling): per node, the free functions non-zero there and their
 // w·∇B (compressed rows), so J(node) = fixed + Σ_c x_c·(w∇B_c)ᵀ sums in registers, and the
 // energy's gradient scatters back through the same rows in the same sweep. The row entries are
-// stored in single precision (sums in double): the sweeps are bound by memory (bunny's first
-// pass streams 1.7M entries twice per iteration), and the rounding only perturbs the search's
-// model of how J changes with x, not J itself (fixed is made with the same rows, so J at the
-// start point is exact, and the spline is evaluated anew after the pass).
+// stored in single precision (sums in double): the sweeps' memory traffic counts (bunny's first
+// pass streams 1.7M entries twice per iteration; doubles were 4 % slower), and the rounding only
+// perturbs the search's model of how J changes with x, not J itself (fixed is made with the same
+// rows, so J at the start point is exact, and the spline is evaluated anew after the pass).
 class NodeJacobians {
  public:
   NodeJacobians() = default;
@@ -635,7 +635,7 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
     auto energy = [&](const std::vector<double>& j, const Eigen::VectorXd& y, double eps, Eigen::VectorXd* gradient) {
       double total = 0.0;
       if (gradient) {
-        gradient->setZero(y.size());
+        gradient->resize(y.size());  // set whole from gradient_padded below
         gradient_padded.assign(y.size() / 3 * 4, 0.0);
       }
       // The energies are summed and the gradients scattered in node order, as one at a time.
