@@ -10,8 +10,8 @@ ProgressBar::ProgressBar(bool enabled)
 
 ProgressBar::~ProgressBar() { finish(); }
 
-pipeline::Progress ProgressBar::progress() {
-  return pipeline::Progress([this](const std::string& stage, double fraction) { return update(stage, fraction); });
+Progress ProgressBar::progress() {
+  return Progress([this](const std::string& stage, double fraction) { return update(stage, fraction); });
 }
 
 bool ProgressBar::update(const std::string& stage, double fraction) {

@@ -4,7 +4,7 @@
 #include <chrono>
 #include <string>
 
-#include "core/pipeline/progress.h"
+#include "core/common/progress.h"
 
 namespace volspline::cli {
 
@@ -14,7 +14,7 @@ class ProgressBar {
   explicit ProgressBar(bool enabled);
   ~ProgressBar();
   /// The callback to hand to a stage.
-  pipeline::Progress progress();
+  Progress progress();
   /// Clears the bar line if one was drawn.
   void finish();
 

@@ -74,11 +74,11 @@ bool bool_option(const val& options, const char* key, bool fallback) {
   return v.as<bool>();
 }
 
-pipeline::Progress progress_from_js(const val& callback) {
-  if (is_plain_missing(callback)) return pipeline::Progress();
+Progress progress_from_js(const val& callback) {
+  if (is_plain_missing(callback)) return Progress();
   if (callback.typeOf().as<std::string>() != "function")
     throw Error("progress: expected a function (stage, fraction) -> boolean");
-  return pipeline::Progress([callback](const std::string& stage, double fraction) {
+  return Progress([callback](const std::string& stage, double fraction) {
     return !callback(stage, fraction).isFalse();
   });
 }

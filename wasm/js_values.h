@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/pipeline/progress.h"
+#include "core/common/progress.h"
 
 namespace volspline::wasm {
 
@@ -40,7 +40,7 @@ bool bool_option(const emscripten::val& options, const char* key, bool fallback)
 /// Wraps a JS function (stage: string, fraction: number) -> boolean|undefined as the stage
 /// progress channel; an explicit `false` asks the stage to stop. Undefined or null gives no
 /// reporting. Throws volspline::Error if `callback` is something else.
-pipeline::Progress progress_from_js(const emscripten::val& callback);
+Progress progress_from_js(const emscripten::val& callback);
 
 /// New JS object {stage: seconds, ..., total: Σ seconds} from a job's per-stage times (run order).
 emscripten::val stage_times_object(const std::vector<std::pair<std::string, double>>& times_s);

@@ -17,7 +17,7 @@ using emscripten::val;
 
 namespace {
 
-val image_to_js(const lens::Image& image) {
+val image_to_js(const Image& image) {
   val out = val::object();
   out.set("width", image.width);
   out.set("height", image.height);
@@ -26,10 +26,10 @@ val image_to_js(const lens::Image& image) {
   return out;
 }
 
-lens::Image image_from_js(const val& image, const std::string& what) {
+Image image_from_js(const val& image, const std::string& what) {
   if (image.isUndefined() || image.isNull() || image.typeOf().as<std::string>() != "object")
     throw Error(what + ": expected {width, height, channels, pixels}");
-  lens::Image out;
+  Image out;
   const auto dimension = [&](const char* key) {
     const double x = number_option(image, key, -1);
     if (!(x >= 0 && x <= 1 << 20) || x != static_cast<int>(x))
@@ -153,7 +153,7 @@ val points2_to_js(const Eigen::MatrixX2d& points) {
 
 val decode_image(const val& bytes, const std::string& name) {
   return guarded([&] {
-    const lens::Image image = io::decode_image(bytes_from_js(bytes, "image '" + name + "'"), name);
+    const Image image = io::decode_image(bytes_from_js(bytes, "image '" + name + "'"), name);
     val out = val::object();
     out.set("ok", true);
     out.set("image", image_to_js(image));
@@ -213,7 +213,7 @@ val counters_to_js(const pipeline::LensSessionCounters& c) {
 val lens(const val& image, const val& rois, const val& options, const val& progress) {
   return guarded([&] {
     return run_lens_js(image, rois, options, progress,
-                       [](const pipeline::LensInput& in, const pipeline::LensOptions& o, const pipeline::Progress& p) {
+                       [](const pipeline::LensInput& in, const pipeline::LensOptions& o, const Progress& p) {
                          return pipeline::run_lens(in, o, p);
                        });
   });
@@ -225,7 +225,7 @@ LensSessionBinding::~LensSessionBinding() = default;
 val LensSessionBinding::run(const val& image, const val& rois, const val& options, const val& progress) {
   return guarded([&] {
     val out = run_lens_js(image, rois, options, progress,
-                          [this](const pipeline::LensInput& in, const pipeline::LensOptions& o, const pipeline::Progress& p) {
+                          [this](const pipeline::LensInput& in, const pipeline::LensOptions& o, const Progress& p) {
                             return session_->run(in, o, p);
                           });
     out.set("session", counters_to_js(session_->counters()));

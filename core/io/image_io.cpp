@@ -29,7 +29,7 @@ void append_bytes(void* context, void* data, int size) {
 
 }  // namespace
 
-lens::Image decode_image(const std::string& bytes, const std::string& name) {
+Image decode_image(const std::string& bytes, const std::string& name) {
   if (bytes.empty()) throw Error("'" + name + "': empty file, expected a PNG or JPEG image");
   if (bytes.size() > static_cast<std::size_t>(INT_MAX)) throw Error("'" + name + "': file too large");
   int width = 0, height = 0, channels_in_file = 0;
@@ -41,7 +41,7 @@ lens::Image decode_image(const std::string& bytes, const std::string& name) {
   stbi_uc* pixels = stbi_load_from_memory(data, static_cast<int>(bytes.size()), &width, &height,
                                           &channels_in_file, channels);
   if (!pixels) throw Error("'" + name + "': cannot decode image (" + stbi_failure_reason() + ")");
-  lens::Image image;
+  Image image;
   image.width = width;
   image.height = height;
   image.channels = channels;
@@ -50,9 +50,9 @@ lens::Image decode_image(const std::string& bytes, const std::string& name) {
   return image;
 }
 
-lens::Image read_image(const std::string& path) { return decode_image(read_file_bytes(path), path); }
+Image read_image(const std::string& path) { return decode_image(read_file_bytes(path), path); }
 
-std::string encode_png(const lens::Image& image) {
+std::string encode_png(const Image& image) {
   if (image.width <= 0 || image.height <= 0 || image.channels < 1 || image.channels > 4 ||
       image.pixels.size() != static_cast<std::size_t>(image.width) * image.height * image.channels)
     throw Error("cannot encode PNG: malformed image");
@@ -63,6 +63,6 @@ std::string encode_png(const lens::Image& image) {
   return out;
 }
 
-void write_png(const std::string& path, const lens::Image& image) { write_file_atomic(path, encode_png(image)); }
+void write_png(const std::string& path, const Image& image) { write_file_atomic(path, encode_png(image)); }
 
 }  // namespace volspline::io

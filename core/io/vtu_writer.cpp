@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "core/io/file_bytes.h"
-#include "core/param/volumetric_grid_map.h"
+#include "core/mesh/hex_quality.h"
 
 namespace volspline::io {
 
@@ -79,7 +79,7 @@ std::string serialize_spline_vtu(const spline::TSpline& spline, const std::array
         offset += 8;
         offsets += std::to_string(offset) + '\n';
         types += "12\n";
-        append_number(quality, param::hex_min_scaled_jacobian(x));
+        append_number(quality, mesh::hex_min_scaled_jacobian(x));
         quality += '\n';
       }
   out += "<CellData Scalars=\"scaled_jacobian\">\n<DataArray type=\"Float64\" Name=\"scaled_jacobian\" format=\"ascii\">\n";

@@ -6,7 +6,7 @@
 #include <Eigen/Core>
 
 #include "core/mesh/triangle_mesh.h"
-#include "core/pipeline/progress.h"
+#include "core/common/progress.h"
 
 namespace volspline::lens {
 
@@ -37,6 +37,6 @@ struct FlattenResult {
 /// no degenerate triangle. Throws volspline::Error if the factorization fails.
 FlattenResult flatten_lens(const mesh::Positions& xyz, const mesh::Triangles& triangles,
                            const std::vector<char>& pinned, const Eigen::MatrixX2d& start,
-                           const FlattenOptions& options, const pipeline::Progress& progress = {});
+                           const FlattenOptions& options, const Progress& progress = {});
 
 }  // namespace volspline::lens

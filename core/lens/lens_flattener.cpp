@@ -124,7 +124,7 @@ void LensFlattener::compute(const mesh::Positions& xyz, const mesh::Triangles& t
 }
 
 FlattenResult LensFlattener::flatten(const Eigen::MatrixX2d& start, const FlattenOptions& options,
-                                     const pipeline::Progress& progress) const {
+                                     const Progress& progress) const {
   if (!state_) throw Error("lens flattening: flatten() called before a successful compute()");
   const State& st = *state_;
   if (start.rows() != st.n)

@@ -8,7 +8,7 @@
 
 #include "core/lens/flatten.h"
 #include "core/mesh/triangle_mesh.h"
-#include "core/pipeline/progress.h"
+#include "core/common/progress.h"
 
 namespace volspline::lens {
 
@@ -39,7 +39,7 @@ class LensFlattener {
   /// compute(). Throws volspline::Error if compute() has not succeeded or start has the wrong
   /// shape, Cancelled if progress asks to stop.
   FlattenResult flatten(const Eigen::MatrixX2d& start, const FlattenOptions& options,
-                        const pipeline::Progress& progress = {}) const;
+                        const Progress& progress = {}) const;
 
   /// True once compute() has succeeded.
   bool ready() const;

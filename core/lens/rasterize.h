@@ -5,7 +5,7 @@
 
 #include <Eigen/Core>
 
-#include "core/lens/image.h"
+#include "core/common/image.h"
 #include "core/mesh/triangle_mesh.h"
 
 namespace volspline::lens {

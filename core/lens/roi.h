@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "core/lens/image.h"
+#include "core/common/image.h"
 
 namespace volspline::lens {
 

@@ -40,7 +40,7 @@ struct HexGridUntangleReport {
 /// the number of folded corners has not reached a new low for 3 steps (corners that cannot
 /// unfold, e.g. of hexes along a cuboid edge with 6 fixed nodes, remain folded). Corner c of hex (i, j, k) is node (i + (c&1), j +
 /// (c>>1&1), k + (c>>2&1)); its Jacobian has the three hex edges leaving it along +axis
-/// orientation, as hex_min_scaled_jacobian. nodes: n0, n1, n2 ≥ 2; xyz: (n0·n1·n2)×3 in the
+/// orientation, as mesh::hex_min_scaled_jacobian. nodes: n0, n1, n2 ≥ 2; xyz: (n0·n1·n2)×3 in the
 /// order of grid_node_index, changed in place; fixed: one flag per node.
 HexGridUntangleReport untangle_hex_grid(const std::array<int, 3>& nodes, const std::vector<char>& fixed,
                                         mesh::Positions& xyz, const HexGridUntangleOptions& options = {});

@@ -9,25 +9,10 @@
 #include "core/common/error.h"
 #include "core/linalg/conjugate_gradient.h"
 #include "core/linalg/csr_matrix.h"
+#include "core/mesh/hex_quality.h"
 #include "core/param/hex_grid_untangling.h"
 
 namespace volspline::param {
-
-double hex_min_scaled_jacobian(const std::array<Eigen::Vector3d, 8>& x) {
-  double worst = 1.0;
-  for (int c = 0; c < 8; ++c) {
-    Eigen::Matrix3d edges;
-    for (int a = 0; a < 3; ++a) {
-      const int other = c ^ (1 << a);
-      // Edge vectors point along +axis so that an unfolded hex has det > 0 at every corner.
-      edges.col(a) = ((c >> a) & 1) ? Eigen::Vector3d(x[c] - x[other]) : Eigen::Vector3d(x[other] - x[c]);
-    }
-    const double scale = edges.col(0).norm() * edges.col(1).norm() * edges.col(2).norm();
-    const double scaled = scale > 0.0 ? edges.determinant() / scale : -1.0;
-    worst = std::min(worst, scaled);
-  }
-  return worst;
-}
 
 VolumetricGridMap compute_volumetric_grid_map(const CuboidSurfaceLocator& locator,
                                               const VolumetricGridOptions& options) {
@@ -113,7 +98,7 @@ VolumetricGridMap compute_volumetric_grid_map(const CuboidSurfaceLocator& locato
           for (int c = 0; c < 8; ++c)
             corners[c] = grid.xyz.row(grid_node_index(n, i + (c & 1), j + ((c >> 1) & 1),
                                                       k + ((c >> 2) & 1))).transpose();
-          const double q = hex_min_scaled_jacobian(corners);
+          const double q = mesh::hex_min_scaled_jacobian(corners);
           ++grid.num_hexes;
           if (q <= 0.0) ++grid.num_inverted_hexes;
           grid.min_scaled_jacobian = std::min(grid.min_scaled_jacobian, q);

@@ -47,8 +47,4 @@ inline int grid_node_index(const std::array<int, 3>& nodes, int i, int j, int k)
 VolumetricGridMap compute_volumetric_grid_map(const CuboidSurfaceLocator& locator,
                                               const VolumetricGridOptions& options = {});
 
-/// Smallest scaled Jacobian det[e1 e2 e3]/(|e1||e2||e3|) over the 8 corners of the hex with
-/// corners x[c], c = i + 2j + 4k (the trilinear hex of a grid cell); ≤ 0 means folded.
-double hex_min_scaled_jacobian(const std::array<Eigen::Vector3d, 8>& x);
-
 }  // namespace volspline::param

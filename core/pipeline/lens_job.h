@@ -6,10 +6,10 @@
 
 #include <Eigen/Core>
 
-#include "core/lens/image.h"
+#include "core/common/image.h"
 #include "core/lens/roi.h"
 #include "core/mesh/triangle_mesh.h"
-#include "core/pipeline/progress.h"
+#include "core/common/progress.h"
 
 namespace volspline::pipeline {
 
@@ -54,7 +54,7 @@ struct LensOptions {
 
 /// Input of the lens job.
 struct LensInput {
-  lens::Image image;             ///< the picture, 8-bit, 1–4 channels
+  Image image;             ///< the picture, 8-bit, 1–4 channels
   std::vector<lens::Roi> rois;   ///< at least one
   std::string name = "image";    ///< used in error messages
 };
@@ -85,7 +85,7 @@ struct LensStats {
 
 /// Result of the lens job: the flattened textured mesh, the rendered image and the stats.
 struct LensResult {
-  lens::Image image;            ///< same size and channels as the input (empty if !render)
+  Image image;            ///< same size and channels as the input (empty if !render)
   Eigen::MatrixX2d positions;   ///< n×2 output pixel positions
   Eigen::MatrixX2d texture;     ///< n×2 input pixel positions (texture coordinates)
   mesh::Triangles triangles;    ///< m×3

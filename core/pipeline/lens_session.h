@@ -4,7 +4,7 @@
 #include <memory>
 
 #include "core/pipeline/lens_job.h"
-#include "core/pipeline/progress.h"
+#include "core/common/progress.h"
 
 namespace volspline::pipeline {
 

@@ -13,6 +13,7 @@
 
 #include "core/common/error.h"
 #include "core/mesh/halfedge_mesh.h"
+#include "core/mesh/hex_quality.h"
 #include "core/mesh/mesh_report.h"
 #include "core/param/cuboid_surface_locator.h"
 #include "core/param/volumetric_grid_map.h"
@@ -329,7 +330,7 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
             ids[c] = param::grid_node_index(nodes, i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1));
             corners[c] = grid.xyz.row(ids[c]).transpose();
           }
-          if (param::hex_min_scaled_jacobian(corners) <= 0.0)
+          if (mesh::hex_min_scaled_jacobian(corners) <= 0.0)
             for (int id : ids) folded[id] = 1;
         }
     for (int k = 0; k < nodes[2]; ++k)

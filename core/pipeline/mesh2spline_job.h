@@ -9,7 +9,7 @@
 
 #include "core/mesh/triangle_mesh.h"
 #include "core/param/cuboid_surface_map.h"
-#include "core/pipeline/progress.h"
+#include "core/common/progress.h"
 #include "core/spline/tspline.h"
 
 namespace volspline::pipeline {

@@ -13,6 +13,7 @@
 #include <Eigen/LU>
 
 #include "core/common/error.h"
+#include "core/mesh/hex_quality.h"
 #include "core/param/cuboid_surface_map.h"
 #include "core/param/surface_distance.h"
 
@@ -155,9 +156,7 @@ Mesh2SplineMeasures measure_mesh2spline(const spline::TSpline& spline, const mes
   int negative = 0;
   double min_q = 1.0;
   spline.evaluate_lattice_with_jacobian(centres, [&](int, int, int, const double*, const double* jacobian) {
-    const Eigen::Map<const Eigen::Matrix3d> jac(jacobian);
-    const double scale = jac.col(0).norm() * jac.col(1).norm() * jac.col(2).norm();
-    const double q = scale > 0.0 ? jac.determinant() / scale : -1.0;
+    const double q = mesh::scaled_jacobian(Eigen::Map<const Eigen::Matrix3d>(jacobian));
     if (q <= 0.0) ++negative;
     min_q = std::min(min_q, q);
   });

@@ -9,6 +9,7 @@
 #include <Eigen/LU>
 
 #include "core/common/error.h"
+#include "core/mesh/hex_quality.h"
 #include "core/spline/scattered_density_fitting.h"
 #include "core/volume/corner_detection.h"
 #include "core/volume/field_aligned_param.h"
@@ -64,8 +65,7 @@ double spline_min_scaled_jacobian(const spline::TSpline& s) {
         Eigen::Matrix3d m;
         for (int a = 0; a < 3; ++a)
           for (int r = 0; r < 3; ++r) m(r, a) = jac[r + d * a];
-        const double norms = m.col(0).norm() * m.col(1).norm() * m.col(2).norm();
-        worst = std::min(worst, norms > 0.0 ? m.determinant() / norms : -1.0);
+        worst = std::min(worst, mesh::scaled_jacobian(m));
       }
   return worst;
 }

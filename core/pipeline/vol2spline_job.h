@@ -9,7 +9,7 @@
 
 #include <Eigen/Core>
 
-#include "core/pipeline/progress.h"
+#include "core/common/progress.h"
 #include "core/spline/density_fitting.h"
 #include "core/spline/tspline.h"
 #include "core/volume/frame_field.h"

@@ -441,7 +441,7 @@ std::vector<double> evaluate_on_grid(const TSpline& spline, int component, const
 }
 
 AdaptiveDensityResult fit_density_adaptive(const GridSamples& samples, const AdaptiveDensityOptions& options,
-                                           const pipeline::Progress& progress) {
+                                           const Progress& progress) {
   check_dims(samples.dims);
   if (!(options.max_rms_rel > 0.0)) throw Error("density fit: max_rms_rel must be > 0");
   if (options.max_control_points != 0 && options.max_control_points < 64)

@@ -8,7 +8,7 @@
 
 #include <Eigen/Core>
 
-#include "core/pipeline/progress.h"
+#include "core/common/progress.h"
 #include "core/spline/bspline_volume.h"
 #include "core/spline/tspline.h"
 
@@ -165,6 +165,6 @@ std::optional<FitStopReason> adaptive_stop(double rms_rel, const std::vector<Ada
 /// along an axis; Cancelled if progress asks to stop.
 AdaptiveDensityResult fit_density_adaptive(const GridSamples& samples,
                                            const AdaptiveDensityOptions& options = {},
-                                           const pipeline::Progress& progress = {});
+                                           const Progress& progress = {});
 
 }  // namespace volspline::spline

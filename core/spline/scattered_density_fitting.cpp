@@ -241,7 +241,7 @@ ScatteredFitReport fit_tspline_scattered(TSpline& spline, const Eigen::MatrixX3d
 
 ScatteredDensityResult fit_scattered_adaptive(const Eigen::MatrixX3d& uvw, const Eigen::MatrixXd& targets,
                                               const std::array<int, 3>& dims, const AdaptiveDensityOptions& options,
-                                              const pipeline::Progress& progress) {
+                                              const Progress& progress) {
   if (targets.rows() != uvw.rows() || targets.cols() != 4)
     throw Error("scattered density fit: targets must be " + std::to_string(uvw.rows()) + "x4");
   if (uvw.rows() == 0) throw Error("scattered density fit: no samples");

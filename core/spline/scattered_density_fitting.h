@@ -6,7 +6,7 @@
 
 #include <Eigen/Core>
 
-#include "core/pipeline/progress.h"
+#include "core/common/progress.h"
 #include "core/spline/density_fitting.h"
 #include "core/spline/hierarchical_refinement.h"
 #include "core/spline/tspline.h"
@@ -52,6 +52,6 @@ struct ScatteredDensityResult {
 ScatteredDensityResult fit_scattered_adaptive(const Eigen::MatrixX3d& uvw, const Eigen::MatrixXd& targets,
                                               const std::array<int, 3>& dims,
                                               const AdaptiveDensityOptions& options = {},
-                                              const pipeline::Progress& progress = {});
+                                              const Progress& progress = {});
 
 }  // namespace volspline::spline

@@ -16,6 +16,7 @@
 #define VOLSPLINE_AVX2_ROWS 1
 #endif
 
+#include "core/mesh/hex_quality.h"
 #include "core/param/barrier_untangling.h"
 #include "core/spline/bspline_basis.h"
 #include "core/spline/tspline_fitting.h"
@@ -38,11 +39,6 @@ constexpr double kHingeWeight = 1000.0;
 
 bool lexicographic_less(const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
   return std::lexicographical_compare(p.data(), p.data() + 3, q.data(), q.data() + 3);
-}
-
-double scaled_jacobian(const Eigen::Matrix3d& j) {
-  const double norms = j.col(0).norm() * j.col(1).norm() * j.col(2).norm();
-  return norms > 0.0 ? j.determinant() / norms : -1.0;
 }
 
 // The samples' terms, one array each: F(x) − xyz_s = offset_s + Σ_e x_{column_e} b_e over
@@ -337,7 +333,7 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
       for (int j = box_lo[1]; j < box_hi[1]; ++j)
         for (int i = box_lo[0]; i < box_hi[0]; ++i) {
           if (!is_scanned(i, j, k)) continue;
-          const double q = scaled_jacobian(jacobian_at(i, j, k));
+          const double q = mesh::scaled_jacobian(jacobian_at(i, j, k));
           ++report.scanned;
           if (q <= 0.0) ++report.final_negative;
           if (seeds && q < options.min_scaled_jacobian) seeds->push_back({i, j, k});
@@ -496,7 +492,7 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
       // its own length would make a flat element the target.
       const Eigen::Vector3d norms(jac.col(0).norm(), jac.col(1).norm(), jac.col(2).norm());
       region.inverse_reference.push_back(
-          scaled_jacobian(jac) >= kGoodScaledJacobian
+          mesh::scaled_jacobian(jac) >= kGoodScaledJacobian
               ? Eigen::Matrix3d(jac.inverse())
               : Eigen::Matrix3d(norms.cwiseMax(region.mean_scale).cwiseMax(1e-300).cwiseInverse().asDiagonal()));
     }
@@ -749,7 +745,7 @@ std::vector<Eigen::Vector3d> folded_points(const TSpline& spline, const SplineUn
   }
   std::vector<Eigen::Vector3d> folded;
   spline.evaluate_lattice_with_jacobian(coords, [&](int i, int j, int k, const double*, const double* jacobian) {
-    if (scaled_jacobian(Eigen::Map<const Eigen::Matrix3d>(jacobian)) < options.min_scaled_jacobian)
+    if (mesh::scaled_jacobian(Eigen::Map<const Eigen::Matrix3d>(jacobian)) < options.min_scaled_jacobian)
       folded.emplace_back(coords[0][i], coords[1][j], coords[2][k]);
   });
   // Points where the interior functions carry under kMinMovableShare of |w∇B| (next to the
@@ -805,7 +801,7 @@ std::vector<Eigen::Vector3d> bad_lattice_points(const TSpline& spline, const std
   std::vector<Eigen::Vector3d> bad;
   spline.evaluate_lattice_with_jacobian({nodes[0].t, nodes[1].t, nodes[2].t},
                                         [&](int i, int j, int k, const double*, const double* jacobian) {
-                                          if (scaled_jacobian(Eigen::Map<const Eigen::Matrix3d>(jacobian)) <= threshold)
+                                          if (mesh::scaled_jacobian(Eigen::Map<const Eigen::Matrix3d>(jacobian)) <= threshold)
                                             bad.emplace_back(nodes[0].t[i], nodes[1].t[j], nodes[2].t[k]);
                                         });
   std::sort(bad.begin(), bad.end(), lexicographic_less);

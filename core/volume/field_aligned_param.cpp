@@ -386,7 +386,7 @@ double voxel_map_min_jacobian(int nx, int ny, int nz, const Eigen::MatrixX3d& uv
 
 FieldAlignedParam compute_field_aligned_param(const Volume& volume, const FrameField& smoothed,
                                               const MaterialClassification& classes, const FieldAlignedOptions& options,
-                                              const pipeline::Progress& progress) {
+                                              const Progress& progress) {
   const std::size_t n = volume.num_voxels();
   check_options(options, n);
   if (volume.nx < 2 || volume.ny < 2 || volume.nz < 2)

@@ -6,7 +6,7 @@
 
 #include <Eigen/Core>
 
-#include "core/pipeline/progress.h"
+#include "core/common/progress.h"
 #include "core/volume/corner_detection.h"
 #include "core/volume/frame_field.h"
 #include "core/volume/material_classification.h"
@@ -91,7 +91,7 @@ struct FieldAlignedParam {
 FieldAlignedParam compute_field_aligned_param(const Volume& volume, const FrameField& smoothed,
                                               const MaterialClassification& classes,
                                               const FieldAlignedOptions& options = {},
-                                              const pipeline::Progress& progress = {});
+                                              const Progress& progress = {});
 
 /// Scaled-Jacobian check of a per-voxel map (uvw as in FieldAlignedParam) on the voxel hexes:
 /// returns the smallest scaled Jacobian over the 8 corners of every hex and sets

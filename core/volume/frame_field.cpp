@@ -254,7 +254,7 @@ double frame_smoothness_energy(const FrameField& field, const std::vector<std::u
 }
 
 FrameSmoothingResult smooth_frame_field(const FrameField& initial, const std::vector<FrameConstraint>& constraints,
-                                        const FrameSmoothingOptions& options, const pipeline::Progress& progress) {
+                                        const FrameSmoothingOptions& options, const Progress& progress) {
   if (options.max_iterations < 1)
     throw Error("frame smoothing: max_iterations must be >= 1, got " + std::to_string(options.max_iterations));
   if (options.threads < 1)

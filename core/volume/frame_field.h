@@ -8,7 +8,7 @@
 
 #include <Eigen/Core>
 
-#include "core/pipeline/progress.h"
+#include "core/common/progress.h"
 
 namespace volspline::volume {
 
@@ -88,6 +88,6 @@ struct FrameSmoothingResult {
 /// Throws Cancelled if progress asks to stop.
 FrameSmoothingResult smooth_frame_field(const FrameField& initial, const std::vector<FrameConstraint>& constraints,
                                         const FrameSmoothingOptions& options = {},
-                                        const pipeline::Progress& progress = {});
+                                        const Progress& progress = {});
 
 }  // namespace volspline::volume

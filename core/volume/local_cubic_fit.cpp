@@ -89,7 +89,7 @@ Eigen::MatrixXd cubic_fit_operator(int ring) {
 }
 
 LocalCubicFit fit_local_cubics(const Volume& volume, const LocalCubicFitOptions& options,
-                               const pipeline::Progress& progress) {
+                               const Progress& progress) {
   const int k = options.ring;
   if (k < 2) throw Error("local cubic fit: ring must be >= 2 (a cubic needs 5 samples per axis), got " + std::to_string(k));
   const int side = 2 * k + 1;

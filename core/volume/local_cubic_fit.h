@@ -5,7 +5,7 @@
 
 #include <Eigen/Core>
 
-#include "core/pipeline/progress.h"
+#include "core/common/progress.h"
 #include "core/volume/volume.h"
 
 namespace volspline::volume {
@@ -42,6 +42,6 @@ Eigen::MatrixXd cubic_fit_operator(int ring);
 /// Throws volspline::Error if options.ring < 2 or a dimension is smaller than 2k+1.
 /// Throws Cancelled if progress asks to stop.
 LocalCubicFit fit_local_cubics(const Volume& volume, const LocalCubicFitOptions& options = {},
-                               const pipeline::Progress& progress = {});
+                               const Progress& progress = {});
 
 }  // namespace volspline::volume

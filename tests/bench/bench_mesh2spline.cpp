@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
       const std::clock_t cpu_start = std::clock();
       std::string stage;
       std::clock_t stage_start = cpu_start;
-      const pipeline::Progress progress([&](const std::string& next, double) {
+      const Progress progress([&](const std::string& next, double) {
         const std::clock_t now = std::clock();
         if (!stage.empty()) {
           if (!stage_cpu.count(stage)) stage_order.push_back(stage);

@@ -6,4 +6,5 @@ set(TEST_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/edge_weights_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/laplacian_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/graph_distance_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/hex_quality_test.cpp
 )

@@ -3,6 +3,8 @@
 
 #include <doctest/doctest.h>
 
+#include "core/mesh/hex_quality.h"
+
 #include "core/param/volumetric_grid_map.h"
 
 using namespace volspline;
@@ -31,7 +33,7 @@ double min_hex_quality(int n, const mesh::Positions& xyz) {
         std::array<Eigen::Vector3d, 8> x;
         for (int c = 0; c < 8; ++c)
           x[c] = xyz.row(param::grid_node_index({n, n, n}, i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1))).transpose();
-        worst = std::min(worst, param::hex_min_scaled_jacobian(x));
+        worst = std::min(worst, mesh::hex_min_scaled_jacobian(x));
       }
   return worst;
 }

@@ -8,14 +8,6 @@
 
 using namespace volspline;
 
-TEST_CASE("hex scaled Jacobian: unit cube 1, mirrored −1") {
-  std::array<Eigen::Vector3d, 8> x;
-  for (int c = 0; c < 8; ++c) x[c] = Eigen::Vector3d(c & 1, (c >> 1) & 1, (c >> 2) & 1);
-  CHECK(param::hex_min_scaled_jacobian(x) == doctest::Approx(1.0));
-  for (auto& p : x) p.x() = -p.x();
-  CHECK(param::hex_min_scaled_jacobian(x) == doctest::Approx(-1.0));
-}
-
 TEST_CASE("the volumetric grid of a cube is the affine lattice") {
   const auto m = mesh::HalfedgeMesh::build(test::subdivided_cube(4), "cube");
   const auto map = param::compute_cuboid_surface_map(m, polycube::compute_cuboid_layout(m));

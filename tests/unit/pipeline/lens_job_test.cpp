@@ -11,15 +11,15 @@ using namespace volspline::pipeline;
 
 namespace {
 
-lens::Image checkerboard(int w, int h, int cell) {
-  lens::Image img{w, h, 1, std::vector<std::uint8_t>(std::size_t(w) * h)};
+Image checkerboard(int w, int h, int cell) {
+  Image img{w, h, 1, std::vector<std::uint8_t>(std::size_t(w) * h)};
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) img.pixels[y * w + x] = ((x / cell + y / cell) % 2) ? 230 : 20;
   return img;
 }
 
-lens::Image circles(int w, int h) {
-  lens::Image img{w, h, 3, std::vector<std::uint8_t>(std::size_t(w) * h * 3)};
+Image circles(int w, int h) {
+  Image img{w, h, 3, std::vector<std::uint8_t>(std::size_t(w) * h * 3)};
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
       for (int c = 0; c < 3; ++c)
@@ -27,7 +27,7 @@ lens::Image circles(int w, int h) {
   return img;
 }
 
-LensInput input_with(lens::Image image, const std::vector<std::string>& rois) {
+LensInput input_with(Image image, const std::vector<std::string>& rois) {
   LensInput in;
   in.image = std::move(image);
   for (const auto& r : rois) in.rois.push_back(lens::parse_roi_spec(r).roi);
@@ -116,7 +116,7 @@ TEST_CASE("bad options and inputs name the problem") {
   CHECK_THROWS_WITH_AS(run_lens(input_with(checkerboard(64, 64, 4), {}), LensOptions{}), doctest::Contains("at least one ROI"), Error);
   CHECK_THROWS_WITH_AS(run_lens(input_with(checkerboard(64, 64, 4), {"circle:300,30,5"}), LensOptions{}),
                        doctest::Contains("outside the 64x64 image"), Error);
-  CHECK_THROWS_WITH_AS(run_lens(input_with(lens::Image{}, {"circle:3,3,1"}), LensOptions{}), doctest::Contains("malformed image"), Error);
+  CHECK_THROWS_WITH_AS(run_lens(input_with(Image{}, {"circle:3,3,1"}), LensOptions{}), doctest::Contains("malformed image"), Error);
 }
 
 TEST_CASE("focus distortion is part of the whole-image distortion") {

@@ -14,8 +14,8 @@ using namespace volspline::pipeline;
 
 namespace {
 
-lens::Image rings(int w, int h) {
-  lens::Image img{w, h, 1, std::vector<std::uint8_t>(std::size_t(w) * h)};
+Image rings(int w, int h) {
+  Image img{w, h, 1, std::vector<std::uint8_t>(std::size_t(w) * h)};
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) img.pixels[y * w + x] = (int(std::hypot(x - w / 2.0, y - h / 2.0) / 5) % 2) ? 210 : 30;
   return img;

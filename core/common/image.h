@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace volspline::lens {
+namespace volspline {
 
 /// An 8-bit raster image: row-major, channels interleaved (1 grey, 3 RGB, 4 RGBA).
 /// Pixel (x, y) covers [x, x+1) × [y, y+1) in pixel coordinates (x right, y down).
@@ -20,4 +20,4 @@ struct Image {
   }
 };
 
-}  // namespace volspline::lens
+}  // namespace volspline

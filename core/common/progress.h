@@ -6,7 +6,7 @@
 
 #include "core/common/error.h"
 
-namespace volspline::pipeline {
+namespace volspline {
 
 /// The one progress and cancellation channel of every stage.
 /// The callback gets the stage name and the fraction done in [0, 1]; returning false asks the
@@ -27,4 +27,4 @@ class Progress {
   Callback callback_;
 };
 
-}  // namespace volspline::pipeline
+}  // namespace volspline

@@ -1,0 +1,29 @@
+// SPDX-License-Identifier: MIT
+#include "core/mesh/hex_quality.h"
+
+#include <algorithm>
+
+#include <Eigen/LU>
+
+namespace volspline::mesh {
+
+double scaled_jacobian(const Eigen::Matrix3d& jacobian) {
+  const double norms = jacobian.col(0).norm() * jacobian.col(1).norm() * jacobian.col(2).norm();
+  return norms > 0.0 ? jacobian.determinant() / norms : -1.0;
+}
+
+double hex_min_scaled_jacobian(const std::array<Eigen::Vector3d, 8>& x) {
+  double worst = 1.0;
+  for (int c = 0; c < 8; ++c) {
+    Eigen::Matrix3d edges;
+    for (int a = 0; a < 3; ++a) {
+      const int other = c ^ (1 << a);
+      // Edge vectors point along +axis so that an unfolded hex has det > 0 at every corner.
+      edges.col(a) = ((c >> a) & 1) ? Eigen::Vector3d(x[c] - x[other]) : Eigen::Vector3d(x[other] - x[c]);
+    }
+    worst = std::min(worst, scaled_jacobian(edges));
+  }
+  return worst;
+}
+
+}  // namespace volspline::mesh
