@@ -15,4 +15,10 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/vtu_writer.cpp
   ${CMAKE_CURRENT_LIST_DIR}/glb_lines_writer.cpp
   ${CMAKE_CURRENT_LIST_DIR}/volume_io.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/volume_header_text.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/volume_data.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/raw_volume_format.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/nrrd_format.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/vtk_volume_format.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/metaimage_format.cpp
 )

@@ -1,0 +1,90 @@
+// SPDX-License-Identifier: MIT
+#include "core/io/metaimage_format.h"
+
+#include <cstdint>
+#include <vector>
+
+#include "core/common/error.h"
+#include "core/io/volume_header_text.h"
+
+namespace volspline::io {
+
+using namespace volume_text;
+using volume_data::DataLayout;
+using volume_data::Encoding;
+using volume::SampleType;
+
+namespace {
+
+SampleType met_type(const std::string& text, const std::string& name) {
+  const std::string t = trim(text);
+  if (t == "MET_UCHAR") return SampleType::UInt8;
+  if (t == "MET_CHAR") return SampleType::Int8;
+  if (t == "MET_USHORT") return SampleType::UInt16;
+  if (t == "MET_SHORT") return SampleType::Int16;
+  if (t == "MET_UINT") return SampleType::UInt32;
+  if (t == "MET_INT") return SampleType::Int32;
+  if (t == "MET_FLOAT") return SampleType::Float32;
+  if (t == "MET_DOUBLE") return SampleType::Float64;
+  throw Error(name + ": unsupported sample type '" + t + "'");
+}
+
+bool met_bool(const std::string& text, const std::string& name, const std::string& key) {
+  const std::string t = lower(trim(text));
+  if (t == "true" || t == "1") return true;
+  if (t == "false" || t == "0") return false;
+  throw Error(name + ": bad " + key + " '" + trim(text) + "'");
+}
+
+}  // namespace
+
+DataLayout parse_metaimage_header(const std::string& bytes, const std::string& name) {
+  DataLayout layout;
+  std::size_t pos = 0;
+  std::string line;
+  bool has_dims = false, has_type = false, has_data_file = false, has_ndims = false;
+  while (next_line(bytes, pos, line)) {
+    if (trim(line).empty()) continue;
+    const std::size_t equals = line.find('=');
+    if (equals == std::string::npos) throw Error(name + ": bad MetaImage header line '" + line + "'");
+    const std::string key = trim(line.substr(0, equals));
+    const std::string value = trim(line.substr(equals + 1));
+    if (key == "NDims") {
+      if (parse_integer(value, name, "NDims") != 3) throw Error(name + ": only 3-dimensional MetaImage volumes are supported, got NDims " + value);
+      has_ndims = true;
+    } else if (key == "DimSize") {
+      layout.raw.dims = parse_dims(split_words(value), name, "DimSize");
+      has_dims = true;
+    } else if (key == "ElementType") {
+      layout.raw.type = met_type(value, name);
+      has_type = true;
+    } else if (key == "ElementSpacing" || (key == "ElementSize" && layout.spacing == Eigen::Vector3d::Ones())) {
+      layout.spacing = parse_spacing(split_words(value), name, key);
+    } else if (key == "ElementByteOrderMSB" || key == "BinaryDataByteOrderMSB") {
+      layout.raw.big_endian = met_bool(value, name, key);
+    } else if (key == "BinaryData") {
+      if (!met_bool(value, name, key)) throw Error(name + ": ASCII MetaImage data is not supported");
+    } else if (key == "CompressedData") {
+      if (met_bool(value, name, key)) throw Error(name + ": compressed MetaImage data is not supported");
+    } else if (key == "ElementNumberOfChannels") {
+      if (parse_integer(value, name, key) != 1) throw Error(name + ": only 1-channel MetaImage volumes are supported");
+    } else if (key == "HeaderSize") {
+      layout.byte_skip = parse_integer(value, name, key);
+      if (layout.byte_skip < -1) throw Error(name + ": bad HeaderSize " + value);
+    } else if (key == "ElementDataFile") {
+      if (value == "LIST" || value.find('%') != std::string::npos)
+        throw Error(name + ": multi-file data ('" + value + "') is not supported");
+      if (value != "LOCAL") layout.data_file = value;
+      has_data_file = true;
+      break;  // ElementDataFile is the last header field; LOCAL data follows
+    }
+  }
+  if (!has_ndims) throw Error(name + ": MetaImage header has no NDims");
+  if (!has_dims) throw Error(name + ": MetaImage header has no DimSize");
+  if (!has_type) throw Error(name + ": MetaImage header has no ElementType");
+  if (!has_data_file) throw Error(name + ": MetaImage header has no ElementDataFile");
+  layout.data_offset = pos;
+  return layout;
+}
+
+}  // namespace volspline::io
