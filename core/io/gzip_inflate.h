@@ -6,9 +6,13 @@
 
 namespace volspline::io {
 
-/// True when this build can inflate gzip data (native builds with Debian's zlib; the WebAssembly
-/// build has no zlib, as emscripten's zlib port would have to be downloaded).
+/// True: every build inflates gzip and zlib data (native builds with Debian's zlib; the WebAssembly
+/// build with stb_image's inflate, as Debian's emscripten 3.1.6 cannot fetch its zlib port offline).
 bool gzip_available();
+
+/// The decompressed size a gzip stream's trailer states (ISIZE, the size modulo 2^32; a single
+/// member). Throws volspline::Error naming `name` if the data is not gzip.
+std::size_t gzip_stated_size(const char* data, std::size_t size, const std::string& name);
 
 /// Inflates gzip (or zlib) data that must decompress to exactly `expected` bytes. Throws
 /// volspline::Error naming `name` on corrupt, truncated or oversized data, and before allocating
