@@ -94,11 +94,12 @@ void append_points(std::string& out, const volume::Volume& v) {
   for (int z = 0; z < v.nz; ++z)
     for (int y = 0; y < v.ny; ++y)
       for (int x = 0; x < v.nx; ++x) {
-        append_number(out, x * v.spacing.x());
+        const Eigen::Vector3d p = v.voxel_position(x, y, z);
+        append_number(out, p.x());
         out += ' ';
-        append_number(out, y * v.spacing.y());
+        append_number(out, p.y());
         out += ' ';
-        append_number(out, z * v.spacing.z());
+        append_number(out, p.z());
         out += '\n';
       }
   out += "</DataArray>\n</Points>\n";
@@ -169,11 +170,14 @@ std::string frames_vtu(const volume::Volume& v, const volume::FrameField& field)
   for (int axis = 0; axis < 3; ++axis) {
     out += "<DataArray type=\"Float64\" Name=\"f" + std::to_string(axis) + "\" NumberOfComponents=\"3\" format=\"ascii\">\n";
     for (const auto& frame : field.frames) {
-      append_number(out, frame(axis, 0));
+      // Frame axes are rows in grid axes; the file's direction turns them into world vectors.
+      const Eigen::Vector3d row = frame.row(axis).transpose();
+      const Eigen::Vector3d f = v.world_is_grid() ? row : Eigen::Vector3d(v.direction * row);
+      append_number(out, f.x());
       out += ' ';
-      append_number(out, frame(axis, 1));
+      append_number(out, f.y());
       out += ' ';
-      append_number(out, frame(axis, 2));
+      append_number(out, f.z());
       out += '\n';
     }
     out += "</DataArray>\n";

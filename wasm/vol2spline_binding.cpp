@@ -39,6 +39,12 @@ volume::Volume volume_from_js(const val& v, const std::string& name) {
   const val spacing = v["spacing"];
   if (spacing.isArray() && spacing["length"].as<int>() == 3)
     for (int k = 0; k < 3; ++k) out.spacing[k] = spacing[k].as<double>();
+  const val origin = v["origin"];
+  if (origin.isArray() && origin["length"].as<int>() == 3)
+    for (int k = 0; k < 3; ++k) out.origin[k] = origin[k].as<double>();
+  const val direction = v["direction"];  // column-major: axis a's direction is [3a, 3a + 3)
+  if (direction.isArray() && direction["length"].as<int>() == 9)
+    for (int k = 0; k < 9; ++k) out.direction(k % 3, k / 3) = direction[k].as<double>();
   const val samples = v["samples"];
   if (samples.isUndefined() || samples.isNull() || !samples.instanceof(val::global("Float32Array")))
     throw Error(name + ": 'samples' must be a Float32Array");

@@ -9,7 +9,8 @@ namespace volspline::wasm {
 
 /// JS: vol2spline(volume, name, options, progress) -> {ok:true, stats, reconstruction,
 /// spline_json} or {ok:false, message}.
-///   volume   {nx, ny, nz, spacing?: [x,y,z], samples: Float32Array (x fastest)}, as loadVolume
+///   volume   {nx, ny, nz, spacing?: [x,y,z], origin?: [x,y,z], direction?: [9], samples: Float32Array
+///            (x fastest)}, as loadVolume
 ///            returns it;
 ///   options  plain object, every key optional (pipeline::Vol2SplineOptions): max_rms_rel,
 ///            max_control_points, max_levels, initial_cells, param ('identity'|'aligned'),

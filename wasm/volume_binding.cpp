@@ -55,6 +55,12 @@ val load_volume(const val& bytes, const std::string& name, const val& layout) {
     val spacing = val::array();
     for (int k = 0; k < 3; ++k) spacing.call<void>("push", v.spacing[k]);
     out.set("spacing", spacing);
+    val origin = val::array();
+    for (int k = 0; k < 3; ++k) origin.call<void>("push", v.origin[k]);
+    out.set("origin", origin);
+    val direction = val::array();  // column-major: axis a's direction is [3a, 3a + 3)
+    for (int k = 0; k < 9; ++k) direction.call<void>("push", v.direction(k % 3, k / 3));
+    out.set("direction", direction);
     out.set("type", volume::sample_type_name(v.original_type));
     const auto [lo, hi] = std::minmax_element(v.samples.begin(), v.samples.end());
     out.set("min", v.samples.empty() ? 0.0 : static_cast<double>(*lo));

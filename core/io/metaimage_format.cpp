@@ -43,6 +43,7 @@ DataLayout parse_metaimage_header(const std::string& bytes, const std::string& n
   std::size_t pos = 0;
   std::string line;
   bool has_dims = false, has_type = false, has_data_file = false, has_ndims = false;
+  Eigen::Matrix3d direction = Eigen::Matrix3d::Identity();
   while (next_line(bytes, pos, line)) {
     if (trim(line).empty()) continue;
     const std::size_t equals = line.find('=');
@@ -65,7 +66,18 @@ DataLayout parse_metaimage_header(const std::string& bytes, const std::string& n
     } else if (key == "BinaryData") {
       if (!met_bool(value, name, key)) throw Error(name + ": ASCII MetaImage data is not supported");
     } else if (key == "CompressedData") {
-      if (met_bool(value, name, key)) throw Error(name + ": compressed MetaImage data is not supported");
+      // zlib data (VTK's and ITK's default .zraw); its size follows from DimSize and ElementType.
+      if (met_bool(value, name, key)) layout.encoding = Encoding::Gzip;
+    } else if (key == "Offset" || key == "Position" || key == "Origin") {
+      const auto words = split_words(value);
+      if (words.size() != 3) throw Error(name + ": " + key + " needs 3 values, got " + std::to_string(words.size()));
+      for (int k = 0; k < 3; ++k) layout.origin[k] = parse_real(words[k], name, key);
+    } else if (key == "TransformMatrix" || key == "Rotation" || key == "Orientation") {
+      // MetaIO lists axis a's direction as values 3a..3a+2 (ITK's MetaImageIO writes them so).
+      const auto words = split_words(value);
+      if (words.size() != 9) throw Error(name + ": " + key + " needs 9 values, got " + std::to_string(words.size()));
+      for (int a = 0; a < 3; ++a)
+        for (int k = 0; k < 3; ++k) direction(k, a) = parse_real(words[3 * a + k], name, key);
     } else if (key == "ElementNumberOfChannels") {
       if (parse_integer(value, name, key) != 1) throw Error(name + ": only 1-channel MetaImage volumes are supported");
     } else if (key == "HeaderSize") {
@@ -80,9 +92,12 @@ DataLayout parse_metaimage_header(const std::string& bytes, const std::string& n
     }
   }
   if (!has_ndims) throw Error(name + ": MetaImage header has no NDims");
+  volume_data::set_axes_from_steps(layout, direction * layout.spacing.asDiagonal(), name, "TransformMatrix");
   if (!has_dims) throw Error(name + ": MetaImage header has no DimSize");
   if (!has_type) throw Error(name + ": MetaImage header has no ElementType");
   if (!has_data_file) throw Error(name + ": MetaImage header has no ElementDataFile");
+  if (layout.encoding == Encoding::Gzip && layout.byte_skip != 0)
+    throw Error(name + ": HeaderSize with CompressedData is not supported");
   layout.data_offset = pos;
   return layout;
 }

@@ -33,6 +33,13 @@ SampleType nrrd_type(const std::string& text, const std::string& name) {
   throw Error(name + ": unsupported sample type '" + trim(text) + "'");
 }
 
+// "(a,b,c) (d,e,f)" with the brackets and commas as spaces.
+std::string without_vector_marks(std::string text) {
+  for (char& c : text)
+    if (c == '(' || c == ')' || c == ',') c = ' ';
+  return text;
+}
+
 }  // namespace
 
 DataLayout parse_nrrd_header(const std::string& bytes, const std::string& name) {
@@ -87,18 +94,20 @@ DataLayout parse_nrrd_header(const std::string& bytes, const std::string& name) 
     } else if (field == "spacings") {
       layout.spacing = parse_spacing(split_words(value), name, "spacings");
     } else if (field == "space directions") {
-      // Axis spacing is the length of each direction vector "(a,b,c)".
-      std::string cleaned = value;
-      for (char& c : cleaned)
-        if (c == '(' || c == ')' || c == ',') c = ' ';
-      const auto words = split_words(cleaned);
+      // Each axis's world step "(a,b,c)": its length is the spacing, its direction the axis's
+      // direction in the header's space (kept as written: LPS stays LPS, RAS stays RAS).
+      const auto words = split_words(without_vector_marks(value));
       if (words.size() != 9) throw Error(name + ": space directions needs 3 vectors of 3 values");
+      Eigen::Matrix3d steps;
       for (int a = 0; a < 3; ++a) {
-        Eigen::Vector3d direction;
-        for (int k = 0; k < 3; ++k) direction[k] = parse_real(words[3 * a + k], name, "space directions");
-        if (!(direction.norm() > 0)) throw Error(name + ": space direction " + std::to_string(a) + " has zero length");
-        layout.spacing[a] = direction.norm();
+        for (int k = 0; k < 3; ++k) steps(k, a) = parse_real(words[3 * a + k], name, "space directions");
+        if (!(steps.col(a).norm() > 0)) throw Error(name + ": space direction " + std::to_string(a) + " has zero length");
       }
+      volume_data::set_axes_from_steps(layout, steps, name, "space directions");
+    } else if (field == "space origin") {
+      const auto words = split_words(without_vector_marks(value));
+      if (words.size() != 3) throw Error(name + ": space origin needs 3 values");
+      for (int k = 0; k < 3; ++k) layout.origin[k] = parse_real(words[k], name, "space origin");
     } else if (field == "byte skip") {
       layout.byte_skip = parse_integer(value, name, "byte skip");
       if (layout.byte_skip < -1) throw Error(name + ": bad byte skip " + value);

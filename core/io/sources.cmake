@@ -21,4 +21,6 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/nrrd_format.cpp
   ${CMAKE_CURRENT_LIST_DIR}/vtk_volume_format.cpp
   ${CMAKE_CURRENT_LIST_DIR}/metaimage_format.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/vti_format.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/nifti_format.cpp
 )

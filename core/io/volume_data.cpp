@@ -120,7 +120,10 @@ Volume decode_binary(const char* data, std::size_t size, const RawVolumeLayout& 
   return volume;
 }
 
-Volume decode_data(const std::string& bytes, std::size_t begin, const DataLayout& layout, const std::string& name) {
+namespace {
+
+// The samples as stored, after the layout's skips and encoding.
+Volume decode_samples(const std::string& bytes, std::size_t begin, const DataLayout& layout, const std::string& name) {
   std::size_t pos = begin;
   std::string line;
   for (long long i = 0; i < layout.line_skip; ++i)
@@ -147,6 +150,34 @@ Volume decode_data(const std::string& bytes, std::size_t begin, const DataLayout
     pos += static_cast<std::size_t>(layout.byte_skip);
   }
   return decode_binary(bytes.data() + pos, bytes.size() - pos, layout.raw, layout.spacing, false, name);
+}
+
+}  // namespace
+
+void set_axes_from_steps(DataLayout& layout, const Eigen::Matrix3d& steps, const std::string& name, const std::string& what) {
+  for (int a = 0; a < 3; ++a) {
+    const double length = steps.col(a).norm();
+    if (!(length > 0) || !std::isfinite(length))
+      throw Error(name + ": " + what + " axis " + std::to_string(a) + " has zero length");
+    layout.spacing[a] = length;
+    layout.direction.col(a) = steps.col(a) / length;
+  }
+  if (!(std::abs(layout.direction.determinant()) > 1e-6))
+    throw Error(name + ": " + what + " axes are linearly dependent");
+}
+
+Volume decode_data(const std::string& bytes, std::size_t begin, const DataLayout& layout, const std::string& name) {
+  Volume volume = decode_samples(bytes, begin, layout, name);
+  volume.origin = layout.origin;
+  volume.direction = layout.direction;
+  if (layout.value_scale != 1 || layout.value_offset != 0 || layout.round_values) {
+    for (float& x : volume.samples) {
+      const double value = layout.value_scale * x + layout.value_offset;
+      x = static_cast<float>(layout.round_values ? std::round(value) : value);
+    }
+    check_finite(volume, name);
+  }
+  return volume;
 }
 
 }  // namespace volspline::io::volume_data

@@ -26,7 +26,17 @@ struct DataLayout {
   std::size_t data_offset = 0;    ///< attached data: offset of the first data byte
   long long byte_skip = 0;        ///< -1: the data is the last bytes of its file
   long long line_skip = 0;        ///< lines to skip in the data file before byte_skip
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();         ///< world position of voxel (0, 0, 0)
+  Eigen::Matrix3d direction = Eigen::Matrix3d::Identity();  ///< column a: unit world direction of axis a
+  double value_scale = 1;         ///< stored value v means value_scale * v + value_offset
+  double value_offset = 0;
+  bool round_values = false;      ///< round the scaled values (ASCII colour scalars in [0, 1] back to 0..255)
 };
+
+/// Splits a world matrix whose column a is axis a's step (direction × spacing) into unit
+/// directions and positive spacings. Throws volspline::Error naming `name` and `what` if a column
+/// is zero or the columns are linearly dependent.
+void set_axes_from_steps(DataLayout& layout, const Eigen::Matrix3d& steps, const std::string& name, const std::string& what);
 
 /// nx * ny * nz; throws volspline::Error naming `name` if a size is not positive or the volume
 /// has more than 2^31 voxels (checked before anything is allocated).

@@ -4,8 +4,10 @@
 #include "core/common/error.h"
 #include "core/io/file_bytes.h"
 #include "core/io/metaimage_format.h"
+#include "core/io/nifti_format.h"
 #include "core/io/nrrd_format.h"
 #include "core/io/volume_data.h"
+#include "core/io/vti_format.h"
 #include "core/io/vtk_volume_format.h"
 
 namespace volspline::io {
@@ -20,7 +22,9 @@ DataLayout parse_header(const std::string& bytes, VolumeFormat format, const std
     case VolumeFormat::Nrrd: return parse_nrrd_header(bytes, name);
     case VolumeFormat::Vtk: return parse_vtk_volume_header(bytes, name);
     case VolumeFormat::MetaImage: return parse_metaimage_header(bytes, name);
-    case VolumeFormat::Raw: break;
+    case VolumeFormat::Raw:
+    case VolumeFormat::Vti:
+    case VolumeFormat::Nifti: break;
   }
   throw Error(name + ": raw volumes need dims and type (use parse_raw_volume)");
 }
@@ -40,10 +44,15 @@ VolumeFormat volume_format_from_path(const std::string& path) {
   if (ext == "nrrd" || ext == "nhdr") return VolumeFormat::Nrrd;
   if (ext == "vtk") return VolumeFormat::Vtk;
   if (ext == "mhd" || ext == "mha") return VolumeFormat::MetaImage;
+  if (ext == "vti") return VolumeFormat::Vti;
+  if (ext == "nii") return VolumeFormat::Nifti;
+  if (ext == "gz" && path.size() >= 7 && file_extension(path.substr(0, path.size() - 3)) == "nii") return VolumeFormat::Nifti;
   throw Error(path + ": unknown volume file extension '" + ext + "'");
 }
 
 volume::Volume parse_volume(const std::string& bytes, VolumeFormat format, const std::string& name) {
+  if (format == VolumeFormat::Vti) return parse_vti(bytes, name);
+  if (format == VolumeFormat::Nifti) return parse_nifti(bytes, name);
   const volume_data::DataLayout layout = parse_header(bytes, format, name);
   if (!layout.data_file.empty())
     throw Error(name + ": data is in the detached file '" + layout.data_file + "'; read it with read_volume");

@@ -11,21 +11,25 @@
 namespace volspline::io {
 
 /// Volume file formats that volspline reads.
-enum class VolumeFormat { Raw, Nrrd, Vtk, MetaImage };
+enum class VolumeFormat { Raw, Nrrd, Vtk, MetaImage, Vti, Nifti };
 
 /// Options of read_volume; only raw files use them.
 struct VolumeReadOptions {
   std::optional<RawVolumeLayout> raw_layout;  ///< if unset, raw files need a name like fuel_64x64x64_uint8.raw
 };
 
-/// Format from a file name's extension: raw, nrrd/nhdr, vtk, mhd/mha.
+/// Format from a file name's extension: raw, nrrd/nhdr, vtk, mhd/mha, vti, nii/nii.gz.
 /// Throws volspline::Error naming the path if the extension is unknown.
 VolumeFormat volume_format_from_path(const std::string& path);
 
-/// Decodes an NRRD (attached data), legacy VTK STRUCTURED_POINTS (ASCII or BINARY) or MetaImage
-/// .mha (ElementDataFile = LOCAL) held in memory. `name` is used in error messages.
+/// Decodes an NRRD (attached data), legacy VTK STRUCTURED_POINTS (ASCII or BINARY, SCALARS or
+/// COLOR_SCALARS), MetaImage .mha (ElementDataFile = LOCAL, raw or zlib), VTK XML ImageData .vti
+/// or NIfTI-1 .nii/.nii.gz held in memory, with the file's origin and axis directions (NRRD
+/// space origin / space directions, VTK ORIGIN, MetaImage Offset / TransformMatrix, VTI Origin /
+/// Direction, NIfTI sform / qform) in Volume::origin and Volume::direction. `name` is used in
+/// error messages.
 /// Throws volspline::Error naming `name` and the problem on: bad magic, missing or bad header
-/// fields, dimension other than 3, unsupported type or encoding ("gzip encoding not supported"),
+/// fields, dimension other than 3, unsupported type or encoding,
 /// detached data (use read_volume), truncated or oversized data, non-finite samples.
 volume::Volume parse_volume(const std::string& bytes, VolumeFormat format, const std::string& name);
 

@@ -67,7 +67,8 @@ DataLayout parse_vtk_volume_header(const std::string& bytes, const std::string& 
     } else if (keyword == "spacing" || keyword == "aspect_ratio") {
       layout.spacing = parse_spacing(args, name, "SPACING");
     } else if (keyword == "origin") {
-      continue;  // the origin does not affect samples or derivatives
+      if (args.size() != 3) throw Error(name + ": ORIGIN needs 3 values, got " + std::to_string(args.size()));
+      for (int k = 0; k < 3; ++k) layout.origin[k] = parse_real(args[k], name, "ORIGIN");
     } else if (keyword == "point_data") {
       if (args.size() != 1) throw Error(name + ": bad POINT_DATA line '" + trim(line) + "'");
       point_count = parse_integer(args[0], name, "POINT_DATA count");
@@ -78,6 +79,20 @@ DataLayout parse_vtk_volume_header(const std::string& bytes, const std::string& 
       if (args.size() == 3 && parse_integer(args[2], name, "SCALARS component count") != 1)
         throw Error(name + ": only 1-component SCALARS are supported");
       has_scalars = true;
+    } else if (keyword == "color_scalars") {
+      // VTK writes every unsigned-char array as colour scalars: bytes in BINARY files, the bytes
+      // divided by 255 in ASCII ones (vtkDataWriter), so ASCII values are scaled back and rounded.
+      if (point_count < 0) throw Error(name + ": COLOR_SCALARS before POINT_DATA");
+      if (args.size() != 2) throw Error(name + ": bad COLOR_SCALARS line '" + trim(line) + "'");
+      if (parse_integer(args[1], name, "COLOR_SCALARS component count") != 1)
+        throw Error(name + ": only 1-component COLOR_SCALARS are supported");
+      layout.raw.type = SampleType::UInt8;
+      if (layout.encoding == Encoding::Ascii) {
+        layout.value_scale = 255;
+        layout.round_values = true;
+      }
+      has_scalars = true;
+      break;  // the data follows: COLOR_SCALARS have no LOOKUP_TABLE line
     } else if (keyword == "lookup_table") {
       if (!has_scalars) throw Error(name + ": LOOKUP_TABLE before SCALARS");
       break;

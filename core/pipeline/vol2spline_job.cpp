@@ -195,6 +195,15 @@ Vol2SplineResult run_vol2spline(const volume::Volume& volume, const std::string&
   stats.stop_reason = spline::fit_stop_reason_name(stop);
   stats.curve = curve;
   stats.min_scaled_jacobian = spline_min_scaled_jacobian(result_spline);
+  // Eq. 5.11's X, Y, Z in the file's world: an affine map of the control points is the same map of
+  // the spline (its basis sums to 1). Applied after the measures: a mirrored frame (det < 0, as
+  // LPS files have) would flip the Jacobian's sign without folding anything.
+  if (!volume.world_is_grid()) {
+    Eigen::MatrixXd points = result_spline.points();
+    for (Eigen::Index i = 0; i < points.rows(); ++i)
+      points.row(i).head<3>() = volume.world_from_grid(points.row(i).head<3>().transpose()).transpose();
+    result_spline.set_points(std::move(points));
+  }
   timer.lap("measures");
   progress.report("fit", 1.0);
   return {std::move(result_spline), std::move(stats), std::move(reconstruction), std::move(smoothed), std::move(uvw)};

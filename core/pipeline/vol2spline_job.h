@@ -65,8 +65,8 @@ struct Vol2SplineStats {
 
 /// Result of the vol2spline job.
 struct Vol2SplineResult {
-  /// Semi-standard T-spline F(u, v, w) = (X, Y, Z, density) (Eq. 5.11, D = 4); X, Y, Z in
-  /// physical units (voxel index × spacing). Domain: [0, n_a − 1] (identity) or [0, 1]³ (aligned).
+  /// Semi-standard T-spline F(u, v, w) = (X, Y, Z, density) (Eq. 5.11, D = 4); X, Y, Z in the
+  /// volume's world (Volume::voxel_position: origin + direction · (voxel index × spacing)). Domain: [0, n_a − 1] (identity) or [0, 1]³ (aligned).
   spline::TSpline spline;
   Vol2SplineStats stats;
   std::vector<double> reconstruction;  ///< F_density at every voxel (x fastest)

@@ -12,5 +12,6 @@ set(TEST_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/vtu_writer_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/glb_lines_writer_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/volume_io_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/vtk_written_volumes_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/gzip_inflate_test.cpp
 )

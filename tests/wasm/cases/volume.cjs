@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 // loadVolume(bytes, name, layout): raw volumes with dims from the name or from a layout object,
-// NRRD with attached data; {ok:false, message} naming the file for bad input.
+// NRRD with attached data (raw, gzip), VTK-written legacy VTK, MetaImage, VTI and NIfTI files with
+// their origin and direction; {ok:false, message} naming the file for bad input.
 'use strict';
-module.exports = function (vs, { check, dataDir, fs, path }) {
+module.exports = function (vs, { check, dataDir, sourceDir, fs, path }) {
   const text = (s) => new TextEncoder().encode(s);
   // 4×3×2 uint8 ramp: sample (x, y, z) = x + 4y + 12z.
   const ramp = new Uint8Array(24).map((_, i) => i);
@@ -21,6 +22,27 @@ module.exports = function (vs, { check, dataDir, fs, path }) {
   const nrrd = new Uint8Array([...text(header), ...ramp]);
   const n = vs.loadVolume(nrrd, 'ramp.nrrd', null);
   check(n.ok && n.nx === 4 && n.nz === 2 && n.samples[23] === 23 && n.spacing.join() === '1,2,3', 'NRRD with attached data: ' + n.message);
+
+  // gzip NRRD in the browser build (stb's inflate, checksum checked), made with node's zlib.
+  const gz = require('zlib').gzipSync(Buffer.from(ramp));
+  const gzNrrd = vs.loadVolume(new Uint8Array([...text(header.replace('encoding: raw', 'encoding: gzip')), ...gz]), 'ramp.nrrd', null);
+  check(gzNrrd.ok && gzNrrd.samples[23] === 23, 'gzip NRRD: ' + gzNrrd.message);
+  const badGz = Buffer.from(gz); badGz[badGz.length - 6] ^= 0xff;  // corrupt the CRC32
+  const corrupt = vs.loadVolume(new Uint8Array([...text(header.replace('encoding: raw', 'encoding: gzip')), ...badGz]), 'bad.nrrd', null);
+  check(!corrupt.ok && /bad\.nrrd.*(corrupt|checksum)/.test(corrupt.message), 'corrupt gzip NRRD: ' + JSON.stringify(corrupt.message));
+
+  // Files written by VTK 9.1 (tests/data/volumes): samples 0..59, origin (10, -20, 30).
+  const volumes = path.join(sourceDir || '', 'tests/data/volumes');
+  if (sourceDir && fs.existsSync(volumes)) {
+    for (const [file, dir] of [['u8_bin.vtk', [1, 0, 0, 0, 1, 0, 0, 0, 1]], ['u8_ascii.vtk', [1, 0, 0, 0, 1, 0, 0, 0, 1]],
+                               ['u8.mha', [1, 0, 0, 0, 1, 0, 0, 0, 1]], ['d_binary_z.vti', [-1, 0, 0, 0, -1, 0, 0, 0, 1]],
+                               ['d_appended_b64.vti', [-1, 0, 0, 0, -1, 0, 0, 0, 1]], ['n.nii.gz', [1, 0, 0, 0, 1, 0, 0, 0, 1]]]) {
+      const v = vs.loadVolume(new Uint8Array(fs.readFileSync(path.join(volumes, file))), file, null);
+      const samplesOk = v.ok && v.samples.length === 60 && v.samples.every((x, i) => x === i);
+      check(samplesOk && v.origin.join() === '10,-20,30' && v.direction.join() === dir.join() && v.spacing.join() === '0.5,0.25,2',
+            `VTK-written ${file}: ${v.ok ? `origin ${v.origin}, direction ${v.direction}` : v.message}`);
+    }
+  }
 
   const bucky = path.join(dataDir || '', 'volumes/bucky_32x32x32_uint8.raw');
   if (dataDir && fs.existsSync(bucky)) {
