@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: MIT
 #include "core/io/gltf_format.h"
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -181,19 +183,32 @@ void append_mesh(const tinygltf::Model& model, int mesh_id, const Eigen::Matrix4
     const std::int64_t first = builder.num_vertices();
     if (static_cast<std::int64_t>(num_vertices) > kMaxMeshElements - first)
       throw Error(where + ": too many vertices in total");
+    // Non-indexed primitives (three.js, flat-shaded Blender exports) repeat every shared corner:
+    // exactly coincident positions are welded into one vertex, as STL's are.
+    const bool weld = primitive.indices < 0;
+    std::map<std::array<double, 3>, int> welded;
+    std::vector<int> vertex_id(num_vertices);
     for (std::size_t v = 0; v < num_vertices; ++v) {
       const Eigen::Vector4d local(positions.value(v, 0), positions.value(v, 1), positions.value(v, 2), 1.0);
       const Eigen::Vector3d xyz = (world * local).head<3>();
       if (!xyz.allFinite())
         throw Error(where + ": vertex " + std::to_string(v) + " has a NaN or infinite coordinate");
+      const int next = static_cast<int>(builder.num_vertices());
+      if (weld) {
+        const auto [it, inserted] = welded.emplace(std::array<double, 3>{xyz.x(), xyz.y(), xyz.z()}, next);
+        vertex_id[v] = it->second;
+        if (!inserted) continue;
+      } else {
+        vertex_id[v] = next;
+      }
       builder.add_vertex(xyz.x(), xyz.y(), xyz.z());
     }
     // A mirroring transform turns triangles inside out; swap two corners to keep them outward.
     const bool flip = world.topLeftCorner<3, 3>().determinant() < 0;
     auto add = [&](std::size_t a, std::size_t b, std::size_t c) {
-      const int ia = static_cast<int>(first + static_cast<std::int64_t>(a));
-      const int ib = static_cast<int>(first + static_cast<std::int64_t>(b));
-      const int ic = static_cast<int>(first + static_cast<std::int64_t>(c));
+      const int ia = vertex_id[a];
+      const int ib = vertex_id[b];
+      const int ic = vertex_id[c];
       if (flip)
         builder.add_triangle(ia, ic, ib);
       else
@@ -223,12 +238,41 @@ void append_mesh(const tinygltf::Model& model, int mesh_id, const Eigen::Matrix4
   }
 }
 
+// Draco and meshopt store the geometry in a compressed form that this reader does not decode;
+// without this check tinygltf fails later with "invalid bufferView" or "Invalid byteLength".
+void refuse_compressed_meshes(const std::string& bytes, const std::string& name) {
+  std::string json_text;
+  if (bytes.size() >= 20 && bytes.compare(0, 4, "glTF") == 0) {
+    std::uint32_t length = 0;
+    std::memcpy(&length, bytes.data() + 12, 4);
+    if (length > bytes.size() - 20) return;  // tinygltf names the broken chunk
+    json_text = bytes.substr(20, length);
+  } else {
+    json_text = bytes;
+  }
+  const auto json = nlohmann::json::parse(json_text, nullptr, false);
+  if (json.is_discarded() || !json.is_object()) return;
+  for (const char* list : {"extensionsRequired", "extensionsUsed"}) {
+    const auto it = json.find(list);
+    if (it == json.end() || !it->is_array()) continue;
+    for (const auto& extension : *it) {
+      if (!extension.is_string()) continue;
+      const std::string id = extension.get<std::string>();
+      if (id == "KHR_draco_mesh_compression" || id == "EXT_meshopt_compression" || id == "KHR_meshopt_compression")
+        throw Error(name + ": meshes compressed with " + id +
+                    " are not supported; write the file without mesh compression (e.g. gltf-pipeline without -d, "
+                    "gltfpack without -cc)");
+    }
+  }
+}
+
 }  // namespace
 
 mesh::TriangleMesh parse_gltf(const std::string& bytes, const std::string& name,
                               const std::optional<std::string>& base_dir) {
   if (bytes.empty()) throw Error(name + ": empty file");
   if (bytes.size() > std::numeric_limits<unsigned int>::max()) throw Error(name + ": file larger than 4 GB");
+  refuse_compressed_meshes(bytes, name);
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(skip_image, nullptr);
   std::string dir = base_dir.value_or("");

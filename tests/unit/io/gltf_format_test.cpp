@@ -8,6 +8,10 @@
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
 
+#include <map>
+
+#include "core/io/file_bytes.h"
+#include "core/io/mesh_io.h"
 #include "tests/unit/io/io_test_util.h"
 
 using namespace volspline::io;
@@ -121,4 +125,30 @@ TEST_CASE("gltf: errors name the file and problem") {
   CHECK(has(error_of([] { parse_gltf("", "e.gltf"); }), "e.gltf: empty file"));
   const std::string glb = serialize_glb(volspline::io::test::tetrahedron());
   CHECK(has(error_of([&] { parse_gltf(glb.substr(0, glb.size() - 8), "t.glb"); }), "t.glb: invalid glTF"));
+}
+
+TEST_CASE("gltf: a non-indexed primitive's coincident corners are welded into a closed mesh") {
+  const std::string dir = VOLSPLINE_SOURCE_DIR "/tests/data/meshes/";
+  const volspline::mesh::TriangleMesh tet = read_mesh(dir + "tetra_unindexed.gltf");
+  CHECK(tet.num_vertices() == 4);
+  CHECK(tet.num_faces() == 4);
+  // Every edge shared by exactly two triangles: the mesh is closed.
+  std::map<std::pair<int, int>, int> edges;
+  for (int f = 0; f < tet.num_faces(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = tet.triangles(f, k), b = tet.triangles(f, (k + 1) % 3);
+      ++edges[{std::min(a, b), std::max(a, b)}];
+    }
+  CHECK(edges.size() == 6);
+  for (const auto& [edge, count] : edges) CHECK(count == 2);
+}
+
+TEST_CASE("gltf: Draco and meshopt compressed meshes are refused naming the extension") {
+  const std::string dir = VOLSPLINE_SOURCE_DIR "/tests/data/meshes/";
+  CHECK(has(error_of([&] { read_mesh(dir + "draco_flagged.gltf"); }),
+                      "draco_flagged.gltf: meshes compressed with KHR_draco_mesh_compression are not supported"));
+  const std::string meshopt = read_file_bytes(dir + "tetra_unindexed.gltf");
+  const std::string flagged = "{\"extensionsUsed\":[\"EXT_meshopt_compression\"]," + meshopt.substr(1);
+  CHECK(has(error_of([&] { parse_gltf(flagged, "m.gltf"); }),
+                      "m.gltf: meshes compressed with EXT_meshopt_compression are not supported"));
 }
