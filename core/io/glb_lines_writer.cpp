@@ -38,6 +38,30 @@ void append_u32(std::string& out, std::uint32_t x) {
   for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((x >> (8 * i)) & 0xff));
 }
 
+// Unit vertex normals: the area-weighted mean of the adjacent triangles' normals (so smooth
+// shading follows the triangles' outward orientation); a vertex whose triangles all vanish gets
+// the mean normal of all triangles, or +z, so that every normal has unit length (glTF §3.7.2.1).
+std::vector<float> vertex_normals(const std::vector<float>& xyz, const std::vector<std::uint32_t>& index) {
+  const std::size_t n = xyz.size() / 3;
+  std::vector<Eigen::Vector3d> sum(n, Eigen::Vector3d::Zero());
+  Eigen::Vector3d total = Eigen::Vector3d::Zero();
+  auto point = [&](std::uint32_t v) { return Eigen::Vector3d(xyz[3 * v], xyz[3 * v + 1], xyz[3 * v + 2]); };
+  for (std::size_t t = 0; t + 2 < index.size(); t += 3) {
+    const Eigen::Vector3d a = point(index[t]), b = point(index[t + 1]), c = point(index[t + 2]);
+    const Eigen::Vector3d area = (b - a).cross(c - a);
+    for (int k = 0; k < 3; ++k) sum[index[t + k]] += area;
+    total += area;
+  }
+  const Eigen::Vector3d fallback = total.norm() > 0 ? Eigen::Vector3d(total.normalized()) : Eigen::Vector3d::UnitZ();
+  std::vector<float> out;
+  out.reserve(xyz.size());
+  for (const Eigen::Vector3d& s : sum) {
+    const Eigen::Vector3d normal = s.norm() > 1e-300 ? Eigen::Vector3d(s.normalized()) : fallback;
+    for (int d = 0; d < 3; ++d) out.push_back(static_cast<float>(normal(d)));
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string serialize_spline_glb(const spline::TSpline& spline, int samples, int lines) {
@@ -79,6 +103,7 @@ std::string serialize_spline_glb(const spline::TSpline& spline, int samples, int
           }
       }
   }
+  const std::vector<float> surface_normal = vertex_normals(surface_xyz, surface_index);
   auto bounds = [](const std::vector<float>& xyz, bool upper) {
     nlohmann::json out = nlohmann::json::array();
     for (int d = 0; d < 3; ++d) {
@@ -95,6 +120,8 @@ std::string serialize_spline_glb(const spline::TSpline& spline, int samples, int
   append_bytes(bin, surface_index);
   const std::size_t off_lines = bin.size();
   append_bytes(bin, line_xyz);
+  const std::size_t off_normal = bin.size();
+  append_bytes(bin, surface_normal);
 
   nlohmann::ordered_json gltf;
   gltf["asset"] = {{"version", "2.0"}, {"generator", "volspline"}};
@@ -107,19 +134,21 @@ std::string serialize_spline_glb(const spline::TSpline& spline, int samples, int
       {{"name", "iso_lines"},
        {"pbrMetallicRoughness", {{"baseColorFactor", {0.05, 0.05, 0.1, 1.0}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}}}};
   gltf["meshes"] = {{{"primitives",
-                      {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}, {"material", 0}, {"mode", 4}},
+                      {{{"attributes", {{"POSITION", 0}, {"NORMAL", 3}}}, {"indices", 1}, {"material", 0}, {"mode", 4}},
                        {{"attributes", {{"POSITION", 2}}}, {"material", 1}, {"mode", 1}}}}}};
   gltf["buffers"] = {{{"byteLength", bin.size()}}};
   gltf["bufferViews"] = {
       {{"buffer", 0}, {"byteOffset", off_surface}, {"byteLength", surface_xyz.size() * 4}, {"target", 34962}},
       {{"buffer", 0}, {"byteOffset", off_index}, {"byteLength", surface_index.size() * 4}, {"target", 34963}},
-      {{"buffer", 0}, {"byteOffset", off_lines}, {"byteLength", line_xyz.size() * 4}, {"target", 34962}}};
+      {{"buffer", 0}, {"byteOffset", off_lines}, {"byteLength", line_xyz.size() * 4}, {"target", 34962}},
+      {{"buffer", 0}, {"byteOffset", off_normal}, {"byteLength", surface_normal.size() * 4}, {"target", 34962}}};
   gltf["accessors"] = {
       {{"bufferView", 0}, {"componentType", 5126}, {"count", surface_xyz.size() / 3}, {"type", "VEC3"},
        {"min", bounds(surface_xyz, false)}, {"max", bounds(surface_xyz, true)}},
       {{"bufferView", 1}, {"componentType", 5125}, {"count", surface_index.size()}, {"type", "SCALAR"}},
       {{"bufferView", 2}, {"componentType", 5126}, {"count", line_xyz.size() / 3}, {"type", "VEC3"},
-       {"min", bounds(line_xyz, false)}, {"max", bounds(line_xyz, true)}}};
+       {"min", bounds(line_xyz, false)}, {"max", bounds(line_xyz, true)}},
+      {{"bufferView", 3}, {"componentType", 5126}, {"count", surface_normal.size() / 3}, {"type", "VEC3"}}};
   std::string json = gltf.dump();
   while (json.size() % 4) json.push_back(' ');
 

@@ -14,6 +14,7 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/spline_json.cpp
   ${CMAKE_CURRENT_LIST_DIR}/vtu_writer.cpp
   ${CMAKE_CURRENT_LIST_DIR}/glb_lines_writer.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/textured_glb_writer.cpp
   ${CMAKE_CURRENT_LIST_DIR}/volume_io.cpp
   ${CMAKE_CURRENT_LIST_DIR}/volume_header_text.cpp
   ${CMAKE_CURRENT_LIST_DIR}/volume_data.cpp
