@@ -11,6 +11,7 @@
 #include "core/io/file_bytes.h"
 #include "core/io/image_io.h"
 #include "core/io/mesh_io.h"
+#include "core/io/textured_glb_writer.h"
 #include "core/pipeline/lens_job.h"
 
 namespace volspline::cli {
@@ -55,7 +56,7 @@ int run_lens(const std::vector<std::string>& argv_in) {
       {"square-boundary", "", "pin only the image border (thesis boundary control); default pins the far context too"},
       {"band", "B", "free context band around each ROI, in ROI radii (default 0.75)"},
       {"method", "NAME", "metric | fisheye | bifocal | zoom (default metric)"},
-      {"mesh-out", "FILE", "flattened textured mesh, .obj (with texture coordinates) or .glb (geometry)"},
+      {"mesh-out", "FILE", "flattened textured mesh, .obj (with texture coordinates) or .glb (y up, UVs, the image embedded)"},
   };
   for (auto spec : common_job_options()) {
     if (spec.name == "threads") spec.help = "accepted for scripts; the lens runs on one thread";
@@ -112,11 +113,15 @@ int run_lens(const std::vector<std::string>& argv_in) {
     if (io::file_extension(mesh_out) == "obj") {
       io::write_file_atomic(mesh_out, textured_obj(result, input.image.width, input.image.height));
     } else {
-      mesh::TriangleMesh flat;
-      flat.positions = mesh::Positions::Zero(result.positions.rows(), 3);
-      flat.positions.leftCols<2>() = result.positions;
-      flat.triangles = result.triangles;
-      io::write_mesh(mesh_out, flat);
+      io::TexturedPlane plane;
+      plane.positions = result.positions;
+      plane.texture = result.texture;
+      plane.triangles = result.triangles;
+      plane.output_height = input.image.height;  // the output has the input's size
+      plane.texture_width = input.image.width;
+      plane.texture_height = input.image.height;
+      plane.texture_png = io::encode_png(input.image);
+      io::write_file_atomic(mesh_out, io::serialize_textured_glb(plane));
     }
   }
   const pipeline::LensStats& s = result.stats;
@@ -127,6 +132,7 @@ int run_lens(const std::vector<std::string>& argv_in) {
     j["magnification_requested"] = options.magnification;
     j["magnification_center"] = s.magnification_center;
     j["magnification_per_roi"] = s.magnification_per_roi;
+    j["magnification_limited"] = s.magnification_limited;
     j["distortion_sum"] = s.distortion_sum;
     j["distortion_max"] = s.distortion_max;
     j["distortion_sum_focus"] = s.distortion_sum_focus;
@@ -151,6 +157,9 @@ int run_lens(const std::vector<std::string>& argv_in) {
   if (!args.has("quiet"))
     std::fprintf(stderr, "lens: magnification %.3f, distortion max %.4f, %d flipped, %d iterations, %.1f ms\n",
                  s.magnification_center, s.distortion_max, s.flipped_triangles, s.iterations, s.ms_total);
+  if (s.magnification_limited)
+    std::fprintf(stderr, "lens: magnification %.2f asked, at most %.2f here without folding the image\n",
+                 s.magnification_requested, s.magnification_center);
   return 0;
 }
 

@@ -124,6 +124,8 @@ val stats_to_js(const pipeline::LensStats& s) {
   for (double m : s.magnification_per_roi) per_roi.call<void>("push", m);
   out.set("magnification_per_roi", per_roi);
   out.set("flipped_triangles", s.flipped_triangles);
+  out.set("magnification_requested", s.magnification_requested);
+  out.set("magnification_limited", s.magnification_limited);
   out.set("iterations", s.iterations);
   out.set("converged", s.converged);
   out.set("translated", s.translated);

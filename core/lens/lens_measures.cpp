@@ -62,6 +62,19 @@ ShapeDistortion measure_distortion(const Eigen::MatrixX2d& output, const Eigen::
   return d;
 }
 
+int count_flipped_triangles(const Eigen::MatrixX2d& output, const Eigen::MatrixX2d& texture,
+                            const mesh::Triangles& triangles) {
+  int flipped = 0;
+  for (int t = 0; t < triangles.rows(); ++t) {
+    const int a = triangles(t, 0), b = triangles(t, 1), c = triangles(t, 2);
+    const double tex = signed_area(texture, a, b, c);
+    if (tex == 0) continue;
+    const double out = signed_area(output, a, b, c);
+    if (tex > 0 ? out <= 0 : out >= 0) ++flipped;
+  }
+  return flipped;
+}
+
 double measure_magnification(const Eigen::MatrixX2d& output, const Eigen::MatrixX2d& texture,
                              const mesh::Triangles& triangles, const Eigen::Vector2d& centre, double radius) {
   double area_out = 0, area_tex = 0, nearest = std::numeric_limits<double>::infinity();

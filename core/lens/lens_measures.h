@@ -33,6 +33,13 @@ ShapeDistortion measure_distortion(const Eigen::MatrixX2d& output, const Eigen::
 ShapeDistortion measure_distortion(const Eigen::MatrixX2d& output, const Eigen::MatrixX2d& texture,
                                    const mesh::Triangles& triangles, const std::vector<char>& focus);
 
+/// Triangles (all of them, grid and ROI-adapted) that the output turns over relative to the
+/// texture: signed output area ≤ 0 where the texture area is > 0, or ≥ 0 where it is < 0. This is
+/// the count a viewer of the exported mesh (positions textured with texture) sees flipped.
+/// output, texture: n×2 pixels; triangles: m×3.
+int count_flipped_triangles(const Eigen::MatrixX2d& output, const Eigen::MatrixX2d& texture,
+                            const mesh::Triangles& triangles);
+
 /// Linear magnification around `centre` (texture space, pixels): sqrt(Σ output area / Σ texture
 /// area) over the triangles whose texture centroid lies within `radius` pixels of the centre
 /// (the nearest triangle if none does). Returns 0 if the selected texture area is zero.

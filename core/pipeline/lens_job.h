@@ -67,7 +67,11 @@ struct LensStats {
   double distortion_max_focus = 0;
   double magnification_center = 0; ///< measured, mean over the ROIs
   std::vector<double> magnification_per_roi;
-  int flipped_triangles = 0;       ///< output triangles with non-positive area (grid triangles)
+  double magnification_requested = 0;  ///< options.magnification
+  /// The metric lens stopped below the request (by more than 3 %): its fold-free guard allows at
+  /// most magnification_center here (a larger ROI, band or grid allows more).
+  bool magnification_limited = false;
+  int flipped_triangles = 0;       ///< exported triangles turned over against the texture (count_flipped_triangles)
   int iterations = 0;              ///< flattening iterations of the final run (0 for baselines)
   bool converged = true;
   bool translated = false;         ///< LensMode::Live answered by moving an earlier run's deformation (its stats)

@@ -35,6 +35,9 @@ double measure_radius(const lens::RoiField& roi) { return 0.15 * roi.inscribed_r
 
 // Grid resolution of the h0 search: coarse enough to be cheap, fine enough to resolve the centre.
 constexpr int kCalibrationGrid = 48;
+// A metric lens that measures more than this fraction below the request is reported as limited.
+constexpr double kLimitedTolRel = 0.03;
+
 // Final-grid magnification error (relative) above which the coarse h0 gets one secant correction.
 constexpr double kCalibrationTolRel = 0.03;
 
@@ -158,6 +161,10 @@ Deformation flatten_prepared(const PreparedMesh& p, bool built, const LensOption
   d.ms_iterations = flat.ms_iterations;
   return d;
 }
+
+// Flipped triangles of the whole exported mesh, grid and ROI-adapted triangles alike, measured
+// against the texture's orientation (lens_measures.h).
+int flipped(const Deformation& d) { return lens::count_flipped_triangles(d.positions, d.texture, d.triangles); }
 
 std::vector<double> magnifications(const Deformation& d, const std::vector<lens::RoiField>& rois) {
   std::vector<double> out;
@@ -371,11 +378,8 @@ LensResult LensSession::run(const LensInput& input, const LensOptions& options, 
         const auto measure_at = [&](int grid) {
           return [&, grid](double h) {
             const Deformation trial = run_metric(grid, h, quiet);
-            const int grid_vertices = static_cast<int>(trial.grid_triangles.maxCoeff()) + 1;
-            const lens::ShapeDistortion dist = lens::measure_distortion(
-                trial.positions.topRows(grid_vertices), trial.texture.topRows(grid_vertices), trial.grid_triangles);
             // A folding height counts as overshoot, so the search settles on the tallest clean lens.
-            return dist.flipped_triangles > 0 ? 4.0 * options.magnification : mean(magnifications(trial, rois));
+            return flipped(trial) > 0 ? 4.0 * options.magnification : mean(magnifications(trial, rois));
           };
         };
         // A 1-D secant on a coarse grid (3–5 cheap runs), not the whole pipeline at full size.
@@ -389,10 +393,7 @@ LensResult LensSession::run(const LensInput& input, const LensOptions& options, 
         Deformation out = run_metric(options.grid, h, progress);
         // Thesis §6.5 repairs rare fold-overs with [77]; we lower h0 until the flattening is fold-free.
         for (int attempt = 0; attempt < 6; ++attempt) {
-          const int grid_vertices = static_cast<int>(out.grid_triangles.maxCoeff()) + 1;
-          const lens::ShapeDistortion check = lens::measure_distortion(
-              out.positions.topRows(grid_vertices), out.texture.topRows(grid_vertices), out.grid_triangles);
-          if (check.flipped_triangles == 0) break;
+          if (flipped(out) == 0) break;
           h *= 0.8;
           out = run_metric(options.grid, h, progress);
         }
@@ -462,7 +463,12 @@ LensResult LensSession::run(const LensInput& input, const LensOptions& options, 
   s.distortion_max = distortion.max;
   s.distortion_sum_focus = distortion.sum_focus;
   s.distortion_max_focus = distortion.max_focus;
-  s.flipped_triangles = distortion.flipped_triangles;
+  s.flipped_triangles = flipped(d);
+  s.magnification_requested = options.magnification;
+  // The fold-free guard caps the lens height: a request above what this ROI, band and grid allow
+  // without a fold is answered with the largest fold-free lens, and said so.
+  s.magnification_limited = options.method == LensMethod::Metric && options.height <= 0 &&
+                            s.magnification_center < options.magnification * (1.0 - kLimitedTolRel);
   s.iterations = d.iterations;
   s.converged = d.converged;
   s.ms_mesh = d.ms_mesh;
