@@ -55,6 +55,7 @@ web_e2e() {
   emcmake cmake -S . -B build/wasm -DCMAKE_BUILD_TYPE=Release -DEigen3_DIR=/usr/share/eigen3/cmake >/dev/null &&
   cmake --build build/wasm -j"$JOBS" --target volspline_site &&
   (cd tests/e2e && npm ci --no-audit --no-fund) &&
+  { [ ! -x build/release/cli/volspline ] || node tests/e2e/validate_glb.cjs build/release/cli/volspline "$ROOT/../shared/data"; } &&
   node tests/e2e/run_e2e.cjs build/wasm/site --shared-data "$ROOT/../shared/data" --artifacts tests/artifacts
 }
 

@@ -68,6 +68,7 @@ volume::Volume read_volume(const std::string& path, const VolumeReadOptions& opt
       throw Error(path + ": raw volume needs --dims X,Y,Z and --type, or a name like volume_64x64x64_uint8.raw");
     return parse_raw_volume(read_file_bytes(path), *layout, path);
   }
+  if (format == VolumeFormat::Vti || format == VolumeFormat::Nifti) return parse_volume(read_file_bytes(path), format, path);
   const std::string bytes = read_file_bytes(path);
   const volume_data::DataLayout layout = parse_header(bytes, format, path);
   if (layout.data_file.empty()) return decode_data(bytes, layout.data_offset, layout, path);

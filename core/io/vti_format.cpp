@@ -48,11 +48,12 @@ bool next_tag(const std::string& xml, std::size_t& pos, Tag& tag, const std::str
     std::size_t p = open + 1;
     while (p < close && !std::isspace(static_cast<unsigned char>(xml[p])) && xml[p] != '/' && xml[p] != '>') ++p;
     if (xml[open + 1] == '/') {
-      tag.name = "/" + xml.substr(open + 2, close - open - 2);
-      tag.name = trim(tag.name);
-    } else {
-      tag.name = xml.substr(open + 1, p - open - 1);
+      tag.name = "/" + trim(xml.substr(open + 2, close - open - 2));
+      tag.content_begin = close + 1;
+      pos = close + 1;
+      return true;
     }
+    tag.name = xml.substr(open + 1, p - open - 1);
     tag.self_closing = xml[close - 1] == '/';
     while (p < close) {
       while (p < close && (std::isspace(static_cast<unsigned char>(xml[p])) || xml[p] == '/')) ++p;
