@@ -13,6 +13,7 @@
 #include "core/io/file_bytes.h"
 #include "core/io/spline_json.h"
 #include "core/io/volume_io.h"
+#include "core/io/volume_vtu_writer.h"
 #include "core/linalg/parallel_for.h"
 #include "core/pipeline/vol2spline_job.h"
 
@@ -75,115 +76,6 @@ std::vector<std::size_t> read_corners(const std::string& path, const volume::Vol
     ids.push_back(v.index(static_cast<int>(numbers[i]), static_cast<int>(numbers[i + 1]), static_cast<int>(numbers[i + 2])));
   }
   return ids;
-}
-
-void append_number(std::string& out, double x) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.9g", x);
-  out += buffer;
-}
-
-std::string vtu_header(std::size_t points, std::size_t cells) {
-  return "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-         "<UnstructuredGrid>\n<Piece NumberOfPoints=\"" + std::to_string(points) + "\" NumberOfCells=\"" +
-         std::to_string(cells) + "\">\n";
-}
-
-void append_points(std::string& out, const volume::Volume& v) {
-  out += "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (int z = 0; z < v.nz; ++z)
-    for (int y = 0; y < v.ny; ++y)
-      for (int x = 0; x < v.nx; ++x) {
-        const Eigen::Vector3d p = v.voxel_position(x, y, z);
-        append_number(out, p.x());
-        out += ' ';
-        append_number(out, p.y());
-        out += ' ';
-        append_number(out, p.z());
-        out += '\n';
-      }
-  out += "</DataArray>\n</Points>\n";
-}
-
-void append_scalars(std::string& out, const std::string& name, const std::vector<double>& values) {
-  out += "<DataArray type=\"Float64\" Name=\"" + name + "\" format=\"ascii\">\n";
-  for (double x : values) {
-    append_number(out, x);
-    out += '\n';
-  }
-  out += "</DataArray>\n";
-}
-
-// Voxel hexes (between voxel centres) with the reconstructed density, the samples, the error and,
-// for the aligned parameterization, the per-voxel uvw.
-std::string density_vtu(const volume::Volume& v, const pipeline::Vol2SplineResult& r) {
-  const std::size_t cells = static_cast<std::size_t>(v.nx - 1) * (v.ny - 1) * (v.nz - 1);
-  std::string out = vtu_header(v.num_voxels(), cells);
-  append_points(out, v);
-  out += "<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
-  for (int z = 0; z + 1 < v.nz; ++z)
-    for (int y = 0; y + 1 < v.ny; ++y)
-      for (int x = 0; x + 1 < v.nx; ++x) {
-        const std::size_t c[8] = {v.index(x, y, z),         v.index(x + 1, y, z),     v.index(x + 1, y + 1, z),
-                                  v.index(x, y + 1, z),     v.index(x, y, z + 1),     v.index(x + 1, y, z + 1),
-                                  v.index(x + 1, y + 1, z + 1), v.index(x, y + 1, z + 1)};
-        for (int k = 0; k < 8; ++k) out += std::to_string(c[k]) + (k == 7 ? "\n" : " ");
-      }
-  out += "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-  for (std::size_t c = 1; c <= cells; ++c) out += std::to_string(8 * c) + "\n";
-  out += "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
-  for (std::size_t c = 0; c < cells; ++c) out += "12\n";
-  out += "</DataArray>\n</Cells>\n<PointData Scalars=\"density\">\n";
-  append_scalars(out, "density", r.reconstruction);
-  std::vector<double> samples(v.samples.begin(), v.samples.end()), error(v.num_voxels());
-  for (std::size_t i = 0; i < error.size(); ++i) error[i] = r.reconstruction[i] - samples[i];
-  append_scalars(out, "sample", samples);
-  append_scalars(out, "error", error);
-  if (r.uvw.rows() == static_cast<Eigen::Index>(v.num_voxels())) {
-    out += "<DataArray type=\"Float64\" Name=\"uvw\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-    for (Eigen::Index i = 0; i < r.uvw.rows(); ++i) {
-      append_number(out, r.uvw(i, 0));
-      out += ' ';
-      append_number(out, r.uvw(i, 1));
-      out += ' ';
-      append_number(out, r.uvw(i, 2));
-      out += '\n';
-    }
-    out += "</DataArray>\n";
-  }
-  out += "</PointData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
-  return out;
-}
-
-// One vertex per voxel with its three frame axes f0, f1, f2 as vectors (glyph input).
-std::string frames_vtu(const volume::Volume& v, const volume::FrameField& field) {
-  const std::size_t n = v.num_voxels();
-  std::string out = vtu_header(n, n);
-  append_points(out, v);
-  out += "<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
-  for (std::size_t i = 0; i < n; ++i) out += std::to_string(i) + "\n";
-  out += "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-  for (std::size_t i = 1; i <= n; ++i) out += std::to_string(i) + "\n";
-  out += "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
-  for (std::size_t i = 0; i < n; ++i) out += "1\n";
-  out += "</DataArray>\n</Cells>\n<PointData Vectors=\"f0\">\n";
-  for (int axis = 0; axis < 3; ++axis) {
-    out += "<DataArray type=\"Float64\" Name=\"f" + std::to_string(axis) + "\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-    for (const auto& frame : field.frames) {
-      // Frame axes are rows in grid axes; the file's direction turns them into world vectors.
-      const Eigen::Vector3d row = frame.row(axis).transpose();
-      const Eigen::Vector3d f = v.world_is_grid() ? row : Eigen::Vector3d(v.direction * row);
-      append_number(out, f.x());
-      out += ' ';
-      append_number(out, f.y());
-      out += ' ';
-      append_number(out, f.z());
-      out += '\n';
-    }
-    out += "</DataArray>\n";
-  }
-  out += "</PointData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
-  return out;
 }
 
 }  // namespace
@@ -277,8 +169,8 @@ int run_vol2spline(const std::vector<std::string>& argv) {
   bar.finish();
 
   io::write_spline_json(output, result.spline);
-  if (args.has("vtk")) io::write_file_atomic(args.get("vtk"), density_vtu(vol, result));
-  if (args.has("frames-vtk")) io::write_file_atomic(args.get("frames-vtk"), frames_vtu(vol, result.frames));
+  if (args.has("vtk")) io::write_density_vtu(args.get("vtk"), vol, result.reconstruction, result.uvw);
+  if (args.has("frames-vtk")) io::write_frames_vtu(args.get("frames-vtk"), vol, result.frames);
   const pipeline::Vol2SplineStats& s = result.stats;
   if (args.has("stats-json")) {
     nlohmann::ordered_json j;

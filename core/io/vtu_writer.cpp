@@ -2,32 +2,18 @@
 #include "core/io/vtu_writer.h"
 
 #include <cassert>
-#include <cstdio>
 #include <vector>
 
 #include "core/io/file_bytes.h"
+#include "core/io/vtu_ascii.h"
 #include "core/mesh/hex_quality.h"
 
 namespace volspline::io {
 
 namespace {
 
-void append_number(std::string& out, double x) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.9g", x);
-  out += buffer;
-}
-
-/// One "x y z" line per vector, 9 significant digits (a sampled view, not a round-trip format).
 void append_vectors(std::string& out, const std::vector<Eigen::Vector3d>& vectors) {
-  for (const auto& p : vectors) {
-    append_number(out, p.x());
-    out += ' ';
-    append_number(out, p.y());
-    out += ' ';
-    append_number(out, p.z());
-    out += '\n';
-  }
+  for (const auto& p : vectors) append_vtu_triple(out, p.x(), p.y(), p.z());
 }
 
 }  // namespace
@@ -47,12 +33,7 @@ std::string serialize_spline_vtu(const spline::TSpline& spline, const std::array
                            .cwiseProduct(hi - lo);
         xyz[id] = spline.evaluate(uvw[id]);
       }
-  std::string out;
-  out += "<?xml version=\"1.0\"?>\n";
-  out += "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n";
-  out += "<UnstructuredGrid>\n";
-  out += "<Piece NumberOfPoints=\"" + std::to_string(num_points) + "\" NumberOfCells=\"" +
-         std::to_string(num_cells) + "\">\n";
+  std::string out = vtu_header(num_points, num_cells);
   out += "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
   append_vectors(out, xyz);
   out += "</DataArray>\n</Points>\n";
@@ -79,7 +60,7 @@ std::string serialize_spline_vtu(const spline::TSpline& spline, const std::array
         offset += 8;
         offsets += std::to_string(offset) + '\n';
         types += "12\n";
-        append_number(quality, mesh::hex_min_scaled_jacobian(x));
+        append_vtu_number(quality, mesh::hex_min_scaled_jacobian(x));
         quality += '\n';
       }
   out += "<CellData Scalars=\"scaled_jacobian\">\n<DataArray type=\"Float64\" Name=\"scaled_jacobian\" format=\"ascii\">\n";
@@ -88,7 +69,8 @@ std::string serialize_spline_vtu(const spline::TSpline& spline, const std::array
   out += "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n" + connectivity + "</DataArray>\n";
   out += "<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n" + offsets + "</DataArray>\n";
   out += "<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n" + types + "</DataArray>\n";
-  out += "</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+  out += "</Cells>\n";
+  out += kVtuFooter;
   return out;
 }
 
