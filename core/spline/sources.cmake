@@ -14,4 +14,6 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/jacobian_repair.cpp
   ${CMAKE_CURRENT_LIST_DIR}/spline_untangling.cpp
   ${CMAKE_CURRENT_LIST_DIR}/grouped_gram.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/bezier_extraction.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/jacobian_certificate.cpp
 )

@@ -465,6 +465,31 @@ void TSpline::build_cell_polynomials() {
                         cell_numerator_, cell_denominator_);
 }
 
+std::array<int, 3> TSpline::cell_index(int cell) const {
+  assert(cell >= 0 && cell < num_cells());
+  const int n0 = int(breaks_[0].size() - 1), n1 = int(breaks_[1].size() - 1);
+  return {cell % n0, (cell / n0) % n1, cell / (n0 * n1)};
+}
+
+void TSpline::cell_power_form(int cell, double* numerator, double* denominator) const {
+  assert(cell >= 0 && cell < num_cells());
+  const int dim = dimension_;
+  if (has_cell_polynomials()) {
+    std::copy_n(cell_numerator_.data() + size_t(cell) * 64 * dim, 64 * dim, numerator);
+    std::copy_n(cell_denominator_.data() + size_t(cell) * 64, 64, denominator);
+    return;
+  }
+  const Cell& c = cells_[cell];
+  const std::uint32_t* ids = cell_pieces_.data() + c.piece_begin;
+  CellSumScratch scratch;
+  std::fill_n(numerator, 64 * dim, 0.0);
+  std::fill_n(denominator, 64, 0.0);
+  cell_power_sum(c, entries_.data(), ids, pieces_, dim,
+                 [&](std::uint32_t f) { return weighted_points_.data() + size_t(f) * dim; }, scratch, numerator);
+  cell_power_sum(c, entries_.data(), ids, pieces_, 1, [&](std::uint32_t f) { return weights_.data() + f; }, scratch,
+                 denominator);
+}
+
 void TSpline::set_points(Eigen::MatrixXd points) {
   if (points.rows() != num_functions() || points.cols() != dimension_) {
     throw Error("T-spline: new control points are " + std::to_string(points.rows()) + "x" +

@@ -140,6 +140,16 @@ class TSpline {
   /// same basis_at list (cell_functions), so least-squares samples can be grouped by cell.
   /// Throws like evaluate_to.
   int cell_of(const Eigen::Vector3d& uvw) const;
+  /// Grid interval of cell (0 <= cell < num_cells()) along u, v, w: the cell is the box
+  /// [knot_lines(a)[k_a], knot_lines(a)[k_a + 1]] per axis a. Cells are numbered u fastest.
+  std::array<int, 3> cell_index(int cell) const;
+  /// The cell's polynomials in power form on its local coordinates s ∈ [0, 1]³ (s_a = (uvw_a −
+  /// b_a)/(b'_a − b_a) on the cell box [b, b']): numerator[m·D + d] of Σ w_i p_i B_i and
+  /// denominator[m] of Σ w_i B_i for the monomial m = (4a + b)·4 + c of s_u^a s_v^b s_w^c.
+  /// Exact to rounding of the knot-vector pieces (each cell of Eq. 4.3 is one tricubic
+  /// polynomial); from the cell polynomials if present, else summed from the cell's functions.
+  /// Precondition: 0 <= cell < num_cells(); numerator holds 64·D, denominator 64 doubles.
+  void cell_power_form(int cell, double* numerator, double* denominator) const;
   /// Blending functions overlapping cell (0 <= cell < num_cells()), increasing: the list basis_at
   /// gives at every point of the cell. function_ids is resized.
   void cell_functions(int cell, std::vector<int>& function_ids) const;

@@ -13,4 +13,6 @@ set(TEST_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/spline_untangling_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/scattered_density_fitting_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/grouped_gram_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/bezier_extraction_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/jacobian_certificate_test.cpp
 )
