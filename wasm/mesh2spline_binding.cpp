@@ -105,7 +105,25 @@ val stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name, co
   out.set("rms_geo_rel", s.rms_geo_rel);
   out.set("control_points", s.control_points);
   out.set("levels", s.levels);
+  out.set("jacobian_certified_fraction", s.jacobian_certified_fraction);
+  out.set("det_j_lower_bound_rel", s.det_j_lower_bound_rel);
+  out.set("certificate_cells", s.certificate_cells);
+  val uncertified = val::array();
+  for (const spline::UncertifiedCell& u : s.uncertified_cells) {
+    val cell = val::object();
+    cell.set("cuboid", u.cuboid);
+    cell.set("cell", u.cell);
+    val lo = val::array(), hi = val::array();
+    for (int a = 0; a < 3; ++a) lo.call<void>("push", u.uvw_min[a]), hi.call<void>("push", u.uvw_max[a]);
+    cell.set("uvw_min", lo);
+    cell.set("uvw_max", hi);
+    cell.set("status", std::string(u.bound.status == spline::JacobianCellStatus::Negative ? "negative" : "undecided"));
+    cell.set("det_j_lower_bound_rel", u.bound.det_j_lower_bound_rel);
+    uncertified.call<void>("push", cell);
+  }
+  out.set("uncertified_cells", uncertified);
   out.set("min_scaled_jacobian", s.min_scaled_jacobian);
+  out.set("jacobian_samples", double(s.jacobian_samples));
   out.set("negative_jacobian_fraction", s.negative_jacobian_fraction);
   out.set("semi_standard_max_error", s.semi_standard_max_error);
   out.set("cuboids", s.cuboids);

@@ -10,6 +10,7 @@
 #include "core/mesh/triangle_mesh.h"
 #include "core/param/cuboid_surface_map.h"
 #include "core/common/progress.h"
+#include "core/spline/jacobian_certificate.h"
 #include "core/spline/tspline.h"
 
 namespace volspline::pipeline {
@@ -57,8 +58,16 @@ struct Mesh2SplineStats {
   double rms_geo_rel = 0;          ///< RMS of the same two-sided distances / bbox diagonal
   int control_points = 0;
   int levels = 0;                  ///< refinement levels done after level 0
-  double min_scaled_jacobian = 0;  ///< at the cell centres of a 64³ lattice of the domain
-  double negative_jacobian_fraction = 0;
+  /// From the Bernstein certificate of det J (spline::certify_jacobian): the fraction of
+  /// knot-line cells with det J ≥ 0 proven, the smallest certified bound scaled like the scaled
+  /// Jacobian (negative if a cell is not certified), and every cell that is not certified.
+  double jacobian_certified_fraction = 0;
+  double det_j_lower_bound_rel = 0;
+  std::vector<spline::UncertifiedCell> uncertified_cells;
+  int certificate_cells = 0;       ///< knot-line cells certified or not
+  double min_scaled_jacobian = 0;  ///< at the 3×3×3 Gauss points of every knot-line cell
+  double negative_jacobian_fraction = 0;  ///< fraction of those points with scaled Jacobian ≤ 0
+  long jacobian_samples = 0;       ///< number of those points
   double semi_standard_max_error = 0;  ///< max |Σ w_i B_i − 1| at 10⁵ random parameters
   int cuboids = 1;
   int flipped_triangles = 0;           ///< of the surface map (0: bijective)

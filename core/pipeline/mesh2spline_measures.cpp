@@ -26,7 +26,7 @@ using spline::TSplineForm;
 void check_options(const Mesh2SplineMeasureOptions& o) {
   auto fail = [](const std::string& what) { throw Error("mesh2spline measures: " + what); };
   if (o.surface_samples < 8 || o.surface_samples > 512) fail("surface samples must be in [8, 512]");
-  if (o.jacobian_lattice < 2 || o.jacobian_lattice > 256) fail("the Jacobian lattice must be in [2, 256]");
+  if (o.jacobian_gauss_points < 1 || o.jacobian_gauss_points > 8) fail("the Jacobian Gauss points must be in [1, 8]");
   if (o.semi_standard_samples < 1) fail("semi-standard samples must be ≥ 1");
 }
 
@@ -147,21 +147,42 @@ Mesh2SplineMeasures measure_mesh2spline(const spline::TSpline& spline, const mes
   measures.hausdorff_rel = max_d / diagonal;
   measures.rms_geo_rel = std::sqrt(sum2 / count) / diagonal;
 
-  // One tensor-product pass per knot-line cell (the count and the minimum do not depend on
-  // the visiting order).
-  const int nj = options.jacobian_lattice;
-  std::array<std::vector<double>, 3> centres;
-  for (int a = 0; a < 3; ++a)
-    for (int i = 0; i < nj; ++i) centres[a].push_back((i + 0.5) / nj);
-  int negative = 0;
+  // Gauss–Legendre nodes on [0, 1] (roots of P_n by Newton from the Chebyshev guesses), placed in
+  // every knot interval per axis; one tensor-product pass per knot-line cell (the count and the
+  // minimum do not depend on the visiting order).
+  const int ng = options.jacobian_gauss_points;
+  std::vector<double> nodes(ng);
+  for (int i = 0; i < ng; ++i) {
+    double x = std::cos(M_PI * (i + 0.75) / (ng + 0.5));
+    for (int it = 0; it < 50; ++it) {
+      double p0 = 1.0, p1 = x;
+      for (int k = 2; k <= ng; ++k) {
+        const double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
+        p0 = p1, p1 = p2;
+      }
+      const double derivative = ng * (x * p1 - p0) / (x * x - 1.0);
+      const double step = p1 / derivative;
+      x -= step;
+      if (std::abs(step) < 1e-16) break;
+    }
+    nodes[ng - 1 - i] = 0.5 * (1.0 + x);
+  }
+  std::array<std::vector<double>, 3> gauss;
+  for (int a = 0; a < 3; ++a) {
+    const std::vector<double>& b = spline.knot_lines(a);
+    for (size_t k = 0; k + 1 < b.size(); ++k)
+      for (double t : nodes) gauss[a].push_back(b[k] + t * (b[k + 1] - b[k]));
+  }
+  long negative = 0;
   double min_q = 1.0;
-  spline.evaluate_lattice_with_jacobian(centres, [&](int, int, int, const double*, const double* jacobian) {
+  spline.evaluate_lattice_with_jacobian(gauss, [&](int, int, int, const double*, const double* jacobian) {
     const double q = mesh::scaled_jacobian(Eigen::Map<const Eigen::Matrix3d>(jacobian));
     if (q <= 0.0) ++negative;
     min_q = std::min(min_q, q);
   });
+  measures.jacobian_samples = long(gauss[0].size()) * long(gauss[1].size()) * long(gauss[2].size());
   measures.min_scaled_jacobian = min_q;
-  measures.negative_jacobian_fraction = double(negative) / (double(nj) * nj * nj);
+  measures.negative_jacobian_fraction = double(negative) / double(measures.jacobian_samples);
 
   // The same random parameters as drawn, visited in Morton order: neighbours share their cell's
   // function list in cache, and the maximum does not depend on the order.

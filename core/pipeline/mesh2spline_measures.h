@@ -22,10 +22,10 @@ double surface_projection_distance(const spline::TSpline& spline, Eigen::Vector3
 /// Options of measure_mesh2spline; every field is checked on entry (volspline::Error).
 struct Mesh2SplineMeasureOptions {
   int surface_samples = 48;           ///< lattice points per axis per cuboid face, [8, 512]
-  /// Cell centres per axis for the scaled Jacobian, [2, 256]. 64: none of them is a point the
-  /// spline untangler checks (its nodes j/48), and the first layer lies 1/128 from the boundary,
-  /// so the measure is not the untangler's own target (24 was, until session 5).
-  int jacobian_lattice = 64;
+  /// Gauss–Legendre points per axis in every knot-line cell for the scaled Jacobian, [1, 8]. The
+  /// untangler holds knot-interval nodes, boundary layers and lattice centres, never these, and
+  /// they come as close to the boundary as 0.11 of a cell's width (3 points).
+  int jacobian_gauss_points = 3;
   int semi_standard_samples = 100000; ///< random parameters for semi_standard_max_error, ≥ 1
   std::uint64_t seed = 1;             ///< seeds those random parameters
 };
@@ -34,8 +34,9 @@ struct Mesh2SplineMeasureOptions {
 struct Mesh2SplineMeasures {
   double hausdorff_rel = 0;             ///< two-sided spline boundary ↔ mesh distance / diagonal
   double rms_geo_rel = 0;               ///< RMS of the lattice and vertex distances / diagonal
-  double min_scaled_jacobian = 1;       ///< at the cell centres of the Jacobian lattice
-  double negative_jacobian_fraction = 0;///< fraction of those centres with scaled Jacobian <= 0
+  double min_scaled_jacobian = 1;       ///< at the Gauss points of every knot-line cell
+  double negative_jacobian_fraction = 0;///< fraction of those points with scaled Jacobian <= 0
+  long jacobian_samples = 0;            ///< number of those points
   double semi_standard_max_error = 0;   ///< max |Σ w_i B_i − 1| at the random parameters
 };
 
@@ -48,8 +49,9 @@ struct Mesh2SplineMeasures {
 ///   surface_projection_distance from its own surface parameter vertex_uvw.
 /// hausdorff_rel is the largest of all these, rms_geo_rel the RMS over the lattice points and
 /// vertices; both divided by `diagonal` (model units, > 0). Scaled Jacobian det J /
-/// (|J_u||J_v||J_w|) (−1 where a column vanishes) at the jacobian_lattice³ cell centres: along
-/// the cuboid's edges any map onto a smooth surface is degenerate, so no edge points.
+/// (|J_u||J_v||J_w|) (−1 where a column vanishes) at the jacobian_gauss_points³ Gauss points of
+/// every knot-line cell (interior points: along the cuboid's edges any map onto a smooth surface
+/// is degenerate).
 /// Inputs: spline with D = 3 and domain [0,1]³; mesh with at least one face; vertex_uvw n×3
 /// (one row per mesh vertex, on the boundary of [0,1]³ for vertices with a halfedge).
 /// Throws volspline::Error on bad options.

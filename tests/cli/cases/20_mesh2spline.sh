@@ -2,7 +2,7 @@
 expect 0 "$BIN" mesh2spline --help
 contains "$TMP/out" "mesh2spline MESH -o OUT.json"
 expect 0 "$BIN" mesh2spline "$DATA/meshes/sphere.off" -o "$TMP/s.json" --vtk "$TMP/s.vtu" --glb "$TMP/s.glb" --stats-json "$TMP/s_stats.json" --quiet
-for key in rms_rel max_rel hausdorff_rel rms_geo_rel control_points levels min_scaled_jacobian negative_jacobian_fraction negative_jacobian_fraction_fit repaired_control_points semi_standard_max_error times_s; do
+for key in rms_rel max_rel hausdorff_rel rms_geo_rel control_points levels jacobian_certified_fraction det_j_lower_bound_rel uncertified_cells jacobian_samples min_scaled_jacobian negative_jacobian_fraction negative_jacobian_fraction_fit repaired_control_points semi_standard_max_error times_s; do
   contains "$TMP/s_stats.json" "\"$key\""
 done
 contains "$TMP/s_stats.json" "\"measures\""

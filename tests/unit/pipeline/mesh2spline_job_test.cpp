@@ -33,6 +33,11 @@ TEST_CASE("mesh2spline reproduces a cube") {
   CHECK(s.rms_rel < 1e-3);
   CHECK(s.negative_jacobian_fraction == 0.0);
   CHECK(s.min_scaled_jacobian > 0.99);  // the map is affine
+  // The affine map's det J is one constant: every cell certified, the bound is the scaled Jacobian.
+  CHECK(s.jacobian_certified_fraction == 1.0);
+  CHECK(s.uncertified_cells.empty());
+  CHECK(s.certificate_cells == result.spline.num_cells());
+  CHECK(s.det_j_lower_bound_rel > 0.99);
   CHECK(s.semi_standard_max_error <= 1e-12);
   CHECK(s.flipped_triangles == 0);
   CHECK(s.grid_inverted_hexes == 0);
