@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <random>
 #include <string>
@@ -20,6 +21,7 @@
 #include "core/pipeline/mesh2spline_measures.h"
 #include "core/polycube/cuboid_layout.h"
 #include "core/spline/bspline_volume.h"
+#include "core/spline/hierarchical_fitting.h"
 #include "core/spline/hierarchical_refinement.h"
 #include "core/spline/jacobian_repair.h"
 #include "core/spline/spline_untangling.h"
@@ -240,6 +242,125 @@ std::vector<int> functions_to_refit(const spline::TSpline& refined, const spline
 
 double rms(const Eigen::VectorXd& e) { return e.size() ? std::sqrt(e.squaredNorm() / e.size()) : 0.0; }
 
+// run_hierarchical_fitting on the solid's samples (§4.3.1 boundary restricted control grid): the grid or
+// meshless fit of the geometry, marking by the rms and surface targets, a refinement over the
+// control point budget ends the fit.
+class SolidFit final : public spline::HierarchicalFit, public spline::MarkingRule {
+ public:
+  using Lap = std::function<void(const std::string&)>;
+  SolidFit(spline::TSpline spline, spline::RefinementGrid grid, const param::CuboidSurfaceLocator& locator,
+           const Mesh2SplineOptions& options, int laplacian_nodes, double diagonal,
+           std::vector<Eigen::Vector3d> sample_uvw, std::vector<Eigen::Vector3d> sample_xyz, Mesh2SplineStats& stats,
+           const Lap& lap, const Progress& progress)
+      : ts(std::move(spline)), refinement(std::move(grid)), samples(stack(sample_uvw, sample_xyz)),
+        locator_(locator), options_(options), laplacian_nodes_(laplacian_nodes),
+        target_(options.max_rms_rel * diagonal), surface_target_(options.max_surface_error_rel * diagonal),
+        sample_uvw_(std::move(sample_uvw)), sample_xyz_(std::move(sample_xyz)), stats_(stats), lap_(lap),
+        progress_(progress) {
+    prior_ = greville_prior(ts, locator_);
+    ts.set_points(prior_);
+  }
+
+  void fit(int level) override {
+    progress_.report("fit level " + std::to_string(level), 0.3 + 0.4 * level / (options_.max_levels + 1));
+    pipeline::fit(ts, samples, prior_, options_, laplacian_nodes_, refit_);
+    errors = sample_errors(ts, samples);
+    lap_("fit_level_" + std::to_string(level));
+    stats_.levels = level;
+    // FittingError(g): the worst sample error inside each leaf cell, the worst
+    // surface sample error, and the cell's share of the squared error.
+    const std::vector<int> leaves = refinement.leaves();
+    cell_error_.assign(leaves.empty() ? 0 : leaves.back() + 1, 0.0);
+    cell_surface_error_.assign(cell_error_.size(), 0.0);
+    cell_sse_.assign(cell_error_.size(), 0.0);
+    surface_max_ = 0.0;
+    for (Eigen::Index s = 0; s < samples.uvw.rows(); ++s) {
+      const int leaf = refinement.leaf_of(samples.uvw.row(s).transpose());
+      cell_error_[leaf] = std::max(cell_error_[leaf], errors(s));
+      cell_sse_[leaf] += errors(s) * errors(s);
+      if (samples.on_boundary[s]) {
+        cell_surface_error_[leaf] = std::max(cell_surface_error_[leaf], errors(s));
+        surface_max_ = std::max(surface_max_, errors(s));
+      }
+    }
+  }
+
+  int num_control_points() const override { return ts.num_functions(); }
+
+  std::optional<spline::FitStopReason> stop(int level) override {
+    if (rms(errors) <= target_ && surface_max_ <= surface_target_) return spline::FitStopReason::Target;
+    if (level >= options_.max_levels) return spline::FitStopReason::MaxLevels;
+    return std::nullopt;
+  }
+
+  spline::Marking mark(int) override {
+    // Candidates for the rms: cells whose worst sample exceeds twice the rms target. Of these,
+    // the fewest (largest squared error first, ties by id) that hold twice the squared error
+    // the rms target asks to remove (bulk marking), and at most 25% of the cells per level, so
+    // refinement stays where the error is and stops widening once the target is near.
+    const std::vector<int> leaves = refinement.leaves();
+    std::vector<int> marked;
+    if (rms(errors) > target_) {
+      for (int leaf : leaves)
+        if (cell_error_[leaf] > 2.0 * target_) marked.push_back(leaf);
+      std::stable_sort(marked.begin(), marked.end(), [&](int a, int b) { return cell_sse_[a] > cell_sse_[b]; });
+      const double total_sse = errors.squaredNorm();
+      const double excess = total_sse - target_ * target_ * static_cast<double>(errors.size());
+      std::size_t count = 0;
+      for (double held = 0.0; count < marked.size() && held < 2.0 * excess; ++count) held += cell_sse_[marked[count]];
+      const std::size_t quota = std::max<std::size_t>(1, leaves.size() / 4);
+      marked.resize(std::min({std::max<std::size_t>(count, 1), quota, marked.size()}));
+    }
+    // The rms alone leaves small badly fitted surface parts (ears, tips) that dominate the
+    // Hausdorff distance: every cell whose worst surface sample misses the surface target is
+    // refined too (a 2D set of cells, so it does not blow up the control points).
+    for (int leaf : leaves)
+      if (cell_surface_error_[leaf] > surface_target_) marked.push_back(leaf);
+    std::sort(marked.begin(), marked.end());
+    marked.erase(std::unique(marked.begin(), marked.end()), marked.end());
+    return {std::move(marked), spline::FitStopReason::NoCells};
+  }
+
+  bool refine(const std::vector<int>& cells, int level) override {
+    spline::RefinementGrid next_grid = refinement;
+    spline::TSpline refined = next_grid.split(ts, cells, spline::TSplineAcceleration::FunctionLists);
+    lap_("refine_level_" + std::to_string(level));
+    if (refined.num_functions() > options_.max_control_points) return false;
+    refit_ = functions_to_refit(refined, ts, next_grid, cells);
+    ts = std::move(refined);
+    refinement = std::move(next_grid);
+    for (int leaf : refinement.leaves())
+      if (refinement.cell_level(leaf) == level + 1)
+        add_cell_surface_samples(locator_, refinement.cell_min(leaf), refinement.cell_max(leaf), 2, sample_uvw_,
+                                 sample_xyz_);
+    samples = stack(sample_uvw_, sample_xyz_);
+    // The refined spline equals the previous fit: it is the prior of the next level.
+    prior_ = ts.points();
+    return true;
+  }
+
+  spline::OverBudget over_budget() const override { return spline::OverBudget::Stop; }
+
+  spline::TSpline ts;
+  spline::RefinementGrid refinement;
+  Samples samples;
+  Eigen::VectorXd errors;  // per sample, model units, of the last fit
+
+ private:
+  const param::CuboidSurfaceLocator& locator_;
+  const Mesh2SplineOptions& options_;
+  const int laplacian_nodes_;
+  const double target_, surface_target_;
+  std::vector<Eigen::Vector3d> sample_uvw_, sample_xyz_;
+  Mesh2SplineStats& stats_;
+  Lap lap_;
+  const Progress& progress_;
+  Eigen::MatrixX3d prior_;
+  std::vector<int> refit_;  // control points to re-fit after a refinement (empty: all)
+  std::vector<double> cell_error_, cell_surface_error_, cell_sse_;
+  double surface_max_ = 0.0;
+};
+
 }  // namespace
 
 Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::string& name,
@@ -353,87 +474,21 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
         }
     }
   }
-  // §4.3.1 boundary restricted control grid, Algorithm 4 hierarchical fitting.
+  // §4.3.1 boundary restricted control grid, refined by run_hierarchical_fitting below.
   const std::array<int, 3> cells = cells_for(dims, options.initial_cells);
   spline::RefinementGrid refinement(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), cells);
   for (int leaf : refinement.leaves())
     add_cell_surface_samples(locator, refinement.cell_min(leaf), refinement.cell_max(leaf), 2, sample_uvw, sample_xyz);
-  Samples samples = stack(sample_uvw, sample_xyz);
   lap("volumetric_map");
 
   progress.report("fit", 0.3);
-  spline::TSpline ts = uniform_tspline(cells);
-  Eigen::MatrixX3d prior = greville_prior(ts, locator);
-  ts.set_points(prior);
-  const double target = options.max_rms_rel * diagonal;
-  const double surface_target = options.max_surface_error_rel * diagonal;
-  Eigen::VectorXd errors;
-  std::vector<int> refit;  // control points to re-fit after a refinement (empty: all)
-  for (int level = 0;; ++level) {
-    progress.report("fit level " + std::to_string(level), 0.3 + 0.4 * level / (options.max_levels + 1));
-    fit(ts, samples, prior, options, longest_nodes, refit);
-    errors = sample_errors(ts, samples);
-    lap("fit_level_" + std::to_string(level));
-    stats.levels = level;
-    // FittingError(g) of Algorithm 4: the worst sample error inside each leaf cell, the worst
-    // surface sample error, and the cell's share of the squared error.
-    const std::vector<int> leaves = refinement.leaves();
-    std::vector<double> cell_error(leaves.empty() ? 0 : leaves.back() + 1, 0.0);
-    std::vector<double> cell_surface_error(cell_error.size(), 0.0);
-    std::vector<double> cell_sse(cell_error.size(), 0.0);
-    double surface_max = 0.0;
-    for (Eigen::Index s = 0; s < samples.uvw.rows(); ++s) {
-      const int leaf = refinement.leaf_of(samples.uvw.row(s).transpose());
-      cell_error[leaf] = std::max(cell_error[leaf], errors(s));
-      cell_sse[leaf] += errors(s) * errors(s);
-      if (samples.on_boundary[s]) {
-        cell_surface_error[leaf] = std::max(cell_surface_error[leaf], errors(s));
-        surface_max = std::max(surface_max, errors(s));
-      }
-    }
-    const bool rms_done = rms(errors) <= target;
-    if ((rms_done && surface_max <= surface_target) || level >= options.max_levels) break;
-    // Candidates for the rms: cells whose worst sample exceeds twice the rms target. Of these,
-    // the fewest (largest squared error first, ties by id) that hold twice the squared error
-    // the rms target asks to remove (bulk marking), and at most 25% of the cells per level, so
-    // refinement stays where the error is and stops widening once the target is near.
-    std::vector<int> marked;
-    if (!rms_done) {
-      for (int leaf : leaves)
-        if (cell_error[leaf] > 2.0 * target) marked.push_back(leaf);
-      std::stable_sort(marked.begin(), marked.end(),
-                       [&](int a, int b) { return cell_sse[a] > cell_sse[b]; });
-      const double total_sse = errors.squaredNorm();
-      const double excess = total_sse - target * target * static_cast<double>(errors.size());
-      std::size_t count = 0;
-      for (double held = 0.0; count < marked.size() && held < 2.0 * excess; ++count)
-        held += cell_sse[marked[count]];
-      const std::size_t quota = std::max<std::size_t>(1, leaves.size() / 4);
-      marked.resize(std::min({std::max<std::size_t>(count, 1), quota, marked.size()}));
-    }
-    // The rms alone leaves small badly fitted surface parts (ears, tips) that dominate the
-    // Hausdorff distance: every cell whose worst surface sample misses the surface target is
-    // refined too (a 2D set of cells, so it does not blow up the control points).
-    for (int leaf : leaves)
-      if (cell_surface_error[leaf] > surface_target) marked.push_back(leaf);
-    std::sort(marked.begin(), marked.end());
-    marked.erase(std::unique(marked.begin(), marked.end()), marked.end());
-    if (marked.empty()) break;
-    spline::RefinementGrid next_grid = refinement;
-    spline::TSpline refined = next_grid.split(ts, marked, spline::TSplineAcceleration::FunctionLists);
-    lap("refine_level_" + std::to_string(level));
-    if (refined.num_functions() > options.max_control_points) break;
-    refit = functions_to_refit(refined, ts, next_grid, marked);
-    ts = std::move(refined);
-    refinement = std::move(next_grid);
-    for (int leaf : refinement.leaves())
-      if (refinement.cell_level(leaf) == level + 1)
-        add_cell_surface_samples(locator, refinement.cell_min(leaf), refinement.cell_max(leaf), 2, sample_uvw,
-                                 sample_xyz);
-    samples = stack(sample_uvw, sample_xyz);
-    // The refined spline equals the previous fit: it is the prior of the next level.
-    prior = ts.points();
-  }
+  SolidFit solid(uniform_tspline(cells), std::move(refinement), locator, options, longest_nodes, diagonal,
+                 std::move(sample_uvw), std::move(sample_xyz), stats, lap, progress);
+  spline::run_hierarchical_fitting(solid, solid);
+  spline::TSpline ts = std::move(solid.ts);
+  refinement = std::move(solid.refinement);
+  Samples samples = std::move(solid.samples);
+  Eigen::VectorXd errors = std::move(solid.errors);
   stats.control_points = ts.num_functions();
   stats.samples = static_cast<int>(samples.uvw.rows());
   stats.rms_rel = rms(errors) / diagonal;

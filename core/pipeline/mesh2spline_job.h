@@ -97,7 +97,7 @@ struct Mesh2SplineResult {
 /// Closed genus-0 triangle mesh → one cuboid → trivariate T-spline (thesis ch. 3, 4):
 /// validate, cuboid layout, surface map (§3.4.1), volumetric grid (§3.4.2, grid fit; its folds
 /// untangled), boundary restricted control grid (§4.3.1), least-squares fit with hierarchical
-/// refinement (Algorithm 4, §4.3.3), untangling of the spline's folds (options.untangle),
+/// refinement (spline::run_hierarchical_fitting), untangling of the spline's folds (options.untangle),
 /// measures. `name` is used in error messages.
 /// Throws volspline::Error on bad options or input: open, non-manifold, several components,
 /// genus ≠ 0, inconsistent orientation, degenerate faces, NaN, or no valid cuboid map;

@@ -77,7 +77,7 @@ struct Vol2SplineResult {
 /// Voxel volume → frame field → parameterization → T-spline of (X, Y, Z, density) (thesis ch. 5):
 /// local cubic fits (Eq. 5.1–5.4), Hessian frames (Eq. 5.5), material classification and
 /// frame constraints, frame smoothing (§5.2.2, Eq. 5.6), corners and field-aligned
-/// parameterization (§5.3), adaptive T-spline fit (Eq. 5.11, Algorithm 4). With
+/// parameterization (§5.3), adaptive T-spline fit (Eq. 5.11, spline::run_hierarchical_fitting). With
 /// Vol2SplineParam::Identity and compute_frames off, only the fit runs. `name` is used in messages.
 /// Throws volspline::Error on bad options or a volume with a dimension < 2 (< 5 with frames);
 /// volspline::Cancelled if progress asks to stop.

@@ -283,41 +283,6 @@ int automatic_control_point_budget(std::size_t num_samples) {
   return static_cast<int>(std::clamp<std::size_t>(num_samples / 16, 64, 50000));
 }
 
-std::vector<int> bulk_mark(std::vector<int> candidates, const std::vector<double>& error, double total,
-                           double fraction, double room, double growth_per_cell, bool* over_budget) {
-  *over_budget = false;
-  std::sort(candidates.begin(), candidates.end(),
-            [&](int a, int b) { return error[a] != error[b] ? error[a] > error[b] : a < b; });
-  std::vector<int> marked;
-  double covered = 0.0;
-  for (int id : candidates) {
-    if (covered >= fraction * total) break;
-    marked.push_back(id);
-    covered += error[id];
-  }
-  if (!marked.empty() && growth_per_cell > 0.0) {
-    const std::size_t affordable = static_cast<std::size_t>(std::max(0.0, 0.9 * room / growth_per_cell));
-    if (affordable == 0) {
-      *over_budget = true;
-      marked.clear();
-    } else if (marked.size() > affordable) {
-      marked.resize(affordable);
-    }
-  }
-  return marked;
-}
-
-const char* fit_stop_reason_name(FitStopReason reason) {
-  switch (reason) {
-    case FitStopReason::Target: return "target";
-    case FitStopReason::Budget: return "budget";
-    case FitStopReason::Diminishing: return "diminishing";
-    case FitStopReason::MaxLevels: return "max_levels";
-    case FitStopReason::NoCells: return "no_cells";
-  }
-  return "unknown";
-}
-
 bool level_gain_too_small(const std::vector<AdaptiveDensityLevel>& levels, const AdaptiveDensityOptions& options) {
   if (levels.size() < 2) return false;
   const AdaptiveDensityLevel& before = levels[levels.size() - 2];
@@ -440,6 +405,97 @@ std::vector<double> evaluate_on_grid(const TSpline& spline, int component, const
   return accumulate(s, spline.points().col(component), dims, 1);
 }
 
+namespace {
+
+// run_hierarchical_fitting on grid samples: the least-squares grid fit of the density (column 0 of the
+// functions' points) and Dörfler marking of the leaves' squared error within the budget.
+class DensityGridFit final : public HierarchicalFit, public MarkingRule {
+ public:
+  DensityGridFit(const GridSamples& samples, const AdaptiveDensityOptions& options, int budget,
+                 const Eigen::Vector3d& hi, RefinementGrid grid, RefinementGrid::Functions functions,
+                 const Progress& progress)
+      : grid(std::move(grid)), current(std::move(functions)), samples_(samples), options_(options),
+        budget_(budget), hi_(hi), progress_(progress) {}
+
+  void fit(int) override {
+    const Supports s = compute_supports(current.knots, current.weights, hi_, samples_.dims);
+    const GridFitReport report = fit_functions_to_grid(current, s, samples_.dims, {0}, {&samples_.values}, options_.fit);
+    recon = accumulate(s, current.points.col(0), samples_.dims, options_.fit.threads);
+    error = grid_error(samples_, recon);
+    levels.push_back({num_control_points(), error.rms_rel, error.max_rel, report.cg_iterations, grid.num_leaves()});
+  }
+
+  int num_control_points() const override { return static_cast<int>(current.knots.size()); }
+
+  bool refine(const std::vector<int>& cells, int) override {
+    RefinementGrid trial_grid = grid;
+    RefinementGrid::Functions trial = trial_grid.split_functions(current, cells);
+    if (static_cast<int>(trial.knots.size()) > budget_) return false;
+    grid = std::move(trial_grid);
+    current = std::move(trial);
+    return true;
+  }
+
+  std::optional<FitStopReason> stop(int level) override {
+    return adaptive_stop(error.rms_rel, levels, level + 1, num_control_points(), budget_, options_);
+  }
+
+  Marking mark(int level) override {
+    progress_.report("fit", static_cast<double>(level + 1) / (options_.max_levels + 1));
+    // Dörfler marking (§4.3.3 refines cells over the threshold; here the cells carrying the
+    // given fraction of the squared error, which spends control points where the RMS is made).
+    const std::array<int, 3>& dims = samples_.dims;
+    const std::vector<int> leaf_ids = grid.leaves();
+    std::vector<double> sse_of_node(static_cast<std::size_t>(leaf_ids.back()) + 1, 0.0);
+    for (int z = 0; z < dims[2]; ++z)
+      for (int y = 0; y < dims[1]; ++y)
+        for (int x = 0; x < dims[0]; ++x) {
+          const std::size_t v = static_cast<std::size_t>(x) + dims[0] * (static_cast<std::size_t>(y) + static_cast<std::size_t>(dims[1]) * z);
+          const double d = recon[v] - samples_.values[v];
+          if (d != 0.0) sse_of_node[grid.leaf_of(Eigen::Vector3d(x, y, z))] += d * d;
+        }
+    std::vector<int> candidates;
+    double total = 0.0;
+    for (int id : leaf_ids) {
+      const Eigen::Vector3d width = grid.cell_max(id) - grid.cell_min(id);
+      if (width.minCoeff() >= 2.0 * options_.min_cell_width && sse_of_node[id] > 0.0) {
+        candidates.push_back(id);
+        total += sse_of_node[id];
+      }
+    }
+    // Budget: predict the new control points from the last split's cost per cell (splits are
+    // expensive to undo); a level that still ends over budget is retried with fewer cells.
+    bool over_budget = false;
+    Marking marking;
+    marking.cells = bulk_mark(std::move(candidates), sse_of_node, total, options_.marking_fraction,
+                              static_cast<double>(budget_) - num_control_points(), growth_per_cell_, &over_budget);
+    marking.empty_reason = over_budget ? FitStopReason::Budget : FitStopReason::NoCells;
+    return marking;
+  }
+
+  void refined(std::size_t cells, int before, int after) override {
+    growth_per_cell_ = std::max(1.0, static_cast<double>(after - before)) / static_cast<double>(cells);
+  }
+
+  OverBudget over_budget() const override { return OverBudget::HalveMarking; }
+
+  RefinementGrid grid;
+  RefinementGrid::Functions current;
+  std::vector<AdaptiveDensityLevel> levels;
+  std::vector<double> recon;
+  GridError error;
+
+ private:
+  const GridSamples& samples_;
+  const AdaptiveDensityOptions& options_;
+  const int budget_;
+  const Eigen::Vector3d hi_;
+  const Progress& progress_;
+  double growth_per_cell_ = 0.0;  // control points added per split cell at the last level
+};
+
+}  // namespace
+
 AdaptiveDensityResult fit_density_adaptive(const GridSamples& samples, const AdaptiveDensityOptions& options,
                                            const Progress& progress) {
   check_dims(samples.dims);
@@ -490,90 +546,18 @@ AdaptiveDensityResult fit_density_adaptive(const GridSamples& samples, const Ada
   }
   RefinementGrid grid(Eigen::Vector3d::Zero(), hi, {1, 1, 1});
   for (int k = 0; k < splits; ++k) current = grid.split_functions(current, grid.leaves());
-  const std::vector<const std::vector<double>*> density_target = {&samples.values};
-  std::vector<double> recon;
-  GridError error;
-  auto fit_and_measure = [&]() {
-    const Supports s = compute_supports(current.knots, current.weights, hi, dims);
-    const GridFitReport report = fit_functions_to_grid(current, s, dims, {0}, density_target, options.fit);
-    recon = accumulate(s, current.points.col(0), dims, options.fit.threads);
-    error = grid_error(samples, recon);
-    return report;
-  };
-  const GridFitReport first_fit = fit_and_measure();
-  std::vector<AdaptiveDensityLevel> levels;
-  levels.push_back({static_cast<int>(current.knots.size()), error.rms_rel, error.max_rel, first_fit.cg_iterations,
-                    grid.num_leaves()});
-  double growth_per_cell = 0.0;  // control points added per split cell at the last level
-  FitStopReason stop = FitStopReason::MaxLevels;
-  for (int level = 1;; ++level) {
-    const int count = static_cast<int>(current.knots.size());
-    if (const std::optional<FitStopReason> reason = adaptive_stop(error.rms_rel, levels, level, count, budget, options)) {
-      stop = *reason;
-      break;
-    }
-    const double room = static_cast<double>(budget) - count;
-    progress.report("fit", static_cast<double>(level) / (options.max_levels + 1));
-    // Dörfler marking (§4.3.3 refines cells over the threshold; here the cells carrying the
-    // given fraction of the squared error, which spends control points where the RMS is made).
-    std::vector<int> leaf_ids = grid.leaves();
-    std::vector<double> sse_of_node(static_cast<std::size_t>(leaf_ids.back()) + 1, 0.0);
-    for (int z = 0; z < dims[2]; ++z)
-      for (int y = 0; y < dims[1]; ++y)
-        for (int x = 0; x < dims[0]; ++x) {
-          const std::size_t v = static_cast<std::size_t>(x) + dims[0] * (static_cast<std::size_t>(y) + static_cast<std::size_t>(dims[1]) * z);
-          const double d = recon[v] - samples.values[v];
-          if (d != 0.0) sse_of_node[grid.leaf_of(Eigen::Vector3d(x, y, z))] += d * d;
-        }
-    std::vector<int> candidates;
-    double total = 0.0;
-    for (int id : leaf_ids) {
-      const Eigen::Vector3d width = grid.cell_max(id) - grid.cell_min(id);
-      if (width.minCoeff() >= 2.0 * options.min_cell_width && sse_of_node[id] > 0.0) {
-        candidates.push_back(id);
-        total += sse_of_node[id];
-      }
-    }
-    // Budget: predict the new control points from the last split's cost per cell (splits are
-    // expensive to undo); a level that still ends over budget is retried with fewer cells.
-    bool over_budget = false;
-    std::vector<int> marked = bulk_mark(std::move(candidates), sse_of_node, total, options.marking_fraction, room,
-                                        growth_per_cell, &over_budget);
-    if (marked.empty()) {
-      stop = over_budget ? FitStopReason::Budget : FitStopReason::NoCells;
-      break;
-    }
-    bool accepted = false;
-    while (!marked.empty()) {
-      std::vector<int> sorted_marked = marked;
-      std::sort(sorted_marked.begin(), sorted_marked.end());
-      RefinementGrid trial_grid = grid;
-      RefinementGrid::Functions trial = trial_grid.split_functions(current, sorted_marked);
-      const int trial_count = static_cast<int>(trial.knots.size());
-      if (trial_count <= budget) {
-        growth_per_cell = std::max(1.0, static_cast<double>(trial_count - count)) / static_cast<double>(sorted_marked.size());
-        grid = std::move(trial_grid);
-        current = std::move(trial);
-        const GridFitReport report = fit_and_measure();
-        levels.push_back({trial_count, error.rms_rel, error.max_rel, report.cg_iterations, grid.num_leaves()});
-        accepted = true;
-        break;
-      }
-      // Keep the worse half (marked is ranked by error).
-      marked.resize(marked.size() / 2);
-    }
-    if (!accepted) {
-      stop = FitStopReason::Budget;
-      break;
-    }
-  }
+  DensityGridFit fit(samples, options, budget, hi, std::move(grid), std::move(current), progress);
+  const HierarchicalFitResult run = run_hierarchical_fitting(fit, fit);
+  RefinementGrid::Functions& current_fit = fit.current;
   progress.report("fit", 1.0);
   // Output layout (X, Y, Z, density).
-  Eigen::MatrixXd points(current.points.rows(), 4);
-  points.leftCols(3) = current.points.rightCols(3);
-  points.col(3) = current.points.col(0);
-  TSpline out(std::move(current.knots), std::move(current.weights), std::move(points), TSplineAcceleration::FunctionLists);
-  return {std::move(out), std::move(levels), std::move(recon), error, grid.max_level(), stop};
+  Eigen::MatrixXd points(current_fit.points.rows(), 4);
+  points.leftCols(3) = current_fit.points.rightCols(3);
+  points.col(3) = current_fit.points.col(0);
+  TSpline out(std::move(current_fit.knots), std::move(current_fit.weights), std::move(points),
+              TSplineAcceleration::FunctionLists);
+  return {std::move(out), std::move(fit.levels), std::move(fit.recon), fit.error, fit.grid.max_level(),
+          run.stop_reason};
 }
 
 }  // namespace volspline::spline

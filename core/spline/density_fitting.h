@@ -10,6 +10,7 @@
 
 #include "core/common/progress.h"
 #include "core/spline/bspline_volume.h"
+#include "core/spline/hierarchical_fitting.h"
 #include "core/spline/tspline.h"
 
 namespace volspline::spline {
@@ -104,27 +105,6 @@ struct AdaptiveDensityOptions {
   GridFitOptions fit;
 };
 
-/// Why an adaptive fit stopped refining.
-enum class FitStopReason {
-  Target,       ///< the density RMS reached max_rms_rel
-  Budget,       ///< the next level would exceed the control point budget
-  Diminishing,  ///< the last level gained less than min_gain_rate / min_decrease_rel
-  MaxLevels,    ///< max_levels levels were done
-  NoCells,      ///< no cell may be split (min_cell_width) or no error is left to mark
-};
-
-/// Stable lower-case name of a stop reason ("target", "budget", "diminishing", "max_levels",
-/// "no_cells"), the value of the stats key stop_reason.
-const char* fit_stop_reason_name(FitStopReason reason);
-
-/// Bulk (Dörfler) marking of one refinement level (Algorithm 4's "cells over the threshold",
-/// made scale-free): `candidates` sorted by decreasing `error` (ties by increasing id), the first
-/// of them until `fraction` of `total` is covered, then cut to the cells the budget affords
-/// (0.9·room/growth_per_cell; growth_per_cell ≤ 0 = no estimate yet, no cut). Empty when nothing
-/// is marked or nothing is affordable; *over_budget tells the latter.
-std::vector<int> bulk_mark(std::vector<int> candidates, const std::vector<double>& error, double total,
-                           double fraction, double room, double growth_per_cell, bool* over_budget);
-
 /// One level of adaptive fitting.
 struct AdaptiveDensityLevel {
   int control_points = 0;
@@ -156,7 +136,7 @@ bool level_gain_too_small(const std::vector<AdaptiveDensityLevel>& levels, const
 std::optional<FitStopReason> adaptive_stop(double rms_rel, const std::vector<AdaptiveDensityLevel>& levels, int level,
                                            int count, int budget, const AdaptiveDensityOptions& options);
 
-/// Adaptive hierarchical T-spline fit of grid samples (Algorithm 4, §4.3.3): level 0 is the
+/// Adaptive hierarchical T-spline fit of grid samples (run_hierarchical_fitting): level 0 is the
 /// least-squares cubic B-spline on 2^k uniform cells per axis; then the leaves holding the largest share of
 /// the squared error (Dörfler marking) are split into 8 by RefinementGrid::split and all control
 /// points refitted, until the RMS target, the control point budget (a level that would exceed it

@@ -10,7 +10,7 @@
 
 namespace volspline::spline {
 
-/// The cells of hierarchical fitting (thesis §3.5.1 Algorithm 4, §4.3.3): a uniform grid of
+/// The cells of hierarchical fitting (run_hierarchical_fitting, §3.5.1, §4.3.3): a uniform grid of
 /// boxes over a parameter domain, each of which can be split into 8 children, recursively.
 class RefinementGrid {
  public:
@@ -29,7 +29,7 @@ class RefinementGrid {
   /// Leaf containing uvw (closed at the domain's upper faces); uvw is clamped into the domain.
   int leaf_of(const Eigen::Vector3d& uvw) const;
 
-  /// Splits the given leaves into 8 (Algorithm 4 `Subdivision`) and returns `spline` refined
+  /// Splits the given leaves into 8 (the `Subdivision` step of run_hierarchical_fitting) and returns `spline` refined
   /// (§4.3.3): every blending function whose ray-traced knot vector R* in the new T-mesh has
   /// knots its own R lacks is split by knot insertion (Table 4.1, Eq. 4.8/4.9), repeatedly,
   /// which keeps F and Σ w_i B_i unchanged. Knots of R that R* lacks are kept (the thesis

@@ -16,6 +16,7 @@
 #include "core/linalg/parallel_for.h"
 #include "core/spline/component_solve.h"
 #include "core/spline/grouped_gram.h"
+#include "core/spline/hierarchical_fitting.h"
 #include "core/spline/bspline_volume.h"
 #include "core/spline/sparsified_cholesky.h"
 
@@ -218,6 +219,130 @@ void release(TSpline& spline) {
                    Eigen::MatrixXd::Zero(1, spline.dimension()), TSplineAcceleration::FunctionLists);
 }
 
+// run_hierarchical_fitting on scattered samples: the density column (3) fitted by least squares over the
+// current cells, with the factorized normal matrix kept for the final geometry fit (Eq. 5.11),
+// and Dörfler marking of the leaves' squared error within the budget.
+class ScatteredDensityFit final : public HierarchicalFit, public MarkingRule {
+ public:
+  ScatteredDensityFit(const Eigen::MatrixX3d& uvw, const Eigen::MatrixXd& targets, const std::array<int, 3>& dims,
+                      const AdaptiveDensityOptions& options, int budget, TSpline spline, RefinementGrid grid,
+                      const Progress& progress)
+      : current(std::move(spline)), grid(std::move(grid)), uvw_(uvw), targets_(targets), options_(options),
+        budget_(budget), threads_(options.fit.threads), progress_(progress),
+        density_(targets.col(3).data(), targets.col(3).data() + targets.rows()) {
+    const auto [mn, mx] = std::minmax_element(density_.begin(), density_.end());
+    range_ = *mx > *mn ? *mx - *mn : 1.0;
+    for (int a = 0; a < 3; ++a) min_width_ = std::min(min_width_, options.min_cell_width / std::max(1, dims[a] - 1));
+  }
+
+  void fit(int) override {
+    NormalEquations eq = assemble_normal_equations(current, uvw_, targets_, options_.fit.regularization, threads_);
+    solver = std::make_unique<linalg::ConjugateGradient<SparsifiedCholesky>>();
+    solver->set_tolerance(options_.fit.tolerance);
+    solver->set_max_iterations(options_.fit.max_iterations);
+    solver->set_threads(threads_);
+    solver->compute(eq.gram);
+    eq.gram = linalg::CsrMatrix();
+    const Eigen::VectorXd x0 = current.points().col(3);
+    const Eigen::VectorXd x = solver->solve(eq.rhs.col(3) + eq.ridge.cwiseProduct(x0), x0);
+    geometry_rhs = eq.rhs.leftCols(3);
+    ridge = std::move(eq.ridge);
+    Eigen::MatrixXd points = current.points();
+    points.col(3) = x;
+    current.set_points(std::move(points));
+    recon = evaluate_density(current, uvw_, threads_);
+    double sum = 0.0, worst = 0.0;
+    for (std::size_t s = 0; s < recon.size(); ++s) {
+      const double d = recon[s] - density_[s];
+      sum += d * d;
+      worst = std::max(worst, std::abs(d));
+    }
+    rms_ = std::sqrt(sum / static_cast<double>(recon.size())) / range_;
+    levels.push_back({current.num_functions(), rms_, worst / range_, solver->iterations(), grid.num_leaves()});
+  }
+
+  int num_control_points() const override { return current.num_functions(); }
+
+  bool refine(const std::vector<int>& cells, int) override {
+    RefinementGrid trial_grid = grid;
+    // Counted on plain arrays: a TSpline (with its evaluation grid) is only built for an
+    // accepted level, after the coarser one is released, so that one grid exists at a time.
+    RefinementGrid::Functions trial =
+        trial_grid.split_functions({current.knots(), current.weights(), current.points()}, cells);
+    if (static_cast<int>(trial.knots.size()) > budget_) return false;
+    grid = std::move(trial_grid);
+    solver.reset();
+    release(current);
+    current = TSpline(std::move(trial.knots), std::move(trial.weights), std::move(trial.points),
+                      TSplineAcceleration::FunctionLists);
+    return true;
+  }
+
+  std::optional<FitStopReason> stop(int level) override {
+    return adaptive_stop(rms_, levels, level + 1, current.num_functions(), budget_, options_);
+  }
+
+  Marking mark(int level) override {
+    progress_.report("fit", static_cast<double>(level + 1) / (options_.max_levels + 1));
+    const std::vector<int> leaf_ids = grid.leaves();
+    std::vector<double> sse(static_cast<std::size_t>(leaf_ids.back()) + 1, 0.0);
+    {
+      // Leaves looked up in parallel, squared errors summed in sample order.
+      std::vector<int> leaf(static_cast<std::size_t>(uvw_.rows()));
+      linalg::parallel_for(threads_, sample_chunks(uvw_.rows()), [&](int chunk) {
+        const Eigen::Index end = std::min(uvw_.rows(), (chunk + 1) * kSampleChunk);
+        for (Eigen::Index s = chunk * kSampleChunk; s < end; ++s) leaf[s] = grid.leaf_of(uvw_.row(s).transpose());
+      });
+      for (Eigen::Index s = 0; s < uvw_.rows(); ++s) {
+        const double d = recon[s] - density_[s];
+        sse[leaf[s]] += d * d;
+      }
+    }
+    double total = 0.0;
+    std::vector<int> candidates;
+    for (int id : leaf_ids) {
+      total += sse[id];
+      if ((grid.cell_max(id) - grid.cell_min(id)).minCoeff() >= 2.0 * min_width_ && sse[id] > 0.0)
+        candidates.push_back(id);
+    }
+    bool over_budget = false;
+    Marking marking;
+    marking.cells = bulk_mark(std::move(candidates), sse, total, options_.marking_fraction,
+                              static_cast<double>(budget_) - current.num_functions(), growth_per_cell_, &over_budget);
+    marking.empty_reason = over_budget ? FitStopReason::Budget : FitStopReason::NoCells;
+    return marking;
+  }
+
+  void refined(std::size_t cells, int before, int after) override {
+    growth_per_cell_ = std::max(1.0, static_cast<double>(after - before)) / static_cast<double>(cells);
+  }
+
+  OverBudget over_budget() const override { return OverBudget::HalveMarking; }
+
+  TSpline current;
+  RefinementGrid grid;
+  std::vector<AdaptiveDensityLevel> levels;
+  std::vector<double> recon;
+  // The normal matrix of the current cells, factorized, and the X, Y, Z right-hand sides:
+  // the final geometry fit reuses them (the density and geometry columns share MᵀM).
+  std::unique_ptr<linalg::ConjugateGradient<SparsifiedCholesky>> solver;
+  Eigen::MatrixXd geometry_rhs;
+  Eigen::VectorXd ridge;
+
+ private:
+  const Eigen::MatrixX3d& uvw_;
+  const Eigen::MatrixXd& targets_;
+  const AdaptiveDensityOptions& options_;
+  const int budget_;
+  const int threads_;
+  const Progress& progress_;
+  const std::vector<double> density_;
+  double range_ = 1.0;
+  double min_width_ = 1.0;
+  double rms_ = 0.0;
+  double growth_per_cell_ = 0.0;
+};
+
 }  // namespace
 
 ScatteredFitReport fit_tspline_scattered(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixXd& targets,
@@ -264,7 +389,6 @@ ScatteredDensityResult fit_scattered_adaptive(const Eigen::MatrixX3d& uvw, const
   if (!(options.fit.tolerance > 0.0) || options.fit.max_iterations < 1 || !(options.fit.regularization > 0.0))
     throw Error("scattered density fit: CG tolerance and regularization must be > 0, max_iterations >= 1");
   if (options.fit.threads < 1) throw Error("scattered density fit: threads must be >= 1");
-  const int threads = options.fit.threads;
   const double longest = std::max({dims[0], dims[1], dims[2]}) - 1.0;
   const int first = options.initial_cells > 0 ? options.initial_cells
                                               : std::max(1, static_cast<int>(std::lround(longest / 8.0)));
@@ -276,9 +400,6 @@ ScatteredDensityResult fit_scattered_adaptive(const Eigen::MatrixX3d& uvw, const
     if (cells[a] == 1) break;
     --cells[a];
   }
-  const std::vector<double> density(targets.col(3).data(), targets.col(3).data() + targets.rows());
-  const auto [mn, mx] = std::minmax_element(density.begin(), density.end());
-  const double range = *mx > *mn ? *mx - *mn : 1.0;
   progress.report("fit", 0.0);
   std::array<std::vector<double>, 3> knots;
   for (int a = 0; a < 3; ++a) knots[a] = clamped_uniform(cells[a]);
@@ -288,126 +409,26 @@ ScatteredDensityResult fit_scattered_adaptive(const Eigen::MatrixX3d& uvw, const
   TSpline current = from_bspline_volume(BsplineVolume(knots, Eigen::MatrixXd::Zero(count, 4)),
                                         TSplineAcceleration::FunctionLists);
   RefinementGrid grid(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), cells);
-  std::vector<AdaptiveDensityLevel> levels;
-  std::vector<double> recon;
-  double rms = 0.0;
-  // The normal matrix of the current cells, factorized, and the X, Y, Z right-hand sides:
-  // the final geometry fit reuses them (the density and geometry columns share MᵀM).
-  std::unique_ptr<linalg::ConjugateGradient<SparsifiedCholesky>> solver;
-  Eigen::MatrixXd geometry_rhs;
-  Eigen::VectorXd ridge;
-  auto fit_density = [&]() {
-    NormalEquations eq = assemble_normal_equations(current, uvw, targets, options.fit.regularization, threads);
-    solver = std::make_unique<linalg::ConjugateGradient<SparsifiedCholesky>>();
-    solver->set_tolerance(options.fit.tolerance);
-    solver->set_max_iterations(options.fit.max_iterations);
-    solver->set_threads(threads);
-    solver->compute(eq.gram);
-    eq.gram = linalg::CsrMatrix();
-    const Eigen::VectorXd x0 = current.points().col(3);
-    const Eigen::VectorXd x = solver->solve(eq.rhs.col(3) + eq.ridge.cwiseProduct(x0), x0);
-    geometry_rhs = eq.rhs.leftCols(3);
-    ridge = std::move(eq.ridge);
-    Eigen::MatrixXd points = current.points();
-    points.col(3) = x;
-    current.set_points(std::move(points));
-    recon = evaluate_density(current, uvw, threads);
-    double sum = 0.0, worst = 0.0;
-    for (std::size_t s = 0; s < recon.size(); ++s) {
-      const double d = recon[s] - density[s];
-      sum += d * d;
-      worst = std::max(worst, std::abs(d));
-    }
-    rms = std::sqrt(sum / static_cast<double>(recon.size())) / range;
-    levels.push_back({current.num_functions(), rms, worst / range, solver->iterations(), grid.num_leaves()});
-  };
-  fit_density();
-  double min_width = 1.0;
-  for (int a = 0; a < 3; ++a) min_width = std::min(min_width, options.min_cell_width / std::max(1, dims[a] - 1));
-  double growth_per_cell = 0.0;
-  FitStopReason stop = FitStopReason::MaxLevels;
-  for (int level = 1;; ++level) {
-    if (const std::optional<FitStopReason> reason =
-            adaptive_stop(rms, levels, level, current.num_functions(), budget, options)) {
-      stop = *reason;
-      break;
-    }
-    const double room = static_cast<double>(budget) - current.num_functions();
-    progress.report("fit", static_cast<double>(level) / (options.max_levels + 1));
-    const std::vector<int> leaf_ids = grid.leaves();
-    std::vector<double> sse(static_cast<std::size_t>(leaf_ids.back()) + 1, 0.0);
-    {
-      // Leaves looked up in parallel, squared errors summed in sample order.
-      std::vector<int> leaf(static_cast<std::size_t>(uvw.rows()));
-      linalg::parallel_for(threads, sample_chunks(uvw.rows()), [&](int chunk) {
-        const Eigen::Index end = std::min(uvw.rows(), (chunk + 1) * kSampleChunk);
-        for (Eigen::Index s = chunk * kSampleChunk; s < end; ++s) leaf[s] = grid.leaf_of(uvw.row(s).transpose());
-      });
-      for (Eigen::Index s = 0; s < uvw.rows(); ++s) {
-        const double d = recon[s] - density[s];
-        sse[leaf[s]] += d * d;
-      }
-    }
-    double total = 0.0;
-    std::vector<int> candidates;
-    for (int id : leaf_ids) {
-      total += sse[id];
-      if ((grid.cell_max(id) - grid.cell_min(id)).minCoeff() >= 2.0 * min_width && sse[id] > 0.0)
-        candidates.push_back(id);
-    }
-    bool over_budget = false;
-    std::vector<int> marked =
-        bulk_mark(std::move(candidates), sse, total, options.marking_fraction, room, growth_per_cell, &over_budget);
-    if (marked.empty()) {
-      stop = over_budget ? FitStopReason::Budget : FitStopReason::NoCells;
-      break;
-    }
-    bool accepted = false;
-    while (!marked.empty() && !accepted) {
-      std::vector<int> sorted = marked;
-      std::sort(sorted.begin(), sorted.end());
-      RefinementGrid trial_grid = grid;
-      // Counted on plain arrays: a TSpline (with its evaluation grid) is only built for an
-      // accepted level, after the coarser one is released, so that one grid exists at a time.
-      RefinementGrid::Functions trial =
-          trial_grid.split_functions({current.knots(), current.weights(), current.points()}, sorted);
-      const int trial_count = static_cast<int>(trial.knots.size());
-      if (trial_count <= budget) {
-        growth_per_cell = std::max(1.0, static_cast<double>(trial_count - current.num_functions())) /
-                          static_cast<double>(sorted.size());
-        grid = std::move(trial_grid);
-        solver.reset();
-        release(current);
-        current = TSpline(std::move(trial.knots), std::move(trial.weights), std::move(trial.points),
-                          TSplineAcceleration::FunctionLists);
-        fit_density();
-        accepted = true;
-      } else {
-        marked.resize(marked.size() / 2);
-      }
-    }
-    if (!accepted) {
-      stop = FitStopReason::Budget;
-      break;
-    }
-  }
+  ScatteredDensityFit fit(uvw, targets, dims, options, budget, std::move(current), std::move(grid), progress);
+  const HierarchicalFitResult run = run_hierarchical_fitting(fit, fit);
+  TSpline& current_fit = fit.current;
   progress.report("fit", 1.0);
   // Eq. 5.11: X, Y, Z fitted over the final cells with the density's normal matrix, warm-started
   // from the identity-like guess X ≈ Greville abscissa × extent of the targets.
-  const int n = current.num_functions();
-  Eigen::MatrixXd points = current.points();
+  const int n = current_fit.num_functions();
+  Eigen::MatrixXd points = current_fit.points();
   const Eigen::RowVector3d lo = targets.leftCols(3).colwise().minCoeff();
   const Eigen::RowVector3d extent = targets.leftCols(3).colwise().maxCoeff() - lo;
   for (int i = 0; i < n; ++i)
     for (int a = 0; a < 3; ++a) {
-      const LocalKnots& r = current.knots()[i][a];
+      const LocalKnots& r = current_fit.knots()[i][a];
       points(i, a) = lo(a) + extent(a) * (r[1] + r[2] + r[3]) / 3.0;
     }
   const Eigen::MatrixXd x0 = points.leftCols(3);
-  points.leftCols(3) = solver->solve(geometry_rhs + ridge.asDiagonal() * x0, x0);
-  solver.reset();
-  current.set_points(std::move(points));
-  return {std::move(current), std::move(levels), std::move(recon), stop};
+  points.leftCols(3) = fit.solver->solve(fit.geometry_rhs + fit.ridge.asDiagonal() * x0, x0);
+  fit.solver.reset();
+  current_fit.set_points(std::move(points));
+  return {std::move(current_fit), std::move(fit.levels), std::move(fit.recon), run.stop_reason};
 }
 
 }  // namespace volspline::spline

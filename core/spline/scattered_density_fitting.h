@@ -41,7 +41,7 @@ struct ScatteredDensityResult {
   FitStopReason stop_reason = FitStopReason::Target;
 };
 
-/// Adaptive hierarchical fit (Algorithm 4) of (X, Y, Z, density) samples at parameters uvw
+/// Adaptive hierarchical fit (run_hierarchical_fitting) of (X, Y, Z, density) samples at parameters uvw
 /// (m×3 inside [0, 1]³; targets m×4) as fit_density_adaptive does on a grid: level 0 is the
 /// uniform cubic B-spline on initial cells (proportional to dims), then Dörfler-marked leaves
 /// are split by RefinementGrid::split and the density refitted; X, Y, Z are fitted once at the

@@ -7,6 +7,7 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/tspline_refinement.cpp
   ${CMAKE_CURRENT_LIST_DIR}/tspline_fitting.cpp
   ${CMAKE_CURRENT_LIST_DIR}/hierarchical_refinement.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/hierarchical_fitting.cpp
   ${CMAKE_CURRENT_LIST_DIR}/density_fitting.cpp
   ${CMAKE_CURRENT_LIST_DIR}/scattered_density_fitting.cpp
   ${CMAKE_CURRENT_LIST_DIR}/sparsified_cholesky.cpp

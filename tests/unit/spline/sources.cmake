@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: MIT
 set(TEST_SOURCES
+  ${CMAKE_CURRENT_LIST_DIR}/hierarchical_fitting_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/bspline_basis_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/bspline_volume_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/knot_insertion_test.cpp
