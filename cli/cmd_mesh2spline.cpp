@@ -7,6 +7,7 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/progress_bar.h"
+#include "core/io/bezier_vtu_writer.h"
 #include "core/io/file_bytes.h"
 #include "core/io/glb_lines_writer.h"
 #include "core/io/mesh_io.h"
@@ -44,7 +45,8 @@ std::vector<int> read_corners(const std::string& path) {
 int run_mesh2spline(const std::vector<std::string>& argv) {
   std::vector<OptionSpec> specs = {
       {"output", "OUT.json", "spline JSON file to write (required; also -o)"},
-      {"vtk", "OUT.vtu", "hex mesh sampled from the spline with per-cell scaled Jacobian"},
+      {"vtk", "OUT.vtu", "the spline as VTK Bézier hexahedra (exact, one per knot-line cell) with the certified scaled_jacobian_min per cell"},
+      {"vtk-linear", "N", "write --vtk as straight hexes sampled on an N^3 lattice instead (tools without Bézier cells)"},
       {"glb", "OUT.glb", "boundary surface of the spline with iso-parameter lines"},
       {"max-rms", "R", "stop refining at rms_rel <= R (fraction of the bbox diagonal; default 0.002)"},
       {"max-surface-error", "R", "also refine until every surface sample is within R of the mesh (fraction of the bbox diagonal; default 0.005)"},
@@ -105,6 +107,9 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
     throw UsageError("--weights must be meanvalue or cotan, got '" + weights + "'");
   if (args.has("corners")) options.corners = read_corners(args.get("corners"));
 
+  const int vtk_linear = args.has("vtk-linear") ? args.get_int("vtk-linear", 24) : 0;
+  if (args.has("vtk-linear") && (vtk_linear < 1 || vtk_linear > 512))
+    throw UsageError("--vtk-linear must be in 1..512, got " + std::to_string(vtk_linear));
   const std::string& path = args.positional[0];
   const mesh::TriangleMesh input = io::read_mesh(path);
   ProgressBar bar(!args.has("quiet"));
@@ -112,7 +117,13 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
   bar.finish();
 
   io::write_spline_json(output, result.spline);
-  if (args.has("vtk")) io::write_spline_vtu(args.get("vtk"), result.spline, {24, 24, 24});
+  if (args.has("vtk")) {
+    if (vtk_linear > 0) {
+      io::write_spline_vtu(args.get("vtk"), result.spline, {vtk_linear, vtk_linear, vtk_linear});
+    } else {
+      io::write_bezier_vtu(args.get("vtk"), result.spline);
+    }
+  }
   if (args.has("glb")) io::write_spline_glb(args.get("glb"), result.spline);
   const pipeline::Mesh2SplineStats& s = result.stats;
   if (args.has("stats-json")) {

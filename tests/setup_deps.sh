@@ -4,7 +4,7 @@
 # usage: tests/setup_deps.sh [--web]   (--web adds chromium and npm for the browser tests)
 set -euo pipefail
 packages=(cmake make g++ clang libclang-rt-14-dev libeigen3-dev doctest-dev libtinygltf-dev libstb-dev
-          nlohmann-json3-dev zlib1g-dev emscripten)
+          nlohmann-json3-dev zlib1g-dev emscripten python3-vtk9)
 if [ "${1:-}" = "--web" ]; then packages+=(chromium); fi
 missing=()
 # node and npm may come from another source (e.g. a nodejs build that bundles npm): look for the

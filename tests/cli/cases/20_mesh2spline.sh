@@ -31,3 +31,11 @@ expect 2 "$BIN" mesh2spline "$DATA/meshes/sphere.off" -o "$TMP/x.json" --max-sur
 contains "$TMP/err" "surface error target"
 expect 2 "$BIN" mesh2spline "$DATA/meshes/sphere.off" -o "$TMP/x.json" --repair-jacobian 0.9 --quiet
 contains "$TMP/err" "Jacobian repair target"
+# The Bézier VTU read back by VTK (python3-vtk9): cell type 79, VTK's evaluation equals eval, no
+# certified cell with a non-positive scaled Jacobian at VTK's Gauss points; --vtk-linear hexes.
+expect 0 /usr/bin/python3 "$SRC/tests/cli/check_bezier_vtu.py" "$BIN" "$TMP/s.json" "$TMP/s.vtu" --gauss
+contains "$TMP/out" "check_bezier_vtu: ok"
+expect 0 "$BIN" mesh2spline "$DATA/meshes/cube.off" -o "$TMP/c.json" --vtk "$TMP/c.vtu" --vtk-linear 6 --quiet
+contains "$TMP/c.vtu" "NumberOfCells=\"216\""
+expect 2 "$BIN" mesh2spline "$DATA/meshes/cube.off" -o "$TMP/c.json" --vtk "$TMP/c.vtu" --vtk-linear 0 --quiet
+contains "$TMP/err" "--vtk-linear must be in 1..512"

@@ -11,6 +11,7 @@ set(TEST_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/spline_json_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/vtu_writer_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/volume_vtu_writer_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/vtk_xml_writer_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/glb_lines_writer_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/volume_io_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/vtk_written_volumes_test.cpp
