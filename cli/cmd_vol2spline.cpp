@@ -13,6 +13,8 @@
 #include "core/io/file_bytes.h"
 #include "core/io/spline_json.h"
 #include "core/io/volume_io.h"
+#include "core/io/bezier_vtu_writer.h"
+#include "core/io/volume_vti_writer.h"
 #include "core/io/volume_vtu_writer.h"
 #include "core/linalg/parallel_for.h"
 #include "core/pipeline/vol2spline_job.h"
@@ -83,7 +85,8 @@ std::vector<std::size_t> read_corners(const std::string& path, const volume::Vol
 int run_vol2spline(const std::vector<std::string>& argv) {
   std::vector<OptionSpec> specs = {
       {"output", "OUT.json", "spline JSON of (X, Y, Z, density), dimension 4 (required; also -o)"},
-      {"vtk", "OUT.vtu", "voxel hexes with the reconstructed density, samples, error (and uvw if aligned)"},
+      {"vtk", "OUT.vtu", "the (X, Y, Z, density) spline as VTK Bézier hexahedra (exact; point data density)"},
+      {"vti", "OUT.vti", "the voxels as VTK ImageData: sample, reconstructed density, error (and uvw if aligned)"},
       {"frames-vtk", "F.vtu", "smoothed frame field: one vertex per voxel with axes f0, f1, f2"},
       {"dims", "X,Y,Z", "raw volumes: voxels per axis (default: from a name like fuel_64x64x64_uint8.raw)"},
       {"type", "T", "raw volumes: uint8|int8|uint16|int16|uint32|int32|float32|float64 (default uint8)"},
@@ -169,7 +172,8 @@ int run_vol2spline(const std::vector<std::string>& argv) {
   bar.finish();
 
   io::write_spline_json(output, result.spline);
-  if (args.has("vtk")) io::write_density_vtu(args.get("vtk"), vol, result.reconstruction, result.uvw);
+  if (args.has("vtk")) io::write_bezier_vtu(args.get("vtk"), result.spline);
+  if (args.has("vti")) io::write_density_vti(args.get("vti"), vol, result.reconstruction, result.uvw);
   if (args.has("frames-vtk")) io::write_frames_vtu(args.get("frames-vtk"), vol, result.frames);
   const pipeline::Vol2SplineStats& s = result.stats;
   if (args.has("stats-json")) {

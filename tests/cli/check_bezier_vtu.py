@@ -87,17 +87,33 @@ def main():
     for _, _, uvw in queries:
         command += ["--uvw", "%.17g,%.17g,%.17g" % tuple(uvw)]
     out = subprocess.run(command, check=True, capture_output=True, text=True).stdout.split("\n")
+    # D = 4 (vol2spline): the density is point data on the same Bézier net, interpolated by VTK
+    # with the cell's own weights (Bernstein basis).
+    density = grid.GetPointData().GetArray("density")
+    if spline["dimension"] == 4 and density is None:
+        fail("point data 'density' missing for a 4-dimensional spline")
+    density_range = None
     worst = 0.0
+    worst_density = 0.0
     for (c, p, _), line in zip(queries, out):
-        expected = [float(x) for x in line.split()][:3]
+        expected = [float(x) for x in line.split()]
         cell = grid.GetCell(c)
         x = [0.0, 0.0, 0.0]
         weights = [0.0] * cell.GetNumberOfPoints()
         cell.EvaluateLocation(vtk.mutable(0), p, x, weights)
         worst = max(worst, max(abs(x[d] - expected[d]) for d in range(3)) / diagonal)
+        if spline["dimension"] == 4:
+            if density_range is None:
+                density_range = max(density.GetRange()[1] - density.GetRange()[0], 1e-300)
+            value = sum(weights[n] * density.GetValue(cell.GetPointId(n)) for n in range(len(weights)))
+            worst_density = max(worst_density, abs(value - expected[3]) / density_range)
     print("check_bezier_vtu: %d cells, %d random points, max |VTK - eval| / diagonal = %.3g" % (cells, samples, worst))
     if worst > 1e-12:
         fail("VTK's evaluation differs from volspline eval by %.3g of the diagonal" % worst)
+    if spline["dimension"] == 4:
+        print("check_bezier_vtu: density: max |VTK - eval| / range of the net = %.3g" % worst_density)
+        if worst_density > 1e-12:
+            fail("VTK's density differs from volspline eval by %.3g of the range" % worst_density)
 
     if gauss:
         bound = grid.GetCellData().GetArray("scaled_jacobian_min")

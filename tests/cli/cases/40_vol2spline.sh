@@ -2,7 +2,7 @@
 VOL="$SRC/samples/volumes/bucky_32x32x32_uint8.raw"
 expect 0 "$BIN" vol2spline --help
 contains "$TMP/out" "vol2spline VOLUME -o OUT.json"
-expect 0 "$BIN" vol2spline "$VOL" -o "$TMP/v.json" --vtk "$TMP/v.vtu" --stats-json "$TMP/v_stats.json" --max-rms 0.1 --quiet
+expect 0 "$BIN" vol2spline "$VOL" -o "$TMP/v.json" --vtk "$TMP/v.vtu" --vti "$TMP/v.vti" --stats-json "$TMP/v_stats.json" --max-rms 0.1 --quiet
 for key in density_rms_rel density_max_rel control_points voxels patches corners frame_smoothness_initial frame_smoothness_final constraint_angle_max_deg min_scaled_jacobian stop_reason max_control_points curve times_s; do
   contains "$TMP/v_stats.json" "\"$key\""
 done
@@ -11,6 +11,11 @@ contains "$TMP/v_stats.json" "\"stop_reason\": \"target\""
 contains "$TMP/v_stats.json" "\"max_control_points\": 2048"
 contains "$TMP/v.json" "\"dimension\": 4"
 contains "$TMP/v.vtu" "Name=\"density\""
+# The density spline as Bézier cells and the voxels as ImageData, read back by VTK (python3-vtk9).
+expect 0 /usr/bin/python3 "$SRC/tests/cli/check_bezier_vtu.py" "$BIN" "$TMP/v.json" "$TMP/v.vtu" --samples 100
+contains "$TMP/out" "check_bezier_vtu: ok"
+expect 0 /usr/bin/python3 "$SRC/tests/cli/check_vti.py" "$TMP/v.vti" 32 32 32
+contains "$TMP/out" "check_vti: ok"
 expect 0 "$BIN" eval "$TMP/v.json" --uvw 15.5,15.5,15.5
 # The same bytes given as a raw file with explicit dims and type.
 cp "$VOL" "$TMP/volume.raw"

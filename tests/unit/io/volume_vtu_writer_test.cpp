@@ -3,6 +3,10 @@
 
 #include <doctest/doctest.h>
 
+#include "appended_array.h"
+#include "core/io/vti_format.h"
+#include "core/io/volume_vti_writer.h"
+
 using namespace volspline;
 
 namespace {
@@ -19,27 +23,46 @@ volume::Volume two_by_two_by_three() {
 
 }  // namespace
 
-TEST_CASE("density vtu: voxel-centre points, 2 hexes in VTK order, error = reconstruction − sample") {
-  const volume::Volume v = two_by_two_by_three();
-  std::vector<double> recon(12);
-  for (int i = 0; i < 12; ++i) recon[i] = i + 0.25;
-  const std::string vtu = io::serialize_density_vtu(v, recon, Eigen::MatrixX3d());
-  CHECK(vtu.find("NumberOfPoints=\"12\" NumberOfCells=\"2\"") != std::string::npos);
-  CHECK(vtu.find("1 2 1\n") != std::string::npos);        // voxel (1, 1, 2) at (1, 2, 1)·spacing
-  CHECK(vtu.find("0 1 3 2 4 5 7 6\n") != std::string::npos);  // bottom face counter-clockwise, then top
-  const auto error = vtu.find("format=\"ascii\">\n", vtu.find("Name=\"error\"")) + 16;
-  CHECK(vtu.substr(error, 5) == "0.25\n");
-  CHECK(vtu.find("Name=\"uvw\"") == std::string::npos);
-  Eigen::MatrixX3d uvw = Eigen::MatrixX3d::Zero(12, 3);
-  CHECK(io::serialize_density_vtu(v, recon, uvw).find("Name=\"uvw\"") != std::string::npos);
-}
-
 TEST_CASE("frames vtu: one vertex per voxel with the three axes") {
   const volume::Volume v = two_by_two_by_three();
   volume::FrameField field{2, 2, 3, std::vector<Eigen::Matrix3d>(12, Eigen::Matrix3d::Identity())};
-  const std::string vtu = io::serialize_frames_vtu(v, field);
+  const std::string vtu = io::serialize_frames_vtu(v, field, false);
   CHECK(vtu.find("NumberOfPoints=\"12\" NumberOfCells=\"12\"") != std::string::npos);
   for (const char* name : {"\"f0\"", "\"f1\"", "\"f2\""}) CHECK(vtu.find(name) != std::string::npos);
-  const auto f2 = vtu.find("format=\"ascii\">\n", vtu.find("Name=\"f2\"")) + 16;
-  CHECK(vtu.substr(f2, 6) == "0 0 1\n");
+  const std::vector<double> f2 = test::appended_array<double>(vtu, "f2");
+  REQUIRE(f2.size() == 36);
+  CHECK(f2[0] == 0.0);
+  CHECK(f2[1] == 0.0);
+  CHECK(f2[2] == 1.0);
+  const std::vector<double> points = test::appended_array<double>(vtu, "Points");
+  REQUIRE(points.size() == 36);
+  CHECK(points[3 * 11 + 1] == 2.0);  // voxel (1, 1, 2) at (1, 2, 1)·spacing
+  CHECK(points[3 * 11 + 2] == 1.0);
+}
+
+TEST_CASE("density vti: the voxels read back with their placement; error = reconstruction − sample") {
+  volume::Volume v = two_by_two_by_three();
+  v.origin = Eigen::Vector3d(1, -2, 3);
+  v.direction << 0, -1, 0, 1, 0, 0, 0, 0, 1;
+  std::vector<double> recon(12);
+  for (int i = 0; i < 12; ++i) recon[i] = i + 0.25;
+  for (bool compress : {true, false}) {
+    const std::string vti = io::serialize_density_vti(v, recon, Eigen::MatrixX3d(), compress);
+    const volume::Volume back = io::parse_vti(vti, "density.vti");  // the active scalars: sample
+    CHECK(back.nx == 2);
+    CHECK(back.ny == 2);
+    CHECK(back.nz == 3);
+    CHECK(back.samples == v.samples);
+    CHECK(back.spacing == v.spacing);
+    CHECK(back.origin == v.origin);
+    CHECK(back.direction == v.direction);
+    CHECK(vti.find("Name=\"uvw\"") == std::string::npos);
+    if (!compress) {
+      const std::vector<double> error = test::appended_array<double>(vti, "error");
+      REQUIRE(error.size() == 12);
+      CHECK(error[5] == 0.25);
+    }
+  }
+  Eigen::MatrixX3d uvw = Eigen::MatrixX3d::Zero(12, 3);
+  CHECK(io::serialize_density_vti(v, recon, uvw).find("Name=\"uvw\"") != std::string::npos);
 }
