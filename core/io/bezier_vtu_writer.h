@@ -27,7 +27,8 @@ struct BezierVtuOptions {
 /// net (spline::extract_bezier_cell), so VTK draws and evaluates the spline itself. Points lie on
 /// the global Bézier lattice (3·cells + 1 per axis): neighbouring cells share their face nets.
 /// Cell data: `HigherOrderDegrees` (3, 3, 3), `cuboid`, `scaled_jacobian_min` (the certified
-/// lower bound of the scaled Jacobian, spline::certify_jacobian; negative where not certified;
+/// lower bound of the scaled Jacobian, spline::certify_jacobian; negative where not certified,
+/// and then a fold indicator, not a bound;
 /// D = 3 only). Point data: `density` (D = 4) and, in the rational form, `RationalWeights`. In the
 /// semi-standard form (Eq. 4.3) F is polynomial on each cell and no weights are written. Appended
 /// binary data, zlib-compressed where available. Precondition: D is 3 or 4.
