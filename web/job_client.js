@@ -1,8 +1,14 @@
 // SPDX-License-Identifier: MIT
+// @ts-check
 // Runs core jobs in the Web Worker: one job at a time, progress callbacks, cancellation.
 // Cancellation first asks the job to stop through a shared flag that the core's progress callback
 // reads (needs a cross-origin isolated page); if the job does not stop within `graceMs`, or the
 // page is not isolated, the worker is terminated and a fresh one started.
+
+/** @typedef {import('./messages.js').JobName} JobName */
+/** @typedef {import('./messages.js').JobResult} JobResult */
+/** @typedef {import('./messages.js').FromWorker} FromWorker */
+/** @typedef {import('./messages.js').ToWorker} ToWorker */
 
 export class JobClient {
   constructor({ workerUrl = './worker.js', graceMs = 1500 } = {}) {
@@ -41,6 +47,7 @@ export class JobClient {
     this.worker.postMessage({ type: 'init', cancel: this.shared });
   }
 
+  /** @param {FromWorker} msg @param {(v: {version: string, jobs: JobName[]}) => void} resolve @param {(e: Error) => void} reject */
   handle(msg, resolve, reject) {
     if (msg.type === 'ready') resolve({ version: msg.version, jobs: msg.jobs });
     else if (msg.type === 'fatal') { reject(new Error(msg.message)); this.finish({ ok: false, message: msg.message }); }
@@ -60,6 +67,12 @@ export class JobClient {
   /// Runs `job` with `args` (typed arrays in args are copied unless listed in `transfer`).
   /// Resolves with the core's result object ({ok:false, message} on failure or cancel); never rejects.
   /// Only one job runs at a time: a second call while busy resolves {ok:false, message:'busy'}.
+  /**
+   * @param {JobName} job
+   * @param {Object<string, any>} args
+   * @param {{onProgress?: ((stage: string, fraction: number) => void) | null, transfer?: Transferable[]}} [options]
+   * @returns {Promise<JobResult>}
+   */
   async run(job, args, { onProgress, transfer = [] } = {}) {
     if (this.current) return { ok: false, message: 'busy: another job is running' };
     try {

@@ -7,54 +7,8 @@
 //   cut       the cut through the volume, coloured by scaled Jacobian
 // The boundary and its lines are cut away on the far side of the cut (uvw[axis] > position), so
 // the cut is visible inside the solid. Flat shading from screen-space derivatives.
+import { VERTEX, FRAGMENT } from './shaders/mesh_shaders.js';
 import { createProgram, mat4 } from './gl_util.js';
-
-const VERTEX = `#version 300 es
-in vec3 position;
-in vec3 uvw;
-in float scalar;
-uniform mat4 view_projection;
-uniform mat4 view;
-uniform float point_size;
-out vec3 view_position;
-out vec3 v_uvw;
-out float v_scalar;
-void main() {
-  view_position = (view * vec4(position, 1.0)).xyz;
-  v_uvw = uvw;
-  v_scalar = scalar;
-  gl_PointSize = point_size;
-  gl_Position = view_projection * vec4(position, 1.0);
-}`;
-
-// Scaled Jacobian colours: ≤ 0 (folded) red; 0 → 1 from orange through yellow and green to blue.
-const FRAGMENT = `#version 300 es
-precision highp float;
-in vec3 view_position;
-in vec3 v_uvw;
-in float v_scalar;
-uniform vec4 colour;
-uniform bool lit;
-uniform bool use_scalar;
-uniform int cut_axis;      // -1: no cut-away
-uniform float cut_position;
-out vec4 out_colour;
-vec3 quality(float q) {
-  if (q <= 0.0) return vec3(0.85, 0.1, 0.1);
-  vec3 c0 = vec3(0.95, 0.45, 0.1), c1 = vec3(0.98, 0.85, 0.2), c2 = vec3(0.3, 0.75, 0.35), c3 = vec3(0.2, 0.4, 0.85);
-  if (q < 0.33) return mix(c0, c1, q / 0.33);
-  if (q < 0.67) return mix(c1, c2, (q - 0.33) / 0.34);
-  return mix(c2, c3, (q - 0.67) / 0.33);
-}
-void main() {
-  if (cut_axis >= 0 && v_uvw[cut_axis] > cut_position + 1e-4) discard;
-  vec3 base = use_scalar ? quality(v_scalar) : colour.rgb;
-  if (!lit) { out_colour = vec4(base, colour.a); return; }
-  vec3 n = normalize(cross(dFdx(view_position), dFdy(view_position)));
-  vec3 l = normalize(vec3(0.4, 0.6, 1.0));
-  float diffuse = abs(dot(n, l));
-  out_colour = vec4(base * (0.3 + 0.7 * diffuse), colour.a);
-}`;
 
 /// Legend colours of the scaled Jacobian (CSS), matching the shader.
 export const QUALITY_GRADIENT = 'linear-gradient(to right, rgb(242,115,26) 0%, rgb(250,217,51) 33%, rgb(77,191,89) 67%, rgb(51,102,217) 100%)';

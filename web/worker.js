@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT
+// @ts-check
 // The Web Worker that owns the WebAssembly core. Only this file loads volspline.mjs.
 // Messages in:  {type:'init', cancel: SharedArrayBuffer|null}
 //               {type:'run', id, job, args}
 // Messages out: {type:'ready', version, jobs} | {type:'fatal', message}
 //               {type:'progress', id, stage, fraction} | {type:'result', id, result, ms}
 // Every job result is the core's {ok, ...} object; typed arrays in it are transferred, not copied.
+// The message types are in messages.js.
 import createVolspline from './volspline.mjs';
 
 let core = null;
@@ -61,6 +63,7 @@ const jobs = {
 // Jobs that need a binding which older builds of the core may lack.
 const bindingOf = { mesh2spline: 'mesh2spline', splineCut: 'splineCut', loadVolume: 'loadVolume', vol2spline: 'vol2spline' };
 
+/** @param {import('./messages.js').RunMessage} message @returns {import('./messages.js').JobResult} */
 function run({ id, job, args }) {
   if (!jobs[job]) return { ok: false, message: `unknown job '${job}'` };
   let last = 0;
@@ -80,7 +83,7 @@ function run({ id, job, args }) {
   }
 }
 
-onmessage = async (event) => {
+onmessage = async (/** @type {MessageEvent<import('./messages.js').ToWorker>} */ event) => {
   const msg = event.data;
   if (msg.type === 'init') {
     cancelFlag = msg.cancel ? new Int32Array(msg.cancel) : null;

@@ -1,0 +1,172 @@
+// SPDX-License-Identifier: MIT
+// The Lens tab: open an image, drag or resize the lens, α, magnification, grid and method
+// controls re-run the job live, timing and stats readouts, PNG and JSON downloads.
+import { $, jobs, runJob, showError, clearError, download, acceptFiles, fillStats, fmt } from '../ui.js';
+import { LensView } from '../lens_view.js';
+
+export const lensTab = {
+  view: null,
+  key: null,          // worker-side image key
+  generation: 0,      // worker generation the image was sent to (a restarted worker lost it)
+  bytes: null, name: null,
+  roi: null,
+  calibrated: null,   // {magnification, grid, height}: reuse h0 while only the ROI or α changes
+  pending: false, running: false,
+  lastFrame: 0, frameMs: [],  // intervals between live results shown (the frame time while dragging)
+  frameLog: [],               // per live result: {ms (interval or 0), ms_total, ms_worker}; read by the e2e test
+  result: null,
+
+  options() {
+    return {
+      method: document.querySelector('input[name="lens-method"]:checked').value,
+      alpha: Number($('lens-alpha').value),
+      magnification: Number($('lens-magnification').value),
+      grid: Number($('lens-grid').value),
+    };
+  },
+
+  async open(bytes, name) {
+    clearError();
+    const key = `${name}#${Date.now()}`;
+    const r = await runJob('setImage', { key, bytes: bytes.slice(), name });
+    if (!r.ok) { if (r.message !== 'cancelled') showError(r.message); return; }
+    Object.assign(this, { key, bytes, name, generation: jobs.generation, calibrated: null, frameMs: [], reuses: 0 });
+    const { width, height } = r.image;
+    this.roi = { cx: width / 2, cy: height / 2, r: Math.max(4, Math.round(Math.min(width, height) / 6)) };
+    this.view.setImage(r.image);
+    this.view.setRoi(this.roi);
+    $('lens-hint').hidden = true;
+    this.update(false);
+  },
+
+  /// Re-runs the job with the current controls; while a run is in flight only the latest request
+  /// is kept, so dragging never queues stale work.
+  update(live) {
+    if (!this.key) return;
+    this.live = live;
+    if (this.running) { this.pending = true; return; }
+    this.runOnce();
+  },
+
+  async runOnce() {
+    this.running = true;
+    this.pending = false;
+    try {
+      if (this.generation !== jobs.generation) {  // the worker was restarted by a cancel
+        const r = await runJob('setImage', { key: this.key, bytes: this.bytes.slice(), name: this.name }, { quiet: true });
+        if (!r.ok) { showError(r.message); return; }
+        this.generation = jobs.generation;
+      }
+      const o = this.options();
+      // While dragging, the core may answer a move by translating the last solved lens (mode
+      // 'live'); the release runs the full job, so what stays on screen is a full result.
+      const options = { ...o, render: false, ...(this.live ? { mode: 'live' } : {}) };
+      const c = this.calibrated;
+      if (o.method === 'metric' && c && c.magnification === o.magnification && c.grid === o.grid) options.height = c.height;
+      const roi = { ...this.roi };
+      // The same request as the one on screen (e.g. the release after a drag) is not re-run.
+      const request = JSON.stringify([this.key, this.generation, roi, options]);
+      if (request === this.lastRequest && this.lastRun) {
+        if (!this.live) { this.showTiming(this.lastRun); this.showStats(this.lastRun.stats, o.method); }
+        return;
+      }
+      const r = await runJob('lens', { key: this.key, rois: [{ shape: 'circle', values: [roi.cx, roi.cy, roi.r] }], options }, { quiet: this.live });
+      if (!r.ok) { this.lastRequest = null; if (r.message !== 'cancelled') showError(r.message); return; }
+      this.lastRequest = request;
+      this.lastRun = r;
+      if (o.method === 'metric' && !options.height) this.calibrated = { magnification: o.magnification, grid: o.grid, height: r.stats.height };
+      // Drawn at the next animation frame (onFrame below), while the worker already computes the
+      // next request: the frame time is max(core, drawing), not their sum.
+      this.view.setMesh(r.positions, r.texture, r.triangles);
+      this.shownLive = this.live ? r : null;
+      this.result = { image: this.name, roi, options: { ...o, height: r.stats.height || undefined }, stats: r.stats };
+      // While dragging, the text readouts are refreshed at most every 200 ms (layout is not free).
+      const now = performance.now();
+      if (!this.live || now - (this.lastText ?? 0) > 200) {
+        this.lastText = now;
+        this.showTiming(r);
+        this.showStats(r.stats, o.method);
+      }
+      $('lens-download-png').disabled = $('lens-download-json').disabled = false;
+    } finally {
+      this.running = false;
+      if (this.pending) this.runOnce();
+    }
+  },
+
+  /// After every drawn frame: the interval between frames that showed a new live result.
+  onFrame() {
+    const r = this.shownLive;
+    this.shownLive = null;
+    if (!r) { if (!this.live) this.lastFrame = 0; return; }
+    const now = performance.now();
+    const interval = this.lastFrame ? now - this.lastFrame : 0;
+    if (interval) { this.frameMs.push(interval); if (this.frameMs.length > 60) this.frameMs.shift(); }
+    this.frameLog.push({ ms: interval, ms_total: r.stats.ms_total, ms_worker: r.ms_worker, translated: r.stats.translated });
+    if (this.frameLog.length > 1000) this.frameLog.shift();
+    this.lastFrame = now;
+  },
+
+  /// The readout over the image: the core's ms_total of the last run, the worker round trip and,
+  /// while dragging or sliding, the median frame time of the recent live updates.
+  showTiming(r) {
+    const median = (a) => { const b = [...a].sort((x, y) => x - y); return b.length ? b[b.length >> 1] : 0; };
+    let text = `last run ${r.stats.ms_total.toFixed(1)} ms (worker ${r.ms_worker.toFixed(1)} ms)`;
+    if (r.stats.translated) text += ' · lens moved, not re-solved (live)';
+    else if (r.session) text += r.session.mesh_reuses > (this.reuses ?? 0) ? ' · factorization reused' : '';
+    this.reuses = r.session ? r.session.mesh_reuses : 0;
+    if (this.frameMs.length) { const m = median(this.frameMs); text += ` · frame ${m.toFixed(1)} ms (${(1000 / m).toFixed(0)} fps)`; }
+    $('lens-timing').textContent = text;
+  },
+
+  showStats(s, method) {
+    // A request above what the fold-free lens reaches here is answered with the largest clean lens.
+    const limit = $('lens-limit');
+    limit.hidden = !s.magnification_limited;
+    limit.textContent = s.magnification_limited
+      ? `magnification ${fmt(s.magnification_requested, 3)} asked: at most ${fmt(s.magnification_center, 3)} here without folding the image (a larger lens reaches more)`
+      : '';
+    const median = (a) => { const b = [...a].sort((x, y) => x - y); return b.length ? b[b.length >> 1] : 0; };
+    const rows = [
+      ['method', method], ['magnification_center', fmt(s.magnification_center)],
+      ['magnification_requested', fmt(s.magnification_requested)], ['magnification_limited', s.magnification_limited ? 'yes' : 'no'],
+      ['distortion_sum', fmt(s.distortion_sum)], ['distortion_max', fmt(s.distortion_max)],
+      ['distortion_max_focus', fmt(s.distortion_max_focus)],
+      ['flipped_triangles', s.flipped_triangles], ['iterations', s.iterations], ['converged', s.converged ? 'yes' : 'no'],
+      ['ms_per_iteration', fmt(s.ms_per_iteration, 3)], ['ms_total', fmt(s.ms_total, 3)],
+      ['ms_calibration', fmt(s.ms_calibration, 3)], ['ms_factorize', fmt(s.ms_factorize, 3)],
+      ['height', fmt(s.height)], ['baseline_parameter', fmt(s.baseline_parameter)],
+      ['vertices', s.vertices], ['triangles', s.triangles],
+    ];
+    if (this.frameMs.length) rows.push(['live_frame_ms', fmt(median(this.frameMs), 3)], ['live_fps', fmt(1000 / median(this.frameMs), 3)]);
+    fillStats($('lens-stats'), rows);
+  },
+};
+try {
+  lensTab.view = new LensView({ canvas: $('lens-canvas'), ring: $('lens-ring'), overlay: $('lens-overlay') }, (roi, live) => { lensTab.roi = roi; lensTab.update(live); });
+  lensTab.view.onFrame = () => lensTab.onFrame();
+} catch (e) {
+  showError(e.message);
+}
+acceptFiles($('panel-lens'), $('lens-file'), (b, n) => lensTab.open(b, n));
+for (const id of ['lens-alpha', 'lens-magnification']) {
+  $(id).addEventListener('input', () => { $(id + '-value').textContent = $(id).value; lensTab.update(true); });
+  $(id).addEventListener('change', () => lensTab.update(false));
+}
+$('lens-grid').addEventListener('change', () => lensTab.update(false));
+for (const radio of document.querySelectorAll('input[name="lens-method"]')) radio.addEventListener('change', () => lensTab.update(false));
+$('lens-download-json').addEventListener('click', () => {
+  download(JSON.stringify(lensTab.result, null, 2) + '\n', lensTab.name.replace(/\.[^.]*$/, '') + '.lens.json', 'application/json');
+});
+$('lens-download-png').addEventListener('click', async () => {
+  if (lensTab.running) return;
+  const o = lensTab.options();
+  const c = lensTab.calibrated;
+  const options = { ...o };
+  if (o.method === 'metric' && c && c.magnification === o.magnification && c.grid === o.grid) options.height = c.height;
+  const { cx, cy, r } = lensTab.roi;
+  const result = await runJob('lensPng', { key: lensTab.key, rois: [{ shape: 'circle', values: [cx, cy, r] }], options });
+  if (!result.ok) { if (result.message !== 'cancelled') showError(result.message); return; }
+  download(result.bytes, lensTab.name.replace(/\.[^.]*$/, '') + `.${o.method}.png`, 'image/png');
+});
+

@@ -1,0 +1,137 @@
+// SPDX-License-Identifier: MIT
+// The Volume tab: open a volume, slices along x, y or z coloured by density, vol2spline's
+// density on the same slice beside it, the stats and the spline download.
+import { $, jobs, runJob, showError, clearError, download, acceptFiles, fillStats, fmt, baseName } from '../ui.js';
+
+// Density colours (dark blue → magenta → orange → pale yellow) as a 256-entry RGB table.
+const DENSITY_STOPS = [[0, [0, 0, 4]], [0.25, [60, 15, 110]], [0.5, [170, 50, 110]], [0.75, [245, 125, 35]], [1, [252, 255, 164]]];
+const DENSITY_LUT = (() => {
+  const lut = new Uint8Array(256 * 3);
+  for (let i = 0; i < 256; i++) {
+    const t = i / 255;
+    let k = 0;
+    while (k < DENSITY_STOPS.length - 2 && t > DENSITY_STOPS[k + 1][0]) k++;
+    const [t0, c0] = DENSITY_STOPS[k], [t1, c1] = DENSITY_STOPS[k + 1];
+    const f = (t - t0) / (t1 - t0);
+    for (let c = 0; c < 3; c++) lut[3 * i + c] = Math.round(c0[c] + f * (c1[c] - c0[c]));
+  }
+  return lut;
+})();
+
+export const volumeTab = {
+  volume: null,   // {name, nx, ny, nz, samples Float32Array, min, max, ...}
+  fit: null,      // vol2spline result (density resampled on the same grid), when that job exists
+
+  layout() {
+    const dims = ['nx', 'ny', 'nz'].map((k) => Number($('volume-' + k).value));
+    if (!dims.every((d) => Number.isInteger(d) && d > 0)) return null;  // the core takes dims from the name
+    return { dims, type: $('volume-type').value };
+  },
+
+  async open(bytes, name) {
+    clearError();
+    const layout = /\.raw$/i.test(name) && !/_\d+x\d+x\d+_[a-z0-9]+\.raw$/i.test(name) ? this.layout() : null;
+    const r = await runJob('loadVolume', { bytes, name, layout }, { transfer: [bytes.buffer] });
+    if (!r.ok) { if (r.message !== 'cancelled') showError(r.message); return; }
+    this.volume = { name, ...r };
+    this.fit = null;
+    $('volume-hint').hidden = true;
+    $('volume-fit-figure').hidden = true;
+    $('volume-run').disabled = !jobs.available?.includes('vol2spline');
+    $('volume-download-json').disabled = true;
+    this.setAxis();
+    this.showStats();
+  },
+
+  /// Runs vol2spline on the loaded volume and shows the spline's density beside the input.
+  async run() {
+    const v = this.volume;
+    if (!v || jobs.busy) return;
+    clearError();
+    $('volume-run').disabled = true;
+    const options = { max_levels: Number($('volume-levels').value), max_rms_rel: Number($('volume-max-rms').value) };
+    const volume = { nx: v.nx, ny: v.ny, nz: v.nz, spacing: v.spacing, origin: v.origin, direction: v.direction, samples: v.samples.slice() };
+    const r = await runJob('vol2spline', { volume, name: v.name, options }, { transfer: [volume.samples.buffer] });
+    $('volume-run').disabled = false;
+    if (!r.ok) { if (r.message !== 'cancelled') showError(r.message); return; }
+    if (this.volume !== v) return;  // another volume was opened meanwhile
+    this.fit = { density: r.reconstruction, stats: r.stats, spline_json: r.spline_json, options };
+    $('volume-fit-figure').hidden = false;
+    $('volume-download-json').disabled = false;
+    this.draw();
+    this.showStats();
+  },
+
+  dims(axis) {  // slice width, height and count along the axis
+    const { nx, ny, nz } = this.volume;
+    return axis === 0 ? [ny, nz, nx] : axis === 1 ? [nx, nz, ny] : [nx, ny, nz];
+  },
+
+  setAxis() {
+    if (!this.volume) return;
+    const axis = Number($('volume-axis').value);
+    const [, , n] = this.dims(axis);
+    const slider = $('volume-slice');
+    slider.max = String(n - 1);
+    slider.value = String(n >> 1);
+    this.draw();
+  },
+
+  /// Paints slice `index` along `axis` of `samples` (x fastest) into `canvas`, colours scaled
+  /// to [lo, hi]; the slice's second axis points up.
+  paint(canvas, samples, axis, index, lo, hi) {
+    const { nx, ny } = this.volume;
+    const [w, h] = this.dims(axis);
+    canvas.width = w; canvas.height = h;
+    const ctx = canvas.getContext('2d');
+    const image = ctx.createImageData(w, h);
+    const scale = hi > lo ? 255 / (hi - lo) : 0;
+    for (let j = 0; j < h; j++)
+      for (let i = 0; i < w; i++) {
+        const [x, y, z] = axis === 0 ? [index, i, j] : axis === 1 ? [i, index, j] : [i, j, index];
+        const v = samples[x + nx * (y + ny * z)];
+        const c = Math.max(0, Math.min(255, Math.round((v - lo) * scale)));
+        const o = 4 * (i + w * (h - 1 - j));
+        image.data[o] = DENSITY_LUT[3 * c]; image.data[o + 1] = DENSITY_LUT[3 * c + 1]; image.data[o + 2] = DENSITY_LUT[3 * c + 2];
+        image.data[o + 3] = 255;
+      }
+    ctx.putImageData(image, 0, 0);
+  },
+
+  draw() {
+    const v = this.volume;
+    if (!v) return;
+    const axis = Number($('volume-axis').value), index = Number($('volume-slice').value);
+    $('volume-slice-value').textContent = `${'xyz'[axis]} = ${index}`;
+    this.paint($('volume-canvas'), v.samples, axis, index, v.min, v.max);
+    if (this.fit) this.paint($('volume-fit-canvas'), this.fit.density, axis, index, v.min, v.max);
+  },
+
+  showStats() {
+    const v = this.volume;
+    const rows = [
+      ['file', v.name], ['dims', `${v.nx} × ${v.ny} × ${v.nz}`], ['voxels', v.nx * v.ny * v.nz], ['type', v.type],
+      ['spacing', v.spacing.map((x) => fmt(x, 3)).join(', ')], ['min', fmt(v.min)], ['max', fmt(v.max)],
+    ];
+    if (this.fit) {
+      const f = this.fit.stats;
+      rows.push(['density_rms_rel', fmt(f.density_rms_rel, 3)], ['density_max_rel', fmt(f.density_max_rel, 3)],
+                ['control_points', f.control_points], ['levels', f.levels], ['patches', f.patches],
+                ['min_scaled_jacobian', fmt(f.min_scaled_jacobian, 3)], ['time_s', fmt(f.times_s.total, 3)]);
+      if (f.frames_computed) rows.push(['frame_smoothness_initial', fmt(f.frame_smoothness_initial, 3)], ['frame_smoothness_final', fmt(f.frame_smoothness_final, 3)]);
+    }
+    fillStats($('volume-stats'), rows);
+    $('volume-legend-min').textContent = fmt(v.min, 3);
+    $('volume-legend-max').textContent = fmt(v.max, 3);
+  },
+};
+$('volume-legend-bar').style.background = `linear-gradient(to right, ${DENSITY_STOPS.map(([t, c]) => `rgb(${c.join(',')}) ${100 * t}%`).join(', ')})`;
+acceptFiles($('panel-volume'), $('volume-file'), (b, n) => volumeTab.open(b, n));
+$('volume-axis').addEventListener('change', () => volumeTab.setAxis());
+$('volume-slice').addEventListener('input', () => volumeTab.draw());
+$('volume-run').addEventListener('click', () => volumeTab.run());
+$('volume-download-json').addEventListener('click', () => {
+  const f = volumeTab.fit;
+  if (f) download(f.spline_json, baseName(volumeTab.volume.name) + '.spline.json', 'application/json');
+});
+

@@ -1,0 +1,107 @@
+// SPDX-License-Identifier: MIT
+// @ts-check
+// Shared UI of the page: the job client and its bar (progress, cancel), error display, file
+// picking and drag-and-drop, the samples menus, downloads and the stats tables.
+import { JobClient } from './job_client.js';
+
+/** @param {string} id @returns {any} the element with that id (the page's ids are fixed) */
+export const $ = (id) => document.getElementById(id);
+export const jobs = new JobClient();
+
+export function showError(message) {
+  $('error-text').textContent = message;
+  $('error').hidden = false;
+}
+export function clearError() { $('error').hidden = true; $('error-text').textContent = ''; }
+$('error-close').addEventListener('click', clearError);
+window.addEventListener('unhandledrejection', (e) => showError('unexpected error: ' + (e.reason?.message || e.reason)));
+
+export function setProgress(stage, fraction) {
+  $('job-progress').value = fraction;
+  $('job-stage').textContent = stage;
+}
+// Cancel is offered once a job has run for 250 ms: the lens's live jobs take a few ms each, and
+// toggling the button for every one of them flickers and restyles the header at every frame.
+let cancelTimer = 0;
+jobs.onState((state) => {
+  clearTimeout(cancelTimer);
+  if (state === 'busy') cancelTimer = setTimeout(() => { $('job-cancel').disabled = false; }, 250);
+  else if (!$('job-cancel').disabled) $('job-cancel').disabled = true;
+});
+$('job-cancel').addEventListener('click', () => jobs.cancel());
+
+/// Runs a job with the job bar; long-running or not, the UI stays responsive (the worker computes).
+/**
+ * @param {import('./messages.js').JobName} job
+ * @param {object} args
+ * @param {{quiet?: boolean, transfer?: Transferable[]}} [options]
+ * @returns {Promise<import('./messages.js').JobResult>}
+ */
+export async function runJob(job, args, { quiet = false, transfer = [] } = {}) {
+  if (!quiet) setProgress(job + '…', 0);
+  // Quiet jobs (the lens's live runs) leave the bar alone: its text would re-lay out the page every frame.
+  const result = await jobs.run(job, args, { transfer, onProgress: quiet ? null : (stage, f) => setProgress(stage, f) });
+  if (!quiet || !result.ok) setProgress(result.ok ? `${job}: done (${result.ms_worker.toFixed(0)} ms)` : `${job}: ${result.message === 'cancelled' ? 'cancelled' : 'failed'}`, result.ok ? 1 : 0);
+  return result;
+}
+
+export function download(bytes, name, type) {
+  const url = URL.createObjectURL(new Blob([bytes], { type }));
+  const a = document.createElement('a');
+  a.href = url; a.download = name;
+  document.body.append(a); a.click(); a.remove();
+  setTimeout(() => URL.revokeObjectURL(url), 10000);
+}
+export const readFile = async (file) => new Uint8Array(await file.arrayBuffer());
+
+/// Wires a panel's file input and drag-and-drop to `open(bytes, name)`.
+export function acceptFiles(panel, input, open) {
+  input.addEventListener('change', async () => {
+    const file = input.files[0];
+    input.value = '';
+    if (file) open(await readFile(file), file.name);
+  });
+  panel.addEventListener('dragover', (e) => { e.preventDefault(); panel.classList.add('dragover'); });
+  panel.addEventListener('dragleave', () => panel.classList.remove('dragover'));
+  panel.addEventListener('drop', async (e) => {
+    e.preventDefault();
+    panel.classList.remove('dragover');
+    const file = e.dataTransfer.files[0];
+    if (file) open(await readFile(file), file.name);
+  });
+}
+
+/// Fills a <select> with the bundled samples of one kind and calls open(bytes, name) on choice.
+export function samplesMenu(select, kind, list, open) {
+  for (const s of list.filter((s) => s.kind === kind)) {
+    const option = document.createElement('option');
+    option.value = s.path;
+    option.textContent = `${s.name} (${Math.round(s.bytes / 1024)} kB)`;
+    select.append(option);
+  }
+  select.addEventListener('change', async () => {
+    const path = select.value;
+    if (!path) return;
+    select.value = '';
+    try {
+      const response = await fetch(path);
+      if (!response.ok) throw new Error(`${path}: HTTP ${response.status}`);
+      open(new Uint8Array(await response.arrayBuffer()), path.split('/').pop());
+    } catch (e) {
+      showError('could not load the sample: ' + e.message);
+    }
+  });
+}
+
+export function fillStats(table, rows) {
+  table.replaceChildren(...rows.map(([k, v]) => {
+    const tr = document.createElement('tr');
+    const th = document.createElement('th'); th.textContent = k;
+    const td = document.createElement('td'); td.textContent = v; td.dataset.key = k;
+    tr.append(th, td);
+    return tr;
+  }));
+}
+export const fmt = (x, digits = 4) => (typeof x === 'number' ? (Number.isInteger(x) ? String(x) : x.toPrecision(digits)) : String(x));
+
+export const baseName = (name) => name.replace(/\.[^.]*$/, '');
