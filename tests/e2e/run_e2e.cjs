@@ -90,6 +90,11 @@ async function meshToSpline(page) {
   await page.selectOption('#mesh-samples', meshSamples.find((v) => v.endsWith('sphere.off')));
   await waitStat(page, 'mesh-stats', 'file', (v) => v === 'sphere.off');
   await page.waitForFunction(() => !document.getElementById('mesh-run').disabled, null, { timeout: 10000 }).catch(() => {});
+  // The page's defaults are the CLI's (mesh2spline --max-levels 4; vol2spline --max-levels 10,
+  // --max-rms 0.005), so results match the README's figures; this run asks for 2 levels, to stay short.
+  const defaults = await page.evaluate(() => ['mesh-levels', 'volume-levels', 'volume-max-rms'].map((id) => document.getElementById(id).value));
+  check(defaults.join() === '4,10,0.005', `the page's defaults equal the CLI's: levels ${defaults[0]}, volume levels ${defaults[1]}, volume rms ${defaults[2]}`);
+  await page.selectOption('#mesh-levels', '2');
   const run = await page.evaluate(async () => {
     const { meshTab } = window.volspline;
     const bar = document.getElementById('job-progress');
