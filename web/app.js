@@ -19,12 +19,23 @@ const tabs = ['mesh', 'lens', 'volume'];
 function selectTab(name) {
   for (const t of tabs) {
     $('tab-' + t).setAttribute('aria-selected', String(t === name));
+    $('tab-' + t).tabIndex = t === name ? 0 : -1;
     $('panel-' + t).hidden = t !== name;
   }
   if (name === 'mesh') meshTab.view?.requestDraw();
   if (location.hash !== '#' + name) history.replaceState(null, '', '#' + name);
 }
 for (const t of tabs) $('tab-' + t).addEventListener('click', () => selectTab(t));
+// Arrow keys, Home and End move between the tabs (WAI-ARIA tabs pattern: one tab in the tab order).
+$('tab-mesh').parentElement.addEventListener('keydown', (e) => {
+  const i = tabs.findIndex((t) => $('tab-' + t).getAttribute('aria-selected') === 'true');
+  const next = { ArrowRight: i + 1, ArrowLeft: i - 1, Home: 0, End: tabs.length - 1 }[e.key];
+  if (next === undefined) return;
+  e.preventDefault();
+  const t = tabs[(next + tabs.length) % tabs.length];
+  selectTab(t);
+  $('tab-' + t).focus();
+});
 
 fetch('samples/index.json').then((r) => (r.ok ? r.json() : [])).then((list) => {
   samplesMenu($('mesh-samples'), 'meshes', list, (b, n) => meshTab.open(b, n));

@@ -481,5 +481,25 @@ export class LensView {
     };
     o.addEventListener('pointerup', end);
     o.addEventListener('pointercancel', end);
+    // Keyboard: arrows move the lens by 2 % of the image (shift: 10 %), + and − resize it; the
+    // job runs once per key press, like a released drag.
+    o.addEventListener('keydown', (e) => {
+      if (!this.image || !this.roi) return;
+      const { width, height } = this.image;
+      const step = (e.shiftKey ? 0.1 : 0.02) * Math.max(width, height);
+      const moves = { ArrowLeft: [-step, 0], ArrowRight: [step, 0], ArrowUp: [0, -step], ArrowDown: [0, step] };
+      if (moves[e.key]) {
+        this.roi.cx = Math.min(width - 1, Math.max(1, this.roi.cx + moves[e.key][0]));
+        this.roi.cy = Math.min(height - 1, Math.max(1, this.roi.cy + moves[e.key][1]));
+      } else if (e.key === '+' || e.key === '=' || e.key === '-' || e.key === '−') {
+        const grow = e.key === '+' || e.key === '=' ? 1.1 : 1 / 1.1;
+        this.roi.r = Math.max(4, Math.min(0.5 * Math.min(width, height), this.roi.r * grow));
+      } else {
+        return;
+      }
+      e.preventDefault();
+      this.requestOverlay();
+      this.onChange({ ...this.roi }, false);
+    });
   }
 }

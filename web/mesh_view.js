@@ -10,6 +10,12 @@
 import { VERTEX, FRAGMENT } from './shaders/mesh_shaders.js';
 import { createProgram, mat4 } from './gl_util.js';
 
+// Input meshes with more triangles get no wireframe layer (see setMesh).
+const WIREFRAME_MAX_TRIANGLES = 20000;
+// While the camera moves, frames render at this fraction of the canvas resolution (level of
+// detail for software GL, whose cost follows the pixels); the frame after the motion is full size.
+const MOTION_SCALE = 0.5;
+
 /// Legend colours of the scaled Jacobian (CSS), matching the shader.
 export const QUALITY_GRADIENT = 'linear-gradient(to right, rgb(242,115,26) 0%, rgb(250,217,51) 33%, rgb(77,191,89) 67%, rgb(51,102,217) 100%)';
 
@@ -82,17 +88,24 @@ export class MeshView {
     for (const name of ['boundary', 'lines', 'control', 'cut']) this.setLayer(name, {});
     this.cut = null;
     this.setLayer('input', { positions, indices: triangles });
-    // Unique edges for the wireframe, keyed by (min, max) vertex pair.
-    const seen = new Set();
-    const lines = [];
-    for (let f = 0; f < triangles.length; f += 3) {
-      for (let k = 0; k < 3; k++) {
-        const a = triangles[f + k], b = triangles[f + ((k + 1) % 3)];
-        const key = a < b ? a * 4294967296 + b : b * 4294967296 + a;
-        if (!seen.has(key)) { seen.add(key); lines.push(a, b); }
+    // Unique edges for the wireframe, keyed by (min, max) vertex pair. Above WIREFRAME_MAX_TRIANGLES
+    // a full wireframe is a solid smear of lines that costs a software renderer most of a frame:
+    // none is drawn (wireframeOmitted says so to the page).
+    this.wireframeOmitted = triangles.length / 3 > WIREFRAME_MAX_TRIANGLES;
+    if (this.wireframeOmitted) {
+      this.setLayer('wireframe', {});
+    } else {
+      const seen = new Set();
+      const lines = [];
+      for (let f = 0; f < triangles.length; f += 3) {
+        for (let k = 0; k < 3; k++) {
+          const a = triangles[f + k], b = triangles[f + ((k + 1) % 3)];
+          const key = a < b ? a * 4294967296 + b : b * 4294967296 + a;
+          if (!seen.has(key)) { seen.add(key); lines.push(a, b); }
+        }
       }
+      this.setLayer('wireframe', { positions, indices: new Uint32Array(lines), mode: 'lines' });
     }
-    this.setLayer('wireframe', { positions, indices: new Uint32Array(lines), mode: 'lines' });
     const centre = [0, 1, 2].map((k) => 0.5 * (bboxMin[k] + bboxMax[k]));
     const radius = 0.5 * Math.hypot(...[0, 1, 2].map((k) => bboxMax[k] - bboxMin[k])) || 1;
     this.resetCamera(centre, radius);
@@ -158,6 +171,7 @@ export class MeshView {
     c.addEventListener('pointerdown', (e) => {
       c.setPointerCapture(e.pointerId);
       drag = { x: e.clientX, y: e.clientY, pan: e.shiftKey || e.button === 2 };
+      this.moving = true;
     });
     c.addEventListener('pointermove', (e) => {
       if (!drag) return;
@@ -174,7 +188,10 @@ export class MeshView {
       }
       this.requestDraw();
     });
-    const end = () => { drag = null; };
+    const end = () => {
+      drag = null;
+      if (this.moving) { this.moving = false; this.requestDraw(); }
+    };
     c.addEventListener('pointerup', end);
     c.addEventListener('pointercancel', end);
     c.addEventListener('wheel', (e) => {
@@ -222,7 +239,9 @@ export class MeshView {
 
   draw() {
     const gl = this.gl, c = this.canvas;
-    const dpr = window.devicePixelRatio || 1;
+    const t0 = performance.now();
+    this.draws = (this.draws || 0) + 1;
+    const dpr = (window.devicePixelRatio || 1) * (this.moving ? MOTION_SCALE : 1);
     const w = Math.max(1, Math.round(c.clientWidth * dpr)), h = Math.max(1, Math.round(c.clientHeight * dpr));
     if (c.width !== w || c.height !== h) { c.width = w; c.height = h; }
     gl.viewport(0, 0, w, h);
@@ -247,7 +266,7 @@ export class MeshView {
     gl.disable(gl.POLYGON_OFFSET_FILL);
     if (v.boundary && v.lines) this.drawLayer('lines', { colour: [0.05, 0.05, 0.15, 1], cutAway: true });
     if (v.control) this.drawLayer('control', { colour: [0.85, 0.1, 0.45, 1], pointSize: Math.max(2, 3 * dpr) });
-    if (v.input && v.wireframe) {
+    if (v.input && v.wireframe && !(this.moving && spline)) {
       // Over a spline the input mesh is faint context: blended, and not hiding what is behind.
       if (spline) { gl.enable(gl.BLEND); gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA); gl.depthMask(false); }
       this.drawLayer('wireframe', { colour: spline ? [0.3, 0.45, 0.7, 0.35] : [0.1, 0.18, 0.3, 1] });
@@ -255,5 +274,6 @@ export class MeshView {
       gl.depthMask(true);
     }
     gl.bindVertexArray(null);
+    this.lastDrawMs = performance.now() - t0;
   }
 }

@@ -93,15 +93,43 @@ export function samplesMenu(select, kind, list, open) {
   });
 }
 
+// Readable labels, with units and what a relative measure is relative to, for the stats keys
+// (the key stays the cell's data-key, as in the downloaded JSON).
+const LABELS = {
+  rms_rel: 'RMS distance to the mesh (÷ bbox diagonal)', max_rel: 'max distance to the mesh (÷ bbox diagonal)',
+  hausdorff_rel: 'Hausdorff distance (÷ bbox diagonal)', rms_geo_rel: 'RMS geometric distance (÷ bbox diagonal)',
+  min_corner_distance_rel: 'min corner distance (÷ bbox diagonal)', semi_standard_max_error: 'semi-standard error (max |Σ w B − 1|)',
+  control_points: 'control points', min_scaled_jacobian: 'min scaled Jacobian', negative_jacobian_fraction: 'folded fraction (det J ≤ 0)',
+  grid_inverted_hexes: 'inverted grid hexes', grid_min_scaled_jacobian: 'grid min scaled Jacobian',
+  cut_min_scaled_jacobian: 'cut min scaled Jacobian', time_s: 'core time (s)', worker_ms: 'worker time (ms)',
+  magnification_center: 'magnification at the centre', magnification_requested: 'magnification asked',
+  magnification_limited: 'limited by the fold-free guard', distortion_sum: 'distortion Σ (Eq. 6.9)',
+  distortion_max: 'distortion max (0..1)', distortion_max_focus: 'distortion max in the focus (0..1)',
+  flipped_triangles: 'flipped triangles', ms_per_iteration: 'per iteration (ms)', ms_total: 'total (ms)',
+  ms_calibration: 'calibration (ms)', ms_factorize: 'factorization (ms)', height: 'lens height h0 (ROI radii)',
+  baseline_parameter: 'baseline parameter', live_frame_ms: 'live frame (ms)', live_fps: 'live frames per second',
+  density_rms_rel: 'density RMS error (÷ density range)', density_max_rel: 'density max error (÷ density range)',
+  bbox_min: 'bbox min', bbox_max: 'bbox max', boundary_loops: 'boundary loops', euler_characteristic: 'Euler characteristic',
+  consistently_oriented: 'consistently oriented', degenerate_faces: 'degenerate faces', signed_volume: 'signed volume',
+  frame_smoothness_initial: 'frame smoothness before (Eq. 5.6)', frame_smoothness_final: 'frame smoothness after (Eq. 5.6)',
+};
+/** @param {string} key @returns {string} the label shown for a stats key */
+export const statLabel = (key) => LABELS[key] ?? key.replace(/_/g, ' ');
+
 export function fillStats(table, rows) {
   table.replaceChildren(...rows.map(([k, v]) => {
     const tr = document.createElement('tr');
-    const th = document.createElement('th'); th.textContent = k;
+    const th = document.createElement('th'); th.textContent = statLabel(k); th.scope = 'row';
     const td = document.createElement('td'); td.textContent = v; td.dataset.key = k;
     tr.append(th, td);
     return tr;
   }));
 }
-export const fmt = (x, digits = 4) => (typeof x === 'number' ? (Number.isInteger(x) ? String(x) : x.toPrecision(digits)) : String(x));
-
+/** Numbers with `digits` significant digits, in plain notation from 1e-4 to 1e9 (never "1.2e+3"). */
+export const fmt = (x, digits = 4) => {
+  if (typeof x !== 'number') return String(x);
+  if (Number.isInteger(x)) return String(x);
+  const a = Math.abs(x);
+  return a >= 1e-4 && a < 1e9 ? String(Number(x.toPrecision(digits))) : x.toPrecision(digits);
+};
 export const baseName = (name) => name.replace(/\.[^.]*$/, '');

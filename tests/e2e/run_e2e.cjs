@@ -241,6 +241,18 @@ async function volumeSlices(page) {
     await page.screenshot({ path: path.join(artifacts, 'volume-bucky.png') });
   }
 
+  // A tall slice fits the window: tooth's x slice is 94 × 161 voxels.
+  const tooth = path.join(sharedData, 'volumes/tooth_103x94x161_uint8.raw');
+  if (fs.existsSync(tooth)) {
+    await page.setInputFiles('#volume-file', tooth);
+    await waitStat(page, 'volume-stats', 'dims', (v) => v === '103 × 94 × 161', 20000);
+    await page.selectOption('#volume-axis', '0');
+    await page.waitForTimeout(200);
+    const fit = await page.evaluate(() => [document.getElementById('volume-canvas').getBoundingClientRect().bottom, window.innerHeight]);
+    check(fit[0] <= fit[1], `tooth's x slice fits the window (bottom at ${fit[0].toFixed(0)} px of ${fit[1]})`);
+    await page.screenshot({ path: path.join(artifacts, 'volume-tooth-x.png') });
+  }
+
   // Out of memory: a raw uint8 volume of 800³ (512 MB, made in the page) needs 2 GB of float samples,
   // beyond the worker's 2 GB WebAssembly memory: an error message, not a crashed worker.
   const t_oom = Date.now();
@@ -261,6 +273,70 @@ async function volumeSlices(page) {
   const after = await waitStat(page, 'volume-stats', 'dims', (v) => v === '10 × 10 × 10', 20000);
   check(after === '10 × 10 × 10' && (await errorText(page)) === '', 'after the error, entering the dims loads the raw file');
   for (const k of ['nx', 'ny', 'nz']) await page.fill('#volume-' + k, '');
+}
+
+
+// Accessibility and small screens: axe-core (npm) finds no serious or critical violation on any
+// tab, desktop and 390 px wide; at 390 px nothing is wider than the window and the lens image
+// fills it; every Open button is reached by Tab, the tabs switch with the arrow keys.
+async function accessibility(browser, origin) {
+  const axeSource = fs.readFileSync(require.resolve('axe-core/axe.min.js'), 'utf8');
+  const seriousViolations = async (page) => {
+    await page.evaluate(axeSource);
+    const result = await page.evaluate(() => window.axe.run(document, { resultTypes: ['violations'] }));
+    return result.violations.filter((v) => v.impact === 'serious' || v.impact === 'critical')
+      .map((v) => `${v.id} (${v.nodes.length}: ${v.nodes.slice(0, 2).map((n) => n.target.join(' ')).join(', ')})`);
+  };
+  for (const [label, viewport] of [['desktop', { width: 1400, height: 900 }], ['390', { width: 390, height: 844 }]]) {
+    const page = await browser.newPage({ viewport });
+    await page.goto(origin + '/');
+    await page.waitForFunction(() => /^core /.test(document.getElementById('core-version').textContent), null, { timeout: 30000 }).catch(() => {});
+    for (const tab of ['mesh', 'lens', 'volume']) {
+      await page.click('#tab-' + tab);
+      if (tab === 'lens') {
+        const images = await page.$$eval('#lens-samples option', (os) => os.map((o) => o.value).filter(Boolean));
+        if (images.length) {
+          await page.selectOption('#lens-samples', images.find((v) => v.endsWith('camera.png')) || images[0]);
+          await page.waitForFunction(() => window.volspline.lensTab.result, null, { timeout: 60000 }).catch(() => {});
+          await idle(page);
+        }
+      }
+      await page.waitForTimeout(200);
+      const violations = await seriousViolations(page);
+      check(violations.length === 0, `${label}, ${tab} tab: axe-core finds no serious or critical violation${violations.length ? ': ' + violations.join('; ') : ''}`);
+      const width = await page.evaluate(() => document.documentElement.scrollWidth);
+      check(width <= viewport.width, `${label}, ${tab} tab: the page is ${width} px wide in a ${viewport.width} px window`);
+      if (tab === 'lens' && label === 'desktop') {
+        const cells = await page.$$eval('#lens-stats tr', (rows) => rows.map((r) => [r.querySelector('th').textContent, r.querySelector('td').dataset.key, r.querySelector('td').textContent]));
+        const scientific = cells.filter(([, key, value]) => /ms/.test(key) && /e[+-]/.test(value));
+        check(cells.length > 5 && scientific.length === 0, `lens stats: no scientific notation for milliseconds${scientific.length ? ': ' + JSON.stringify(scientific) : ''}`);
+        check(cells.some(([th]) => th === 'total (ms)') && cells.some(([th]) => /÷|\(/.test(th)), 'lens stats: labels are words with units');
+      }
+      if (tab === 'lens' && label === '390') {
+        const lensWidth = await page.evaluate(() => document.getElementById('lens-canvas').getBoundingClientRect().width);
+        check(lensWidth >= 300, `390 px: the lens image is ${lensWidth.toFixed(0)} px wide`);
+      }
+      await page.screenshot({ path: path.join(artifacts, `tab-${tab}-${label}.png`), fullPage: true });
+    }
+    if (label === 'desktop') {
+      // Keyboard only: Tab from the page start reaches each tab's Open button; arrows switch tabs.
+      for (const [tab, input] of [['mesh', 'mesh-file'], ['lens', 'lens-file'], ['volume', 'volume-file']]) {
+        await page.click('#tab-' + tab);
+        await page.evaluate(() => document.activeElement && document.activeElement.blur());
+        const reached = [];
+        for (let i = 0; i < 25; i++) {
+          await page.keyboard.press('Tab');
+          reached.push(await page.evaluate(() => document.activeElement && document.activeElement.id));
+        }
+        check(reached.includes(input), `keyboard: Tab reaches #${input} on the ${tab} tab`);
+      }
+      await page.focus('#tab-mesh');
+      await page.keyboard.press('ArrowRight');
+      const selected = await page.evaluate(() => [document.activeElement.id, document.getElementById('tab-lens').getAttribute('aria-selected')]);
+      check(selected[0] === 'tab-lens' && selected[1] === 'true', `keyboard: ArrowRight on the Mesh tab selects and focuses the Lens tab (${selected})`);
+    }
+    await page.close();
+  }
 }
 
 async function main() {
@@ -525,6 +601,8 @@ async function main() {
     check(Math.abs(s.magnification_center - 2.5) < 0.6 && s.flipped_triangles === 0,
           `after the error the lens still runs (magnification 2.5 -> measured ${s.magnification_center.toFixed(3)})`);
     await page.screenshot({ path: path.join(artifacts, 'lens-after-error.png') });
+
+    await accessibility(browser, origin);
 
     check(foreign.length === 0, 'no request leaves 127.0.0.1' + (foreign.length ? ': ' + foreign.join(' ') : ''));
     check(pageErrors.length === 0, 'no uncaught page errors' + (pageErrors.length ? ': ' + pageErrors.join(' | ') : ''));

@@ -124,7 +124,7 @@ export const lensTab = {
     const limit = $('lens-limit');
     limit.hidden = !s.magnification_limited;
     limit.textContent = s.magnification_limited
-      ? `magnification ${fmt(s.magnification_requested, 3)} asked: at most ${fmt(s.magnification_center, 3)} here without folding the image (a larger lens reaches more)`
+      ? `magnification ${fmt(s.magnification_requested, 3)} asked: at most ${fmt(s.magnification_center, 3)} here without folding the image`
       : '';
     const median = (a) => { const b = [...a].sort((x, y) => x - y); return b.length ? b[b.length >> 1] : 0; };
     const rows = [
