@@ -6,11 +6,14 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <utility>
 #include <vector>
 
+#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
 #include "core/io/file_bytes.h"
+#include "core/io/textured_glb_writer.h"
 
 namespace volspline::io {
 
@@ -32,10 +35,6 @@ void append_bytes(std::string& bin, const std::vector<T>& data) {
   bin.resize(begin + data.size() * sizeof(T));
   if (!data.empty()) std::memcpy(&bin[begin], data.data(), data.size() * sizeof(T));
   while (bin.size() % 4) bin.push_back('\0');
-}
-
-void append_u32(std::string& out, std::uint32_t x) {
-  for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((x >> (8 * i)) & 0xff));
 }
 
 // Unit vertex normals: the area-weighted mean of the adjacent triangles' normals (so smooth
@@ -149,20 +148,7 @@ std::string serialize_spline_glb(const spline::TSpline& spline, int samples, int
       {{"bufferView", 2}, {"componentType", 5126}, {"count", line_xyz.size() / 3}, {"type", "VEC3"},
        {"min", bounds(line_xyz, false)}, {"max", bounds(line_xyz, true)}},
       {{"bufferView", 3}, {"componentType", 5126}, {"count", surface_normal.size() / 3}, {"type", "VEC3"}}};
-  std::string json = gltf.dump();
-  while (json.size() % 4) json.push_back(' ');
-
-  std::string out;
-  append_u32(out, 0x46546C67);  // "glTF"
-  append_u32(out, 2);
-  append_u32(out, static_cast<std::uint32_t>(12 + 8 + json.size() + 8 + bin.size()));
-  append_u32(out, static_cast<std::uint32_t>(json.size()));
-  append_u32(out, 0x4E4F534A);  // "JSON"
-  out += json;
-  append_u32(out, static_cast<std::uint32_t>(bin.size()));
-  append_u32(out, 0x004E4942);  // "BIN\0"
-  out += bin;
-  return out;
+  return glb_container(gltf.dump(), std::move(bin));
 }
 
 void write_spline_glb(const std::string& path, const spline::TSpline& spline, int samples, int lines) {

@@ -18,15 +18,8 @@ namespace {
 
 SampleType met_type(const std::string& text, const std::string& name) {
   const std::string t = trim(text);
-  if (t == "MET_UCHAR") return SampleType::UInt8;
-  if (t == "MET_CHAR") return SampleType::Int8;
-  if (t == "MET_USHORT") return SampleType::UInt16;
-  if (t == "MET_SHORT") return SampleType::Int16;
-  if (t == "MET_UINT") return SampleType::UInt32;
-  if (t == "MET_INT") return SampleType::Int32;
-  if (t == "MET_FLOAT") return SampleType::Float32;
-  if (t == "MET_DOUBLE") return SampleType::Float64;
-  throw Error(name + ": unsupported sample type '" + t + "'");
+  return volume_data::sample_type_named(
+      t, {"MET_UCHAR", "MET_CHAR", "MET_USHORT", "MET_SHORT", "MET_UINT", "MET_INT", "MET_FLOAT", "MET_DOUBLE"}, t, name);
 }
 
 bool met_bool(const std::string& text, const std::string& name, const std::string& key) {

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -27,6 +28,25 @@ void append_u32(std::string& out, std::uint32_t x) {
 }
 
 }  // namespace
+
+std::string glb_container(std::string json, std::string bin) {
+  while (json.size() % 4) json.push_back(' ');
+  while (bin.size() % 4) bin.push_back('\0');
+  std::string out;
+  out.reserve(12 + 8 + json.size() + 8 + bin.size());
+  append_u32(out, 0x46546C67);  // "glTF"
+  append_u32(out, 2);
+  append_u32(out, static_cast<std::uint32_t>(12 + 8 + json.size() + (bin.empty() ? 0 : 8 + bin.size())));
+  append_u32(out, static_cast<std::uint32_t>(json.size()));
+  append_u32(out, 0x4E4F534A);  // "JSON"
+  out += json;
+  if (!bin.empty()) {
+    append_u32(out, static_cast<std::uint32_t>(bin.size()));
+    append_u32(out, 0x004E4942);  // "BIN\0"
+    out += bin;
+  }
+  return out;
+}
 
 std::string serialize_textured_glb(const TexturedPlane& plane) {
   const auto n = static_cast<std::size_t>(plane.positions.rows());
@@ -91,19 +111,7 @@ std::string serialize_textured_glb(const TexturedPlane& plane) {
       {{"bufferView", 1}, {"componentType", 5126}, {"count", n}, {"type", "VEC3"}},
       {{"bufferView", 2}, {"componentType", 5126}, {"count", n}, {"type", "VEC2"}},
       {{"bufferView", 3}, {"componentType", 5125}, {"count", index.size()}, {"type", "SCALAR"}}};
-  std::string json = gltf.dump();
-  while (json.size() % 4) json.push_back(' ');
-  std::string out;
-  append_u32(out, 0x46546C67);  // "glTF"
-  append_u32(out, 2);
-  append_u32(out, static_cast<std::uint32_t>(12 + 8 + json.size() + 8 + bin.size()));
-  append_u32(out, static_cast<std::uint32_t>(json.size()));
-  append_u32(out, 0x4E4F534A);  // "JSON"
-  out += json;
-  append_u32(out, static_cast<std::uint32_t>(bin.size()));
-  append_u32(out, 0x004E4942);  // "BIN\0"
-  out += bin;
-  return out;
+  return glb_container(gltf.dump(), std::move(bin));
 }
 
 }  // namespace volspline::io

@@ -154,6 +154,15 @@ Volume decode_samples(const std::string& bytes, std::size_t begin, const DataLay
 
 }  // namespace
 
+volume::SampleType sample_type_named(const std::string& key, const std::array<const char*, 8>& names,
+                                     const std::string& shown, const std::string& name) {
+  constexpr SampleType kOrder[8] = {SampleType::UInt8,  SampleType::Int8,  SampleType::UInt16,  SampleType::Int16,
+                                    SampleType::UInt32, SampleType::Int32, SampleType::Float32, SampleType::Float64};
+  for (int i = 0; i < 8; ++i)
+    if (key == names[i]) return kOrder[i];
+  throw Error(name + ": unsupported sample type '" + shown + "'");
+}
+
 void set_axes_from_steps(DataLayout& layout, const Eigen::Matrix3d& steps, const std::string& name, const std::string& what) {
   for (int a = 0; a < 3; ++a) {
     const double length = steps.col(a).norm();

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <array>
 #include <cstdint>
 #include <string>
 
@@ -32,6 +33,12 @@ struct DataLayout {
   double value_offset = 0;
   bool round_values = false;      ///< round the scaled values (ASCII colour scalars in [0, 1] back to 0..255)
 };
+
+/// The sample type whose name in `names` (one per type, in the order UInt8, Int8, UInt16, Int16,
+/// UInt32, Int32, Float32, Float64) is `key`. Throws volspline::Error
+/// "name: unsupported sample type 'shown'" if none is.
+volume::SampleType sample_type_named(const std::string& key, const std::array<const char*, 8>& names,
+                                     const std::string& shown, const std::string& name);
 
 /// Splits a world matrix whose column a is axis a's step (direction × spacing) into unit
 /// directions and positive spacings. Throws volspline::Error naming `name` and `what` if a column

@@ -97,15 +97,8 @@ std::vector<double> reals(const std::string& text, std::size_t count, const std:
 }
 
 SampleType vti_type(const std::string& text, const std::string& name) {
-  if (text == "UInt8") return SampleType::UInt8;
-  if (text == "Int8") return SampleType::Int8;
-  if (text == "UInt16") return SampleType::UInt16;
-  if (text == "Int16") return SampleType::Int16;
-  if (text == "UInt32") return SampleType::UInt32;
-  if (text == "Int32") return SampleType::Int32;
-  if (text == "Float32") return SampleType::Float32;
-  if (text == "Float64") return SampleType::Float64;
-  throw Error(name + ": unsupported DataArray type '" + text + "'");
+  return volume_data::sample_type_named(text, {"UInt8", "Int8", "UInt16", "Int16", "UInt32", "Int32", "Float32", "Float64"},
+                                        text, name);
 }
 
 // Base64 (RFC 4648) decoded in 4-character groups, so that separately encoded streams written

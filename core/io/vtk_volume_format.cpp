@@ -17,16 +17,8 @@ using volume::SampleType;
 namespace {
 
 SampleType vtk_type(const std::string& text, const std::string& name) {
-  const std::string t = lower(text);
-  if (t == "unsigned_char") return SampleType::UInt8;
-  if (t == "char") return SampleType::Int8;
-  if (t == "unsigned_short") return SampleType::UInt16;
-  if (t == "short") return SampleType::Int16;
-  if (t == "unsigned_int") return SampleType::UInt32;
-  if (t == "int") return SampleType::Int32;
-  if (t == "float") return SampleType::Float32;
-  if (t == "double") return SampleType::Float64;
-  throw Error(name + ": unsupported sample type '" + text + "'");
+  return volume_data::sample_type_named(
+      lower(text), {"unsigned_char", "char", "unsigned_short", "short", "unsigned_int", "int", "float", "double"}, text, name);
 }
 
 }  // namespace

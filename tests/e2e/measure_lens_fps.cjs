@@ -16,8 +16,7 @@
 'use strict';
 const fs = require('fs');
 const path = require('path');
-const { chromium } = require('playwright-core');
-const { serve } = require('../../web/serve.cjs');
+const { openBenchPage } = require('./bench_page.cjs');
 
 const args = process.argv.slice(2);
 const option = (name, fallback) => { const i = args.indexOf(name); return i >= 0 ? args[i + 1] : fallback; };
@@ -30,15 +29,7 @@ const image = option('--image', path.resolve(__dirname, '../../samples/images/ca
 const median = (a) => { const b = a.filter((x) => Number.isFinite(x)).sort((x, y) => x - y); return b.length ? b[b.length >> 1] : NaN; };
 
 async function main() {
-  let server;
-  const port = await new Promise((resolve) => { server = serve(siteDir, 0, resolve); });
-  const browser = await chromium.launch({
-    executablePath: option('--chromium', '/usr/bin/chromium'), headless: true,
-    args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
-  });
-  const page = await browser.newPage({ viewport: { width: 1400, height: 900 } });
-  await page.goto(`http://127.0.0.1:${port}/#lens`);
-  await page.waitForFunction(() => /^core /.test(document.getElementById('core-version').textContent), null, { timeout: 30000 });
+  const { browser, page, close } = await openBenchPage(siteDir, { tab: 'lens', chromiumPath: option('--chromium', '/usr/bin/chromium') });
   await page.selectOption('#lens-grid', grid);
   await page.setInputFiles('#lens-file', image);
   await page.waitForFunction(() => window.volspline.lensTab.result && !window.volspline.lensTab.running && !window.volspline.jobs.busy, null, { timeout: 60000 });
@@ -108,7 +99,6 @@ async function main() {
   out.median_core_ms_total = median(out.rounds.map((x) => x.core_ms_total));
   out.median_worker_ms = median(out.rounds.map((x) => x.worker_ms));
   console.log(JSON.stringify(out, null, 2));
-  await browser.close();
-  server.close();
+  await close();
 }
 main().catch((e) => { console.error('measure failed: ' + (e.stack || e)); process.exit(1); });

@@ -12,8 +12,7 @@
 'use strict';
 const fs = require('fs');
 const path = require('path');
-const { chromium } = require('playwright-core');
-const { serve } = require('../../web/serve.cjs');
+const { openBenchPage } = require('./bench_page.cjs');
 
 const args = process.argv.slice(2);
 const option = (name, fallback) => { const i = args.indexOf(name); return i >= 0 ? args[i + 1] : fallback; };
@@ -24,15 +23,7 @@ const rounds = Number(option('--rounds', '5'));
 const median = (a) => { const b = a.filter((x) => Number.isFinite(x)).sort((x, y) => x - y); return b.length ? b[b.length >> 1] : NaN; };
 
 async function main() {
-  let server;
-  const port = await new Promise((resolve) => { server = serve(siteDir, 0, resolve); });
-  const browser = await chromium.launch({
-    executablePath: option('--chromium', '/usr/bin/chromium'), headless: true,
-    args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
-  });
-  const page = await browser.newPage({ viewport: { width: 1400, height: 900 } });
-  await page.goto(`http://127.0.0.1:${port}/#mesh`);
-  await page.waitForFunction(() => /^core /.test(document.getElementById('core-version').textContent), null, { timeout: 30000 });
+  const { page, close } = await openBenchPage(siteDir, { tab: 'mesh', chromiumPath: option('--chromium', '/usr/bin/chromium') });
   await page.setInputFiles('#mesh-file', mesh);
   await page.waitForFunction(() => window.volspline.meshTab.info && !window.volspline.jobs.busy, null, { timeout: 120000 });
   const what = { mesh: path.basename(mesh), vertices: await page.evaluate(() => window.volspline.meshTab.info.vertices) };
@@ -80,8 +71,7 @@ async function main() {
   out.median_tab_switch_ms = median(out.tab_switch_ms);
   out.load_after = fs.readFileSync('/proc/loadavg', 'utf8').trim();
   console.log(JSON.stringify(out, null, 2));
-  await browser.close();
-  server.close();
+  await close();
 }
 
 main().catch((e) => { console.error(e); process.exit(1); });

@@ -20,15 +20,20 @@ std::uint32_t u32(const std::string& s, std::size_t at) {
   return x;
 }
 
-}  // namespace
-
-TEST_CASE("glb preview: header, chunks and the two primitives") {
+// The identity map of the unit cube as a cubic T-spline.
+spline::TSpline unit_cube_spline() {
   const std::vector<double> knots = spline::boundary_restricted_knots({0.0, 1.0});
   Eigen::MatrixXd points(64, 3);
   for (int k = 0; k < 4; ++k)
     for (int j = 0; j < 4; ++j)
       for (int i = 0; i < 4; ++i) points.row(i + 4 * (j + 4 * k)) << i / 3.0, j / 3.0, k / 3.0;
-  const spline::TSpline ts = spline::from_bspline_volume(spline::BsplineVolume({knots, knots, knots}, points));
+  return spline::from_bspline_volume(spline::BsplineVolume({knots, knots, knots}, points));
+}
+
+}  // namespace
+
+TEST_CASE("glb preview: header, chunks and the two primitives") {
+  const spline::TSpline ts = unit_cube_spline();
   const std::string glb = io::serialize_spline_glb(ts, 5, 3);
   REQUIRE(glb.size() > 20);
   CHECK(glb.substr(0, 4) == "glTF");
@@ -46,12 +51,7 @@ TEST_CASE("glb preview: header, chunks and the two primitives") {
 }
 
 TEST_CASE("glb preview: unit outward normals on the unit cube's boundary, one default scene") {
-  const std::vector<double> knots = spline::boundary_restricted_knots({0.0, 1.0});
-  Eigen::MatrixXd points(64, 3);
-  for (int k = 0; k < 4; ++k)
-    for (int j = 0; j < 4; ++j)
-      for (int i = 0; i < 4; ++i) points.row(i + 4 * (j + 4 * k)) << i / 3.0, j / 3.0, k / 3.0;
-  const spline::TSpline ts = spline::from_bspline_volume(spline::BsplineVolume({knots, knots, knots}, points));
+  const spline::TSpline ts = unit_cube_spline();
   const std::string glb = io::serialize_spline_glb(ts, 5, 3);
   const std::uint32_t json_length = u32(glb, 12);
   const auto gltf = nlohmann::json::parse(glb.substr(20, json_length));
