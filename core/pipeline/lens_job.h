@@ -69,7 +69,7 @@ struct LensStats {
   std::vector<double> magnification_per_roi;
   double magnification_requested = 0;  ///< options.magnification
   /// The metric lens stopped below the request (by more than 3 %): its fold-free guard allows at
-  /// most magnification_center here (a larger ROI, band or grid allows more).
+  /// most magnification_center here (a wider band does not raise it: the fold-free height does).
   bool magnification_limited = false;
   int flipped_triangles = 0;       ///< exported triangles turned over against the texture (count_flipped_triangles)
   int iterations = 0;              ///< flattening iterations of the final run (0 for baselines)
