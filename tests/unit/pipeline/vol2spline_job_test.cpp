@@ -97,3 +97,23 @@ TEST_CASE("vol2spline rejects bad options and tiny volumes") {
   volume::Volume small = ellipsoid(4);
   CHECK_THROWS_WITH_AS(pipeline::run_vol2spline(small, "small.raw", options), doctest::Contains("at least 5"), Error);
 }
+
+TEST_CASE("vol2spline keeps the volume's origin and mirrored direction in X, Y, Z; the measures ignore them") {
+  volume::Volume v = ellipsoid(12);
+  pipeline::Vol2SplineOptions options;
+  options.max_rms_rel = 0.05;
+  options.initial_cells = 2;
+  const pipeline::Vol2SplineResult plain = pipeline::run_vol2spline(v, "ellipsoid", options);
+  v.origin = Eigen::Vector3d(5, -6, 7);
+  v.direction = Eigen::Vector3d(-1, -1, 1).asDiagonal();  // an LPS-style frame: det = +1 here
+  v.direction.col(0).swap(v.direction.col(1));            // and a swap of two axes: det = −1
+  const pipeline::Vol2SplineResult world = pipeline::run_vol2spline(v, "ellipsoid", options);
+  for (const Eigen::Vector3i voxel : {Eigen::Vector3i(0, 0, 0), Eigen::Vector3i(3, 7, 10), Eigen::Vector3i(11, 11, 11)}) {
+    const Eigen::VectorXd f = world.spline.evaluate(voxel.cast<double>());
+    const Eigen::Vector3d expected = v.voxel_position(voxel.x(), voxel.y(), voxel.z());
+    CHECK((f.head<3>() - expected).norm() < 1e-8);
+    CHECK(f(3) == doctest::Approx(plain.spline.evaluate(voxel.cast<double>())(3)).epsilon(1e-12));
+  }
+  CHECK(world.stats.min_scaled_jacobian == doctest::Approx(plain.stats.min_scaled_jacobian));
+  CHECK(world.stats.density_rms_rel == plain.stats.density_rms_rel);
+}
