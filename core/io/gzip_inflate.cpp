@@ -147,11 +147,12 @@ std::string gzip_inflate(const char* data, std::size_t size, std::size_t expecte
   }
   if (begin > end) throw Error(name + ": truncated gzip data");
   std::string out;
-  // One byte of room past `expected` tells data of the right size from oversized data.
-  int produced = stb_inflate(out, expected + 1, data + begin, end - begin);
+  // One byte of room past `expected` tells data of the right size from oversized data. stb is
+  // given the trailer too: its decoder fails when fewer than 16 bits follow the last code.
+  int produced = stb_inflate(out, expected + 1, data + begin, size - begin);
   if (produced < 0) {
     std::string probe;
-    if (stb_inflate(probe, 2 * expected + 65536, data + begin, end - begin) > static_cast<int>(expected))
+    if (stb_inflate(probe, 2 * expected + 65536, data + begin, size - begin) > static_cast<int>(expected))
       throw Error(name + ": gzip data decompresses to more than the " + std::to_string(expected) +
                   " bytes the header describes");
     throw Error(name + ": corrupt or truncated gzip data");

@@ -6,6 +6,8 @@
 #include <cstring>
 #include <utility>
 
+#include <Eigen/LU>
+
 #include "core/common/error.h"
 #include "core/io/gzip_inflate.h"
 #include "core/io/volume_header_text.h"

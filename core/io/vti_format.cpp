@@ -96,6 +96,20 @@ std::vector<double> reals(const std::string& text, std::size_t count, const std:
   return values;
 }
 
+// Extents: `count` integers within ±2^30 (so their differences fit an int).
+std::vector<long long> extent_values(const std::string& text, std::size_t count, const std::string& name, const std::string& what) {
+  const auto words = split_words(text);
+  if (words.size() != count)
+    throw Error(name + ": " + what + " needs " + std::to_string(count) + " values, got " + std::to_string(words.size()));
+  std::vector<long long> values;
+  for (const auto& w : words) {
+    const long long v = parse_integer(w, name, what);
+    if (v < -(1LL << 30) || v > (1LL << 30)) throw Error(name + ": " + what + " value " + w + " is out of range");
+    values.push_back(v);
+  }
+  return values;
+}
+
 SampleType vti_type(const std::string& text, const std::string& name) {
   return volume_data::sample_type_named(text, {"UInt8", "Int8", "UInt16", "Int16", "UInt32", "Int32", "Float32", "Float64"},
                                         text, name);
@@ -236,8 +250,8 @@ volume::Volume parse_vti(const std::string& xml, const std::string& name) {
         throw Error(name + ": compressor '" + compressor + "' is not supported (write with zlib or no compression)");
       encoding.zlib = !compressor.empty();
     } else if (tag.name == "ImageData") {
-      const auto whole = reals(attribute(tag, "WholeExtent", name), 6, name, "WholeExtent");
-      for (int k = 0; k < 6; ++k) extent[k] = static_cast<long long>(whole[k]);
+      const auto whole = extent_values(attribute(tag, "WholeExtent", name), 6, name, "WholeExtent");
+      for (int k = 0; k < 6; ++k) extent[k] = whole[k];
       const auto origin = reals(attribute_or(tag, "Origin", "0 0 0"), 3, name, "Origin");
       const auto spacing = reals(attribute_or(tag, "Spacing", "1 1 1"), 3, name, "Spacing");
       const auto direction = reals(attribute_or(tag, "Direction", "1 0 0 0 1 0 0 0 1"), 9, name, "Direction");
@@ -251,9 +265,9 @@ volume::Volume parse_vti(const std::string& xml, const std::string& name) {
       has_image = true;
     } else if (tag.name == "Piece") {
       if (has_piece) throw Error(name + ": ImageData with more than one Piece is not supported");
-      const auto piece = reals(attribute_or(tag, "Extent", ""), 6, name, "Piece Extent");
+      const auto piece = extent_values(attribute_or(tag, "Extent", ""), 6, name, "Piece Extent");
       for (int k = 0; k < 6; ++k)
-        if (static_cast<long long>(piece[k]) != extent[k])
+        if (piece[k] != extent[k])
           throw Error(name + ": a Piece that does not cover the WholeExtent is not supported");
       has_piece = true;
     } else if (tag.name == "PointData") {

@@ -8,7 +8,7 @@ BUILD=${1:?usage: run_fuzz.sh BUILD_DIR SECONDS}
 SECONDS_EACH=${2:?usage: run_fuzz.sh BUILD_DIR SECONDS}
 HERE=$(cd "$(dirname "$0")" && pwd)
 status=0
-for reader in obj off ply stl gltf; do
+for reader in obj off ply stl gltf volume; do
   bin=$(find "$BUILD" -type f -name "fuzz_$reader" -perm -u+x | head -n 1)
   if [ -z "$bin" ]; then echo "FAIL: fuzz_$reader not built in $BUILD"; status=1; continue; fi
   corpus=$HERE/corpus/$reader
