@@ -28,7 +28,8 @@ function selectTab(name) {
 for (const t of tabs) $('tab-' + t).addEventListener('click', () => selectTab(t));
 // Arrow keys, Home and End move between the tabs (WAI-ARIA tabs pattern: one tab in the tab order).
 $('tab-mesh').parentElement.addEventListener('keydown', (e) => {
-  const i = tabs.findIndex((t) => $('tab-' + t).getAttribute('aria-selected') === 'true');
+  const i = tabs.findIndex((t) => $('tab-' + t) === e.target);
+  if (i < 0) return;
   const next = { ArrowRight: i + 1, ArrowLeft: i - 1, Home: 0, End: tabs.length - 1 }[e.key];
   if (next === undefined) return;
   e.preventDefault();
