@@ -34,6 +34,14 @@ async function main() {
     what.spline = await page.evaluate(() => (window.volspline.meshTab.result ? window.volspline.meshTab.result.stats.control_points : document.getElementById('error-text').textContent));
   }
   await page.waitForTimeout(500);
+  // Count draws the same way in every version of the page (older views have no counter).
+  await page.evaluate(() => {
+    const view = window.volspline.meshTab.view;
+    if (view.draws !== undefined) return;
+    const draw = view.draw.bind(view);
+    view.draws = 0;
+    view.draw = () => { view.draws++; draw(); };
+  });
   const out = { ...what, seconds, load_before: fs.readFileSync('/proc/loadavg', 'utf8').trim(), orbit_fps: [], tab_switch_ms: [] };
   for (let k = 0; k < rounds; k++) {
     const fps = await page.evaluate(async (s) => {
