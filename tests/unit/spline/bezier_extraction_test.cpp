@@ -10,6 +10,7 @@
 #include "core/spline/bezier_extraction.h"
 #include "core/spline/bspline_volume.h"
 #include "core/spline/tspline.h"
+#include "tests/unit/spline/random_tspline.h"
 
 using volspline::spline::BezierCell;
 using volspline::spline::BlendingKnots;
@@ -22,34 +23,9 @@ using volspline::spline::LocalKnots;
 using volspline::spline::TSpline;
 using volspline::spline::TSplineAcceleration;
 using volspline::spline::TSplineForm;
+using volspline::test::random_tspline;
 
 namespace {
-
-// Random knot vectors from a small value set (repeats included), random positive weights: a
-// T-spline with no tensor structure and not semi-standard.
-TSpline random_tspline(int n, int dimension, unsigned seed, TSplineAcceleration acceleration) {
-  std::mt19937 rng(seed);
-  std::uniform_int_distribution<int> pick(0, 6);
-  std::uniform_real_distribution<double> weight(0.5, 2.0);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  const double values[7] = {0.0, 0.1, 0.3, 0.35, 0.6, 0.8, 1.0};
-  std::vector<BlendingKnots> knots(n);
-  Eigen::VectorXd weights(n);
-  Eigen::MatrixXd points(n, dimension);
-  for (int i = 0; i < n; ++i) {
-    for (int a = 0; a < 3; ++a) {
-      LocalKnots r;
-      do {
-        for (double& k : r) k = values[pick(rng)];
-        std::sort(r.begin(), r.end());
-      } while (r[0] == r[4]);
-      knots[i][a] = r;
-    }
-    weights[i] = weight(rng);
-    for (int d = 0; d < dimension; ++d) points(i, d) = normal(rng);
-  }
-  return TSpline(knots, weights, points, acceleration);
-}
 
 // Boehm's knot insertion of t into a clamped cubic curve (knots U, control rows P, D columns).
 void insert_knot_curve(std::vector<double>& U, std::vector<std::vector<double>>& P, double t) {

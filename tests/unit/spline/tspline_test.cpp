@@ -12,6 +12,7 @@
 #include "core/spline/bspline_volume.h"
 #include "core/spline/hierarchical_refinement.h"
 #include "core/spline/tspline.h"
+#include "tests/unit/spline/random_tspline.h"
 
 using volspline::Error;
 using volspline::spline::BlendingKnots;
@@ -22,6 +23,7 @@ using volspline::spline::LocalKnots;
 using volspline::spline::TSpline;
 using volspline::spline::TSplineAcceleration;
 using volspline::spline::TSplineForm;
+using volspline::test::random_tspline;
 
 namespace {
 
@@ -50,33 +52,6 @@ std::vector<Eigen::Vector3d> random_parameters(const Eigen::Vector3d& lo, const 
                      lo[2] + (hi[2] - lo[2]) * unit(rng));
   }
   return out;
-}
-
-// A T-spline with no tensor structure: random knot vectors drawn from a small set of values
-// (with repeats), random positive weights. Not semi-standard, and parts of the box may be
-// uncovered.
-TSpline random_tspline(int n, int dimension, unsigned seed, TSplineAcceleration acceleration) {
-  std::mt19937 rng(seed);
-  std::uniform_int_distribution<int> pick(0, 6);
-  std::uniform_real_distribution<double> weight(0.5, 2.0);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  const double values[7] = {0.0, 0.1, 0.3, 0.35, 0.6, 0.8, 1.0};
-  std::vector<BlendingKnots> knots(n);
-  Eigen::VectorXd weights(n);
-  Eigen::MatrixXd points(n, dimension);
-  for (int i = 0; i < n; ++i) {
-    for (int a = 0; a < 3; ++a) {
-      LocalKnots r;
-      do {
-        for (double& k : r) k = values[pick(rng)];
-        std::sort(r.begin(), r.end());
-      } while (r[0] == r[4]);
-      knots[i][a] = r;
-    }
-    weights[i] = weight(rng);
-    for (int d = 0; d < dimension; ++d) points(i, d) = normal(rng);
-  }
-  return TSpline(knots, weights, points, acceleration);
 }
 
 const TSplineAcceleration kAccelerations[] = {TSplineAcceleration::CellPolynomials, TSplineAcceleration::FunctionLists};
