@@ -12,10 +12,10 @@ declare -A allowed=(
   [mesh]="common linalg mesh"
   [polycube]="common linalg mesh polycube"
   [param]="common linalg mesh polycube param"
-  [spline]="common linalg mesh param spline"
+  [spline]="common linalg mesh polycube param spline"
   [volume]="common linalg mesh volume"
   [lens]="common linalg mesh lens"
-  [io]="common linalg mesh spline volume io"
+  [io]="common linalg mesh polycube spline volume io"
   [pipeline]="common linalg mesh polycube param spline volume lens io pipeline"
 )
 status=0

@@ -14,20 +14,11 @@
 
 #include "core/io/file_bytes.h"
 #include "core/io/textured_glb_writer.h"
+#include "core/spline/boundary_tessellation.h"
 
 namespace volspline::io {
 
 namespace {
-
-Eigen::Vector3d face_uvw(int face, double s, double t, const Eigen::Vector3d& lo,
-                         const Eigen::Vector3d& hi) {
-  const int a = face / 2;
-  Eigen::Vector3d unit;
-  unit(a) = face % 2;
-  unit((a + 1) % 3) = s;
-  unit((a + 2) % 3) = t;
-  return lo + unit.cwiseProduct(hi - lo);
-}
 
 template <class T>
 void append_bytes(std::string& bin, const std::vector<T>& data) {
@@ -65,43 +56,10 @@ std::vector<float> vertex_normals(const std::vector<float>& xyz, const std::vect
 
 std::string serialize_spline_glb(const spline::TSpline& spline, int samples, int lines) {
   assert(spline.dimension() == 3 && samples >= 2 && lines >= 2);
-  const Eigen::Vector3d lo = spline.domain_min(), hi = spline.domain_max();
-  std::vector<float> surface_xyz, line_xyz;
-  std::vector<std::uint32_t> surface_index;
-  const int m = samples;
-  for (int face = 0; face < 6; ++face) {
-    const std::uint32_t base = static_cast<std::uint32_t>(surface_xyz.size() / 3);
-    for (int j = 0; j < m; ++j)
-      for (int i = 0; i < m; ++i) {
-        const Eigen::Vector3d p = spline.evaluate(face_uvw(face, double(i) / (m - 1), double(j) / (m - 1), lo, hi));
-        for (int d = 0; d < 3; ++d) surface_xyz.push_back(static_cast<float>(p(d)));
-      }
-    // Outward orientation: (s, t) is counter-clockwise seen from outside on odd faces.
-    const bool flip = face % 2 == 0;
-    for (int j = 0; j + 1 < m; ++j)
-      for (int i = 0; i + 1 < m; ++i) {
-        const std::uint32_t a = base + i + m * j, b = a + 1, c = a + m + 1, d = a + m;
-        const std::uint32_t tri[6] = {a, b, c, a, c, d};
-        for (int k = 0; k < 6; k += 3) {
-          surface_index.push_back(tri[k]);
-          surface_index.push_back(flip ? tri[k + 2] : tri[k + 1]);
-          surface_index.push_back(flip ? tri[k + 1] : tri[k + 2]);
-        }
-      }
-    // Iso-parameter lines: `lines` lines of constant s and of constant t, each as segments.
-    const int steps = 4 * (m - 1);
-    for (int dir = 0; dir < 2; ++dir)
-      for (int l = 0; l < lines; ++l) {
-        const double fixed = double(l) / (lines - 1);
-        for (int q = 0; q < steps; ++q)
-          for (int e = 0; e < 2; ++e) {
-            const double moving = double(q + e) / steps;
-            const Eigen::Vector3d p = spline.evaluate(
-                dir == 0 ? face_uvw(face, fixed, moving, lo, hi) : face_uvw(face, moving, fixed, lo, hi));
-            for (int d = 0; d < 3; ++d) line_xyz.push_back(static_cast<float>(p(d)));
-          }
-      }
-  }
+  const spline::BoundaryTessellation boundary = spline::tessellate_boundary(spline, samples, lines);
+  const std::vector<float>& surface_xyz = boundary.surface_xyz;
+  const std::vector<std::uint32_t>& surface_index = boundary.surface_triangles;
+  const std::vector<float>& line_xyz = boundary.line_xyz;
   const std::vector<float> surface_normal = vertex_normals(surface_xyz, surface_index);
   auto bounds = [](const std::vector<float>& xyz, bool upper) {
     nlohmann::json out = nlohmann::json::array();

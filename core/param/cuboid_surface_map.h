@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "core/mesh/halfedge_mesh.h"
+#include "core/polycube/cube_faces.h"
 #include "core/polycube/cuboid_layout.h"
 
 namespace volspline::param {
@@ -31,12 +32,9 @@ struct CuboidSurfaceMap {
   int cg_iterations = 0;  ///< largest CG iteration count over the 6 faces
 };
 
-/// 2D coordinates (s, t) of a point of cube face f: the two in-plane coordinates of uvw,
-/// axes (f/2 + 1) % 3 and (f/2 + 2) % 3. Orientation: triangles seen from outside are
-/// counter-clockwise in (s, t) on the faces with f % 2 == 1 and clockwise on the others.
-Eigen::Vector2d cube_face_coordinates(int face, const Eigen::Vector3d& uvw);
-/// Inverse of cube_face_coordinates: the point (s, t) of face f as uvw.
-Eigen::Vector3d cube_face_point(int face, double s, double t);
+/// The cube-face coordinates of the surface map (polycube/cube_faces.h).
+using polycube::cube_face_coordinates;
+using polycube::cube_face_point;
 
 /// Parameterizes the 6 rectangles of a cuboid layout.
 ///

@@ -19,6 +19,7 @@
 #include "core/param/cuboid_surface_locator.h"
 #include "core/param/volumetric_grid_map.h"
 #include "core/pipeline/mesh2spline_measures.h"
+#include "core/polycube/cube_faces.h"
 #include "core/polycube/cuboid_layout.h"
 #include "core/spline/bspline_volume.h"
 #include "core/spline/hierarchical_fitting.h"
@@ -469,7 +470,7 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
       for (int j = 0; j < nt; ++j)
         for (int i = 0; i < ns; ++i) {
           const double s = double(i) / (ns - 1), t = double(j) / (nt - 1);
-          sample_uvw.push_back(param::cube_face_point(face, s, t));
+          sample_uvw.push_back(polycube::cube_face_point(face, s, t));
           sample_xyz.push_back(locator.locate(face, s, t));
         }
     }

@@ -14,6 +14,7 @@
 
 #include "core/common/error.h"
 #include "core/mesh/hex_quality.h"
+#include "core/polycube/cube_faces.h"
 #include "core/param/cuboid_surface_map.h"
 #include "core/param/surface_distance.h"
 
@@ -47,7 +48,7 @@ mesh::TriangleMesh boundary_lattice(const spline::TSpline& spline, int m) {
     for (int j = 0; j < m; ++j)
       for (int i = 0; i < m; ++i)
         boundary.positions.row(base + i + m * j) =
-            evaluate(spline, param::cube_face_point(face, double(i) / (m - 1), double(j) / (m - 1))).transpose();
+            evaluate(spline, polycube::cube_face_point(face, double(i) / (m - 1), double(j) / (m - 1))).transpose();
     for (int j = 0; j + 1 < m; ++j)
       for (int i = 0; i + 1 < m; ++i) {
         const int a = base + i + m * j;

@@ -85,7 +85,7 @@ JacobianRepairReport repair_jacobian(TSpline& result, const JacobianRepairOption
 
   const int n = spline.num_functions();
   std::vector<char> interior(n);
-  for (int i = 0; i < n; ++i) interior[i] = !touches_domain_boundary(spline.knots()[i], lo, hi);
+  for (int i = 0; i < n; ++i) interior[i] = !touches_exposed_face(spline.knots()[i], lo, hi, options.exposed_faces);
   std::vector<char> moved(n, 0);
   std::vector<int> column_of(n, -1);
   std::array<std::vector<int>, 3> basis_ids;

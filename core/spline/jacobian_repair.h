@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include "core/polycube/cube_faces.h"
 #include "core/spline/tspline.h"
 
 namespace volspline::spline {
@@ -13,6 +14,9 @@ struct JacobianRepairOptions {
   /// Scaled Jacobian det J / (|J e0| |J e1| |J e2|) asked for at every point, in (0, 1).
   double min_scaled_jacobian = 0.05;
   int max_iterations = 20;  ///< Gauss–Newton steps, ≥ 0
+  /// Faces of the domain box on the solid's surface: the control points of the functions
+  /// touching them stay fixed (a glued face's functions may move).
+  polycube::CubeFaceSet exposed_faces = polycube::CubeFaceSet::all();
 };
 
 /// Outcome of repair_jacobian.

@@ -392,7 +392,7 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
         const int f = d_ids[0][q];
         const double g = w(f) * Eigen::Vector3d(d_values[0][q], d_values[1][q], d_values[2][q]).norm();
         total += g;
-        if (support_steps(f) <= limit && !touches_domain_boundary(spline.knots()[f], lo, hi)) movable += g;
+        if (support_steps(f) <= limit && !touches_exposed_face(spline.knots()[f], lo, hi, options.exposed_faces)) movable += g;
       }
       if (movable >= kMinMovableShare * total || limit >= l) break;
     }
@@ -408,7 +408,7 @@ SplineUntangleReport untangle_pass(TSpline& spline, int l, const Eigen::MatrixX3
           spline.basis_at(point(i, j, k), {0, 0, 0}, ids, values);
           for (std::size_t q = 0; q < ids.size(); ++q) {
             const int f = ids[q];
-            if (values[q] == 0.0 || column_of[f] >= 0 || touches_domain_boundary(spline.knots()[f], lo, hi) ||
+            if (values[q] == 0.0 || column_of[f] >= 0 || touches_exposed_face(spline.knots()[f], lo, hi, options.exposed_faces) ||
                 support_steps(f) > limit)
               continue;
             column_of[f] = static_cast<int>(free_ids.size());
@@ -765,7 +765,7 @@ std::vector<Eigen::Vector3d> folded_points(const TSpline& spline, const SplineUn
                                   const double g = spline.weights()(f) *
                                                    Eigen::Vector3d(values[0][q], values[1][q], values[2][q]).norm();
                                   total += g;
-                                  if (!touches_domain_boundary(spline.knots()[f], lo, hi)) movable += g;
+                                  if (!touches_exposed_face(spline.knots()[f], lo, hi, options.exposed_faces)) movable += g;
                                 }
                                 return movable < kMinMovableShare * total;
                               }),

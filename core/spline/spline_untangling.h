@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 
+#include "core/polycube/cube_faces.h"
 #include "core/spline/tspline.h"
 
 namespace volspline::spline {
@@ -36,6 +37,9 @@ struct SplineUntangleOptions {
   /// to the faces are the normal derivative on the wrong side of the surface (bunny: 2,045 of
   /// the 2,290 folded points on the faces), which the second layer of control points fixes.
   std::vector<double> boundary_layers = {0.25, 0.5};
+  /// Faces of the domain box on the solid's surface: the control points of the functions
+  /// touching them stay fixed, so the boundary and its surface fit stay as they are.
+  polycube::CubeFaceSet exposed_faces = polycube::CubeFaceSet::all();
   /// Node steps around a seed whose interior functions move, [0, 4]; 0 in the passes after a
   /// dense check (check_per_interval), whose bad points are held themselves.
   int rings = 1;

@@ -43,9 +43,14 @@ enum class TSplineAcceleration {
 /// 5-knot local vectors knots()[i], a weight w_i > 0 and a control point p_i in R^D (D in 1..4:
 /// 3 for geometry, 4 for geometry + density).
 ///
-/// Domain: per axis [min_i r0, max_i r4] over all blending functions, closed at both ends. A
-/// blending function whose r4 is the domain end is evaluated with RightEnd::Closed, all others
-/// with RightEnd::Open (see bspline_basis.h), so the domain is closed at its last knot.
+/// One patch: the domain is a box, per axis [min_i r0, max_i r4] over all blending functions,
+/// closed at both ends. A blending function whose r4 is the domain end is evaluated with
+/// RightEnd::Closed, all others with RightEnd::Open (see bspline_basis.h), so the domain is
+/// closed at its last knot. A union of boxes (an L of three blocks) is not a TSpline: its box
+/// holds points where F = 0 and Σ w_i B_i = 0. A multi-cuboid solid is one TSpline per cuboid
+/// plus the gluing graph (the shape of G+Smo's gsMultiPatch); which faces of a patch's box lie
+/// on the solid's surface is a polycube::CubeFaceSet the fits and the untangler take
+/// (TSplineFitOptions::exposed_faces, touches_exposed_face), never guessed from the box.
 ///
 /// Acceleration: the constructor builds the knot-line grid (cells between consecutive distinct
 /// knot values per axis); inside a cell every univariate basis function is one cubic polynomial,

@@ -358,12 +358,12 @@ SampleBlocks sample_blocks(const TSpline& spline, const Eigen::MatrixX3d& uvw, c
 }
 }  // namespace
 
-bool touches_domain_boundary(const BlendingKnots& knots, const Eigen::Vector3d& lo,
-                             const Eigen::Vector3d& hi) {
+bool touches_exposed_face(const BlendingKnots& knots, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                          polycube::CubeFaceSet exposed) {
   for (int a = 0; a < 3; ++a) {
     const LocalKnots& r = knots[a];
-    if (r[0] == lo(a) && r[3] == lo(a)) return true;
-    if (r[1] == hi(a) && r[4] == hi(a)) return true;
+    if (exposed.contains(2 * a) && r[0] == lo(a) && r[3] == lo(a)) return true;
+    if (exposed.contains(2 * a + 1) && r[1] == hi(a) && r[4] == hi(a)) return true;
   }
   return false;
 }
@@ -461,7 +461,7 @@ TSplineFitReport fit_tspline_meshless(TSpline& spline, const Eigen::MatrixX3d& u
   const Eigen::Vector3d lo = spline.domain_min(), hi = spline.domain_max();
   std::vector<int> boundary_column(n, -1), interior_column(n, -1), boundary_ids, interior_ids;
   for (int i = 0; i < n; ++i) {
-    if (touches_domain_boundary(spline.knots()[i], lo, hi)) {
+    if (touches_exposed_face(spline.knots()[i], lo, hi, options.exposed_faces)) {
       boundary_column[i] = static_cast<int>(boundary_ids.size());
       boundary_ids.push_back(i);
     } else {

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include "core/polycube/cube_faces.h"
 #include "core/spline/tspline.h"
 
 namespace volspline::spline {
@@ -24,6 +25,9 @@ struct TSplineFitOptions {
   int laplacian_nodes = 0;
   double tolerance = 1e-10;  ///< relative CG residual
   int max_iterations = 4000; ///< CG iteration cap per solve
+  /// Faces of the domain box on the solid's surface: the meshless fit takes the control points of
+  /// the functions touching them from the surface samples (Eq. 4.4/4.5).
+  polycube::CubeFaceSet exposed_faces = polycube::CubeFaceSet::all();
 };
 
 /// Outcome of a fit.
@@ -55,10 +59,12 @@ TSplineFitReport fit_tspline_local(TSpline& spline, const Eigen::MatrixX3d& uvw,
                                    const std::vector<int>& free_functions,
                                    const TSplineFitOptions& options = {});
 
-/// True iff blending function `knots` is non-zero somewhere on the boundary of the domain
-/// [lo, hi] (a "bd-control-point" of §4.3.1: 4 equal knots at a domain end along some axis).
-bool touches_domain_boundary(const BlendingKnots& knots, const Eigen::Vector3d& lo,
-                             const Eigen::Vector3d& hi);
+/// True iff blending function `knots` is non-zero somewhere on one of the `exposed` faces of the
+/// patch's domain box [lo, hi] (a "bd-control-point" of §4.3.1): along axis a, 4 equal knots
+/// r0 = r3 = lo_a for face 2a or r1 = r4 = hi_a for face 2a + 1 (polycube::cube_faces.h). All six
+/// exposed: a single-cuboid solid; a face glued to another cuboid is not exposed.
+bool touches_exposed_face(const BlendingKnots& knots, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                          polycube::CubeFaceSet exposed);
 
 /// Meshless fit (§4.3.2): first the control points of the blending functions that touch the
 /// domain boundary from surface samples only (Eq. 4.4/4.5), then the interior control points

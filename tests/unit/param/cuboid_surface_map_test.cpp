@@ -14,9 +14,9 @@ using namespace volspline;
 
 TEST_CASE("cube face coordinates round-trip") {
   for (int f = 0; f < 6; ++f) {
-    const Eigen::Vector3d p = param::cube_face_point(f, 0.25, 0.75);
+    const Eigen::Vector3d p = polycube::cube_face_point(f, 0.25, 0.75);
     CHECK(p(f / 2) == f % 2);
-    const Eigen::Vector2d st = param::cube_face_coordinates(f, p);
+    const Eigen::Vector2d st = polycube::cube_face_coordinates(f, p);
     CHECK(st.x() == 0.25);
     CHECK(st.y() == 0.75);
   }

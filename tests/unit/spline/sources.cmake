@@ -1,6 +1,5 @@
 # SPDX-License-Identifier: MIT
 set(TEST_SOURCES
-  ${CMAKE_CURRENT_LIST_DIR}/hierarchical_fitting_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/bspline_basis_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/bspline_volume_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/knot_insertion_test.cpp
@@ -16,4 +15,6 @@ set(TEST_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/grouped_gram_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/bezier_extraction_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/jacobian_certificate_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/hierarchical_fitting_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/boundary_tessellation_test.cpp
 )

@@ -63,7 +63,7 @@ TEST_CASE("spline untangling unfolds a near-boundary fold, keeps the boundary an
   CHECK(report.final_min_scaled == doctest::Approx(min_scaled).epsilon(1e-9));
   const Eigen::Vector3d lo = ts.domain_min(), hi = ts.domain_max();
   for (int i = 0; i < ts.num_functions(); ++i)
-    if (spline::touches_domain_boundary(ts.knots()[i], lo, hi)) CHECK(ts.points().row(i) == points.row(i));
+    if (spline::touches_exposed_face(ts.knots()[i], lo, hi, polycube::CubeFaceSet::all())) CHECK(ts.points().row(i) == points.row(i));
 }
 
 TEST_CASE("spline untangling on the cell-centre energy nodes unfolds the fold; the moved spline equals a fresh build") {
@@ -168,7 +168,7 @@ TEST_CASE("spline untangling unfolds a fold at a face (normal derivative outward
     CHECK(unseen_negative_points(ts) == 0);
     const Eigen::Vector3d lo = ts.domain_min(), hi = ts.domain_max();
     for (int i = 0; i < ts.num_functions(); ++i)
-      if (spline::touches_domain_boundary(ts.knots()[i], lo, hi)) CHECK(ts.points().row(i) == points.row(i));
+      if (spline::touches_exposed_face(ts.knots()[i], lo, hi, polycube::CubeFaceSet::all())) CHECK(ts.points().row(i) == points.row(i));
   }
   SUBCASE("the polish holds the finest lattice that one pass on coarse nodes leaves folded") {
     // One pass on 2 nodes per knot interval (no boundary layers, no check): the fold stays at
@@ -195,7 +195,7 @@ TEST_CASE("spline untangling unfolds a fold at a face (normal derivative outward
     CHECK(lattice_folded(ts) == 0);
     const Eigen::Vector3d lo = ts.domain_min(), hi = ts.domain_max();
     for (int i = 0; i < ts.num_functions(); ++i)
-      if (spline::touches_domain_boundary(ts.knots()[i], lo, hi)) CHECK(ts.points().row(i) == points.row(i));
+      if (spline::touches_exposed_face(ts.knots()[i], lo, hi, polycube::CubeFaceSet::all())) CHECK(ts.points().row(i) == points.row(i));
   }
   SUBCASE("with them it is gone everywhere the check looks") {
     REQUIRE(options.boundary_layers.size() == 2);  // the defaults: 1/4 and 1/2 of the first node's depth
@@ -206,7 +206,7 @@ TEST_CASE("spline untangling unfolds a fold at a face (normal derivative outward
     CHECK(ts.jacobian(Eigen::Vector3d(0.0, 0.5, 0.5)).determinant() > 0.0);
     const Eigen::Vector3d lo = ts.domain_min(), hi = ts.domain_max();
     for (int i = 0; i < ts.num_functions(); ++i)
-      if (spline::touches_domain_boundary(ts.knots()[i], lo, hi)) CHECK(ts.points().row(i) == points.row(i));
+      if (spline::touches_exposed_face(ts.knots()[i], lo, hi, polycube::CubeFaceSet::all())) CHECK(ts.points().row(i) == points.row(i));
   }
 }
 

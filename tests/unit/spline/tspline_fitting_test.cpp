@@ -84,16 +84,22 @@ TEST_CASE("the local fit recovers the free control points and leaves the others 
 TEST_CASE("boundary blending functions are those with 4 equal end knots") {
   const Eigen::Vector3d lo(0, 0, 0), hi(1, 1, 1);
   spline::BlendingKnots inner = {{{0, 0.25, 0.5, 0.75, 1}, {0, 0.25, 0.5, 0.75, 1}, {0, 0.25, 0.5, 0.75, 1}}};
-  CHECK_FALSE(spline::touches_domain_boundary(inner, lo, hi));
+  CHECK_FALSE(spline::touches_exposed_face(inner, lo, hi, polycube::CubeFaceSet::all()));
   spline::BlendingKnots left = inner;
   left[1] = {0, 0, 0, 0, 0.25};
-  CHECK(spline::touches_domain_boundary(left, lo, hi));
+  CHECK(spline::touches_exposed_face(left, lo, hi, polycube::CubeFaceSet::all()));
   spline::BlendingKnots right = inner;
   right[2] = {0.5, 1, 1, 1, 1};
-  CHECK(spline::touches_domain_boundary(right, lo, hi));
+  CHECK(spline::touches_exposed_face(right, lo, hi, polycube::CubeFaceSet::all()));
   spline::BlendingKnots almost = inner;
   almost[0] = {0, 0, 0, 0.25, 0.5};
-  CHECK_FALSE(spline::touches_domain_boundary(almost, lo, hi));
+  CHECK_FALSE(spline::touches_exposed_face(almost, lo, hi, polycube::CubeFaceSet::all()));
+  // Only the exposed faces count: `left` touches face 2 (v = 0), `right` face 5 (w = 1).
+  const polycube::CubeFaceSet glued_v0 = polycube::CubeFaceSet::all().without(2);
+  CHECK_FALSE(spline::touches_exposed_face(left, lo, hi, glued_v0));
+  CHECK(spline::touches_exposed_face(right, lo, hi, glued_v0));
+  CHECK_FALSE(spline::touches_exposed_face(right, lo, hi, polycube::CubeFaceSet().with(4)));
+  CHECK(spline::touches_exposed_face(right, lo, hi, polycube::CubeFaceSet().with(5)));
 }
 
 TEST_CASE("the meshless fit recovers the boundary from surface samples and fills the interior") {
