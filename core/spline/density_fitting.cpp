@@ -409,7 +409,7 @@ namespace {
 
 // run_hierarchical_fitting on grid samples: the least-squares grid fit of the density (column 0 of the
 // functions' points) and Dörfler marking of the leaves' squared error within the budget.
-class DensityGridFit final : public HierarchicalFit, public MarkingRule {
+class DensityGridFit final : public HierarchicalFit, public BudgetedBulkMarking {
  public:
   DensityGridFit(const GridSamples& samples, const AdaptiveDensityOptions& options, int budget,
                  const Eigen::Vector3d& hi, RefinementGrid grid, RefinementGrid::Functions functions,
@@ -465,19 +465,9 @@ class DensityGridFit final : public HierarchicalFit, public MarkingRule {
     }
     // Budget: predict the new control points from the last split's cost per cell (splits are
     // expensive to undo); a level that still ends over budget is retried with fewer cells.
-    bool over_budget = false;
-    Marking marking;
-    marking.cells = bulk_mark(std::move(candidates), sse_of_node, total, options_.marking_fraction,
-                              static_cast<double>(budget_) - num_control_points(), growth_per_cell_, &over_budget);
-    marking.empty_reason = over_budget ? FitStopReason::Budget : FitStopReason::NoCells;
-    return marking;
+    return mark_within_budget(std::move(candidates), sse_of_node, total, options_.marking_fraction,
+                              static_cast<double>(budget_) - num_control_points());
   }
-
-  void refined(std::size_t cells, int before, int after) override {
-    growth_per_cell_ = std::max(1.0, static_cast<double>(after - before)) / static_cast<double>(cells);
-  }
-
-  OverBudget over_budget() const override { return OverBudget::HalveMarking; }
 
   RefinementGrid grid;
   RefinementGrid::Functions current;
@@ -491,7 +481,6 @@ class DensityGridFit final : public HierarchicalFit, public MarkingRule {
   const int budget_;
   const Eigen::Vector3d hi_;
   const Progress& progress_;
-  double growth_per_cell_ = 0.0;  // control points added per split cell at the last level
 };
 
 }  // namespace

@@ -2,6 +2,7 @@
 #include "core/spline/hierarchical_fitting.h"
 
 #include <algorithm>
+#include <utility>
 
 namespace volspline::spline {
 
@@ -38,6 +39,19 @@ HierarchicalFitResult run_hierarchical_fitting(HierarchicalFit& fit, MarkingRule
     }
     if (!accepted) return {FitStopReason::Budget, level};
   }
+}
+
+void BudgetedBulkMarking::refined(std::size_t cells, int before, int after) {
+  growth_per_cell_ = std::max(1.0, static_cast<double>(after - before)) / static_cast<double>(cells);
+}
+
+Marking BudgetedBulkMarking::mark_within_budget(std::vector<int> candidates, const std::vector<double>& error,
+                                                double total, double fraction, double room) const {
+  bool over_budget = false;
+  Marking marking;
+  marking.cells = bulk_mark(std::move(candidates), error, total, fraction, room, growth_per_cell_, &over_budget);
+  marking.empty_reason = over_budget ? FitStopReason::Budget : FitStopReason::NoCells;
+  return marking;
 }
 
 std::vector<int> bulk_mark(std::vector<int> candidates, const std::vector<double>& error, double total,

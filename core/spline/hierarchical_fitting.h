@@ -65,6 +65,23 @@ class MarkingRule {
   virtual OverBudget over_budget() const = 0;
 };
 
+/// A marking rule built on bulk_mark that learns the control points a split cell adds from the
+/// last accepted refinement and retries a refinement over budget with the worse half.
+class BudgetedBulkMarking : public MarkingRule {
+ public:
+  void refined(std::size_t cells, int before, int after) override;
+  OverBudget over_budget() const override { return OverBudget::HalveMarking; }
+
+ protected:
+  /// bulk_mark of `candidates` within `room` more control points; empty: Budget if nothing was
+  /// affordable, else NoCells.
+  Marking mark_within_budget(std::vector<int> candidates, const std::vector<double>& error, double total,
+                             double fraction, double room) const;
+
+ private:
+  double growth_per_cell_ = 0.0;  // control points added per split cell at the last level; 0 = unknown
+};
+
 /// How run_hierarchical_fitting ended.
 struct HierarchicalFitResult {
   FitStopReason stop_reason = FitStopReason::MaxLevels;

@@ -222,7 +222,7 @@ void release(TSpline& spline) {
 // run_hierarchical_fitting on scattered samples: the density column (3) fitted by least squares over the
 // current cells, with the factorized normal matrix kept for the final geometry fit (Eq. 5.11),
 // and Dörfler marking of the leaves' squared error within the budget.
-class ScatteredDensityFit final : public HierarchicalFit, public MarkingRule {
+class ScatteredDensityFit final : public HierarchicalFit, public BudgetedBulkMarking {
  public:
   ScatteredDensityFit(const Eigen::MatrixX3d& uvw, const Eigen::MatrixXd& targets, const std::array<int, 3>& dims,
                       const AdaptiveDensityOptions& options, int budget, TSpline spline, RefinementGrid grid,
@@ -305,19 +305,9 @@ class ScatteredDensityFit final : public HierarchicalFit, public MarkingRule {
       if ((grid.cell_max(id) - grid.cell_min(id)).minCoeff() >= 2.0 * min_width_ && sse[id] > 0.0)
         candidates.push_back(id);
     }
-    bool over_budget = false;
-    Marking marking;
-    marking.cells = bulk_mark(std::move(candidates), sse, total, options_.marking_fraction,
-                              static_cast<double>(budget_) - current.num_functions(), growth_per_cell_, &over_budget);
-    marking.empty_reason = over_budget ? FitStopReason::Budget : FitStopReason::NoCells;
-    return marking;
+    return mark_within_budget(std::move(candidates), sse, total, options_.marking_fraction,
+                              static_cast<double>(budget_) - current.num_functions());
   }
-
-  void refined(std::size_t cells, int before, int after) override {
-    growth_per_cell_ = std::max(1.0, static_cast<double>(after - before)) / static_cast<double>(cells);
-  }
-
-  OverBudget over_budget() const override { return OverBudget::HalveMarking; }
 
   TSpline current;
   RefinementGrid grid;
@@ -340,7 +330,6 @@ class ScatteredDensityFit final : public HierarchicalFit, public MarkingRule {
   double range_ = 1.0;
   double min_width_ = 1.0;
   double rms_ = 0.0;
-  double growth_per_cell_ = 0.0;
 };
 
 }  // namespace
