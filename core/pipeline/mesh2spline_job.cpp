@@ -19,6 +19,7 @@
 #include "core/param/cuboid_surface_locator.h"
 #include "core/param/volumetric_grid_map.h"
 #include "core/pipeline/mesh2spline_measures.h"
+#include "core/pipeline/solid_mesh.h"
 #include "core/polycube/cube_faces.h"
 #include "core/polycube/cuboid_layout.h"
 #include "core/spline/bspline_volume.h"
@@ -59,31 +60,12 @@ void check_options(const Mesh2SplineOptions& o) {
 
 // The validated, outward-oriented half-edge mesh; throws on anything mesh2spline refuses.
 mesh::HalfedgeMesh validated_mesh(const mesh::TriangleMesh& input, const std::string& name) {
-  mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(input, name);
-  const mesh::MeshReport r = mesh::analyze_mesh(hm);
-  const std::string prefix = "mesh '" + name + "': ";
-  if (!r.closed)
-    throw Error(prefix + "not closed (" + std::to_string(r.num_boundary_edges) +
-                " boundary edges); mesh2spline needs the closed surface of a solid");
-  if (r.num_components != 1)
-    throw Error(prefix + std::to_string(r.num_components) +
-                " connected components; mesh2spline needs exactly one");
-  if (!r.consistently_oriented)
-    throw Error(prefix + "inconsistently oriented faces (" + std::to_string(r.num_flipped_faces) +
-                " would have to be flipped)");
-  if (r.genus != 0)
-    throw Error(prefix + "genus " + std::to_string(r.genus) +
-                "; mesh2spline maps the solid to one cuboid and needs genus 0");
-  if (r.num_degenerate_faces > 0)
-    throw Error(prefix + std::to_string(r.num_degenerate_faces) + " degenerate (zero-area) faces, first: face " +
-                std::to_string(r.first_degenerate_face));
-  if (r.signed_volume < 0.0) {
-    // Consistently inward-facing: flip every face so normals point outwards.
-    mesh::TriangleMesh flipped = hm.to_triangle_mesh();
-    flipped.triangles.col(1).swap(flipped.triangles.col(2));
-    return mesh::HalfedgeMesh::build(flipped, name);
-  }
-  return hm;
+  SolidMesh solid = validate_solid_mesh(input, name, "mesh2spline");
+  if (solid.report.genus != 0)
+    throw Error("mesh '" + name + "': genus " + std::to_string(solid.report.genus) +
+                "; mesh2spline maps the solid to one cuboid and needs genus 0 (volspline gpc builds the "
+                "multi-cuboid domain of any genus)");
+  return std::move(solid.mesh);
 }
 
 // Transfinite guess: mean of the three linear interpolations between opposite cube faces.

@@ -257,10 +257,14 @@ void mark_path_edges(const mesh::HalfedgeMesh& mesh, const std::vector<int>& pat
 // Traces the 12 poly-edges with the loops around the ends of `long_axis`; false on failure
 // (reason in *why).
 bool trace_layout(const mesh::HalfedgeMesh& mesh, const std::vector<double>& length,
-                  int long_axis, CuboidLayout& layout, std::string* why) {
+                  const std::vector<double>& band_length, int long_axis,
+                  const std::array<std::vector<int>, num_cube_edges>& fixed, CuboidLayout& layout,
+                  std::string* why) {
   const int n = mesh.num_vertices();
   std::vector<char> blocked(n, 0);
   for (int c : layout.corners) blocked[c] = 1;
+  for (const auto& path : fixed)
+    for (int v : path) blocked[v] = 1;
   std::vector<char> on_loop(n, 0);
   std::vector<char> cut_edge(mesh.num_edges(), 0);
   for (int side = 0; side < 2; ++side) {
@@ -269,8 +273,9 @@ bool trace_layout(const mesh::HalfedgeMesh& mesh, const std::vector<double>& len
       const int ca = loop[i], cb = loop[(i + 1) % 4];
       const int e = cube_edge_between(ca, cb);
       const auto ends = cube_edge_corners(e);
-      std::vector<int> path = restricted_path(mesh, length, layout.corners[ends[0]],
-                                              layout.corners[ends[1]], blocked, nullptr);
+      std::vector<int> path = !fixed[e].empty() ? fixed[e]
+                                                : restricted_path(mesh, length, layout.corners[ends[0]],
+                                                                  layout.corners[ends[1]], blocked, nullptr);
       if (path.empty()) {
         *why = "no free path for cuboid edge " + std::to_string(e);
         return false;
@@ -319,8 +324,9 @@ bool trace_layout(const mesh::HalfedgeMesh& mesh, const std::vector<double>& len
   for (int k = 0; k < 4; ++k) {
     const int e = 4 * long_axis + k;
     const auto ends = cube_edge_corners(e);
-    std::vector<int> path = restricted_path(mesh, length, layout.corners[ends[0]],
-                                            layout.corners[ends[1]], blocked, in_annulus);
+    std::vector<int> path = !fixed[e].empty() ? fixed[e]
+                                              : restricted_path(mesh, band_length, layout.corners[ends[0]],
+                                                                layout.corners[ends[1]], blocked, in_annulus);
     if (path.empty()) {
       *why = "no free path across the band for cuboid edge " + std::to_string(e);
       return false;
@@ -385,7 +391,7 @@ bool layout_with_corners(const mesh::HalfedgeMesh& mesh, CuboidLayout& layout, s
   for (int axis : order) {
     CuboidLayout attempt = layout;
     std::string reason;
-    if (trace_layout(mesh, length, axis, attempt, &reason)) {
+    if (trace_layout(mesh, length, length, axis, {}, attempt, &reason)) {
       layout = std::move(attempt);
       return true;
     }
@@ -397,6 +403,16 @@ bool layout_with_corners(const mesh::HalfedgeMesh& mesh, CuboidLayout& layout, s
 }
 
 }  // namespace
+
+bool complete_cuboid_layout(const mesh::HalfedgeMesh& mesh, int band_axis,
+                            const std::array<std::vector<int>, num_cube_edges>& fixed, CuboidLayout& layout,
+                            std::string* why, const std::vector<double>* band_cost) {
+  const std::vector<double> length = mesh::edge_lengths(mesh);
+  std::string reason;
+  if (trace_layout(mesh, length, band_cost ? *band_cost : length, band_axis, fixed, layout, &reason)) return true;
+  if (why) *why = reason;
+  return false;
+}
 
 CuboidLayout compute_cuboid_layout(const mesh::HalfedgeMesh& mesh,
                                    const CuboidLayoutOptions& options) {

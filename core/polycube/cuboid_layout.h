@@ -57,4 +57,17 @@ struct CuboidLayoutOptions {
 CuboidLayout compute_cuboid_layout(const mesh::HalfedgeMesh& mesh,
                                    const CuboidLayoutOptions& options = {});
 
+/// Completes a layout whose 8 corners are set (layout.corners): the 4 poly-edges around each end
+/// face of `band_axis` (cube faces 2·band_axis and 2·band_axis + 1) first, then the 4 edges along
+/// the band between them, each a Dijkstra shortest path avoiding the vertices already used unless
+/// `fixed[e]` prescribes it (a vertex path from cube_edge_corners(e)[0] to [1]). Used for the
+/// cuboids of a GPC, whose faces glued to other cuboids have prescribed boundaries.
+/// `band_cost` (per edge, ≥ 0; null = edge lengths) weighs the band paths, e.g. lengths in a
+/// cylinder parameterization so that they run straight along a tube.
+/// Returns false with the reason in *why (may be null) if the paths do not cut the surface into
+/// 6 discs in cube order. Precondition: a closed genus-0 mesh; corners distinct.
+bool complete_cuboid_layout(const mesh::HalfedgeMesh& mesh, int band_axis,
+                            const std::array<std::vector<int>, num_cube_edges>& fixed, CuboidLayout& layout,
+                            std::string* why, const std::vector<double>* band_cost = nullptr);
+
 }  // namespace volspline::polycube

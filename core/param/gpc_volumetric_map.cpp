@@ -1,0 +1,279 @@
+// SPDX-License-Identifier: MIT
+#include "core/param/gpc_volumetric_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+#include "core/common/error.h"
+#include "core/linalg/conjugate_gradient.h"
+#include "core/linalg/csr_matrix.h"
+#include "core/param/cuboid_surface_locator.h"
+#include "core/param/hex_grid_untangling.h"
+#include "core/param/volumetric_grid_map.h"
+
+namespace volspline::param {
+
+namespace {
+
+int find(std::vector<int>& parent, int x) {
+  while (parent[x] != x) x = parent[x] = parent[parent[x]];
+  return x;
+}
+
+// The face of node (i, j, k) on each axis end, as a bit set over cube faces.
+int node_faces(const std::array<int, 3>& n, const std::array<int, 3>& ijk) {
+  int faces = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (ijk[a] == 0) faces |= 1 << (2 * a);
+    if (ijk[a] == n[a] - 1) faces |= 1 << (2 * a + 1);
+  }
+  return faces;
+}
+
+}  // namespace
+
+GpcVolumetricMap compute_gpc_volumetric_map(polycube::GpcConstruction& construction, double bbox_diagonal,
+                                            const GpcGridOptions& options) {
+  polycube::GpcDomain& domain = construction.domain;
+  const int nc = static_cast<int>(domain.cuboids.size());
+  GpcVolumetricMap out;
+
+  // Node counts: one spacing h for all cuboids; equal sizes (glued axes) give equal counts.
+  double volume = 0.0;
+  for (const polycube::GpcCuboid& c : domain.cuboids) volume += c.size[0] * c.size[1] * c.size[2];
+  const double h = std::cbrt(volume / std::max(options.target_nodes, 64));
+  for (polycube::GpcCuboid& c : domain.cuboids)
+    for (int a = 0; a < 3; ++a)
+      c.nodes[a] = std::clamp(static_cast<int>(std::lround(c.size[a] / h)) + 1, options.min_nodes, options.max_nodes);
+
+  // §3.4.1: surface maps and their inverse lookups.
+  std::vector<CuboidSurfaceLocator> locators;
+  locators.reserve(nc);
+  for (int c = 0; c < nc; ++c) {
+    const polycube::CuboidSurface& s = construction.surfaces[c];
+    const mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(s.mesh, "gpc cuboid " + std::to_string(c));
+    CuboidSurfaceMapOptions map_options;
+    map_options.area_balance_iterations = options.area_balance_iterations;
+    try {
+      out.surface_maps.push_back(compute_cuboid_surface_map(hm, s.layout, map_options));
+    } catch (const Error& e) {
+      throw polycube::DecompositionError("surface map of cuboid " + std::to_string(c) + ": " + e.what());
+    }
+    out.flipped_triangles += out.surface_maps.back().num_flipped;
+    locators.emplace_back(hm, out.surface_maps.back());
+  }
+
+  // Global node ids and their identification across glued faces.
+  std::vector<int> offset(nc + 1, 0);
+  for (int c = 0; c < nc; ++c) {
+    const auto& n = domain.cuboids[c].nodes;
+    offset[c + 1] = offset[c] + n[0] * n[1] * n[2];
+  }
+  const int total = offset[nc];
+  std::vector<int> parent(total);
+  std::iota(parent.begin(), parent.end(), 0);
+  for (const polycube::GpcInterface& g : domain.interfaces) {
+    const auto& na = domain.cuboids[g.cuboid[0]].nodes;
+    const auto& nb = domain.cuboids[g.cuboid[1]].nodes;
+    // The transition in grid-index units: exact integers.
+    polycube::GpcTransition t;
+    const std::array<double, 3> sa = {double(na[0] - 1), double(na[1] - 1), double(na[2] - 1)};
+    const std::array<double, 3> sb = {double(nb[0] - 1), double(nb[1] - 1), double(nb[2] - 1)};
+    std::array<int, 4> ca, cb;
+    const auto fa = polycube::cube_face_corners(g.face[0]);
+    for (int i = 0; i < 4; ++i) {
+      ca[i] = fa[i];
+      // Image of corner fa[i] under the unit transition: a corner of face[1].
+      const Eigen::Vector3d unit((fa[i] & 1) * domain.cuboids[g.cuboid[0]].size[0],
+                                 ((fa[i] >> 1) & 1) * domain.cuboids[g.cuboid[0]].size[1],
+                                 ((fa[i] >> 2) & 1) * domain.cuboids[g.cuboid[0]].size[2]);
+      const Eigen::Vector3d image = g.transition.apply(unit);
+      int corner = 0;
+      for (int a = 0; a < 3; ++a)
+        if (image(a) > 0.5 * domain.cuboids[g.cuboid[1]].size[a]) corner |= 1 << a;
+      cb[i] = corner;
+    }
+    if (!polycube::gpc_transition_from_corners(g.face[0], sa, ca, g.face[1], sb, cb, t))
+      throw polycube::DecompositionError("volumetric map: interface of cut " + std::to_string(g.cut) +
+                                         " has grids that do not match");
+    const int axis = g.face[0] / 2;
+    for (int k = 0; k < na[2]; ++k)
+      for (int j = 0; j < na[1]; ++j)
+        for (int i = 0; i < na[0]; ++i) {
+          const std::array<int, 3> ijk = {i, j, k};
+          if (ijk[axis] != (g.face[0] % 2 == 0 ? 0 : na[axis] - 1)) continue;
+          const Eigen::Vector3d q = t.apply(Eigen::Vector3d(i, j, k));
+          const int bi = static_cast<int>(std::lround(q(0))), bj = static_cast<int>(std::lround(q(1))),
+                    bk = static_cast<int>(std::lround(q(2)));
+          const int x = find(parent, offset[g.cuboid[0]] + grid_node_index(na, i, j, k));
+          const int y = find(parent, offset[g.cuboid[1]] + grid_node_index(nb, bi, bj, bk));
+          if (x != y) parent[std::max(x, y)] = std::min(x, y);
+        }
+  }
+
+  // Positions: surface nodes by inverse lookup (from the first copy on an exposed face).
+  std::vector<int> root(total);
+  for (int id = 0; id < total; ++id) root[id] = find(parent, id);
+  std::vector<char> on_surface(total, 0), on_boundary(total, 0);
+  mesh::Positions xyz = mesh::Positions::Zero(total, 3);
+  std::vector<char> placed(total, 0);
+  std::vector<int> copies(total, 0);
+  for (int id = 0; id < total; ++id) ++copies[root[id]];
+  for (int c = 0; c < nc; ++c) {
+    const auto& n = domain.cuboids[c].nodes;
+    for (int k = 0; k < n[2]; ++k)
+      for (int j = 0; j < n[1]; ++j)
+        for (int i = 0; i < n[0]; ++i) {
+          const int faces = node_faces(n, {i, j, k});
+          if (faces == 0) continue;
+          const int id = offset[c] + grid_node_index(n, i, j, k);
+          const int r = root[id];
+          on_boundary[r] = 1;
+          bool exposed = false;
+          for (int f = 0; f < 6; ++f)
+            if ((faces >> f & 1) && domain.cuboids[c].face_interface[f] < 0) exposed = true;
+          const Eigen::Vector3d uvw(double(i) / (n[0] - 1), double(j) / (n[1] - 1), double(k) / (n[2] - 1));
+          if (exposed && !on_surface[r]) {
+            on_surface[r] = 1;
+            xyz.row(r) = locators[c].locate_uvw(uvw).transpose();
+            placed[r] = 1;
+          } else if (!placed[r]) {
+            xyz.row(r) = locators[c].locate_uvw(uvw).transpose();  // on a disc: a start only
+            placed[r] = 2;
+          }
+        }
+  }
+  // Warm start of interior nodes: transfinite interpolation in their cuboid.
+  for (int c = 0; c < nc; ++c) {
+    const auto& n = domain.cuboids[c].nodes;
+    for (int k = 1; k + 1 < n[2]; ++k)
+      for (int j = 1; j + 1 < n[1]; ++j)
+        for (int i = 1; i + 1 < n[0]; ++i) {
+          const std::array<int, 3> ijk = {i, j, k};
+          Eigen::Vector3d guess = Eigen::Vector3d::Zero();
+          for (int a = 0; a < 3; ++a) {
+            std::array<int, 3> lo = ijk, hi = ijk;
+            lo[a] = 0;
+            hi[a] = n[a] - 1;
+            const double t = double(ijk[a]) / (n[a] - 1);
+            guess += (1.0 - t) * xyz.row(root[offset[c] + grid_node_index(n, lo[0], lo[1], lo[2])]).transpose() +
+                     t * xyz.row(root[offset[c] + grid_node_index(n, hi[0], hi[1], hi[2])]).transpose();
+          }
+          xyz.row(root[offset[c] + grid_node_index(n, i, j, k)]) = guess.transpose() / 3.0;
+        }
+  }
+  for (int r = 0; r < total; ++r)
+    if (root[r] == r && copies[r] > 1) ++out.shared_nodes;
+
+  // Eq. 3.1 over the union of the grids: unknowns are the roots not on the surface.
+  std::vector<int> unknown(total, -1);
+  int m = 0;
+  for (int r = 0; r < total; ++r)
+    if (root[r] == r && !on_surface[r]) unknown[r] = m++;
+  std::vector<std::pair<int, int>> edges;
+  for (int c = 0; c < nc; ++c) {
+    const auto& n = domain.cuboids[c].nodes;
+    for (int k = 0; k < n[2]; ++k)
+      for (int j = 0; j < n[1]; ++j)
+        for (int i = 0; i < n[0]; ++i) {
+          const std::array<int, 3> ijk = {i, j, k};
+          const int a_id = root[offset[c] + grid_node_index(n, i, j, k)];
+          for (int a = 0; a < 3; ++a) {
+            if (ijk[a] + 1 >= n[a]) continue;
+            std::array<int, 3> nb = ijk;
+            ++nb[a];
+            const int b_id = root[offset[c] + grid_node_index(n, nb[0], nb[1], nb[2])];
+            if (a_id != b_id) edges.push_back({std::min(a_id, b_id), std::max(a_id, b_id)});
+          }
+        }
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  if (m > 0) {
+    std::vector<linalg::Triplet> triplets;
+    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(m, 3), x0(m, 3);
+    std::vector<double> degree(m, 0.0);
+    for (const auto& [a, b] : edges) {
+      for (const auto& [u, v] : {std::make_pair(a, b), std::make_pair(b, a)}) {
+        if (unknown[u] < 0) continue;
+        degree[unknown[u]] += 1.0;
+        if (unknown[v] >= 0)
+          triplets.push_back({unknown[u], unknown[v], -1.0});
+        else
+          rhs.row(unknown[u]) += xyz.row(v);
+      }
+    }
+    for (int r = 0; r < total; ++r)
+      if (unknown[r] >= 0) {
+        triplets.push_back({unknown[r], unknown[r], degree[unknown[r]]});
+        x0.row(unknown[r]) = xyz.row(r);
+      }
+    const linalg::CsrMatrix a = linalg::CsrMatrix::from_triplets(m, m, triplets);
+    linalg::ConjugateGradient<linalg::IncompleteCholesky0> cg;
+    cg.set_tolerance(options.tolerance);
+    cg.compute(a);
+    const Eigen::MatrixXd x = cg.solve(rhs, x0);
+    out.cg_iterations = cg.iterations();
+    for (int r = 0; r < total; ++r)
+      if (unknown[r] >= 0) xyz.row(r) = x.row(unknown[r]);
+  }
+
+  // Per-cuboid grids, hex checks, untangling with every shared or surface node held.
+  auto check = [&](GpcCuboidGrid& grid) {
+    const auto& n = grid.nodes;
+    grid.num_hexes = grid.num_inverted_hexes = 0;
+    grid.min_scaled_jacobian = 1.0;
+    for (int k = 0; k + 1 < n[2]; ++k)
+      for (int j = 0; j + 1 < n[1]; ++j)
+        for (int i = 0; i + 1 < n[0]; ++i) {
+          std::array<Eigen::Vector3d, 8> corners;
+          for (int c = 0; c < 8; ++c)
+            corners[c] = grid.xyz.row(grid_node_index(n, i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1))).transpose();
+          const double q = hex_min_scaled_jacobian(corners);
+          ++grid.num_hexes;
+          if (q <= 0.0) ++grid.num_inverted_hexes;
+          grid.min_scaled_jacobian = std::min(grid.min_scaled_jacobian, q);
+        }
+  };
+  out.grids.resize(nc);
+  for (int c = 0; c < nc; ++c) {
+    GpcCuboidGrid& grid = out.grids[c];
+    grid.nodes = domain.cuboids[c].nodes;
+    const int count = offset[c + 1] - offset[c];
+    grid.xyz.resize(count, 3);
+    for (int id = 0; id < count; ++id) grid.xyz.row(id) = xyz.row(root[offset[c] + id]);
+    check(grid);
+    out.harmonic_inverted_hexes += grid.num_inverted_hexes;
+    if (options.untangle == GpcGridOptions::Untangle::On && grid.num_inverted_hexes > 0) {
+      std::vector<char> fixed(count);
+      for (int id = 0; id < count; ++id) {
+        const int r = root[offset[c] + id];
+        fixed[id] = on_surface[r] || copies[r] > 1;
+      }
+      out.untangled_nodes += untangle_hex_grid(grid.nodes, fixed, grid.xyz).free_nodes;
+      check(grid);
+    }
+    out.grid_inverted_hexes += grid.num_inverted_hexes;
+    out.grid_min_scaled_jacobian = std::min(out.grid_min_scaled_jacobian, grid.min_scaled_jacobian);
+  }
+  // Copies of one node in different grids (or twice in one) are compared as they are stored.
+  std::vector<int> first(total, -1);
+  double gap = 0.0;
+  for (int c = 0; c < nc; ++c)
+    for (int id = 0; id < offset[c + 1] - offset[c]; ++id) {
+      const int r = root[offset[c] + id];
+      if (first[r] < 0) {
+        first[r] = offset[c] + id;
+        continue;
+      }
+      int fc = 0;
+      while (offset[fc + 1] <= first[r]) ++fc;
+      gap = std::max(gap, (out.grids[c].xyz.row(id) - out.grids[fc].xyz.row(first[r] - offset[fc])).norm());
+    }
+  out.interface_gap_rel = bbox_diagonal > 0.0 ? gap / bbox_diagonal : 0.0;
+  return out;
+}
+
+}  // namespace volspline::param

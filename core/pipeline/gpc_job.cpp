@@ -1,0 +1,137 @@
+// SPDX-License-Identifier: MIT
+#include "core/pipeline/gpc_job.h"
+
+#include <chrono>
+#include <cmath>
+#include <numeric>
+
+#include "core/common/error.h"
+#include "core/pipeline/solid_mesh.h"
+#include "core/polycube/interface_disc.h"
+#include "core/polycube/solid_decomposition.h"
+
+namespace volspline::pipeline {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+void check_options(const GpcOptions& o) {
+  auto fail = [](const std::string& what) { throw Error("gpc: " + what); };
+  if (o.threads < 1) fail("threads must be ≥ 1");
+  if (!(o.snap >= 0.0 && o.snap < 0.45)) fail("snap must be in [0, 0.45)");
+  if (o.grid.target_nodes < 64 || o.grid.target_nodes > 20000000) fail("grid.target_nodes must be in [64, 2e7]");
+  if (o.grid.min_nodes < 2 || o.grid.max_nodes < o.grid.min_nodes || o.grid.max_nodes > 1024)
+    fail("grid.min_nodes must be ≥ 2 and ≤ grid.max_nodes ≤ 1024");
+  if (!(o.grid.tolerance > 0.0 && o.grid.tolerance < 1.0)) fail("grid.tolerance must be in (0, 1)");
+  if (o.grid.area_balance_iterations < 0 || o.grid.area_balance_iterations > 20)
+    fail("grid.area_balance_iterations must be in [0, 20]");
+}
+
+}  // namespace
+
+GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, const GpcOptions& options,
+                  const Progress& progress) {
+  check_options(options);
+  const auto t_start = Clock::now();
+  GpcResult result;
+  GpcStats& stats = result.stats;
+  progress.report("validate", 0.0);
+
+  // Unit box inside the core: centre and diagonal of the input's bounding box.
+  mesh::TriangleMesh unit = input;
+  if (unit.num_vertices() == 0) throw Error("mesh '" + name + "': no vertices");
+  const Eigen::RowVector3d lo = unit.positions.colwise().minCoeff(), hi = unit.positions.colwise().maxCoeff();
+  const Eigen::RowVector3d centre = 0.5 * (lo + hi);
+  const double diagonal = (hi - lo).norm();
+  if (!(diagonal > 0.0) || !std::isfinite(diagonal))
+    throw Error("mesh '" + name + "': its bounding box has no finite, positive size");
+  unit.positions = (unit.positions.rowwise() - centre) / diagonal;
+  const SolidMesh solid = validate_solid_mesh(unit, name, "gpc");
+  stats.genus = solid.report.genus;
+  if (!options.corners.empty() && stats.genus != 0)
+    throw Error("gpc: corners are only accepted for a genus-0 solid (one cuboid); mesh '" + name + "' has genus " +
+                std::to_string(stats.genus));
+  stats.times_s["validate"] = seconds_since(t_start);
+
+  auto t0 = Clock::now();
+  progress.report("decompose", 0.0);
+  polycube::SolidDecomposition decomposition;
+  if (stats.genus == 0) {
+    // No cut: the blob is one cuboid on the unrefined surface, as mesh2spline maps it.
+    decomposition.mesh = solid.mesh.to_triangle_mesh();
+    decomposition.value.assign(decomposition.mesh.num_vertices(), 0.0);
+    decomposition.parent_face.resize(decomposition.mesh.num_faces());
+    std::iota(decomposition.parent_face.begin(), decomposition.parent_face.end(), 0);
+    polycube::SolidPiece piece;
+    piece.faces = decomposition.parent_face;
+    decomposition.pieces.push_back(piece);
+  } else {
+    polycube::DecompositionOptions d;
+    d.snap = options.snap;
+    decomposition = polycube::decompose_solid(solid.mesh, stats.genus, d);
+  }
+  stats.num_saddles = decomposition.num_saddles;
+  stats.times_s["decompose"] = seconds_since(t0);
+
+  t0 = Clock::now();
+  progress.report("T-to-cube", 0.0);
+  result.construction = polycube::build_gpc(decomposition, 1.0, options.corners);
+  // Meridian certificate of every cut.
+  if (!decomposition.loops.empty()) {
+    std::vector<std::vector<int>> loop_ids;
+    for (const polycube::CutLoop& l : decomposition.loops) loop_ids.push_back(l.vertices);
+    const polycube::DiscEmbedding embedding =
+        polycube::check_interface_discs(decomposition.mesh, result.construction.discs, loop_ids);
+    stats.cut_disc_intersections = embedding.num_intersections;
+    stats.cut_discs_outside = embedding.num_outside;
+    if (embedding.num_outside > 0)
+      throw polycube::DecompositionError("meridian check: " + embedding.first_problem);
+  }
+  stats.times_s["t_to_cube"] = seconds_since(t0);
+
+  t0 = Clock::now();
+  progress.report("volumetric map", 0.0);
+  result.map = param::compute_gpc_volumetric_map(result.construction, 1.0, options.grid);
+  stats.times_s["volumetric_map"] = seconds_since(t0);
+
+  // Back to model units.
+  auto to_model = [&](mesh::Positions& p) { p = (p * diagonal).rowwise() + centre; };
+  to_model(decomposition.mesh.positions);
+  for (polycube::CuboidSurface& s : result.construction.surfaces) to_model(s.mesh.positions);
+  for (polycube::InterfaceDisc& d : result.construction.discs) to_model(d.positions);
+  for (param::GpcCuboidGrid& g : result.map.grids) to_model(g.xyz);
+  for (polycube::GpcCuboid& c : result.construction.domain.cuboids)
+    for (Eigen::Vector3d& x : c.corner_xyz) x = x * diagonal + centre.transpose();
+  for (polycube::GpcIllPoint& p : result.construction.domain.ill_points)
+    for (Eigen::Vector3d& x : p.xyz) x = x * diagonal + centre.transpose();
+
+  result.face_cuboid.assign(decomposition.mesh.num_faces(), -1);
+  for (std::size_t c = 0; c < result.construction.surfaces.size(); ++c)
+    for (int f : result.construction.surfaces[c].surface_face)
+      if (f >= 0) result.face_cuboid[f] = static_cast<int>(c);
+  result.surface = std::move(decomposition.mesh);
+
+  const polycube::GpcDomain& domain = result.construction.domain;
+  stats.t_shapes = domain.t_shapes;
+  stats.tubes = domain.tubes;
+  stats.caps = domain.caps;
+  stats.cuboids = static_cast<int>(domain.cuboids.size());
+  stats.ill_points = static_cast<int>(domain.ill_points.size());
+  stats.interfaces = static_cast<int>(domain.interfaces.size());
+  stats.flipped_triangles = result.map.flipped_triangles;
+  stats.grid_inverted_hexes = result.map.grid_inverted_hexes;
+  stats.grid_harmonic_inverted_hexes = result.map.harmonic_inverted_hexes;
+  stats.grid_min_scaled_jacobian = result.map.grid_min_scaled_jacobian;
+  stats.interface_gap_rel = result.map.interface_gap_rel;
+  stats.shared_nodes = result.map.shared_nodes;
+  for (const param::GpcCuboidGrid& g : result.map.grids) stats.grid_nodes += g.nodes[0] * g.nodes[1] * g.nodes[2];
+  stats.surface_vertices = result.surface.num_vertices();
+  stats.times_s["total"] = seconds_since(t_start);
+  progress.report("done", 1.0);
+  return result;
+}
+
+}  // namespace volspline::pipeline

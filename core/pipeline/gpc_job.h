@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/mesh/triangle_mesh.h"
+#include "core/param/gpc_volumetric_map.h"
+#include "core/pipeline/progress.h"
+#include "core/polycube/gpc_builder.h"
+
+namespace volspline::pipeline {
+
+/// Options of run_gpc.
+struct GpcOptions {
+  /// Corner vertex ids (input numbering) of a genus-0 solid's one cuboid, in cube-corner order;
+  /// empty = automatic. Ignored (refused) for genus > 0.
+  std::vector<int> corners;
+  param::GpcGridOptions grid;  ///< the volumetric grids (node budget, untangling)
+  double snap = 0.05;          ///< level-set splitting snap, see split_at_level, in [0, 0.45)
+  int threads = 1;             ///< ≥ 1; the stages run on one thread (same output for any value)
+};
+
+/// Measures of a GPC construction (the names of DESIGN.md's GPC measures).
+struct GpcStats {
+  int genus = 0;
+  int t_shapes = 0;
+  int tubes = 0;
+  int caps = 0;
+  int cuboids = 0;
+  int ill_points = 0;
+  int interfaces = 0;
+  int flipped_triangles = 0;
+  int grid_inverted_hexes = 0;
+  int grid_harmonic_inverted_hexes = 0;
+  double grid_min_scaled_jacobian = 1.0;
+  double interface_gap_rel = 0.0;
+  int grid_nodes = 0;
+  int shared_nodes = 0;
+  int cut_disc_intersections = 0;  ///< meridian certificate: disc–surface/disc–disc crossings (must be 0)
+  int cut_discs_outside = 0;       ///< discs outside the solid (must be 0)
+  int num_saddles = 0;
+  int surface_vertices = 0;        ///< of the refined surface the cuboids partition
+  std::map<std::string, double> times_s;
+};
+
+/// The GPC domain of a solid and its volumetric parameterization, in model units.
+struct GpcResult {
+  polycube::GpcConstruction construction;  ///< domain graph, per-cuboid surfaces and layouts, discs
+  param::GpcVolumetricMap map;             ///< per-cuboid surface maps and node grids
+  mesh::TriangleMesh surface;              ///< the input surface refined along the cuts
+  std::vector<int> face_cuboid;            ///< per face of `surface`, the cuboid it maps to
+  GpcStats stats;
+};
+
+/// The `gpc` job (thesis ch. 3, §3.2–3.4): validate, decompose into caps, tubes and T-shapes
+/// (Algorithm 1), T-to-cube (Algorithms 2, 3), check that every cut bounds a disc inside the
+/// solid, map every cuboid (§3.4.1) and the volume (§3.4.2, Eq. 3.1) with the glued faces shared.
+/// A genus-0 solid without cuts is one cuboid laid out exactly as mesh2spline does.
+/// The input is centred and scaled to a unit diagonal inside; outputs are in model units.
+/// Throws volspline::Error on bad input or options (exit 2), polycube::DecompositionError when
+/// the construction fails (exit 1, naming the stage and the part), Cancelled.
+GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, const GpcOptions& options = {},
+                  const Progress& progress = {});
+
+}  // namespace volspline::pipeline

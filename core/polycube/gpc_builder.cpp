@@ -1,0 +1,408 @@
+// SPDX-License-Identifier: MIT
+#include "core/polycube/gpc_builder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <string>
+
+#include "core/common/error.h"
+#include "core/mesh/graph_distance.h"
+#include "core/mesh/mesh_geometry.h"
+#include "core/mesh/mesh_report.h"
+#include "core/param/cylinder_map.h"
+
+namespace volspline::polycube {
+
+namespace {
+
+// One piece cut out of the decomposition mesh; a loop whose both sides belong to the piece has
+// its vertices twice, once per side.
+struct PieceMesh {
+  mesh::TriangleMesh mesh;
+  std::vector<int> surface_vertex;
+  std::vector<int> surface_face;
+  std::vector<std::vector<int>> boundary;  // per SolidPiece::boundary entry: vertex per loop vertex
+};
+
+PieceMesh extract_piece(const SolidDecomposition& d, const SolidPiece& piece) {
+  PieceMesh out;
+  const int n = d.mesh.num_vertices();
+  std::vector<int> loop_of(n, -1);
+  for (std::size_t l = 0; l < d.loops.size(); ++l)
+    for (int v : d.loops[l].vertices) loop_of[v] = static_cast<int>(l);
+  std::vector<int> sides_in_piece(d.loops.size(), 0);
+  for (const LoopSide& b : piece.boundary) sides_in_piece[b.loop] |= 1 << b.side;
+  std::map<std::pair<int, int>, int> key_id;
+  auto key_of = [&](int v, int f) {
+    const int l = loop_of[v];
+    if (l < 0 || sides_in_piece[l] != 3) return std::make_pair(v, -1);
+    double c = 0.0;
+    for (int k = 0; k < 3; ++k) c += d.value[d.mesh.triangles(f, k)];
+    return std::make_pair(v, c / 3.0 < d.loops[l].level ? 0 : 1);
+  };
+  std::vector<std::array<int, 3>> tris;
+  for (int f : piece.faces) {
+    std::array<int, 3> t;
+    for (int k = 0; k < 3; ++k) {
+      const auto key = key_of(d.mesh.triangles(f, k), f);
+      auto it = key_id.find(key);
+      if (it == key_id.end()) {
+        it = key_id.emplace(key, static_cast<int>(out.surface_vertex.size())).first;
+        out.surface_vertex.push_back(key.first);
+      }
+      t[k] = it->second;
+    }
+    tris.push_back(t);
+    out.surface_face.push_back(f);
+  }
+  out.mesh.positions.resize(static_cast<int>(out.surface_vertex.size()), 3);
+  for (std::size_t v = 0; v < out.surface_vertex.size(); ++v)
+    out.mesh.positions.row(static_cast<int>(v)) = d.mesh.positions.row(out.surface_vertex[v]);
+  out.mesh.triangles.resize(static_cast<int>(tris.size()), 3);
+  for (std::size_t t = 0; t < tris.size(); ++t)
+    for (int k = 0; k < 3; ++k) out.mesh.triangles(static_cast<int>(t), k) = tris[t][k];
+  for (const LoopSide& b : piece.boundary) {
+    std::vector<int> ids;
+    for (int v : d.loops[b.loop].vertices) {
+      const int side = sides_in_piece[b.loop] == 3 ? b.side : -1;
+      const auto it = key_id.find({v, side});
+      ids.push_back(it == key_id.end() ? -1 : it->second);
+    }
+    out.boundary.push_back(std::move(ids));
+  }
+  return out;
+}
+
+// The piece closed by its interface discs: a sphere for a cap or a tube.
+CuboidSurface close_piece(const PieceMesh& piece, const SolidPiece& sp, const std::vector<InterfaceDisc>& discs) {
+  CuboidSurface s;
+  std::vector<Eigen::Vector3d> positions;
+  for (int v = 0; v < piece.mesh.num_vertices(); ++v) positions.push_back(piece.mesh.positions.row(v).transpose());
+  s.surface_vertex = piece.surface_vertex;
+  s.surface_face = piece.surface_face;
+  std::vector<std::array<int, 3>> tris;
+  for (int t = 0; t < piece.mesh.num_faces(); ++t)
+    tris.push_back({piece.mesh.triangles(t, 0), piece.mesh.triangles(t, 1), piece.mesh.triangles(t, 2)});
+  for (std::size_t b = 0; b < sp.boundary.size(); ++b) {
+    const InterfaceDisc& disc = discs[sp.boundary[b].loop];
+    std::vector<int> id(disc.positions.rows());
+    for (int v = 0; v < disc.positions.rows(); ++v) {
+      if (v < disc.num_loop_vertices) {
+        id[v] = piece.boundary[b][v];
+      } else {
+        id[v] = static_cast<int>(positions.size());
+        positions.push_back(disc.positions.row(v).transpose());
+        s.surface_vertex.push_back(-1);
+      }
+    }
+    for (int t = 0; t < disc.triangles.rows(); ++t) {
+      std::array<int, 3> tri = {id[disc.triangles(t, 0)], id[disc.triangles(t, 1)], id[disc.triangles(t, 2)]};
+      if (sp.boundary[b].side == 0) std::swap(tri[1], tri[2]);
+      tris.push_back(tri);
+      s.surface_face.push_back(-1);
+    }
+  }
+  s.mesh.positions.resize(static_cast<int>(positions.size()), 3);
+  for (std::size_t v = 0; v < positions.size(); ++v) s.mesh.positions.row(static_cast<int>(v)) = positions[v].transpose();
+  s.mesh.triangles.resize(static_cast<int>(tris.size()), 3);
+  for (std::size_t t = 0; t < tris.size(); ++t)
+    for (int k = 0; k < 3; ++k) s.mesh.triangles(static_cast<int>(t), k) = tris[t][k];
+  return s;
+}
+
+double path_length(const mesh::TriangleMesh& m, const std::vector<int>& path) {
+  double total = 0.0;
+  for (std::size_t i = 1; i < path.size(); ++i)
+    total += (m.positions.row(path[i]) - m.positions.row(path[i - 1])).norm();
+  return total;
+}
+
+// 4 corners of a loop at quarter arc lengths, starting at its vertex farthest from its centroid.
+std::array<int, 4> choose_loop_corners(const mesh::TriangleMesh& m, const std::vector<int>& loop) {
+  const int n = static_cast<int>(loop.size());
+  Eigen::RowVector3d centre = Eigen::RowVector3d::Zero();
+  for (int v : loop) centre += m.positions.row(v);
+  centre /= n;
+  int start = 0;
+  double far = -1.0;
+  for (int i = 0; i < n; ++i) {
+    const double r = (m.positions.row(loop[i]) - centre).squaredNorm();
+    if (r > far) {
+      far = r;
+      start = i;
+    }
+  }
+  std::vector<double> arc(n + 1, 0.0);
+  for (int i = 1; i <= n; ++i)
+    arc[i] = arc[i - 1] + (m.positions.row(loop[(start + i) % n]) - m.positions.row(loop[(start + i - 1) % n])).norm();
+  std::array<int, 4> corners;
+  int previous = 0;
+  corners[0] = start;
+  for (int k = 1; k < 4; ++k) {
+    const double target = arc[n] * k / 4.0;
+    int best = previous + 1;
+    for (int i = previous + 1; i < n - (3 - k); ++i)
+      if (std::abs(arc[i] - target) < std::abs(arc[best] - target)) best = i;
+    previous = best;
+    corners[k] = (start + best) % n;
+  }
+  return corners;
+}
+
+// Corners and prescribed poly-edges of one cube face lying on a cut loop. `order` lists the 4
+// loop corners (indices into the loop's corner array) in the face's corner order `cube`.
+// `forward`: the face's corner order runs in loop order.
+void set_loop_face(const std::vector<int>& loop_vertex_ids, const std::array<int, 4>& loop_corner_index,
+                   const std::array<int, 4>& order, bool forward, const std::array<int, 4>& cube,
+                   CuboidLayout& layout, std::array<std::vector<int>, num_cube_edges>& fixed) {
+  const int n = static_cast<int>(loop_vertex_ids.size());
+  for (int i = 0; i < 4; ++i) layout.corners[cube[i]] = loop_vertex_ids[loop_corner_index[order[i]]];
+  for (int i = 0; i < 4; ++i) {
+    const int from = loop_corner_index[order[i]], to = loop_corner_index[order[(i + 1) % 4]];
+    std::vector<int> path;
+    for (int j = from;; j = forward ? (j + 1) % n : (j + n - 1) % n) {
+      path.push_back(loop_vertex_ids[j]);
+      if (j == to) break;
+    }
+    const int e = cube_edge_between(cube[i], cube[(i + 1) % 4]);
+    if (cube_edge_corners(e)[0] != cube[i]) std::reverse(path.begin(), path.end());
+    fixed[e] = std::move(path);
+  }
+}
+
+struct FaceOnLoop {
+  int cuboid = -1;
+  int face = -1;
+  std::array<int, 4> cube{};  // cube corner id of loop corner k
+};
+
+}  // namespace
+
+GpcConstruction build_gpc(const SolidDecomposition& d, double bbox_diagonal, const std::vector<int>& solid_corners) {
+  GpcConstruction out;
+  const mesh::TriangleMesh& S = d.mesh;
+  for (const CutLoop& loop : d.loops) {
+    mesh::Positions xyz(static_cast<int>(loop.vertices.size()), 3);
+    for (std::size_t i = 0; i < loop.vertices.size(); ++i) xyz.row(static_cast<int>(i)) = S.positions.row(loop.vertices[i]);
+    out.discs.push_back(triangulate_interface_disc(xyz));
+    std::array<int, 4> c = choose_loop_corners(S, loop.vertices);
+    std::sort(c.begin(), c.end());
+    out.loop_corners.push_back(c);
+  }
+  std::vector<std::array<FaceOnLoop, 2>> on_loop(d.loops.size());
+  // The cube corner order of faces 4 (w = 0) and 5 (w = 1).
+  const std::array<int, 4> bottom = {0, 1, 3, 2}, top = {4, 5, 7, 6};
+
+  for (std::size_t p = 0; p < d.pieces.size(); ++p) {
+    const SolidPiece& sp = d.pieces[p];
+    const std::string part = "piece " + std::to_string(p);
+    if (sp.kind == PieceKind::Solid) {
+      CuboidSurface s;
+      s.mesh = S;
+      s.surface_vertex.resize(S.num_vertices());
+      std::iota(s.surface_vertex.begin(), s.surface_vertex.end(), 0);
+      s.surface_face.resize(S.num_faces());
+      std::iota(s.surface_face.begin(), s.surface_face.end(), 0);
+      const mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(s.mesh, "gpc " + part);
+      CuboidLayoutOptions layout_options;
+      layout_options.corners = solid_corners;
+      s.layout = compute_cuboid_layout(hm, layout_options);
+      out.surfaces.push_back(std::move(s));
+      GpcCuboid cuboid;
+      cuboid.piece = static_cast<int>(p);
+      cuboid.piece_kind = 0;
+      out.domain.cuboids.push_back(cuboid);
+      continue;
+    }
+    if (sp.kind == PieceKind::TShape)
+      throw DecompositionError("T-to-cube: " + part + " is a T-shape, which this build cannot map to cuboids yet");
+    const PieceMesh pm = extract_piece(d, sp);
+    CuboidSurface base = close_piece(pm, sp, out.discs);
+    const mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(base.mesh, "gpc " + part);
+    const mesh::MeshReport report = mesh::analyze_mesh(hm);
+    if (!report.closed || report.genus != 0 || !report.consistently_oriented)
+      throw DecompositionError("T-to-cube: " + part + " closed by its interface discs is not a sphere (genus " +
+                               std::to_string(report.genus) + ")");
+    const int cuboid_id = static_cast<int>(out.domain.cuboids.size());
+    // Face 4 (w = 0) on the first loop: corner order along the piece's own halfedges there,
+    // which is loop order when the piece lies below the loop.
+    const LoopSide a = sp.boundary[0];
+    const std::array<int, 4>& ca = out.loop_corners[a.loop];
+    const bool a_forward = a.side == 0;
+    const std::array<int, 4> order_a = a_forward ? std::array<int, 4>{0, 1, 2, 3} : std::array<int, 4>{0, 3, 2, 1};
+    std::string why;
+    bool done = false;
+    if (sp.kind == PieceKind::Tube) {
+      // Band paths straight in the tube's cylinder map (§3.3.2 step 3): edge costs are lengths in
+      // (u · height, v · circumference), so they follow the tube instead of hugging its inside.
+      const mesh::HalfedgeMesh open = mesh::HalfedgeMesh::build(pm.mesh, "gpc " + part);
+      const param::CylinderMap cyl = param::compute_cylinder_map(open, pm.boundary[0], pm.boundary[1]);
+      std::vector<double> cost = mesh::edge_lengths(hm);
+      for (int e = 0; e < hm.num_edges(); ++e) {
+        const auto ends = hm.edge_vertices(e);
+        if (ends[0] >= open.num_vertices() || ends[1] >= open.num_vertices()) continue;
+        const double du = (cyl.u[ends[1]] - cyl.u[ends[0]]) * cyl.length;
+        double dv = cyl.v[ends[1]] - cyl.v[ends[0]];
+        dv -= std::round(dv);
+        dv *= cyl.circumference;
+        cost[e] = std::sqrt(du * du + dv * dv);
+      }
+      const LoopSide b = sp.boundary[1];
+      const std::array<int, 4>& cb = out.loop_corners[b.loop];
+      // Face 5 (w = 1): corner order against the piece's halfedges on the loop.
+      const bool b_forward = b.side == 1;
+      double best_length = std::numeric_limits<double>::infinity();
+      CuboidLayout best;
+      int best_shift = -1;
+      for (int shift = 0; shift < 4; ++shift) {
+        CuboidLayout layout;
+        std::array<std::vector<int>, num_cube_edges> fixed;
+        set_loop_face(pm.boundary[0], ca, order_a, a_forward, bottom, layout, fixed);
+        std::array<int, 4> order_b;
+        for (int i = 0; i < 4; ++i) order_b[i] = b_forward ? (shift + i) % 4 : (shift + 4 - i) % 4;
+        set_loop_face(pm.boundary[1], cb, order_b, b_forward, top, layout, fixed);
+        std::string reason;
+        if (!complete_cuboid_layout(hm, 2, fixed, layout, &reason, &cost)) {
+          why += (why.empty() ? "" : "; ") + reason;
+          continue;
+        }
+        double length = 0.0;
+        for (int e = 8; e < 12; ++e)
+          for (std::size_t i = 0; i + 1 < layout.poly_edges[e].size(); ++i)
+            for (int h : hm.vertex_outgoing(layout.poly_edges[e][i]))
+              if (hm.halfedge_vertex(h) == layout.poly_edges[e][i + 1]) length += cost[hm.halfedge_edge(h)];
+        if (length < best_length) {
+          best_length = length;
+          best = layout;
+          best_shift = shift;
+        }
+      }
+      if (best_shift >= 0) {
+        base.layout = best;
+        done = true;
+        FaceOnLoop fa{cuboid_id, 4, {}}, fb{cuboid_id, 5, {}};
+        for (int i = 0; i < 4; ++i) {
+          fa.cube[order_a[i]] = bottom[i];
+          const int k = b_forward ? (best_shift + i) % 4 : (best_shift + 4 - i) % 4;
+          fb.cube[k] = top[i];
+        }
+        on_loop[a.loop][a.side] = fa;
+        on_loop[b.loop][b.side] = fb;
+      }
+    } else {
+      // Cap: the 4 upper corners halfway up, on the shortest paths from the loop's corners to
+      // the vertex farthest from the loop.
+      const mesh::HalfedgeMesh open = mesh::HalfedgeMesh::build(pm.mesh, "gpc " + part);
+      std::vector<int> sources;
+      for (int v : pm.boundary[0]) sources.push_back(v);
+      const mesh::GraphDistances height = mesh::graph_distances(open, sources);
+      int pole = 0;
+      for (int v = 0; v < open.num_vertices(); ++v)
+        if (height.distance[v] > height.distance[pole]) pole = v;
+      const mesh::GraphDistances from_pole = mesh::graph_distances(open, {pole});
+      for (double lambda : {0.5, 0.35, 0.65, 0.2}) {
+        CuboidLayout layout;
+        std::array<std::vector<int>, num_cube_edges> fixed;
+        set_loop_face(pm.boundary[0], ca, order_a, a_forward, bottom, layout, fixed);
+        std::array<int, 4> upper;
+        for (int i = 0; i < 4; ++i) {
+          const int corner = layout.corners[bottom[i]];
+          std::vector<int> path = mesh::graph_path(from_pole, corner);  // pole → corner
+          upper[i] = pole;
+          for (auto it = path.rbegin(); it != path.rend(); ++it)
+            if (height.distance[*it] >= lambda * height.distance[pole]) {
+              upper[i] = *it;
+              break;
+            }
+        }
+        std::array<int, 4> sorted = upper;
+        std::sort(sorted.begin(), sorted.end());
+        if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) continue;
+        for (int i = 0; i < 4; ++i) layout.corners[top[i]] = upper[i];
+        std::string reason;
+        if (complete_cuboid_layout(hm, 2, fixed, layout, &reason)) {
+          base.layout = layout;
+          done = true;
+          FaceOnLoop fa{cuboid_id, 4, {}};
+          for (int i = 0; i < 4; ++i) fa.cube[order_a[i]] = bottom[i];
+          on_loop[a.loop][a.side] = fa;
+          break;
+        }
+        why += (why.empty() ? "" : "; ") + reason;
+      }
+    }
+    if (!done) throw DecompositionError("T-to-cube: cannot lay out the cuboid of " + part + ": " + why);
+    GpcCuboid cuboid;
+    cuboid.piece = static_cast<int>(p);
+    cuboid.piece_kind = static_cast<int>(sp.kind);
+    out.domain.cuboids.push_back(cuboid);
+    out.surfaces.push_back(std::move(base));
+  }
+
+  // Interfaces, one per cut loop (side 0 → side 1).
+  for (std::size_t l = 0; l < d.loops.size(); ++l) {
+    GpcInterface g;
+    g.cuboid = {on_loop[l][0].cuboid, on_loop[l][1].cuboid};
+    g.face = {on_loop[l][0].face, on_loop[l][1].face};
+    g.cut = static_cast<int>(l);
+    const int id = static_cast<int>(out.domain.interfaces.size());
+    out.domain.cuboids[g.cuboid[0]].face_interface[g.face[0]] = id;
+    out.domain.cuboids[g.cuboid[1]].face_interface[g.face[1]] = id;
+    out.domain.interfaces.push_back(g);
+  }
+  auto transitions = [&] {
+    for (std::size_t l = 0; l < out.domain.interfaces.size(); ++l) {
+      GpcInterface& g = out.domain.interfaces[l];
+      const int loop = g.cut;
+      if (!gpc_transition_from_corners(g.face[0], out.domain.cuboids[g.cuboid[0]].size, on_loop[loop][0].cube,
+                                       g.face[1], out.domain.cuboids[g.cuboid[1]].size, on_loop[loop][1].cube,
+                                       g.transition))
+        throw DecompositionError("GPC graph: the corners of cut " + std::to_string(loop) +
+                                 " do not glue the two cuboids by a rotation");
+    }
+  };
+  transitions();
+  // Sizes: glued axes share one length.
+  const int nc = static_cast<int>(out.domain.cuboids.size());
+  std::vector<int> cls(3 * nc);
+  std::iota(cls.begin(), cls.end(), 0);
+  std::function<int(int)> root = [&](int x) { return cls[x] == x ? x : cls[x] = root(cls[x]); };
+  for (const GpcInterface& g : out.domain.interfaces)
+    for (int i = 0; i < 3; ++i)
+      if (i != g.face[0] / 2) {
+        const int x = root(3 * g.cuboid[0] + i), y = root(3 * g.cuboid[1] + g.transition.axis[i]);
+        if (x != y) cls[std::max(x, y)] = std::min(x, y);
+      }
+  std::vector<double> sum(3 * nc, 0.0);
+  std::vector<int> members(3 * nc, 0);
+  for (int c = 0; c < nc; ++c)
+    for (int a = 0; a < 3; ++a) {
+      double length = 0.0;
+      for (int k = 0; k < 4; ++k) length += path_length(out.surfaces[c].mesh, out.surfaces[c].layout.poly_edges[4 * a + k]);
+      sum[root(3 * c + a)] += length / 4.0;
+      ++members[root(3 * c + a)];
+    }
+  for (int c = 0; c < nc; ++c) {
+    GpcCuboid& cuboid = out.domain.cuboids[c];
+    for (int a = 0; a < 3; ++a) {
+      const int r = root(3 * c + a);
+      cuboid.size[a] = std::max(sum[r] / members[r] / bbox_diagonal, 1e-6);
+    }
+    for (int k = 0; k < 8; ++k)
+      cuboid.corner_xyz[k] = out.surfaces[c].mesh.positions.row(out.surfaces[c].layout.corners[k]).transpose();
+  }
+  transitions();
+  out.domain.genus = d.genus;
+  for (const SolidPiece& sp : d.pieces) {
+    out.domain.caps += sp.kind == PieceKind::Cap;
+    out.domain.tubes += sp.kind == PieceKind::Tube;
+    out.domain.t_shapes += sp.kind == PieceKind::TShape;
+  }
+  return out;
+}
+
+}  // namespace volspline::polycube

@@ -1,0 +1,46 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <vector>
+
+#include "core/mesh/halfedge_mesh.h"
+#include "core/polycube/cuboid_layout.h"
+#include "core/polycube/gpc_domain.h"
+#include "core/polycube/interface_disc.h"
+#include "core/polycube/solid_decomposition.h"
+
+namespace volspline::polycube {
+
+/// The closed genus-0 surface bounding one cuboid's part of the solid (its piece of the input
+/// surface plus the interface discs of its glued faces) with its 8 corners and 12 poly-edges.
+struct CuboidSurface {
+  mesh::TriangleMesh mesh;          ///< outward oriented; positions model units
+  CuboidLayout layout;              ///< on `mesh`
+  std::vector<int> surface_vertex;  ///< per vertex: vertex of the decomposition mesh, −1 inside a disc
+  std::vector<int> surface_face;    ///< per face: face of the decomposition mesh, −1 on a disc
+};
+
+/// A GPC with the surface of every cuboid.
+struct GpcConstruction {
+  GpcDomain domain;
+  std::vector<CuboidSurface> surfaces;  ///< one per cuboid
+  std::vector<InterfaceDisc> discs;     ///< one per cut loop (oriented to close the piece above)
+  /// Per cut loop: its 4 corners as indices into CutLoop::vertices, in loop order.
+  std::vector<std::array<int, 4>> loop_corners;
+};
+
+/// T-to-cube (§3.3.2, Algorithms 2, 3): a cap becomes 1 cuboid (its loop on face w = 0, the 4
+/// upper corners halfway up the cap), a tube 1 cuboid (its loops on faces w = 0 and w = 1, the 4
+/// band poly-edges the shortest disjoint paths between the loops' corners, over the 4 cyclic
+/// matchings the shortest), a T-shape 4 cuboids. Every cut loop gets 4 corners at quarter arc
+/// lengths from its vertex farthest from its centroid (a choice that does not depend on the
+/// pose), shared by both sides, and one interface disc used by both. Cuboid sizes: one length per
+/// class of axes glued together (union–find over the interfaces), the mean length of the class's
+/// poly-edges over the bounding-box diagonal.
+/// `solid_corners`: user corners of a genus-0 solid's one cuboid (compute_cuboid_layout's), or empty.
+/// Throws DecompositionError naming the piece when a layout cannot be traced, volspline::Error
+/// when user corners are invalid.
+GpcConstruction build_gpc(const SolidDecomposition& decomposition, double bbox_diagonal,
+                          const std::vector<int>& solid_corners = {});
+
+}  // namespace volspline::polycube

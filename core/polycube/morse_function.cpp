@@ -1,0 +1,104 @@
+// SPDX-License-Identifier: MIT
+#include "core/polycube/morse_function.h"
+
+#include <algorithm>
+#include <cassert>
+
+#include "core/linalg/conjugate_gradient.h"
+#include "core/linalg/csr_matrix.h"
+#include "core/mesh/edge_weights.h"
+#include "core/mesh/graph_distance.h"
+
+namespace volspline::polycube {
+
+namespace {
+
+int farthest_vertex(const mesh::HalfedgeMesh& mesh, int from) {
+  const mesh::GraphDistances d = mesh::graph_distances(mesh, {from});
+  int best = from;
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (d.distance[v] != std::numeric_limits<double>::infinity() && d.distance[v] > d.distance[best]) best = v;
+  return best;
+}
+
+// (value, id) order: the symbolic perturbation that makes every vertex value distinct.
+bool lower(const std::vector<double>& f, int a, int b) { return f[a] < f[b] || (f[a] == f[b] && a < b); }
+
+}  // namespace
+
+void classify_critical_points(const mesh::HalfedgeMesh& mesh, MorseFunction& function) {
+  const int n = mesh.num_vertices();
+  const std::vector<double>& f = function.value;
+  function.kind.assign(n, CriticalKind::Regular);
+  function.multiplicity.assign(n, 0);
+  function.num_minima = function.num_maxima = function.num_saddles = 0;
+  std::vector<char> ring;
+  for (int v = 0; v < n; ++v) {
+    if (mesh.vertex_halfedge(v) == mesh::no_id) continue;
+    ring.clear();
+    for (int u : mesh.vertex_neighbors(v)) ring.push_back(lower(f, u, v) ? 0 : 1);
+    int changes = 0;
+    for (std::size_t i = 0; i < ring.size(); ++i) changes += ring[i] != ring[(i + 1) % ring.size()];
+    if (changes == 0) {
+      if (ring[0] == 1) {
+        function.kind[v] = CriticalKind::Minimum;
+        ++function.num_minima;
+      } else {
+        function.kind[v] = CriticalKind::Maximum;
+        ++function.num_maxima;
+      }
+    } else if (changes > 2) {
+      function.kind[v] = CriticalKind::Saddle;
+      function.multiplicity[v] = changes / 2 - 1;
+      function.num_saddles += changes / 2 - 1;
+    }
+  }
+}
+
+MorseFunction compute_morse_function(const mesh::HalfedgeMesh& mesh, const MorseFunctionOptions& options) {
+  const int n = mesh.num_vertices();
+  assert(n >= 4);
+  int start = 0;
+  while (start < n && mesh.vertex_halfedge(start) == mesh::no_id) ++start;
+  MorseFunction function;
+  function.source = farthest_vertex(mesh, start);
+  function.sink = farthest_vertex(mesh, function.source);
+
+  const std::vector<double> mvc = mesh::mean_value_weights(mesh);
+  std::vector<int> unknown(n, -1);
+  int m = 0;
+  for (int v = 0; v < n; ++v)
+    if (v != function.source && v != function.sink && mesh.vertex_halfedge(v) != mesh::no_id) unknown[v] = m++;
+  function.value.assign(n, 0.0);
+  function.value[function.sink] = 1.0;
+  std::vector<linalg::Triplet> triplets;
+  triplets.reserve(7 * static_cast<std::size_t>(m));
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(m);
+  for (int v = 0; v < n; ++v) {
+    if (unknown[v] < 0) continue;
+    double diagonal = 0.0;
+    for (int h : mesh.vertex_outgoing(v)) {
+      const int u = mesh.halfedge_vertex(h);
+      // Symmetrized mean-value weights: positive (maximum principle) and an SPD system.
+      const double w = 0.5 * (mvc[h] + mvc[mesh.halfedge_twin(h)]);
+      diagonal += w;
+      if (unknown[u] >= 0)
+        triplets.push_back({unknown[v], unknown[u], -w});
+      else
+        rhs(unknown[v]) += w * function.value[u];
+    }
+    triplets.push_back({unknown[v], unknown[v], diagonal > 0.0 ? diagonal : 1.0});
+  }
+  const linalg::CsrMatrix a = linalg::CsrMatrix::from_triplets(m, m, triplets);
+  linalg::ConjugateGradient<linalg::IncompleteCholesky0> cg;
+  cg.set_tolerance(options.tolerance);
+  cg.set_max_iterations(std::max(1000, 4 * m));
+  cg.compute(a);
+  const Eigen::VectorXd x = cg.solve(rhs, Eigen::VectorXd::Constant(m, 0.5));
+  for (int v = 0; v < n; ++v)
+    if (unknown[v] >= 0) function.value[v] = std::clamp(x(unknown[v]), 0.0, 1.0);
+  classify_critical_points(mesh, function);
+  return function;
+}
+
+}  // namespace volspline::polycube

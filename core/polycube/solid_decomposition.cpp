@@ -1,0 +1,210 @@
+// SPDX-License-Identifier: MIT
+#include "core/polycube/solid_decomposition.h"
+
+#include <algorithm>
+#include <map>
+#include <numeric>
+#include <set>
+
+#include "core/polycube/level_set_split.h"
+
+namespace volspline::polycube {
+
+namespace {
+
+int find(std::vector<int>& parent, int x) {
+  while (parent[x] != x) x = parent[x] = parent[parent[x]];
+  return x;
+}
+
+}  // namespace
+
+SolidDecomposition decompose_solid(const mesh::HalfedgeMesh& input, int genus,
+                                   const DecompositionOptions& options) {
+  SolidDecomposition out;
+  out.genus = genus;
+  MorseFunction morse = compute_morse_function(input);
+  out.num_saddles = morse.num_saddles;
+
+  // Cut levels: midway between consecutive distinct critical values.
+  std::vector<double> critical;
+  for (int v = 0; v < input.num_vertices(); ++v)
+    if (morse.kind.size() > 0 && morse.kind[v] != CriticalKind::Regular) critical.push_back(morse.value[v]);
+  std::sort(critical.begin(), critical.end());
+  std::vector<double> levels;
+  for (std::size_t i = 0; i + 1 < critical.size(); ++i)
+    if (critical[i + 1] - critical[i] > 1e-9) levels.push_back(0.5 * (critical[i] + critical[i + 1]));
+  out.num_levels = static_cast<int>(levels.size());
+
+  mesh::TriangleMesh surface = input.to_triangle_mesh();
+  std::vector<double> value = morse.value;
+  std::vector<int> parent;
+  for (double level : levels) {
+    LevelSetSplit split = split_at_level(surface, value, parent, level, options.snap);
+    surface = std::move(split.mesh);
+    value = std::move(split.value);
+    parent = std::move(split.parent_face);
+  }
+  if (parent.empty()) {
+    parent.resize(surface.num_faces());
+    std::iota(parent.begin(), parent.end(), 0);
+  }
+  const mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(surface, input.source_name());
+
+  // Slab of a face: the number of levels below its centroid value.
+  const int nf = hm.num_faces();
+  std::vector<int> slab(nf);
+  for (int f = 0; f < nf; ++f) {
+    double c = 0.0;
+    for (int v : hm.face_vertices(f)) c += value[v];
+    c /= 3.0;
+    slab[f] = static_cast<int>(std::lower_bound(levels.begin(), levels.end(), c) - levels.begin());
+  }
+  // Initial pieces: face components inside one slab.
+  std::vector<int> piece(nf, -1);
+  int num_pieces = 0;
+  std::vector<int> stack;
+  for (int seed = 0; seed < nf; ++seed) {
+    if (piece[seed] >= 0) continue;
+    piece[seed] = num_pieces;
+    stack.push_back(seed);
+    while (!stack.empty()) {
+      const int f = stack.back();
+      stack.pop_back();
+      for (int g : hm.face_faces(f))
+        if (g >= 0 && piece[g] < 0 && slab[g] == slab[f]) {
+          piece[g] = num_pieces;
+          stack.push_back(g);
+        }
+    }
+    ++num_pieces;
+  }
+  out.num_initial_pieces = num_pieces;
+
+  // Loops: cut edges oriented as the halfedges of their lower face.
+  std::vector<int> next(hm.num_vertices(), -1);
+  std::vector<int> loop_of(hm.num_vertices(), -1);
+  for (int h = 0; h < 3 * nf; ++h) {
+    const int g = hm.halfedge_face(hm.halfedge_twin(h));
+    const int f = hm.halfedge_face(h);
+    if (slab[f] < slab[g]) {
+      const int a = hm.halfedge_source(h);
+      if (next[a] >= 0)
+        throw DecompositionError("decomposition: a level set touches itself at vertex " + std::to_string(a) +
+                                 " (degenerate Morse function)");
+      next[a] = hm.halfedge_vertex(h);
+    }
+  }
+  std::vector<CutLoop> loops;
+  std::vector<std::array<int, 2>> loop_pieces;
+  for (int start = 0; start < hm.num_vertices(); ++start) {
+    if (next[start] < 0 || loop_of[start] >= 0) continue;
+    CutLoop loop;
+    int v = start;
+    const int id = static_cast<int>(loops.size());
+    while (loop_of[v] < 0) {
+      loop_of[v] = id;
+      loop.vertices.push_back(v);
+      v = next[v];
+      if (v < 0) throw DecompositionError("decomposition: an open level-set curve (internal error)");
+    }
+    if (v != start) throw DecompositionError("decomposition: a level-set curve is not simple");
+    loop.level = value[start];
+    // The pieces on both sides: a lower face of the first edge and its upper neighbour.
+    const int a = loop.vertices[0], b = loop.vertices[1 % loop.vertices.size()];
+    int below = -1, above = -1;
+    for (int h : hm.vertex_outgoing(a))
+      if (hm.halfedge_vertex(h) == b) {
+        below = piece[hm.halfedge_face(h)];
+        above = piece[hm.halfedge_face(hm.halfedge_twin(h))];
+      }
+    loop.piece = {below, above};
+    loops.push_back(std::move(loop));
+  }
+
+  // Planarity of every initial piece: χ = V − E + F with b loops must give genus 0.
+  std::vector<int> loops_of_piece(num_pieces, 0);
+  for (const CutLoop& l : loops) {
+    ++loops_of_piece[l.piece[0]];
+    ++loops_of_piece[l.piece[1]];
+  }
+  {
+    std::vector<long> faces(num_pieces, 0), edges2(num_pieces, 0);
+    std::vector<std::set<int>> verts(num_pieces);
+    for (int f = 0; f < nf; ++f) {
+      ++faces[piece[f]];
+      for (int v : hm.face_vertices(f)) verts[piece[f]].insert(v);
+      for (int h : hm.face_halfedges(f)) {
+        const int g = hm.halfedge_face(hm.halfedge_twin(h));
+        edges2[piece[f]] += piece[g] == piece[f] ? 1 : 2;  // interior edges counted twice
+      }
+    }
+    for (int p = 0; p < num_pieces; ++p) {
+      const long chi = static_cast<long>(verts[p].size()) - edges2[p] / 2 + faces[p];
+      const long twice_genus = 2 - chi - loops_of_piece[p];
+      if (twice_genus != 0)
+        throw DecompositionError("decomposition: piece " + std::to_string(p) + " (" + std::to_string(faces[p]) +
+                                 " faces, " + std::to_string(loops_of_piece[p]) +
+                                 " loops) is not planar; the Morse function has a degenerate saddle there");
+    }
+  }
+
+  // Algorithm 1 by contraction: remove cuts while the merged piece keeps ≤ 3 loops.
+  std::vector<int> group(num_pieces);
+  std::iota(group.begin(), group.end(), 0);
+  std::vector<int> count = loops_of_piece;
+  std::vector<char> kept(loops.size(), 1);
+  for (;;) {
+    int best = -1, best_result = 4;
+    for (std::size_t l = 0; l < loops.size(); ++l) {
+      if (!kept[l]) continue;
+      const int a = find(group, loops[l].piece[0]), b = find(group, loops[l].piece[1]);
+      if (a == b) continue;
+      const int result = count[a] + count[b] - 2;
+      if (result == 0 && genus > 0) continue;
+      if (result < best_result) {
+        best_result = result;
+        best = static_cast<int>(l);
+      }
+    }
+    if (best < 0) break;
+    const int a = find(group, loops[best].piece[0]), b = find(group, loops[best].piece[1]);
+    group[b] = a;
+    count[a] = best_result;
+    kept[best] = 0;
+  }
+
+  // Final pieces, numbered by their lowest face.
+  std::map<int, int> final_id;
+  std::vector<int> face_piece(nf);
+  for (int f = 0; f < nf; ++f) {
+    const int g = find(group, piece[f]);
+    auto it = final_id.find(g);
+    if (it == final_id.end()) it = final_id.emplace(g, static_cast<int>(final_id.size())).first;
+    face_piece[f] = it->second;
+  }
+  out.pieces.resize(final_id.size());
+  for (int f = 0; f < nf; ++f) out.pieces[face_piece[f]].faces.push_back(f);
+  for (std::size_t l = 0; l < loops.size(); ++l) {
+    if (!kept[l]) continue;
+    CutLoop loop = loops[l];
+    loop.piece = {final_id[find(group, loop.piece[0])], final_id[find(group, loop.piece[1])]};
+    const int id = static_cast<int>(out.loops.size());
+    out.pieces[loop.piece[0]].boundary.push_back({id, 0});
+    out.pieces[loop.piece[1]].boundary.push_back({id, 1});
+    out.loops.push_back(std::move(loop));
+  }
+  for (std::size_t p = 0; p < out.pieces.size(); ++p) {
+    SolidPiece& sp = out.pieces[p];
+    if (sp.boundary.size() > 3)
+      throw DecompositionError("decomposition: piece " + std::to_string(p) + " has " +
+                               std::to_string(sp.boundary.size()) + " boundary loops (at most 3 allowed)");
+    sp.kind = static_cast<PieceKind>(sp.boundary.size());
+  }
+  out.mesh = std::move(surface);
+  out.value = std::move(value);
+  out.parent_face = std::move(parent);
+  return out;
+}
+
+}  // namespace volspline::polycube

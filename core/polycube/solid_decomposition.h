@@ -1,0 +1,84 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <array>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/mesh/halfedge_mesh.h"
+#include "core/polycube/morse_function.h"
+
+namespace volspline::polycube {
+
+/// A decomposition step could not produce valid pieces (a job failure, exit code 1): the
+/// message names the stage and the part.
+class DecompositionError : public std::runtime_error {
+ public:
+  explicit DecompositionError(const std::string& message) : std::runtime_error(message) {}
+};
+
+/// What a piece of the decomposition is (§3.3.1): by its number of boundary loops.
+enum class PieceKind {
+  Solid = 0,   ///< no loop: the whole genus-0 solid (one cuboid, as a blob)
+  Cap = 1,     ///< a disc: one loop
+  Tube = 2,    ///< an annulus: two loops (both may be the same cut: a tube closed on itself)
+  TShape = 3,  ///< a pair of pants: three loops
+};
+
+/// A closed curve on the surface along which the solid is cut.
+struct CutLoop {
+  /// Vertex cycle in SolidDecomposition::mesh (first vertex not repeated), in the direction of
+  /// the halfedges of the faces below the level (value < level).
+  std::vector<int> vertices;
+  double level = 0.0;              ///< value of the Morse function on the loop
+  std::array<int, 2> piece{-1, -1};  ///< piece below and piece above (may be equal)
+};
+
+/// One side of a cut loop as a boundary of a piece.
+struct LoopSide {
+  int loop = -1;
+  int side = 0;  ///< 0: the piece lies below the loop's level, 1: above
+};
+
+/// A planar piece of the surface: a cap, a tube or a T-shape (or the whole genus-0 surface).
+struct SolidPiece {
+  std::vector<int> faces;         ///< faces of SolidDecomposition::mesh, ascending
+  std::vector<LoopSide> boundary; ///< its boundary loops, ascending by (loop, side)
+  PieceKind kind = PieceKind::Solid;
+};
+
+/// The surface cut into caps, tubes and T-shapes along level-set loops.
+struct SolidDecomposition {
+  mesh::TriangleMesh mesh;      ///< the input surface refined so that every cut runs along edges
+  std::vector<double> value;    ///< the Morse function per vertex of `mesh`
+  std::vector<int> parent_face; ///< per face of `mesh`, the input face it lies in
+  std::vector<CutLoop> loops;   ///< the kept cuts
+  std::vector<SolidPiece> pieces;
+  int genus = 0;
+  int num_saddles = 0;          ///< of the Morse function, with multiplicity (= 2·genus)
+  int num_levels = 0;           ///< levels cut before merging
+  int num_initial_pieces = 0;   ///< pieces before merging
+};
+
+/// Options of decompose_solid.
+struct DecompositionOptions {
+  double snap = 0.05;  ///< see split_at_level, in [0, 0.45)
+};
+
+/// §3.3.1, Algorithm 1, by level sets of a fair Morse function (see compute_morse_function):
+/// the surface is cut at one level between every two consecutive critical values, so each piece
+/// holds one critical point (a disc around an extremum, an annulus, or a pair of pants around a
+/// simple saddle), then cuts are removed greedily, the one giving the fewest boundary loops first,
+/// while the merged piece keeps ≤ 3 loops and the two sides differ (a cut between a piece and
+/// itself would add a handle). Every piece is planar (checked: genus 0 by its Euler
+/// characteristic); level-set loops of a tube or T-shape of the Reeb graph separate the solid
+/// locally, and the caller checks that each kept loop bounds a disc inside the solid
+/// (interface_disc.h). Count check: #T-shapes = #caps + 2g − 2.
+/// Preconditions: `mesh` closed, connected, consistently and outward oriented.
+/// Throws DecompositionError if a piece is not planar or has more than 3 loops (a degenerate
+/// saddle the sweep cannot separate), naming the piece.
+SolidDecomposition decompose_solid(const mesh::HalfedgeMesh& mesh, int genus,
+                                   const DecompositionOptions& options = {});
+
+}  // namespace volspline::polycube
