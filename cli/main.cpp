@@ -22,6 +22,7 @@ const char* kUsage =
     "\n"
     "commands:\n"
     "  info FILE          mesh facts: counts, closed, manifold, components, genus, bounding box\n"
+    "  gpc MESH           closed solid of any genus -> generalized poly-cube domain (thesis ch. 3)\n"
     "  mesh2spline MESH   closed genus-0 triangle mesh -> trivariate T-spline (thesis ch. 3, 4)\n"
     "  eval SPLINE        evaluate a spline JSON file at --uvw u,v,w\n"
     "  lens IMAGE         focus+context magnification lens on an image (thesis ch. 6)\n"
@@ -37,6 +38,7 @@ struct Command {
 
 const Command kCommands[] = {
     {"info", volspline::cli::run_info},
+    {"gpc", volspline::cli::run_gpc},
     {"mesh2spline", volspline::cli::run_mesh2spline},
     {"eval", volspline::cli::run_eval},
     {"lens", volspline::cli::run_lens},

@@ -11,6 +11,7 @@
 #include "core/linalg/csr_matrix.h"
 #include "core/param/cuboid_surface_locator.h"
 #include "core/param/hex_grid_untangling.h"
+#include "core/mesh/hex_quality.h"
 #include "core/param/volumetric_grid_map.h"
 
 namespace volspline::param {
@@ -231,7 +232,7 @@ GpcVolumetricMap compute_gpc_volumetric_map(polycube::GpcConstruction& construct
           std::array<Eigen::Vector3d, 8> corners;
           for (int c = 0; c < 8; ++c)
             corners[c] = grid.xyz.row(grid_node_index(n, i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1))).transpose();
-          const double q = hex_min_scaled_jacobian(corners);
+          const double q = mesh::hex_min_scaled_jacobian(corners);
           ++grid.num_hexes;
           if (q <= 0.0) ++grid.num_inverted_hexes;
           grid.min_scaled_jacobian = std::min(grid.min_scaled_jacobian, q);

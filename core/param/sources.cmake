@@ -3,7 +3,6 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/cuboid_surface_map.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cuboid_surface_locator.cpp
   ${CMAKE_CURRENT_LIST_DIR}/volumetric_grid_map.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/cylinder_map.cpp
   ${CMAKE_CURRENT_LIST_DIR}/gpc_volumetric_map.cpp
   ${CMAKE_CURRENT_LIST_DIR}/surface_distance.cpp
   ${CMAKE_CURRENT_LIST_DIR}/hex_grid_untangling.cpp

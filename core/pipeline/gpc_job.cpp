@@ -78,7 +78,16 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
 
   t0 = Clock::now();
   progress.report("T-to-cube", 0.0);
-  result.construction = polycube::build_gpc(decomposition, 1.0, options.corners);
+  // A piece too coarse for its layout's disjoint paths is refined (at most twice) and retried.
+  for (int attempt = 0;; ++attempt) {
+    try {
+      result.construction = polycube::build_gpc(decomposition, 1.0, options.corners);
+      break;
+    } catch (const polycube::DecompositionError&) {
+      if (attempt == 2 || stats.genus == 0) throw;
+      polycube::subdivide_decomposition(decomposition);
+    }
+  }
   // Meridian certificate of every cut.
   if (!decomposition.loops.empty()) {
     std::vector<std::vector<int>> loop_ids;

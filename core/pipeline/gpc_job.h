@@ -7,7 +7,7 @@
 
 #include "core/mesh/triangle_mesh.h"
 #include "core/param/gpc_volumetric_map.h"
-#include "core/pipeline/progress.h"
+#include "core/common/progress.h"
 #include "core/polycube/gpc_builder.h"
 
 namespace volspline::pipeline {

@@ -15,6 +15,7 @@
 
 #include "core/common/error.h"
 #include "core/mesh/mesh_geometry.h"
+#include "core/polycube/surface_paths.h"
 
 namespace volspline::polycube {
 
@@ -171,87 +172,6 @@ Corners automatic_corners(const mesh::HalfedgeMesh& mesh, bool nearest) {
   if (best_score < 0.0)
     throw Error("mesh '" + mesh.source_name() + "': cannot find 8 distinct cuboid corners");
   return best;
-}
-
-// Edge id of the mesh edge between adjacent vertices a and b, -1 if none.
-int edge_between(const mesh::HalfedgeMesh& mesh, int a, int b) {
-  for (int h : mesh.vertex_outgoing(a))
-    if (mesh.halfedge_vertex(h) == b) return mesh.halfedge_edge(h);
-  return -1;
-}
-
-// Dijkstra from source to target entering only unblocked vertices (the target always) through
-// halfedges accepted by edge_ok. Ties: smaller distance, then smaller vertex id. Empty if none.
-std::vector<int> restricted_path(const mesh::HalfedgeMesh& mesh, const std::vector<double>& length,
-                                 int source, int target, const std::vector<char>& blocked,
-                                 const std::function<bool(int)>& edge_ok) {
-  const int n = mesh.num_vertices();
-  std::vector<double> distance(n, std::numeric_limits<double>::infinity());
-  std::vector<int> predecessor(n, -1);
-  std::vector<char> settled(n, 0);
-  using Entry = std::pair<double, int>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
-  distance[source] = 0.0;
-  queue.push({0.0, source});
-  while (!queue.empty()) {
-    const auto [d, u] = queue.top();
-    queue.pop();
-    if (settled[u]) continue;
-    settled[u] = 1;
-    if (u == target) break;
-    for (int h : mesh.vertex_outgoing(u)) {
-      const int v = mesh.halfedge_vertex(h);
-      if (settled[v] || (blocked[v] && v != target)) continue;
-      if (edge_ok && !edge_ok(h)) continue;
-      const double candidate = d + length[mesh.halfedge_edge(h)];
-      if (candidate < distance[v]) {
-        distance[v] = candidate;
-        predecessor[v] = u;
-        queue.push({candidate, v});
-      }
-    }
-  }
-  std::vector<int> path;
-  if (!settled[target]) return path;
-  for (int v = target; v != -1; v = predecessor[v]) path.push_back(v);
-  std::reverse(path.begin(), path.end());
-  return path;
-}
-
-// Face components separated by the given edges; returns the component count.
-int face_components(const mesh::HalfedgeMesh& mesh, const std::vector<char>& cut_edge,
-                    std::vector<int>& component) {
-  component.assign(mesh.num_faces(), -1);
-  int count = 0;
-  std::vector<int> stack;
-  for (int seed = 0; seed < mesh.num_faces(); ++seed) {
-    if (component[seed] >= 0) continue;
-    component[seed] = count;
-    stack.push_back(seed);
-    while (!stack.empty()) {
-      const int f = stack.back();
-      stack.pop_back();
-      for (int h : mesh.face_halfedges(f)) {
-        if (cut_edge[mesh.halfedge_edge(h)]) continue;
-        const int g = mesh.halfedge_face(mesh.halfedge_twin(h));
-        if (g >= 0 && component[g] < 0) {
-          component[g] = count;
-          stack.push_back(g);
-        }
-      }
-    }
-    ++count;
-  }
-  return count;
-}
-
-void mark_path_edges(const mesh::HalfedgeMesh& mesh, const std::vector<int>& path,
-                     std::vector<char>& cut_edge) {
-  for (std::size_t i = 0; i + 1 < path.size(); ++i) {
-    const int e = edge_between(mesh, path[i], path[i + 1]);
-    assert(e >= 0);
-    cut_edge[e] = 1;
-  }
 }
 
 // Traces the 12 poly-edges with the loops around the ends of `long_axis`; false on failure

@@ -13,7 +13,8 @@
 #include "core/mesh/graph_distance.h"
 #include "core/mesh/mesh_geometry.h"
 #include "core/mesh/mesh_report.h"
-#include "core/param/cylinder_map.h"
+#include "core/polycube/cylinder_map.h"
+#include "core/polycube/t_shape_layout.h"
 
 namespace volspline::polycube {
 
@@ -180,6 +181,108 @@ struct FaceOnLoop {
   std::array<int, 4> cube{};  // cube corner id of loop corner k
 };
 
+struct Glue {
+  int cuboid_a = -1, face_a = -1, cuboid_b = -1, face_b = -1, cut = -1;
+};
+
+// A cuboid's closed surface from some faces of a piece and closing discs (vertex cycles of the
+// piece), with its corners and poly-edges given on the piece: all 12 prescribed.
+CuboidSurface assemble_cuboid(const PieceMesh& pm, const TShapeCuboid& c, const std::string& part) {
+  CuboidSurface s;
+  std::vector<int> id(pm.mesh.num_vertices(), -1);
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<std::array<int, 3>> tris;
+  auto vertex = [&](int v) {
+    if (id[v] < 0) {
+      id[v] = static_cast<int>(positions.size());
+      positions.push_back(pm.mesh.positions.row(v).transpose());
+      s.surface_vertex.push_back(pm.surface_vertex[v]);
+    }
+    return id[v];
+  };
+  for (int f : c.faces) {
+    tris.push_back({vertex(pm.mesh.triangles(f, 0)), vertex(pm.mesh.triangles(f, 1)), vertex(pm.mesh.triangles(f, 2))});
+    s.surface_face.push_back(pm.surface_face[f]);
+  }
+  for (const std::vector<int>& cycle : c.discs) {
+    mesh::Positions xyz(static_cast<int>(cycle.size()), 3);
+    for (std::size_t i = 0; i < cycle.size(); ++i) xyz.row(static_cast<int>(i)) = pm.mesh.positions.row(cycle[i]);
+    const InterfaceDisc disc = triangulate_interface_disc(xyz);
+    std::vector<int> did(disc.positions.rows());
+    for (int v = 0; v < disc.positions.rows(); ++v) {
+      if (v < disc.num_loop_vertices) {
+        did[v] = vertex(cycle[v]);
+      } else {
+        did[v] = static_cast<int>(positions.size());
+        positions.push_back(disc.positions.row(v).transpose());
+        s.surface_vertex.push_back(-1);
+      }
+    }
+    for (int t = 0; t < disc.triangles.rows(); ++t) {
+      tris.push_back({did[disc.triangles(t, 0)], did[disc.triangles(t, 1)], did[disc.triangles(t, 2)]});
+      s.surface_face.push_back(-1);
+    }
+  }
+  s.mesh.positions.resize(static_cast<int>(positions.size()), 3);
+  for (std::size_t v = 0; v < positions.size(); ++v) s.mesh.positions.row(static_cast<int>(v)) = positions[v].transpose();
+  s.mesh.triangles.resize(static_cast<int>(tris.size()), 3);
+  for (std::size_t t = 0; t < tris.size(); ++t)
+    for (int k = 0; k < 3; ++k) s.mesh.triangles(static_cast<int>(t), k) = tris[t][k];
+  const mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(s.mesh, "gpc " + part);
+  const mesh::MeshReport report = mesh::analyze_mesh(hm);
+  if (!report.closed || report.genus != 0 || !report.consistently_oriented)
+    throw DecompositionError("T-to-cube: " + part + " closed by its discs is not a sphere");
+  std::array<std::vector<int>, num_cube_edges> fixed;
+  for (int k = 0; k < num_cube_corners; ++k) s.layout.corners[k] = id[c.corners[k]];
+  for (int e = 0; e < num_cube_edges; ++e)
+    for (int v : c.poly_edges[e]) fixed[e].push_back(vertex(v));
+  std::string why;
+  if (!complete_cuboid_layout(hm, 2, fixed, s.layout, &why))
+    throw DecompositionError("T-to-cube: " + part + ": " + why);
+  return s;
+}
+
+void build_t_shape(const SolidPiece& sp, const PieceMesh& pm, int piece,
+                   GpcConstruction& out, std::vector<std::array<FaceOnLoop, 2>>& on_loop, std::vector<Glue>& glues) {
+  const std::string part = "piece " + std::to_string(piece) + " (T-shape)";
+  const mesh::HalfedgeMesh open = mesh::HalfedgeMesh::build(pm.mesh, "gpc " + part);
+  std::array<std::vector<int>, 3> loops;
+  std::array<bool, 3> forward;
+  std::array<std::array<int, 4>, 3> corners;
+  for (int k = 0; k < 3; ++k) {
+    loops[k] = pm.boundary[k];
+    forward[k] = sp.boundary[k].side == 0;
+    corners[k] = out.loop_corners[sp.boundary[k].loop];
+  }
+  TShapeLayout t;
+  std::string why;
+  if (!lay_out_t_shape(open, loops, forward, corners, t, &why))
+    throw DecompositionError("T-to-cube: " + part + ": " + why);
+  const int first = static_cast<int>(out.domain.cuboids.size());
+  for (int c = 0; c < 4; ++c) {
+    // Assemble first: a piece mesh vertex id is not a sphere id.
+    CuboidSurface s = assemble_cuboid(pm, t.cuboids[c], part + " cuboid " + std::to_string(c));
+    GpcCuboid cuboid;
+    cuboid.piece = piece;
+    cuboid.piece_kind = static_cast<int>(PieceKind::TShape);
+    out.domain.cuboids.push_back(cuboid);
+    out.surfaces.push_back(std::move(s));
+    for (int f = 0; f < 6; ++f) {
+      const int role = t.cuboids[c].face_role[f];
+      if (role >= 0 && role < 3) on_loop[sp.boundary[role].loop][sp.boundary[role].side] = FaceOnLoop{first + c, f, {}};
+    }
+  }
+  glues.push_back(Glue{first, 0, first + 1, 5, -1});
+  glues.push_back(Glue{first, 1, first + 2, 5, -1});
+  glues.push_back(Glue{first, 4, first + 3, 5, -1});
+  for (int e = 0; e < 2; ++e) {
+    GpcIllPoint ill;
+    ill.cuboids = {first, first + 1 + e, first + 3};
+    for (int k = 0; k < 2; ++k) ill.xyz[k] = pm.mesh.positions.row(t.concave_edges[e][k]).transpose();
+    out.domain.ill_points.push_back(ill);
+  }
+}
+
 }  // namespace
 
 GpcConstruction build_gpc(const SolidDecomposition& d, double bbox_diagonal, const std::vector<int>& solid_corners) {
@@ -194,6 +297,7 @@ GpcConstruction build_gpc(const SolidDecomposition& d, double bbox_diagonal, con
     out.loop_corners.push_back(c);
   }
   std::vector<std::array<FaceOnLoop, 2>> on_loop(d.loops.size());
+  std::vector<Glue> glues;
   // The cube corner order of faces 4 (w = 0) and 5 (w = 1).
   const std::array<int, 4> bottom = {0, 1, 3, 2}, top = {4, 5, 7, 6};
 
@@ -218,9 +322,11 @@ GpcConstruction build_gpc(const SolidDecomposition& d, double bbox_diagonal, con
       out.domain.cuboids.push_back(cuboid);
       continue;
     }
-    if (sp.kind == PieceKind::TShape)
-      throw DecompositionError("T-to-cube: " + part + " is a T-shape, which this build cannot map to cuboids yet");
     const PieceMesh pm = extract_piece(d, sp);
+    if (sp.kind == PieceKind::TShape) {
+      build_t_shape(sp, pm, static_cast<int>(p), out, on_loop, glues);
+      continue;
+    }
     CuboidSurface base = close_piece(pm, sp, out.discs);
     const mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(base.mesh, "gpc " + part);
     const mesh::MeshReport report = mesh::analyze_mesh(hm);
@@ -240,7 +346,7 @@ GpcConstruction build_gpc(const SolidDecomposition& d, double bbox_diagonal, con
       // Band paths straight in the tube's cylinder map (§3.3.2 step 3): edge costs are lengths in
       // (u · height, v · circumference), so they follow the tube instead of hugging its inside.
       const mesh::HalfedgeMesh open = mesh::HalfedgeMesh::build(pm.mesh, "gpc " + part);
-      const param::CylinderMap cyl = param::compute_cylinder_map(open, pm.boundary[0], pm.boundary[1]);
+      const CylinderMap cyl = compute_cylinder_map(open, pm.boundary[0], pm.boundary[1]);
       std::vector<double> cost = mesh::edge_lengths(hm);
       for (int e = 0; e < hm.num_edges(); ++e) {
         const auto ends = hm.edge_vertices(e);
@@ -343,26 +449,45 @@ GpcConstruction build_gpc(const SolidDecomposition& d, double bbox_diagonal, con
     out.surfaces.push_back(std::move(base));
   }
 
-  // Interfaces, one per cut loop (side 0 → side 1).
-  for (std::size_t l = 0; l < d.loops.size(); ++l) {
+  // Interfaces: one per cut loop (side 0 → side 1), then the faces inside T-shapes.
+  for (std::size_t l = 0; l < d.loops.size(); ++l)
+    glues.insert(glues.begin() + static_cast<long>(l),
+                 Glue{on_loop[l][0].cuboid, on_loop[l][0].face, on_loop[l][1].cuboid, on_loop[l][1].face, static_cast<int>(l)});
+  std::vector<std::array<std::array<int, 4>, 2>> glue_corners;
+  for (const Glue& gl : glues) {
     GpcInterface g;
-    g.cuboid = {on_loop[l][0].cuboid, on_loop[l][1].cuboid};
-    g.face = {on_loop[l][0].face, on_loop[l][1].face};
-    g.cut = static_cast<int>(l);
+    g.cuboid = {gl.cuboid_a, gl.cuboid_b};
+    g.face = {gl.face_a, gl.face_b};
+    g.cut = gl.cut;
     const int id = static_cast<int>(out.domain.interfaces.size());
     out.domain.cuboids[g.cuboid[0]].face_interface[g.face[0]] = id;
     out.domain.cuboids[g.cuboid[1]].face_interface[g.face[1]] = id;
+    // Corner correspondence by the surface vertex both cuboids put there.
+    std::array<std::array<int, 4>, 2> cc;
+    const auto fa = cube_face_corners(g.face[0]), fb = cube_face_corners(g.face[1]);
+    const CuboidSurface& sa = out.surfaces[g.cuboid[0]];
+    const CuboidSurface& sb = out.surfaces[g.cuboid[1]];
+    for (int i = 0; i < 4; ++i) {
+      cc[0][i] = fa[i];
+      cc[1][i] = -1;
+      const int v = sa.surface_vertex[sa.layout.corners[fa[i]]];
+      for (int q = 0; q < 4; ++q)
+        if (sb.surface_vertex[sb.layout.corners[fb[q]]] == v) cc[1][i] = fb[q];
+      if (cc[1][i] < 0 || v < 0)
+        throw DecompositionError("GPC graph: the corners of glued faces of cuboids " + std::to_string(g.cuboid[0]) +
+                                 " and " + std::to_string(g.cuboid[1]) + " do not match");
+    }
+    glue_corners.push_back(cc);
     out.domain.interfaces.push_back(g);
   }
   auto transitions = [&] {
     for (std::size_t l = 0; l < out.domain.interfaces.size(); ++l) {
       GpcInterface& g = out.domain.interfaces[l];
-      const int loop = g.cut;
-      if (!gpc_transition_from_corners(g.face[0], out.domain.cuboids[g.cuboid[0]].size, on_loop[loop][0].cube,
-                                       g.face[1], out.domain.cuboids[g.cuboid[1]].size, on_loop[loop][1].cube,
+      if (!gpc_transition_from_corners(g.face[0], out.domain.cuboids[g.cuboid[0]].size, glue_corners[l][0],
+                                       g.face[1], out.domain.cuboids[g.cuboid[1]].size, glue_corners[l][1],
                                        g.transition))
-        throw DecompositionError("GPC graph: the corners of cut " + std::to_string(loop) +
-                                 " do not glue the two cuboids by a rotation");
+        throw DecompositionError("GPC graph: interface " + std::to_string(l) +
+                                 " does not glue its two cuboids by a rotation");
     }
   };
   transitions();

@@ -207,4 +207,51 @@ SolidDecomposition decompose_solid(const mesh::HalfedgeMesh& input, int genus,
   return out;
 }
 
+void subdivide_decomposition(SolidDecomposition& d) {
+  const int n = d.mesh.num_vertices(), m = d.mesh.num_faces();
+  std::map<std::pair<int, int>, int> midpoint;
+  std::vector<Eigen::RowVector3d> extra;
+  auto mid = [&](int a, int b) {
+    const std::pair<int, int> key{std::min(a, b), std::max(a, b)};
+    auto it = midpoint.find(key);
+    if (it != midpoint.end()) return it->second;
+    const int id = n + static_cast<int>(extra.size());
+    extra.push_back(0.5 * (d.mesh.positions.row(a) + d.mesh.positions.row(b)));
+    d.value.push_back(0.5 * (d.value[a] + d.value[b]));
+    midpoint.emplace(key, id);
+    return id;
+  };
+  mesh::Triangles tris(4 * m, 3);
+  std::vector<int> parent(4 * m);
+  for (int f = 0; f < m; ++f) {
+    const int a = d.mesh.triangles(f, 0), b = d.mesh.triangles(f, 1), c = d.mesh.triangles(f, 2);
+    const int ab = mid(a, b), bc = mid(b, c), ca = mid(c, a);
+    tris.row(4 * f) << a, ab, ca;
+    tris.row(4 * f + 1) << ab, b, bc;
+    tris.row(4 * f + 2) << ca, bc, c;
+    tris.row(4 * f + 3) << ab, bc, ca;
+    for (int k = 0; k < 4; ++k) parent[4 * f + k] = d.parent_face[f];
+  }
+  mesh::Positions positions(n + static_cast<int>(extra.size()), 3);
+  positions.topRows(n) = d.mesh.positions;
+  for (std::size_t i = 0; i < extra.size(); ++i) positions.row(n + static_cast<int>(i)) = extra[i];
+  d.mesh.positions = std::move(positions);
+  d.mesh.triangles = std::move(tris);
+  d.parent_face = std::move(parent);
+  for (CutLoop& loop : d.loops) {
+    std::vector<int> refined;
+    for (std::size_t i = 0; i < loop.vertices.size(); ++i) {
+      refined.push_back(loop.vertices[i]);
+      refined.push_back(mid(loop.vertices[i], loop.vertices[(i + 1) % loop.vertices.size()]));
+    }
+    loop.vertices = std::move(refined);
+  }
+  for (SolidPiece& piece : d.pieces) {
+    std::vector<int> faces;
+    for (int f : piece.faces)
+      for (int k = 0; k < 4; ++k) faces.push_back(4 * f + k);
+    piece.faces = std::move(faces);
+  }
+}
+
 }  // namespace volspline::polycube

@@ -81,4 +81,9 @@ struct DecompositionOptions {
 SolidDecomposition decompose_solid(const mesh::HalfedgeMesh& mesh, int genus,
                                    const DecompositionOptions& options = {});
 
+/// Splits every triangle of the decomposition into 4 at its edge midpoints (the surface and the
+/// cuts stay where they are; cut loops get their edges' midpoints), for pieces too coarse to
+/// hold the disjoint paths of a T-shape's layout.
+void subdivide_decomposition(SolidDecomposition& decomposition);
+
 }  // namespace volspline::polycube

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "core/param/cylinder_map.h"
+#include "core/polycube/cylinder_map.h"
 
 #include <algorithm>
 #include <cassert>
@@ -10,7 +10,7 @@
 #include "core/mesh/edge_weights.h"
 #include "core/mesh/graph_distance.h"
 
-namespace volspline::param {
+namespace volspline::polycube {
 
 namespace {
 
@@ -162,4 +162,4 @@ CylinderMap compute_cylinder_map(const mesh::HalfedgeMesh& mesh, const std::vect
   return out;
 }
 
-}  // namespace volspline::param
+}  // namespace volspline::polycube

@@ -5,7 +5,7 @@
 
 #include "core/mesh/halfedge_mesh.h"
 
-namespace volspline::param {
+namespace volspline::polycube {
 
 /// A map of an annulus onto the cylinder [0, 1] × (ℝ / ℤ).
 struct CylinderMap {
@@ -28,4 +28,4 @@ struct CylinderMap {
 CylinderMap compute_cylinder_map(const mesh::HalfedgeMesh& mesh, const std::vector<int>& loop_a,
                                  const std::vector<int>& loop_b);
 
-}  // namespace volspline::param
+}  // namespace volspline::polycube

@@ -1,0 +1,207 @@
+// SPDX-License-Identifier: MIT
+#include "core/io/gpc_writers.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+
+#include <nlohmann/json.hpp>
+
+#include "core/io/file_bytes.h"
+#include "core/io/vtu_ascii.h"
+#include "core/mesh/hex_quality.h"
+
+namespace volspline::io {
+
+std::string serialize_hex_grids_vtu(const std::vector<HexGridView>& grids) {
+  std::size_t points = 0, cells = 0;
+  for (const HexGridView& g : grids) {
+    points += static_cast<std::size_t>(g.nodes[0]) * g.nodes[1] * g.nodes[2];
+    cells += static_cast<std::size_t>(g.nodes[0] - 1) * (g.nodes[1] - 1) * (g.nodes[2] - 1);
+  }
+  std::string out = vtu_header(points, cells);
+  out += "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+  for (const HexGridView& g : grids)
+    for (int r = 0; r < g.xyz->rows(); ++r) append_vtu_triple(out, (*g.xyz)(r, 0), (*g.xyz)(r, 1), (*g.xyz)(r, 2));
+  out += "</DataArray>\n</Points>\n";
+  std::string connectivity, offsets, types;
+  std::vector<double> quality, cuboid;
+  // VTK_HEXAHEDRON corner order: bottom face counter-clockwise, then top face.
+  const int order[8] = {0, 1, 3, 2, 4, 5, 7, 6};
+  std::size_t base = 0, offset = 0;
+  for (std::size_t gi = 0; gi < grids.size(); ++gi) {
+    const auto& n = grids[gi].nodes;
+    for (int k = 0; k + 1 < n[2]; ++k)
+      for (int j = 0; j + 1 < n[1]; ++j)
+        for (int i = 0; i + 1 < n[0]; ++i) {
+          std::array<std::size_t, 8> id;
+          std::array<Eigen::Vector3d, 8> x;
+          for (int c = 0; c < 8; ++c) {
+            const int local = (i + (c & 1)) + n[0] * ((j + ((c >> 1) & 1)) + n[1] * (k + ((c >> 2) & 1)));
+            id[c] = base + local;
+            x[c] = grids[gi].xyz->row(local).transpose();
+          }
+          for (int c = 0; c < 8; ++c) {
+            connectivity += std::to_string(id[order[c]]);
+            connectivity += c < 7 ? ' ' : '\n';
+          }
+          offset += 8;
+          offsets += std::to_string(offset) + '\n';
+          types += "12\n";
+          quality.push_back(mesh::hex_min_scaled_jacobian(x));
+          cuboid.push_back(static_cast<double>(gi));
+        }
+    base += static_cast<std::size_t>(n[0]) * n[1] * n[2];
+  }
+  out += "<CellData Scalars=\"scaled_jacobian\">\n";
+  append_vtu_scalars(out, "scaled_jacobian", quality);
+  append_vtu_scalars(out, "cuboid", cuboid);
+  out += "</CellData>\n<Cells>\n";
+  out += "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n" + connectivity + "</DataArray>\n";
+  out += "<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n" + offsets + "</DataArray>\n";
+  out += "<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n" + types + "</DataArray>\n";
+  out += "</Cells>\n";
+  out += kVtuFooter;
+  return out;
+}
+
+void write_hex_grids_vtu(const std::string& path, const std::vector<HexGridView>& grids) {
+  write_file_atomic(path, serialize_hex_grids_vtu(grids));
+}
+
+namespace {
+
+template <class T>
+std::size_t append_aligned(std::string& bin, const std::vector<T>& data) {
+  const std::size_t begin = bin.size();
+  bin.resize(begin + data.size() * sizeof(T));
+  if (!data.empty()) std::memcpy(&bin[begin], data.data(), data.size() * sizeof(T));
+  while (bin.size() % 4) bin.push_back('\0');
+  return begin;
+}
+
+void put_u32(std::string& out, std::uint32_t x) {
+  for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((x >> (8 * i)) & 0xff));
+}
+
+// A well-spread colour per segment (golden-angle hues), components in [0.25, 0.95].
+std::array<float, 3> segment_colour(int s) {
+  const double h = std::fmod(s * 0.61803398875, 1.0) * 6.0;
+  const double f = h - std::floor(h);
+  double r = 0, g = 0, b = 0;
+  switch (static_cast<int>(h) % 6) {
+    case 0: r = 1; g = f; break;
+    case 1: r = 1 - f; g = 1; break;
+    case 2: g = 1; b = f; break;
+    case 3: g = 1 - f; b = 1; break;
+    case 4: r = f; b = 1; break;
+    default: r = 1; b = 1 - f; break;
+  }
+  return {static_cast<float>(0.25 + 0.7 * r), static_cast<float>(0.25 + 0.7 * g), static_cast<float>(0.25 + 0.7 * b)};
+}
+
+nlohmann::ordered_json bounds(const std::vector<float>& xyz, bool upper) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (int d = 0; d < 3; ++d) {
+    float v = upper ? -std::numeric_limits<float>::max() : std::numeric_limits<float>::max();
+    for (std::size_t i = d; i < xyz.size(); i += 3) v = upper ? std::max(v, xyz[i]) : std::min(v, xyz[i]);
+    out.push_back(v);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string serialize_segmented_glb(const mesh::TriangleMesh& surface, const std::vector<int>& face_segment,
+                                    const std::vector<std::vector<Eigen::Vector3d>>& polylines,
+                                    const std::vector<Eigen::Vector3d>& points) {
+  std::vector<float> xyz, normal, colour, line_xyz, point_xyz;
+  for (int t = 0; t < surface.num_faces(); ++t) {
+    Eigen::Vector3d p[3];
+    for (int k = 0; k < 3; ++k) p[k] = surface.positions.row(surface.triangles(t, k)).transpose();
+    Eigen::Vector3d nrm = (p[1] - p[0]).cross(p[2] - p[0]);
+    nrm = nrm.norm() > 0.0 ? Eigen::Vector3d(nrm.normalized()) : Eigen::Vector3d::UnitZ();
+    const auto c = segment_colour(std::max(face_segment[t], 0));
+    for (int k = 0; k < 3; ++k)
+      for (int d = 0; d < 3; ++d) {
+        xyz.push_back(static_cast<float>(p[k](d)));
+        normal.push_back(static_cast<float>(nrm(d)));
+        colour.push_back(c[d]);
+      }
+  }
+  for (const auto& line : polylines)
+    for (std::size_t i = 0; i + 1 < line.size(); ++i)
+      for (int e = 0; e < 2; ++e)
+        for (int d = 0; d < 3; ++d) line_xyz.push_back(static_cast<float>(line[i + e](d)));
+  for (const Eigen::Vector3d& p : points)
+    for (int d = 0; d < 3; ++d) point_xyz.push_back(static_cast<float>(p(d)));
+
+  using Json = nlohmann::ordered_json;
+  std::string bin;
+  Json views = Json::array(), accessors = Json::array(), primitives = Json::array();
+  auto add = [&](const std::vector<float>& data, bool with_bounds) {
+    const std::size_t offset = append_aligned(bin, data);
+    views.push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", data.size() * 4}, {"target", 34962}});
+    Json a = {{"bufferView", views.size() - 1}, {"componentType", 5126}, {"count", data.size() / 3}, {"type", "VEC3"}};
+    if (with_bounds) {
+      a["min"] = bounds(data, false);
+      a["max"] = bounds(data, true);
+    }
+    accessors.push_back(a);
+    return static_cast<int>(accessors.size()) - 1;
+  };
+  Json materials = Json::array();
+  if (!xyz.empty()) {
+    const int pos = add(xyz, true), nrm = add(normal, false), col = add(colour, false);
+    materials.push_back({{"name", "cuboids"}, {"doubleSided", true},
+                         {"pbrMetallicRoughness", {{"baseColorFactor", {1.0, 1.0, 1.0, 1.0}}, {"metallicFactor", 0.0}, {"roughnessFactor", 0.8}}}});
+    primitives.push_back({{"attributes", {{"POSITION", pos}, {"NORMAL", nrm}, {"COLOR_0", col}}},
+                          {"material", materials.size() - 1}, {"mode", 4}});
+  }
+  if (!line_xyz.empty()) {
+    const int pos = add(line_xyz, true);
+    materials.push_back({{"name", "poly_edges"},
+                         {"pbrMetallicRoughness", {{"baseColorFactor", {0.05, 0.05, 0.1, 1.0}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}}});
+    primitives.push_back({{"attributes", {{"POSITION", pos}}}, {"material", materials.size() - 1}, {"mode", 1}});
+  }
+  if (!point_xyz.empty()) {
+    const int pos = add(point_xyz, true);
+    materials.push_back({{"name", "corners"},
+                         {"pbrMetallicRoughness", {{"baseColorFactor", {0.9, 0.1, 0.1, 1.0}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}}});
+    primitives.push_back({{"attributes", {{"POSITION", pos}}}, {"material", materials.size() - 1}, {"mode", 0}});
+  }
+  Json gltf;
+  gltf["asset"] = {{"version", "2.0"}, {"generator", "volspline"}};
+  gltf["scene"] = 0;
+  gltf["scenes"] = {{{"nodes", {0}}}};
+  gltf["nodes"] = {{{"mesh", 0}, {"name", "gpc_segmentation"}}};
+  gltf["materials"] = materials;
+  gltf["meshes"] = {{{"primitives", primitives}}};
+  gltf["buffers"] = {{{"byteLength", bin.size()}}};
+  gltf["bufferViews"] = views;
+  gltf["accessors"] = accessors;
+  std::string json = gltf.dump();
+  while (json.size() % 4) json.push_back(' ');
+  std::string out;
+  put_u32(out, 0x46546C67);  // "glTF"
+  put_u32(out, 2);
+  put_u32(out, static_cast<std::uint32_t>(12 + 8 + json.size() + 8 + bin.size()));
+  put_u32(out, static_cast<std::uint32_t>(json.size()));
+  put_u32(out, 0x4E4F534A);  // "JSON"
+  out += json;
+  put_u32(out, static_cast<std::uint32_t>(bin.size()));
+  put_u32(out, 0x004E4942);  // "BIN\0"
+  out += bin;
+  return out;
+}
+
+void write_segmented_glb(const std::string& path, const mesh::TriangleMesh& surface,
+                         const std::vector<int>& face_segment,
+                         const std::vector<std::vector<Eigen::Vector3d>>& polylines,
+                         const std::vector<Eigen::Vector3d>& points) {
+  write_file_atomic(path, serialize_segmented_glb(surface, face_segment, polylines, points));
+}
+
+}  // namespace volspline::io

@@ -1,0 +1,29 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "core/mesh/halfedge_mesh.h"
+
+namespace volspline::polycube {
+
+/// Edge id of the mesh edge between adjacent vertices a and b, -1 if none.
+int edge_between(const mesh::HalfedgeMesh& mesh, int a, int b);
+
+/// Dijkstra from source to target entering only unblocked vertices (the target always) through
+/// halfedges accepted by edge_ok (null: all). `length` per edge. Ties: smaller distance, then
+/// smaller vertex id. Empty if there is no such path.
+std::vector<int> restricted_path(const mesh::HalfedgeMesh& mesh, const std::vector<double>& length,
+                                 int source, int target, const std::vector<char>& blocked,
+                                 const std::function<bool(int)>& edge_ok);
+
+/// Face components separated by the flagged edges (per edge); returns the component count.
+int face_components(const mesh::HalfedgeMesh& mesh, const std::vector<char>& cut_edge,
+                    std::vector<int>& component);
+
+/// Flags the edges of a vertex path (consecutive vertices must be adjacent).
+void mark_path_edges(const mesh::HalfedgeMesh& mesh, const std::vector<int>& path,
+                     std::vector<char>& cut_edge);
+
+}  // namespace volspline::polycube

@@ -1,0 +1,463 @@
+// SPDX-License-Identifier: MIT
+#include "core/polycube/t_shape_layout.h"
+
+#include <algorithm>
+#include <limits>
+#include <map>
+#include <queue>
+#include <set>
+
+#include "core/mesh/mesh_geometry.h"
+#include "core/polycube/surface_paths.h"
+
+namespace volspline::polycube {
+
+namespace {
+
+// Dijkstra from source to the nearest vertex with is_target set, through unblocked vertices and
+// halfedges accepted by edge_ok. Empty if none.
+std::vector<int> path_to_nearest(const mesh::HalfedgeMesh& mesh, const std::vector<double>& length, int source,
+                                 const std::vector<char>& is_target, const std::vector<char>& blocked,
+                                 const std::function<bool(int)>& edge_ok) {
+  const int n = mesh.num_vertices();
+  std::vector<double> distance(n, std::numeric_limits<double>::infinity());
+  std::vector<int> predecessor(n, -1);
+  std::vector<char> settled(n, 0);
+  using Entry = std::pair<double, int>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  distance[source] = 0.0;
+  queue.push({0.0, source});
+  int reached = -1;
+  while (!queue.empty()) {
+    const auto [d, u] = queue.top();
+    queue.pop();
+    if (settled[u]) continue;
+    settled[u] = 1;
+    if (u != source && is_target[u]) {
+      reached = u;
+      break;
+    }
+    for (int h : mesh.vertex_outgoing(u)) {
+      const int v = mesh.halfedge_vertex(h);
+      if (settled[v] || (blocked[v] && !is_target[v])) continue;
+      if (edge_ok && !edge_ok(h)) continue;
+      const double candidate = d + length[mesh.halfedge_edge(h)];
+      if (candidate < distance[v]) {
+        distance[v] = candidate;
+        predecessor[v] = u;
+        queue.push({candidate, v});
+      }
+    }
+  }
+  std::vector<int> path;
+  if (reached < 0) return path;
+  for (int v = reached; v != -1; v = predecessor[v]) path.push_back(v);
+  std::reverse(path.begin(), path.end());
+  return path;
+}
+
+// Edge lengths that make paths keep off the vertices next to the used ones (×4 for an edge that
+// touches such a vertex), so that cut paths leave room between them for the later paths.
+std::vector<double> repelled(const mesh::HalfedgeMesh& mesh, const std::vector<double>& length,
+                             const std::vector<char>& used) {
+  std::vector<char> near(mesh.num_vertices(), 0);
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (used[v])
+      for (int u : mesh.vertex_neighbors(v)) near[u] = 1;
+  std::vector<double> out = length;
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    const auto ends = mesh.edge_vertices(e);
+    if (near[ends[0]] || near[ends[1]]) out[e] *= 4.0;
+  }
+  return out;
+}
+
+std::vector<int> reversed(std::vector<int> p) {
+  std::reverse(p.begin(), p.end());
+  return p;
+}
+
+// Path along a cycle from a to b (both on it) that contains none of `avoid`.
+std::vector<int> cycle_segment(const std::vector<int>& cycle, int a, int b, const std::vector<int>& avoid) {
+  const int n = static_cast<int>(cycle.size());
+  const int ia = static_cast<int>(std::find(cycle.begin(), cycle.end(), a) - cycle.begin());
+  for (int dir : {1, -1}) {
+    std::vector<int> path;
+    bool ok = true;
+    for (int i = ia;; i = ((i + dir) % n + n) % n) {
+      path.push_back(cycle[i]);
+      if (cycle[i] == b) break;
+      if (i != ia && std::find(avoid.begin(), avoid.end(), cycle[i]) != avoid.end()) {
+        ok = false;
+        break;
+      }
+      if (static_cast<int>(path.size()) > n) {
+        ok = false;
+        break;
+      }
+    }
+    if (ok) return path;
+  }
+  return {};
+}
+
+double path_length(const mesh::HalfedgeMesh& m, const std::vector<int>& p) {
+  double total = 0.0;
+  for (std::size_t i = 1; i < p.size(); ++i) total += (m.vertex_position(p[i]) - m.vertex_position(p[i - 1])).norm();
+  return total;
+}
+
+// Concatenates paths that share end points into one vertex cycle (first vertex not repeated).
+std::vector<int> join_cycle(const std::vector<std::vector<int>>& parts) {
+  std::vector<int> cycle;
+  for (const auto& p : parts)
+    for (std::size_t i = 0; i + 1 < p.size(); ++i) cycle.push_back(p[i]);
+  return cycle;
+}
+
+struct Seams {
+  // seam[i][j] for the loop pair (i, j), i < j: two paths, each from a corner of i to one of j.
+  std::map<std::pair<int, int>, std::array<std::vector<int>, 2>> seam;
+  double length = 0.0;
+  std::vector<int> region;  // per face
+  std::array<int, 2> hexagon{-1, -1};
+  std::map<std::pair<int, int>, int> rim;  // region of each pair's strip
+};
+
+}  // namespace
+
+bool lay_out_t_shape(const mesh::HalfedgeMesh& pants, const std::array<std::vector<int>, 3>& loops,
+                     const std::array<bool, 3>& piece_forward, const std::array<std::array<int, 4>, 3>& corners,
+                     TShapeLayout& out, std::string* why) {
+  const int n = pants.num_vertices();
+  const std::vector<double> length = mesh::edge_lengths(pants);
+  // Corners of each loop in the pants's halfedge direction along it.
+  std::array<std::array<int, 4>, 3> p;
+  for (int k = 0; k < 3; ++k)
+    for (int i = 0; i < 4; ++i) p[k][i] = loops[k][corners[k][piece_forward[k] ? i : (4 - i) % 4]];
+  std::vector<char> on_loop(n, 0);
+  for (const auto& l : loops)
+    for (int v : l) on_loop[v] = 1;
+
+  // Seams for every choice of rim arcs; the valid one with the shortest seams wins.
+  Seams best;
+  best.length = std::numeric_limits<double>::infinity();
+  std::string reasons;
+  for (int combo = 0; combo < 64; ++combo) {
+    // arc[k][o]: the rim arc of loop k toward loop o, as (first, second) in piece direction.
+    std::array<std::map<int, std::array<int, 2>>, 3> arc;
+    for (int k = 0; k < 3; ++k) {
+      const int r = (combo >> (2 * k)) & 1, a = (combo >> (2 * k + 1)) & 1;
+      const std::array<int, 2> arc0 = {p[k][r], p[k][r + 1]};
+      const std::array<int, 2> arc1 = {p[k][r + 2], p[k][(r + 3) % 4]};
+      const int o1 = (k + 1) % 3, o2 = (k + 2) % 3;
+      arc[k][o1] = a == 0 ? arc0 : arc1;
+      arc[k][o2] = a == 0 ? arc1 : arc0;
+    }
+    Seams s;
+    std::vector<char> blocked = on_loop;
+    std::vector<char> used(n, 0);
+    std::vector<char> cut(pants.num_edges(), 0);
+    bool ok = true;
+    for (const auto& [i, j] : {std::make_pair(0, 1), std::make_pair(0, 2), std::make_pair(1, 2)}) {
+      const auto ai = arc[i][j], aj = arc[j][i];
+      // A strip's boundary runs along i from ai[0] to ai[1], then to j: seams ai[1] → aj[0], aj[1] → ai[0].
+      const std::array<std::array<int, 2>, 2> ends = {{{ai[1], aj[0]}, {ai[0], aj[1]}}};
+      for (int q = 0; q < 2 && ok; ++q) {
+        std::vector<int> path =
+            restricted_path(pants, repelled(pants, length, used), ends[q][0], ends[q][1], blocked, nullptr);
+        if (path.size() < 3) {
+          ok = false;
+          break;
+        }
+        for (int v : path) blocked[v] = used[v] = 1;
+        mark_path_edges(pants, path, cut);
+        s.length += path_length(pants, path);
+        s.seam[{i, j}][q] = std::move(path);
+      }
+      if (!ok) break;
+    }
+    if (!ok || !(s.length < best.length)) continue;
+    // Regions: 2 hexagons touching all 3 loops, 3 strips touching 2.
+    const int count = face_components(pants, cut, s.region);
+    if (count != 5) continue;
+    std::vector<int> touches(count, 0);
+    for (int k = 0; k < 3; ++k)
+      for (int v : loops[k])
+        for (int f : pants.vertex_faces(v)) touches[s.region[f]] |= 1 << k;
+    int hexagons = 0;
+    bool valid = true;
+    for (int r = 0; r < count; ++r) {
+      const int bits = touches[r];
+      if (bits == 7) {
+        if (hexagons < 2) s.hexagon[hexagons] = r;
+        ++hexagons;
+      } else if (bits == 3 || bits == 5 || bits == 6) {
+        const int i = bits == 6 ? 1 : 0, j = bits == 3 ? 1 : 2;
+        if (s.rim.count({i, j})) valid = false;
+        s.rim[{i, j}] = r;
+      } else {
+        valid = false;
+      }
+    }
+    if (!valid || hexagons != 2 || s.rim.size() != 3) continue;
+    best = std::move(s);
+  }
+  if (best.hexagon[0] < 0) {
+    if (why) *why = "no 6 disjoint seams cut the pants into 2 hexagons and 3 strips";
+    return false;
+  }
+
+  // The top rim is the longest; its loops are arms 0 and 1, the third loop the stem (arm 2).
+  std::pair<int, int> top{0, 1};
+  double top_length = -1.0;
+  for (const auto& [pair, paths] : best.seam) {
+    const double l = path_length(pants, paths[0]) + path_length(pants, paths[1]);
+    if (l > top_length) {
+      top_length = l;
+      top = pair;
+    }
+  }
+  const int l2 = 3 - top.first - top.second;
+  auto seam_between = [&](int a, int b, int hexagon) {
+    // The seam of pair (a, b) bordering `hexagon`, oriented from loop a to loop b.
+    const auto& paths = best.seam.at({std::min(a, b), std::max(a, b)});
+    for (const auto& path : paths) {
+      const int e = edge_between(pants, path[0], path[1]);
+      const int h = pants.edge_halfedge(e);
+      const int f = pants.halfedge_face(h), g = pants.halfedge_face(pants.halfedge_twin(h));
+      if ((f >= 0 && best.region[f] == hexagon) || (g >= 0 && best.region[g] == hexagon))
+        return a < b ? path : reversed(path);
+    }
+    return std::vector<int>{};
+  };
+  auto midpoint = [&](const std::vector<int>& path) {
+    std::vector<double> arc(path.size(), 0.0);
+    for (std::size_t i = 1; i < path.size(); ++i)
+      arc[i] = arc[i - 1] + (pants.vertex_position(path[i]) - pants.vertex_position(path[i - 1])).norm();
+    std::size_t best_i = 1;
+    for (std::size_t i = 1; i + 1 < path.size(); ++i)
+      if (std::abs(arc[i] - 0.5 * arc.back()) < std::abs(arc[best_i] - 0.5 * arc.back())) best_i = i;
+    return static_cast<int>(best_i);
+  };
+
+  std::string last_reason;
+  // Mirror images of the centre (front and back swapped, or the two arms) are tried until one is
+  // right-handed and its paths exist.
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    const int flip = attempt & 1;
+    const int l0 = (attempt >> 1) ? top.second : top.first, l1 = (attempt >> 1) ? top.first : top.second;
+    out.arm_loop = {l0, l1, l2};
+    const int hf = best.hexagon[flip], hb = best.hexagon[1 - flip];
+    const std::vector<int> sF01 = seam_between(l0, l1, hf), sB01 = seam_between(l0, l1, hb);
+    const std::vector<int> sF02 = seam_between(l0, l2, hf), sB02 = seam_between(l0, l2, hb);
+    const std::vector<int> sF12 = seam_between(l1, l2, hf), sB12 = seam_between(l1, l2, hb);
+    if (sF01.empty() || sB01.empty() || sF02.empty() || sB02.empty() || sF12.empty() || sB12.empty()) {
+      last_reason += std::string(last_reason.empty() ? "" : "; ") + "a seam borders no hexagon";
+      continue;
+    }
+    const int p02 = sF02[midpoint(sF02)], p12 = sF12[midpoint(sF12)];
+    const int p02b = sB02[midpoint(sB02)], p12b = sB12[midpoint(sB12)];
+    std::vector<char> blocked(n, 0);
+    for (int v = 0; v < n; ++v) blocked[v] = on_loop[v];
+    for (const auto& path : {sF01, sB01, sF02, sB02, sF12, sB12})
+      for (int v : path) blocked[v] = 1;
+    auto in_region = [&](int region) {
+      return [&, region](int h) {
+        const int f = pants.halfedge_face(h), g = pants.halfedge_face(pants.halfedge_twin(h));
+        return (f >= 0 && best.region[f] == region) || (g >= 0 && best.region[g] == region);
+      };
+    };
+    auto interior_target = [&](const std::vector<int>& seam) {
+      std::vector<char> t(n, 0);
+      for (std::size_t i = 1; i + 1 < seam.size(); ++i) t[seam[i]] = 1;
+      return t;
+    };
+    std::vector<double> cost = repelled(pants, length, blocked);
+    auto use = [&](const std::vector<int>& path) {
+      for (int v : path) blocked[v] = 1;
+      cost = repelled(pants, length, blocked);
+    };
+    auto single = [&](int v) {
+      std::vector<char> t(n, 0);
+      t[v] = 1;
+      return t;
+    };
+    // Centre's vertical edges in each hexagon: from the concave corners to the top seam.
+    std::vector<int> leftF = path_to_nearest(pants, cost, p02, interior_target(sF01), blocked, in_region(hf));
+    use(leftF);
+    std::vector<int> rightF = path_to_nearest(pants, cost, p12, interior_target(sF01), blocked, in_region(hf));
+    use(rightF);
+    std::vector<int> leftB = path_to_nearest(pants, cost, p02b, interior_target(sB01), blocked, in_region(hb));
+    use(leftB);
+    std::vector<int> rightB = path_to_nearest(pants, cost, p12b, interior_target(sB01), blocked, in_region(hb));
+    use(rightB);
+    if (leftF.empty() || rightF.empty() || leftB.empty() || rightB.empty()) {
+      last_reason += std::string(last_reason.empty() ? "" : "; ") + "no free path from a concave corner to the top seam";
+      continue;
+    }
+    auto index_in = [](const std::vector<int>& path, int v) {
+      return static_cast<int>(std::find(path.begin(), path.end(), v) - path.begin());
+    };
+    const int q01a = leftF.back(), q01b = rightF.back(), r01a = leftB.back(), r01b = rightB.back();
+    if (!(index_in(sF01, q01a) < index_in(sF01, q01b)) || !(index_in(sB01, r01a) < index_in(sB01, r01b))) {
+      last_reason += std::string(last_reason.empty() ? "" : "; ") + std::string("the centre's top corners are out of order");
+      continue;
+    }
+    std::vector<int> bottomF = path_to_nearest(pants, cost, p02, single(p12), blocked, in_region(hf));
+    use(bottomF);
+    std::vector<int> bottomB = path_to_nearest(pants, cost, p02b, single(p12b), blocked, in_region(hb));
+    use(bottomB);
+    const int rim_top = best.rim.at({std::min(l0, l1), std::max(l0, l1)});
+    const int rim02 = best.rim.at({std::min(l0, l2), std::max(l0, l2)});
+    const int rim12 = best.rim.at({std::min(l1, l2), std::max(l1, l2)});
+    std::vector<int> crossA = path_to_nearest(pants, cost, q01a, single(r01a), blocked, in_region(rim_top));
+    use(crossA);
+    std::vector<int> crossB = path_to_nearest(pants, cost, q01b, single(r01b), blocked, in_region(rim_top));
+    use(crossB);
+    std::vector<int> e0 = path_to_nearest(pants, cost, p02, single(p02b), blocked, in_region(rim02));
+    use(e0);
+    std::vector<int> e1 = path_to_nearest(pants, cost, p12, single(p12b), blocked, in_region(rim12));
+    use(e1);
+    if (bottomF.empty() || bottomB.empty() || crossA.empty() || crossB.empty() || e0.empty() || e1.empty()) {
+      last_reason += std::string(last_reason.empty() ? "" : "; ") + std::string("no free path for an edge of the centre cuboid (") + (bottomF.empty() ? "front bottom" : bottomB.empty() ? "back bottom" : crossA.empty() ? "top cross 0" : crossB.empty() ? "top cross 1" : e0.empty() ? "concave 0" : "concave 1") + ")";
+      continue;
+    }
+    // The segments of the top seams between the centre's corners.
+    auto sub = [&](const std::vector<int>& path, int a, int b) {
+      const int ia = index_in(path, a), ib = index_in(path, b);
+      return std::vector<int>(path.begin() + ia, path.begin() + ib + 1);
+    };
+    const std::vector<int> topF = sub(sF01, q01a, q01b), topB = sub(sB01, r01a, r01b);
+    // Inner loops: J0 (arm 0 | centre), J1 (arm 1 | centre), J2 (stem | centre).
+    const std::vector<int> j0 = join_cycle({reversed(leftF), e0, leftB, reversed(crossA)});
+    const std::vector<int> j1 = join_cycle({reversed(rightF), e1, rightB, reversed(crossB)});
+    const std::vector<int> j2 = join_cycle({bottomF, e1, reversed(bottomB), reversed(e0)});
+    std::vector<char> cut(pants.num_edges(), 0);
+    for (const auto* path : {&leftF, &e0, &leftB, &crossA, &rightF, &e1, &rightB, &crossB, &bottomF, &bottomB})
+      mark_path_edges(pants, *path, cut);
+    std::vector<int> region;
+    if (face_components(pants, cut, region) != 4) {
+      last_reason += std::string(last_reason.empty() ? "" : "; ") + "the inner loops do not cut the pants into 4 parts";
+      continue;
+    }
+    std::array<int, 4> part{-1, -1, -1, -1};  // region of the centre and of each arm
+    std::vector<int> touch(4, 0);
+    for (int k = 0; k < 3; ++k)
+      for (int v : loops[k])
+        for (int f : pants.vertex_faces(v)) touch[region[f]] |= 1 << k;
+    for (int r = 0; r < 4; ++r) {
+      if (touch[r] == 0) part[0] = r;
+      for (int a = 0; a < 3; ++a)
+        if (touch[r] == (1 << out.arm_loop[a])) part[1 + a] = r;
+    }
+    if (std::find(part.begin(), part.end(), -1) != part.end()) {
+      last_reason += std::string(last_reason.empty() ? "" : "; ") + "the inner loops do not separate the arms";
+      continue;
+    }
+    // Orientation: the centre's front face (y = 0) runs 0 → 1 along bottomF in its halfedge
+    // direction (cube face 2 lists its corners clockwise seen from outside).
+    {
+      const int e = edge_between(pants, bottomF[0], bottomF[1]);
+      const int h = pants.edge_halfedge(e);
+      const int forward = pants.halfedge_source(h) == bottomF[0] ? h : pants.halfedge_twin(h);
+      const int f = pants.halfedge_face(forward);
+      if (f < 0 || region[f] != part[0]) {
+        last_reason += std::string(last_reason.empty() ? "" : "; ") + "mirrored";
+        continue;
+      }
+    }
+    for (int c = 0; c < 4; ++c) out.cuboids[c] = TShapeCuboid{};
+    for (int f = 0; f < pants.num_faces(); ++f)
+      for (int c = 0; c < 4; ++c)
+        if (region[f] == part[c]) out.cuboids[c].faces.push_back(f);
+    // A closing disc's cycle runs against the cuboid's own halfedges along the loop.
+    auto closing = [&](const std::vector<int>& cycle, int c) {
+      for (std::size_t i = 0; i < cycle.size(); ++i) {
+        const int a = cycle[i], b = cycle[(i + 1) % cycle.size()];
+        for (int h : pants.vertex_outgoing(a))
+          if (pants.halfedge_vertex(h) == b) {
+            const int f = pants.halfedge_face(h);
+            if (f >= 0 && region[f] == part[c]) return reversed(cycle);
+            const int g = pants.halfedge_face(pants.halfedge_twin(h));
+            if (g >= 0 && region[g] == part[c]) return cycle;
+          }
+      }
+      return cycle;
+    };
+    // Centre: corner bits (x: arm 0 → arm 1, y: front → back, z: stem → top).
+    TShapeCuboid& centre = out.cuboids[0];
+    centre.corners = {p02, p12, p02b, p12b, q01a, q01b, r01a, r01b};
+    auto set_edge = [](TShapeCuboid& c, int a, int b, std::vector<int> path) {
+      const int e = cube_edge_between(a, b);
+      if (cube_edge_corners(e)[0] != a) std::reverse(path.begin(), path.end());
+      c.poly_edges[e] = std::move(path);
+    };
+    set_edge(centre, 0, 1, bottomF);
+    set_edge(centre, 2, 3, bottomB);
+    set_edge(centre, 4, 5, topF);
+    set_edge(centre, 6, 7, topB);
+    set_edge(centre, 0, 2, e0);
+    set_edge(centre, 1, 3, e1);
+    set_edge(centre, 4, 6, crossA);
+    set_edge(centre, 5, 7, crossB);
+    set_edge(centre, 0, 4, leftF);
+    set_edge(centre, 1, 5, rightF);
+    set_edge(centre, 2, 6, leftB);
+    set_edge(centre, 3, 7, rightB);
+    centre.face_role = {3, 4, -1, -1, 5, -1};
+    centre.discs = {closing(j0, 0), closing(j1, 0), closing(j2, 0)};
+    // Arms: face 4 on the boundary loop (corners in the arm's halfedge direction, cube order
+    // 0, 1, 3, 2), face 5 on the inner loop, reached along the seams.
+    const std::array<std::vector<int>, 3> inner = {j0, j1, j2};
+    const std::array<std::array<int, 4>, 3> inner_corners = {
+        {{q01a, p02, p02b, r01a}, {q01b, p12, p12b, r01b}, {p02, p12, p12b, p02b}}};
+    const std::array<std::vector<int>, 6> seams = {sF01, sB01, sF02, sB02, sF12, sB12};
+    for (int a = 0; a < 3; ++a) {
+      TShapeCuboid& arm = out.cuboids[1 + a];
+      const int k = out.arm_loop[a];
+      const std::array<int, 4> bottom = {0, 1, 3, 2};
+      for (int i = 0; i < 4; ++i) {
+        const int corner = p[k][i];
+        arm.corners[bottom[i]] = corner;
+        // The seam leaving this corner, cut at the inner loop.
+        std::vector<int> band;
+        for (const auto& seam : seams) {
+          std::vector<int> s = seam.front() == corner ? seam : (seam.back() == corner ? reversed(seam) : std::vector<int>{});
+          if (s.empty()) continue;
+          for (std::size_t t = 0; t < s.size(); ++t) {
+            band.push_back(s[t]);
+            if (std::find(inner_corners[a].begin(), inner_corners[a].end(), s[t]) != inner_corners[a].end() && t > 0) break;
+          }
+          break;
+        }
+        if (band.size() < 2 ||
+            std::find(inner_corners[a].begin(), inner_corners[a].end(), band.back()) == inner_corners[a].end()) {
+          if (why) *why = "a seam of arm " + std::to_string(a) + " does not reach its inner loop";
+          return false;
+        }
+        arm.corners[bottom[i] + 4] = band.back();
+        set_edge(arm, bottom[i], bottom[i] + 4, band);
+      }
+      for (int i = 0; i < 4; ++i) {
+        const int ca = bottom[i], cb = bottom[(i + 1) % 4];
+        // Bottom: along the boundary loop; top: along the inner loop.
+        std::vector<int> avoid_bottom, avoid_top;
+        for (int q = 0; q < 4; ++q) {
+          avoid_bottom.push_back(arm.corners[bottom[q]]);
+          avoid_top.push_back(arm.corners[bottom[q] + 4]);
+        }
+        set_edge(arm, ca, cb, cycle_segment(loops[k], arm.corners[ca], arm.corners[cb], avoid_bottom));
+        set_edge(arm, ca + 4, cb + 4, cycle_segment(inner[a], arm.corners[ca + 4], arm.corners[cb + 4], avoid_top));
+      }
+      arm.face_role = {-1, -1, -1, -1, k, 3 + a};
+      arm.discs = {closing(loops[k], 1 + a), closing(inner[a], 1 + a)};
+    }
+    out.concave_edges = {{{p02, p02b}, {p12, p12b}}};
+    return true;
+  }
+  if (why) *why = last_reason;
+  return false;
+}
+
+}  // namespace volspline::polycube

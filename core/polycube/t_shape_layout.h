@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "core/mesh/halfedge_mesh.h"
+#include "core/polycube/cuboid_layout.h"
+
+namespace volspline::polycube {
+
+/// One of the 4 cuboids of a T-shape, on the pants mesh.
+struct TShapeCuboid {
+  std::vector<int> faces;  ///< pants faces it covers
+  /// Closing discs: vertex cycles (pants ids) oriented so that a disc whose halfedges run in cycle
+  /// order closes the cuboid (triangulate_interface_disc's convention).
+  std::vector<std::vector<int>> discs;
+  std::array<int, num_cube_corners> corners{};            ///< pants vertex ids
+  std::array<std::vector<int>, num_cube_edges> poly_edges;  ///< pants vertex paths
+  /// Per cube face: −1 on the surface, k in 0..2 on the pants's boundary loop k, 3 + j on the
+  /// inner disc J_j between the centre cuboid and arm j.
+  std::array<int, 6> face_role{-1, -1, -1, -1, -1, -1};
+};
+
+/// T-to-cube of one pants (§3.3.2, Algorithm 3, Fig. 3.7): cuboid 0 is the centre C, cuboid
+/// 1 + j the arm at boundary loop arm_loop[j]; C's faces x = 0, x = 1, z = 0 are glued to arms 0, 1,
+/// 2 (face 5 of each arm, whose face 4 is its boundary loop).
+struct TShapeLayout {
+  std::array<TShapeCuboid, 4> cuboids;
+  std::array<int, 3> arm_loop{};  ///< boundary loop index (0..2) of each arm
+  /// The two concave edges (Type-1 ill-points) as their end vertices (pants ids).
+  std::array<std::array<int, 2>, 2> concave_edges{};
+};
+
+/// Cuts a pants into a centre cuboid and three arms. Deviation from Algorithm 3's three cylinder
+/// cuts: the pants is cut by 6 disjoint seams between the 12 loop corners (every loop's two
+/// opposite rim arcs face the other two loops; of the 64 choices the valid one with the
+/// shortest seams wins) into two hexagons (front and back) and three strips (rims); the top rim
+/// is the longest; the concave corners sit at the seams' midpoints on the other two rims; the
+/// centre's edges are the shortest paths inside the hexagons and rims between them. Every cut is
+/// a disjoint edge path, so the 4 regions are discs bounded in cube order by construction
+/// (checked again by complete_cuboid_layout).
+/// `loops[k]`: boundary loop k as pants vertex ids in loop order; `piece_forward[k]`: the pants's
+/// halfedges run along loop k in loop order; `corners[k]`: 4 ascending indices into loops[k].
+/// Returns false with the reason in *why.
+bool lay_out_t_shape(const mesh::HalfedgeMesh& pants, const std::array<std::vector<int>, 3>& loops,
+                     const std::array<bool, 3>& piece_forward, const std::array<std::array<int, 4>, 3>& corners,
+                     TShapeLayout& out, std::string* why);
+
+}  // namespace volspline::polycube
