@@ -10,61 +10,48 @@
 #include <nlohmann/json.hpp>
 
 #include "core/io/file_bytes.h"
-#include "core/io/vtu_ascii.h"
+#include "core/io/vtk_xml_writer.h"
 #include "core/mesh/hex_quality.h"
 
 namespace volspline::io {
 
 std::string serialize_hex_grids_vtu(const std::vector<HexGridView>& grids) {
-  std::size_t points = 0, cells = 0;
-  for (const HexGridView& g : grids) {
-    points += static_cast<std::size_t>(g.nodes[0]) * g.nodes[1] * g.nodes[2];
-    cells += static_cast<std::size_t>(g.nodes[0] - 1) * (g.nodes[1] - 1) * (g.nodes[2] - 1);
-  }
-  std::string out = vtu_header(points, cells);
-  out += "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (const HexGridView& g : grids)
-    for (int r = 0; r < g.xyz->rows(); ++r) append_vtu_triple(out, (*g.xyz)(r, 0), (*g.xyz)(r, 1), (*g.xyz)(r, 2));
-  out += "</DataArray>\n</Points>\n";
-  std::string connectivity, offsets, types;
-  std::vector<double> quality, cuboid;
+  std::vector<double> xyz, quality, cuboid;
+  std::vector<std::int64_t> connectivity, offsets;
   // VTK_HEXAHEDRON corner order: bottom face counter-clockwise, then top face.
   const int order[8] = {0, 1, 3, 2, 4, 5, 7, 6};
-  std::size_t base = 0, offset = 0;
+  std::int64_t base = 0;
   for (std::size_t gi = 0; gi < grids.size(); ++gi) {
     const auto& n = grids[gi].nodes;
+    const mesh::Positions& p = *grids[gi].xyz;
+    for (int r = 0; r < p.rows(); ++r)
+      for (int d = 0; d < 3; ++d) xyz.push_back(p(r, d));
     for (int k = 0; k + 1 < n[2]; ++k)
       for (int j = 0; j + 1 < n[1]; ++j)
         for (int i = 0; i + 1 < n[0]; ++i) {
-          std::array<std::size_t, 8> id;
+          std::array<int, 8> local;
           std::array<Eigen::Vector3d, 8> x;
           for (int c = 0; c < 8; ++c) {
-            const int local = (i + (c & 1)) + n[0] * ((j + ((c >> 1) & 1)) + n[1] * (k + ((c >> 2) & 1)));
-            id[c] = base + local;
-            x[c] = grids[gi].xyz->row(local).transpose();
+            local[c] = (i + (c & 1)) + n[0] * ((j + ((c >> 1) & 1)) + n[1] * (k + ((c >> 2) & 1)));
+            x[c] = p.row(local[c]).transpose();
           }
-          for (int c = 0; c < 8; ++c) {
-            connectivity += std::to_string(id[order[c]]);
-            connectivity += c < 7 ? ' ' : '\n';
-          }
-          offset += 8;
-          offsets += std::to_string(offset) + '\n';
-          types += "12\n";
+          for (int c = 0; c < 8; ++c) connectivity.push_back(base + local[order[c]]);
+          offsets.push_back(static_cast<std::int64_t>(connectivity.size()));
           quality.push_back(mesh::hex_min_scaled_jacobian(x));
           cuboid.push_back(static_cast<double>(gi));
         }
-    base += static_cast<std::size_t>(n[0]) * n[1] * n[2];
+    base += static_cast<std::int64_t>(p.rows());
   }
-  out += "<CellData Scalars=\"scaled_jacobian\">\n";
-  append_vtu_scalars(out, "scaled_jacobian", quality);
-  append_vtu_scalars(out, "cuboid", cuboid);
-  out += "</CellData>\n<Cells>\n";
-  out += "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n" + connectivity + "</DataArray>\n";
-  out += "<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n" + offsets + "</DataArray>\n";
-  out += "<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n" + types + "</DataArray>\n";
-  out += "</Cells>\n";
-  out += kVtuFooter;
-  return out;
+  const std::vector<std::uint8_t> types(offsets.size(), 12);  // VTK_HEXAHEDRON
+  VtkXmlWriter writer;
+  std::string body = "<Piece NumberOfPoints=\"" + std::to_string(xyz.size() / 3) + "\" NumberOfCells=\"" +
+                     std::to_string(offsets.size()) + "\">\n";
+  body += "<CellData Scalars=\"scaled_jacobian\">\n" + writer.add("scaled_jacobian", quality) +
+          writer.add("cuboid", cuboid) + "</CellData>\n";
+  body += "<Points>\n" + writer.add("Points", xyz, 3) + "</Points>\n<Cells>\n";
+  body += writer.add("connectivity", connectivity) + writer.add("offsets", offsets) + writer.add("types", types);
+  body += "</Cells>\n</Piece>\n";
+  return writer.document("UnstructuredGrid", "", body);
 }
 
 void write_hex_grids_vtu(const std::string& path, const std::vector<HexGridView>& grids) {

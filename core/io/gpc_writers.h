@@ -17,7 +17,8 @@ struct HexGridView {
   const mesh::Positions* xyz = nullptr;
 };
 
-/// Every grid's hexes as one VTK XML UnstructuredGrid (.vtu, ASCII, VTK_HEXAHEDRON) with cell
+/// Every grid's hexes as one VTK XML UnstructuredGrid (.vtu, VtkXmlWriter's appended binary,
+/// zlib where the build has it; VTK_HEXAHEDRON) with cell
 /// data "cuboid" (the grid's index) and "scaled_jacobian" (smallest corner scaled Jacobian of the
 /// hex, in [−1, 1]). Nodes shared between grids are written once per grid.
 std::string serialize_hex_grids_vtu(const std::vector<HexGridView>& grids);

@@ -1,0 +1,27 @@
+# gpc: the GPC domain of a solid of any genus; outputs, stats keys, bad input.
+expect 0 "$BIN" gpc --help
+contains "$TMP/out" "gpc MESH -o DOMAIN.json"
+expect 0 "$BIN" gpc "$DATA/meshes/torus.off" -o "$TMP/g.json" --glb "$TMP/g.glb" --vtk "$TMP/g.vtu" --stats-json "$TMP/g_stats.json" --quiet
+for key in genus t_shapes tubes caps cuboids ill_points flipped_triangles grid_inverted_hexes grid_min_scaled_jacobian interface_gap_rel times_s; do
+  contains "$TMP/g_stats.json" "\"$key\""
+done
+contains "$TMP/g_stats.json" "\"genus\": 1"
+contains "$TMP/g_stats.json" "\"cuboids\": 1"
+contains "$TMP/g_stats.json" "\"ill_points\": 0"
+contains "$TMP/g_stats.json" "\"grid_inverted_hexes\": 0"
+contains "$TMP/g.json" "volspline-gpc"
+contains "$TMP/g.vtu" "cuboid"
+if [ "$(head -c 4 "$TMP/g.glb")" = "glTF" ]; then ok; else bad "g.glb is not a GLB file"; fi
+# Same input, same bytes.
+expect 0 "$BIN" gpc "$DATA/meshes/torus.off" -o "$TMP/g2.json" --quiet
+if cmp -s "$TMP/g.json" "$TMP/g2.json"; then ok; else bad "gpc output differs between two runs"; fi
+expect 0 "$BIN" gpc "$DATA/meshes/sphere.off" -o "$TMP/gs.json" --stats-json "$TMP/gs_stats.json" --quiet
+contains "$TMP/gs_stats.json" "\"cuboids\": 1"
+printf 'OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n' > "$TMP/gopen.off"
+expect 2 "$BIN" gpc "$TMP/gopen.off" -o "$TMP/go.json" --quiet
+contains "$TMP/err" "not closed"
+expect 2 "$BIN" gpc "$DATA/meshes/torus.off" --quiet
+contains "$TMP/err" "needs -o"
+printf '1 2 3 4 5 6 7 8\n' > "$TMP/gcorners.txt"
+expect 2 "$BIN" gpc "$DATA/meshes/torus.off" -o "$TMP/gx.json" --corners "$TMP/gcorners.txt" --quiet
+contains "$TMP/err" "genus-0"

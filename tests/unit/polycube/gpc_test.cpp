@@ -1,0 +1,293 @@
+// SPDX-License-Identifier: MIT
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <map>
+
+#include "core/io/gpc_json.h"
+#include "core/mesh/halfedge_mesh.h"
+#include "core/mesh/mesh_report.h"
+#include "core/pipeline/gpc_job.h"
+#include "core/polycube/cylinder_map.h"
+#include "core/polycube/gpc_domain.h"
+#include "core/polycube/interface_disc.h"
+#include "core/polycube/level_set_split.h"
+#include "core/polycube/solid_decomposition.h"
+
+using namespace volspline;
+
+namespace {
+
+// Torus with major radius 1 and minor radius r around the z axis, nu × nv quads split in two.
+mesh::TriangleMesh make_torus(int nu, int nv, double r = 0.35) {
+  mesh::TriangleMesh m;
+  m.positions.resize(nu * nv, 3);
+  const double pi = 3.14159265358979323846;
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      const double a = 2 * pi * i / nu, b = 2 * pi * j / nv;
+      m.positions.row(i * nv + j) << (1 + r * std::cos(b)) * std::cos(a), (1 + r * std::cos(b)) * std::sin(a), r * std::sin(b);
+    }
+  m.triangles.resize(2 * nu * nv, 3);
+  int t = 0;
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      const int a = i * nv + j, b = ((i + 1) % nu) * nv + j, c = ((i + 1) % nu) * nv + (j + 1) % nv,
+                d = i * nv + (j + 1) % nv;
+      m.triangles.row(t++) << a, b, c;
+      m.triangles.row(t++) << a, c, d;
+    }
+  return m;
+}
+
+// A slab of voxels with two square through-holes (genus 2), each voxel face split into k × k
+// quads, two triangles each; outward oriented.
+mesh::TriangleMesh make_two_hole_slab(int k) {
+  const int nx = 7, ny = 3, nz = 2;
+  auto filled = [&](int x, int y, int z) {
+    if (x < 0 || y < 0 || z < 0 || x >= nx || y >= ny || z >= nz) return false;
+    return !(y == 1 && (x == 1 || x == 5));
+  };
+  std::map<std::array<long, 3>, int> ids;
+  std::vector<Eigen::Vector3d> pts;
+  std::vector<std::array<int, 3>> tris;
+  auto vertex = [&](const std::array<long, 3>& q) {
+    auto it = ids.find(q);
+    if (it != ids.end()) return it->second;
+    pts.emplace_back(double(q[0]) / k, double(q[1]) / k, double(q[2]) / k);
+    return ids[q] = static_cast<int>(pts.size()) - 1;
+  };
+  for (int x = 0; x < nx; ++x)
+    for (int y = 0; y < ny; ++y)
+      for (int z = 0; z < nz; ++z) {
+        if (!filled(x, y, z)) continue;
+        for (int axis = 0; axis < 3; ++axis)
+          for (int dir : {-1, 1}) {
+            std::array<int, 3> nb = {x, y, z};
+            nb[axis] += dir;
+            if (filled(nb[0], nb[1], nb[2])) continue;
+            const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+            for (int a = 0; a < k; ++a)
+              for (int b = 0; b < k; ++b) {
+                std::array<std::array<long, 3>, 4> c;
+                for (int q = 0; q < 4; ++q) {
+                  std::array<long, 3> p = {long(x) * k, long(y) * k, long(z) * k};
+                  p[axis] += dir > 0 ? k : 0;
+                  p[u] += a + ((q == 1 || q == 2) ? 1 : 0);
+                  p[v] += b + ((q >= 2) ? 1 : 0);
+                  c[q] = p;
+                }
+                int i0 = vertex(c[0]), i1 = vertex(c[1]), i2 = vertex(c[2]), i3 = vertex(c[3]);
+                if (dir < 0) std::swap(i1, i3);
+                tris.push_back({i0, i1, i2});
+                tris.push_back({i0, i2, i3});
+              }
+          }
+      }
+  mesh::TriangleMesh m;
+  m.positions.resize(static_cast<int>(pts.size()), 3);
+  for (std::size_t i = 0; i < pts.size(); ++i) m.positions.row(static_cast<int>(i)) = pts[i].transpose();
+  m.triangles.resize(static_cast<int>(tris.size()), 3);
+  for (std::size_t i = 0; i < tris.size(); ++i)
+    m.triangles.row(static_cast<int>(i)) << tris[i][0], tris[i][1], tris[i][2];
+  return m;
+}
+
+mesh::HalfedgeMesh outward(const mesh::TriangleMesh& m) {
+  mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(m, "test");
+  if (mesh::analyze_mesh(hm).signed_volume < 0) {
+    mesh::TriangleMesh f = m;
+    f.triangles.col(1).swap(f.triangles.col(2));
+    return mesh::HalfedgeMesh::build(f, "test");
+  }
+  return hm;
+}
+
+}  // namespace
+
+TEST_CASE("level-set split: every triangle lies on one side of the level") {
+  const mesh::TriangleMesh torus = make_torus(24, 12);
+  std::vector<double> f(torus.num_vertices());
+  for (int v = 0; v < torus.num_vertices(); ++v) f[v] = torus.positions(v, 0);
+  const polycube::LevelSetSplit s = polycube::split_at_level(torus, f, {}, 0.1234);
+  CHECK(s.mesh.num_faces() > torus.num_faces());
+  for (int t = 0; t < s.mesh.num_faces(); ++t) {
+    bool below = false, above = false;
+    for (int k = 0; k < 3; ++k) {
+      below = below || s.value[s.mesh.triangles(t, k)] < 0.1234;
+      above = above || s.value[s.mesh.triangles(t, k)] > 0.1234;
+    }
+    CHECK_FALSE((below && above));
+  }
+  const mesh::MeshReport r = mesh::analyze_mesh(mesh::HalfedgeMesh::build(s.mesh, "split"));
+  CHECK(r.closed);
+  CHECK(r.genus == 1);
+}
+
+TEST_CASE("Morse decomposition: a torus is one tube closed on itself, a two-hole solid two T-shapes") {
+  const mesh::HalfedgeMesh torus = outward(make_torus(32, 16));
+  const polycube::SolidDecomposition d = polycube::decompose_solid(torus, 1);
+  CHECK(d.num_saddles == 2);
+  REQUIRE(d.pieces.size() == 1);
+  CHECK(d.pieces[0].kind == polycube::PieceKind::Tube);
+  REQUIRE(d.loops.size() == 1);
+  CHECK(d.loops[0].piece[0] == d.loops[0].piece[1]);
+
+  const mesh::HalfedgeMesh slab = outward(make_two_hole_slab(3));
+  REQUIRE(mesh::analyze_mesh(slab).genus == 2);
+  const polycube::SolidDecomposition e = polycube::decompose_solid(slab, 2);
+  CHECK(e.num_saddles == 4);
+  int caps = 0, tshapes = 0;
+  for (const auto& p : e.pieces) {
+    caps += p.kind == polycube::PieceKind::Cap;
+    tshapes += p.kind == polycube::PieceKind::TShape;
+  }
+  CHECK(tshapes == caps + 2 * 2 - 2);  // Euler characteristic count
+  CHECK(e.loops.size() == 3);
+}
+
+TEST_CASE("meridian certificate: a meridian disc is inside the torus, the hole's disc is not") {
+  const mesh::TriangleMesh torus = make_torus(32, 16);
+  const int nv = 16;
+  std::vector<int> meridian, inner;
+  for (int j = 0; j < nv; ++j) meridian.push_back(j);              // i = 0: a cross-section
+  for (int i = 0; i < 32; ++i) inner.push_back(i * nv + nv / 2);  // b = π: the inner equator
+  auto disc_of = [&](const std::vector<int>& loop) {
+    mesh::Positions xyz(static_cast<int>(loop.size()), 3);
+    for (std::size_t i = 0; i < loop.size(); ++i) xyz.row(static_cast<int>(i)) = torus.positions.row(loop[i]);
+    return polycube::triangulate_interface_disc(xyz);
+  };
+  const auto good = polycube::check_interface_discs(torus, {disc_of(meridian)}, {meridian});
+  CHECK(good.num_intersections == 0);
+  CHECK(good.num_outside == 0);
+  CHECK(good.winding[0] == doctest::Approx(1.0).epsilon(1e-6));
+  const auto bad = polycube::check_interface_discs(torus, {disc_of(inner)}, {inner});
+  CHECK(bad.num_outside == 1);
+}
+
+TEST_CASE("cylinder map: u runs from loop to loop, v around") {
+  // The torus cut at i = 0 and i = 12 gives an annulus: take faces with i in [0, 12).
+  const mesh::TriangleMesh torus = make_torus(24, 12);
+  mesh::TriangleMesh band;
+  band.positions = torus.positions;
+  std::vector<std::array<int, 3>> tris;
+  for (int t = 0; t < torus.num_faces(); ++t) {
+    const int i = t / 24;  // 2 triangles per quad, 12 quads per ring
+    if (i < 12) tris.push_back({torus.triangles(t, 0), torus.triangles(t, 1), torus.triangles(t, 2)});
+  }
+  band.triangles.resize(static_cast<int>(tris.size()), 3);
+  for (std::size_t t = 0; t < tris.size(); ++t) band.triangles.row(static_cast<int>(t)) << tris[t][0], tris[t][1], tris[t][2];
+  // Drop vertices no face uses by keeping them: HalfedgeMesh allows unreferenced vertices.
+  const mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(band, "band");
+  std::vector<int> a, b;
+  for (int j = 0; j < 12; ++j) {
+    a.push_back(j);
+    b.push_back(12 * 12 + j);
+  }
+  const polycube::CylinderMap cyl = polycube::compute_cylinder_map(hm, a, b);
+  for (int j = 0; j < 12; ++j) {
+    CHECK(cyl.u[a[j]] == doctest::Approx(0.0));
+    CHECK(cyl.u[b[j]] == doctest::Approx(1.0));
+  }
+  // Along a longitude u grows monotonically.
+  for (int i = 1; i <= 12; ++i) CHECK(cyl.u[i * 12 + 3] > cyl.u[(i - 1) * 12 + 3]);
+  CHECK(cyl.circumference > 0.0);
+}
+
+TEST_CASE("transition maps: corner gluing, inverse and composition") {
+  // Face x = 1 of A (size 2×1×1) on face x = 0 of B (size 1×1×1), corners in the same order.
+  polycube::GpcTransition t;
+  const std::array<int, 4> ca = polycube::cube_face_corners(1), cb = polycube::cube_face_corners(0);
+  REQUIRE(polycube::gpc_transition_from_corners(1, {2, 1, 1}, ca, 0, {1, 1, 1}, cb, t));
+  CHECK(t.apply(Eigen::Vector3d(2, 0.5, 0.25)).isApprox(Eigen::Vector3d(0, 0.5, 0.25)));
+  CHECK(t.apply(Eigen::Vector3d(1.5, 0, 0)).isApprox(Eigen::Vector3d(-0.5, 0, 0)));
+  const polycube::GpcTransition id = t.inverse().after(t);
+  CHECK(id.axis == std::array<int, 3>{0, 1, 2});
+  CHECK(id.sign == std::array<int, 3>{1, 1, 1});
+  CHECK(id.translation.norm() < 1e-15);
+  // A quarter turn about the face normal is a rotation too; a mirrored order is not.
+  const std::array<int, 4> turned = {cb[1], cb[2], cb[3], cb[0]};
+  CHECK(polycube::gpc_transition_from_corners(1, {1, 1, 1}, ca, 0, {1, 1, 1}, turned, t));
+  const std::array<int, 4> mirrored = {cb[0], cb[3], cb[2], cb[1]};
+  CHECK_FALSE(polycube::gpc_transition_from_corners(1, {1, 1, 1}, ca, 0, {1, 1, 1}, mirrored, t));
+}
+
+TEST_CASE("gpc job: a torus is 1 cuboid glued to itself, fold-free, glued nodes shared exactly") {
+  const pipeline::GpcResult r = pipeline::run_gpc(make_torus(40, 16), "torus");
+  const pipeline::GpcStats& s = r.stats;
+  CHECK(s.genus == 1);
+  CHECK(s.cuboids == 1);
+  CHECK(s.tubes == 1);
+  CHECK(s.ill_points == 0);
+  CHECK(s.flipped_triangles == 0);
+  CHECK(s.grid_inverted_hexes == 0);
+  CHECK(s.grid_min_scaled_jacobian > 0.2);
+  CHECK(s.interface_gap_rel <= 1e-12);
+  CHECK(s.cut_disc_intersections == 0);
+  REQUIRE(r.construction.domain.interfaces.size() == 1);
+  const polycube::GpcInterface& g = r.construction.domain.interfaces[0];
+  CHECK(g.cuboid[0] == 0);
+  CHECK(g.cuboid[1] == 0);
+  CHECK(std::set<int>{g.face[0], g.face[1]} == std::set<int>{4, 5});
+  // Around the handle: the map and its inverse compose to the identity.
+  const polycube::GpcTransition id = g.transition.after(g.transition.inverse());
+  CHECK(id.translation.norm() < 1e-12);
+  // Every copy of a glued node is one node: grid w = 0 and w = 1 coincide through the map.
+  const auto& grid = r.map.grids[0];
+  CHECK(grid.xyz.rows() == grid.nodes[0] * grid.nodes[1] * grid.nodes[2]);
+}
+
+TEST_CASE("gpc job: position and units do not matter") {
+  mesh::TriangleMesh a = make_torus(40, 16), b = a;
+  b.positions = (b.positions * 1e-3).rowwise() + Eigen::RowVector3d(1e6, -2e5, 3e4);
+  const pipeline::GpcResult ra = pipeline::run_gpc(a, "a"), rb = pipeline::run_gpc(b, "b");
+  CHECK(ra.stats.cuboids == rb.stats.cuboids);
+  CHECK(ra.stats.grid_nodes == rb.stats.grid_nodes);
+  CHECK(ra.stats.grid_inverted_hexes == rb.stats.grid_inverted_hexes);
+  CHECK(ra.stats.grid_min_scaled_jacobian == doctest::Approx(rb.stats.grid_min_scaled_jacobian).epsilon(1e-6));
+}
+
+TEST_CASE("gpc job: a genus-0 blob is one cuboid laid out as mesh2spline does") {
+  const mesh::TriangleMesh torus = make_torus(24, 12);
+  // A genus-0 blob: a squashed sphere from a latitude-longitude grid.
+  mesh::TriangleMesh blob;
+  const int nu = 24, nv = 12;
+  const double pi = 3.14159265358979323846;
+  blob.positions.resize(nu * (nv - 1) + 2, 3);
+  for (int i = 0; i < nu; ++i)
+    for (int j = 1; j < nv; ++j) {
+      const double a = 2 * pi * i / nu, b = pi * j / nv;
+      blob.positions.row(i * (nv - 1) + j - 1) << 1.5 * std::sin(b) * std::cos(a), std::sin(b) * std::sin(a), 0.8 * std::cos(b);
+    }
+  const int north = nu * (nv - 1), south = north + 1;
+  blob.positions.row(north) << 0, 0, 0.8;
+  blob.positions.row(south) << 0, 0, -0.8;
+  std::vector<std::array<int, 3>> tris;
+  for (int i = 0; i < nu; ++i) {
+    const int i1 = (i + 1) % nu;
+    tris.push_back({north, i * (nv - 1), i1 * (nv - 1)});
+    for (int j = 0; j + 1 < nv - 1; ++j) {
+      const int a = i * (nv - 1) + j, b = i1 * (nv - 1) + j;
+      tris.push_back({a, a + 1, b + 1});
+      tris.push_back({a, b + 1, b});
+    }
+    tris.push_back({south, i1 * (nv - 1) + nv - 2, i * (nv - 1) + nv - 2});
+  }
+  blob.triangles.resize(static_cast<int>(tris.size()), 3);
+  for (std::size_t t = 0; t < tris.size(); ++t) blob.triangles.row(static_cast<int>(t)) << tris[t][0], tris[t][1], tris[t][2];
+  const pipeline::GpcResult r = pipeline::run_gpc(blob, "blob");
+  CHECK(r.stats.genus == 0);
+  CHECK(r.stats.cuboids == 1);
+  CHECK(r.construction.domain.interfaces.empty());
+  CHECK(r.stats.flipped_triangles == 0);
+  (void)torus;
+}
+
+TEST_CASE("GPC JSON: write → read → write is byte-identical; bad files name the problem") {
+  const pipeline::GpcResult r = pipeline::run_gpc(make_torus(32, 12), "torus");
+  const std::string text = io::serialize_gpc_domain(r.construction.domain);
+  const polycube::GpcDomain back = io::parse_gpc_domain(text, "t.json");
+  CHECK(io::serialize_gpc_domain(back) == text);
+  CHECK_THROWS_WITH(io::parse_gpc_domain("{", "x.json"), doctest::Contains("x.json"));
+  CHECK_THROWS_WITH(io::parse_gpc_domain("{\"format\": \"other\"}", "x.json"), doctest::Contains("format"));
+}
