@@ -35,10 +35,14 @@ int run_eval(const std::vector<std::string>& argv) {
     if (!(in >> uvw(0) >> comma1 >> uvw(1) >> comma2 >> uvw(2)) || comma1 != ',' || comma2 != ',' || (in >> rest))
       throw UsageError("--uvw expects three comma-separated numbers, got '" + text + "'");
     const Eigen::VectorXd value = spline.evaluate(uvw);
+    if (!value.allFinite())
+      throw Error("spline '" + args.positional[0] + "': F(" + text + ") is not finite (weights or points too large)");
     for (int d = 0; d < value.size(); ++d) std::printf(d ? " %.17g" : "%.17g", value(d));
     std::printf("\n");
     if (args.has("jacobian")) {
       const Eigen::MatrixXd jac = spline.jacobian(uvw);
+      if (!jac.allFinite())
+        throw Error("spline '" + args.positional[0] + "': the Jacobian at " + text + " is not finite");
       for (int a = 0; a < 3; ++a) {
         for (int d = 0; d < jac.rows(); ++d) std::printf(d ? " %.17g" : "%.17g", jac(d, a));
         std::printf("\n");

@@ -6,6 +6,7 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/output_files.h"
 #include "cli/progress_bar.h"
 #include "core/common/error.h"
 #include "core/io/file_bytes.h"
@@ -97,9 +98,18 @@ int run_lens(const std::vector<std::string>& argv_in) {
 
   pipeline::LensInput input;
   input.name = args.positional[0];
-  input.image = io::read_image(input.name);
+  OutputFiles files;
+  files.input(input.name);
+  std::vector<lens::RoiSpec> specs_in;
   for (const std::string& text : args.get_all("roi")) {
-    lens::RoiSpec spec = lens::parse_roi_spec(text);
+    specs_in.push_back(lens::parse_roi_spec(text));
+    if (!specs_in.back().mask_path.empty()) files.input(specs_in.back().mask_path);
+  }
+  files.output("-o", output);
+  if (!mesh_out.empty()) files.output("--mesh-out", mesh_out);
+  if (args.has("stats-json")) files.output("--stats-json", args.get("stats-json"));
+  input.image = io::read_image(input.name);
+  for (lens::RoiSpec& spec : specs_in) {
     if (!spec.mask_path.empty()) spec.roi.mask = io::read_image(spec.mask_path);
     input.rois.push_back(std::move(spec.roi));
   }
@@ -108,10 +118,10 @@ int run_lens(const std::vector<std::string>& argv_in) {
   const pipeline::LensResult result = pipeline::run_lens(input, options, bar.progress());
   bar.finish();
 
-  io::write_png(output, result.image);
+  files.stage(output, io::encode_png(result.image));
   if (!mesh_out.empty()) {
     if (io::file_extension(mesh_out) == "obj") {
-      io::write_file_atomic(mesh_out, textured_obj(result, input.image.width, input.image.height));
+      files.stage(mesh_out, textured_obj(result, input.image.width, input.image.height));
     } else {
       io::TexturedPlane plane;
       plane.positions = result.positions;
@@ -121,7 +131,7 @@ int run_lens(const std::vector<std::string>& argv_in) {
       plane.texture_width = input.image.width;
       plane.texture_height = input.image.height;
       plane.texture_png = io::encode_png(input.image);
-      io::write_file_atomic(mesh_out, io::serialize_textured_glb(plane));
+      files.stage(mesh_out, io::serialize_textured_glb(plane));
     }
   }
   const pipeline::LensStats& s = result.stats;
@@ -152,8 +162,9 @@ int run_lens(const std::vector<std::string>& argv_in) {
     j["ms_factorize"] = s.ms_factorize;
     j["ms_per_iteration"] = s.ms_per_iteration;
     j["ms_render"] = s.ms_render;
-    io::write_file_atomic(args.get("stats-json"), j.dump(2) + "\n");
+    files.stage(args.get("stats-json"), j.dump(2) + "\n");
   }
+  files.commit();
   if (!args.has("quiet"))
     std::fprintf(stderr, "lens: magnification %.3f, distortion max %.4f, %d flipped, %d iterations, %.1f ms\n",
                  s.magnification_center, s.distortion_max, s.flipped_triangles, s.iterations, s.ms_total);

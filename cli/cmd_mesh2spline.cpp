@@ -6,6 +6,7 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/output_files.h"
 #include "cli/progress_bar.h"
 #include "core/io/bezier_vtu_writer.h"
 #include "core/io/file_bytes.h"
@@ -105,26 +106,32 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
     options.weights = param::SurfaceWeights::Cotan;
   else
     throw UsageError("--weights must be meanvalue or cotan, got '" + weights + "'");
+  const std::string& path = args.positional[0];
+  OutputFiles files;
+  files.input(path);
+  if (args.has("corners")) files.input(args.get("corners"));
+  files.output("-o", output);
+  for (const char* flag : {"vtk", "glb", "stats-json"})
+    if (args.has(flag)) files.output(std::string("--") + flag, args.get(flag));
   if (args.has("corners")) options.corners = read_corners(args.get("corners"));
 
   const int vtk_linear = args.has("vtk-linear") ? args.get_int("vtk-linear", 24) : 0;
   if (args.has("vtk-linear") && (vtk_linear < 1 || vtk_linear > 512))
     throw UsageError("--vtk-linear must be in 1..512, got " + std::to_string(vtk_linear));
-  const std::string& path = args.positional[0];
   const mesh::TriangleMesh input = io::read_mesh(path);
   ProgressBar bar(!args.has("quiet"));
   const pipeline::Mesh2SplineResult result = pipeline::run_mesh2spline(input, path, options, bar.progress());
   bar.finish();
 
-  io::write_spline_json(output, result.spline);
+  files.stage(output, io::serialize_spline_json(result.spline));
   if (args.has("vtk")) {
     if (vtk_linear > 0) {
-      io::write_spline_vtu(args.get("vtk"), result.spline, {vtk_linear, vtk_linear, vtk_linear});
+      files.stage(args.get("vtk"), io::serialize_spline_vtu(result.spline, {vtk_linear, vtk_linear, vtk_linear}));
     } else {
-      io::write_bezier_vtu(args.get("vtk"), result.spline);
+      files.stage(args.get("vtk"), io::serialize_bezier_vtu(result.spline));
     }
   }
-  if (args.has("glb")) io::write_spline_glb(args.get("glb"), result.spline);
+  if (args.has("glb")) files.stage(args.get("glb"), io::serialize_spline_glb(result.spline));
   const pipeline::Mesh2SplineStats& s = result.stats;
   if (args.has("stats-json")) {
     nlohmann::ordered_json j;
@@ -176,8 +183,9 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
     }
     times["total"] = total;
     j["times_s"] = times;
-    io::write_file_atomic(args.get("stats-json"), j.dump(2) + "\n");
+    files.stage(args.get("stats-json"), j.dump(2) + "\n");
   }
+  files.commit();
   if (!args.has("quiet"))
     std::fprintf(stderr,
                  "mesh2spline: %d control points, %d levels, rms_rel %.3g, hausdorff_rel %.3g, "

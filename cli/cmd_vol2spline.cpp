@@ -9,6 +9,7 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/output_files.h"
 #include "cli/progress_bar.h"
 #include "core/io/file_bytes.h"
 #include "core/io/spline_json.h"
@@ -157,6 +158,12 @@ int run_vol2spline(const std::vector<std::string>& argv) {
     layout.type = io::sample_type_from_name(args.get("type", "uint8"));
     read.raw_layout = layout;
   }
+  OutputFiles files;
+  files.input(path);
+  if (args.has("corners")) files.input(args.get("corners"));
+  files.output("-o", output);
+  for (const char* flag : {"vtk", "vti", "frames-vtk", "stats-json"})
+    if (args.has(flag)) files.output(std::string("--") + flag, args.get(flag));
   volume::Volume vol = io::read_volume(path, read);
   if (args.has("spacing")) {
     const std::array<double, 3> s = parse_triple(args.get("spacing"), "spacing");
@@ -171,10 +178,10 @@ int run_vol2spline(const std::vector<std::string>& argv) {
   const pipeline::Vol2SplineResult result = pipeline::run_vol2spline(vol, path, options, bar.progress());
   bar.finish();
 
-  io::write_spline_json(output, result.spline);
-  if (args.has("vtk")) io::write_bezier_vtu(args.get("vtk"), result.spline);
-  if (args.has("vti")) io::write_density_vti(args.get("vti"), vol, result.reconstruction, result.uvw);
-  if (args.has("frames-vtk")) io::write_frames_vtu(args.get("frames-vtk"), vol, result.frames);
+  files.stage(output, io::serialize_spline_json(result.spline));
+  if (args.has("vtk")) files.stage(args.get("vtk"), io::serialize_bezier_vtu(result.spline));
+  if (args.has("vti")) files.stage(args.get("vti"), io::serialize_density_vti(vol, result.reconstruction, result.uvw));
+  if (args.has("frames-vtk")) files.stage(args.get("frames-vtk"), io::serialize_frames_vtu(vol, result.frames));
   const pipeline::Vol2SplineStats& s = result.stats;
   if (args.has("stats-json")) {
     nlohmann::ordered_json j;
@@ -215,8 +222,9 @@ int run_vol2spline(const std::vector<std::string>& argv) {
     }
     times["total"] = total;
     j["times_s"] = times;
-    io::write_file_atomic(args.get("stats-json"), j.dump(2) + "\n");
+    files.stage(args.get("stats-json"), j.dump(2) + "\n");
   }
+  files.commit();
   if (!args.has("quiet"))
     std::fprintf(stderr, "vol2spline: %d control points, %d levels, density_rms_rel %.4g, density_max_rel %.4g, stopped: %s\n",
                  s.control_points, s.levels, s.density_rms_rel, s.density_max_rel, s.stop_reason.c_str());

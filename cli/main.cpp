@@ -10,6 +10,7 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/heap_tuning.h"
+#include "cli/output_files.h"
 #include "core/common/error.h"
 #include "core/common/version.h"
 
@@ -68,6 +69,9 @@ int main(int argc, char** argv) {
     } catch (const volspline::cli::UsageError& e) {
       std::fprintf(stderr, "volspline %s: %s\n", name.c_str(), e.what());
       return 2;
+    } catch (const volspline::cli::WriteError& e) {
+      std::fprintf(stderr, "volspline %s: error: %s\n", name.c_str(), e.what());
+      return 1;
     } catch (const volspline::Error& e) {
       std::fprintf(stderr, "volspline %s: error: %s\n", name.c_str(), e.what());
       return 2;

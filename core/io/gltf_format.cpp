@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "core/io/gltf_format.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
+#include <fstream>  // tinygltf needs it
 #include <limits>
 #include <map>
 #include <sstream>
@@ -16,6 +17,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/common/error.h"
+#include "core/io/file_bytes.h"
+#include "core/io/json_depth.h"
 #include "core/io/mesh_builder.h"
 
 // Debian's tiny_gltf.h includes <nlohmann/json.hpp> and <stb_image.h>. Images are never decoded
@@ -39,26 +42,26 @@ bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, in
 
 bool file_exists(const std::string& path, void* base_dir) {
   if (base_dir == nullptr) return false;
-  return static_cast<bool>(std::ifstream(path, std::ios::binary));
+  return is_regular_file(path);
 }
 
 std::string expand_path(const std::string& path, void*) { return path; }
 
+// External buffers are read like every input: regular files only (a device or FIFO named by a
+// buffer's uri is refused, not read until memory runs out).
 bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* base_dir) {
   if (base_dir == nullptr) {
     if (err) *err += "external file '" + path + "' not allowed when parsing from memory\n";
     return false;
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    if (err) *err += "cannot open '" + path + "'\n";
+  try {
+    const std::string bytes = read_file_bytes(path);
+    out->assign(bytes.begin(), bytes.end());
+    return true;
+  } catch (const Error& e) {
+    if (err) *err += std::string(e.what()) + "\n";
     return false;
   }
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  const std::string bytes = buffer.str();
-  out->assign(bytes.begin(), bytes.end());
-  return true;
 }
 
 bool write_whole_file(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
@@ -272,6 +275,14 @@ mesh::TriangleMesh parse_gltf(const std::string& bytes, const std::string& name,
                               const std::optional<std::string>& base_dir) {
   if (bytes.empty()) throw Error(name + ": empty file");
   if (bytes.size() > std::numeric_limits<unsigned int>::max()) throw Error(name + ": file larger than 4 GB");
+  // tinygltf's JSON parse recurses per nesting level: measure the depth first (GLB: its JSON chunk).
+  if (bytes.size() >= 20 && bytes.compare(0, 4, "glTF") == 0) {
+    std::uint32_t chunk_length = 0;
+    std::memcpy(&chunk_length, bytes.data() + 12, 4);
+    check_json_depth(bytes.data() + 20, std::min<std::size_t>(chunk_length, bytes.size() - 20), name);
+  } else {
+    check_json_depth(bytes.data(), bytes.size(), name);
+  }
   refuse_compressed_meshes(bytes, name);
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(skip_image, nullptr);

@@ -35,6 +35,7 @@ mesh::TriangleMesh parse_mesh(const std::string& bytes, MeshFormat format, const
 }
 
 mesh::TriangleMesh read_mesh(const std::string& path) {
+  refuse_special_file(path);
   const MeshFormat format = mesh_format_from_path(path);
   const std::string bytes = read_file_bytes(path);
   if (format == MeshFormat::Gltf || format == MeshFormat::Glb) {

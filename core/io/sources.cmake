@@ -13,6 +13,7 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/gltf_format.cpp
   ${CMAKE_CURRENT_LIST_DIR}/gpc_json.cpp
   ${CMAKE_CURRENT_LIST_DIR}/gpc_writers.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/json_depth.cpp
   ${CMAKE_CURRENT_LIST_DIR}/spline_json.cpp
   ${CMAKE_CURRENT_LIST_DIR}/vtu_writer.cpp
   ${CMAKE_CURRENT_LIST_DIR}/volume_vtu_writer.cpp

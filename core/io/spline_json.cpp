@@ -8,6 +8,7 @@
 
 #include "core/common/error.h"
 #include "core/io/file_bytes.h"
+#include "core/io/json_depth.h"
 
 namespace volspline::io {
 
@@ -61,11 +62,15 @@ std::string serialize_spline_json(const spline::TSpline& spline) {
 
 spline::TSpline parse_spline_json(const std::string& text, const std::string& name) {
   const std::string prefix = "spline '" + name + "': ";
+  check_json_depth(text.data(), text.size(), "spline '" + name + "'");
   nlohmann::json doc;
   try {
     doc = nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
     throw Error(prefix + "invalid JSON at byte " + std::to_string(e.byte));
+  } catch (const nlohmann::json::exception&) {
+    // The parser's other failure: a number beyond the double range (e.g. 1e400).
+    throw Error(prefix + "a number is outside the range of doubles");
   }
   if (!doc.is_object()) throw Error(prefix + "top level is not an object");
   if (!doc.contains("format") || doc["format"] != kFormat)
@@ -107,7 +112,11 @@ spline::TSpline parse_spline_json(const std::string& text, const std::string& na
     const auto& p = f["point"];
     if (!p.is_array() || static_cast<int>(p.size()) != dimension)
       throw Error(where + "\"point\" must hold " + std::to_string(dimension) + " numbers");
-    for (int d = 0; d < dimension; ++d) points(i, d) = number_at(p[d], i, "point");
+    for (int d = 0; d < dimension; ++d) {
+      points(i, d) = number_at(p[d], i, "point");
+      // Eq. 4.3 sums w_i p_i: each product must stay finite.
+      if (!std::isfinite(weights(i) * points(i, d))) throw Error(where + "\"weight\" times \"point\" overflows");
+    }
   }
   try {
     return spline::TSpline(std::move(knots), std::move(weights), std::move(points));

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <unordered_map>
@@ -19,6 +20,8 @@ namespace {
 
 const char* const kAxisName[3] = {"u", "v", "w"};
 constexpr long kMaxCells = long(1) << 26;
+// Smallest knot span, relative to the domain width along its axis.
+constexpr double kMinSpanRel = 1e-12;
 constexpr double kAutoPolynomialBytes = 256.0 * 1024 * 1024;
 
 // Tricubic power-form polynomial with K components at (s0, s1, s2) by nested Horner; c holds
@@ -74,6 +77,12 @@ std::uint64_t hash_knots(std::uint64_t h, const LocalKnots& r) {
     h ^= h >> 29;
   }
   return h;
+}
+
+std::string knot_text(double t) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.9g", t);
+  return text;
 }
 
 // Kept out of line so the hot lookup stays small.
@@ -546,6 +555,21 @@ void TSpline::build_grid() {
     for (const BlendingKnots& k : knots_) b.insert(b.end(), k[a].begin(), k[a].end());
     std::sort(b.begin(), b.end());
     b.erase(std::unique(b.begin(), b.end()), b.end());
+    // Knot spans far below the domain (or a domain below the resolution of its coordinates) make
+    // the lookup scale overflow and the local coordinates meaningless: refuse them.
+    const double extent = b.back() - b.front();
+    const double magnitude = std::max(std::abs(b.front()), std::abs(b.back()));
+    if (!(std::isfinite(extent) && extent > 0.0 && extent >= kMinSpanRel * magnitude &&
+          std::isfinite(double(std::min(4 * int(b.size() - 1) + 1, 1 << 20)) / extent))) {
+      throw Error(std::string("T-spline: the ") + kAxisName[a] + " knots span [" + knot_text(b.front()) + ", " +
+                  knot_text(b.back()) + "], not a usable domain (finite, wider than 1e-12 of its coordinates)");
+    }
+    for (size_t k = 0; k + 1 < b.size(); ++k) {
+      if (b[k + 1] - b[k] < kMinSpanRel * extent) {
+        throw Error(std::string("T-spline: a ") + kAxisName[a] + " knot span [" + knot_text(b[k]) + ", " +
+                    knot_text(b[k + 1]) + "] is below 1e-12 of the domain width");
+      }
+    }
     inverse_widths_[a].resize(b.size() - 1);
     for (size_t k = 0; k + 1 < b.size(); ++k) inverse_widths_[a][k] = 1.0 / (b[k + 1] - b[k]);
     // Uniform bins over the axis, each holding the grid interval of its start, so locate()

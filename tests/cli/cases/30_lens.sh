@@ -21,7 +21,7 @@ expect 2 "$BIN" lens "$TMP/missing.png" -o "$TMP/x.png" --roi circle:10,10,5
 contains "$TMP/err" "missing.png"
 echo "not a png" > "$TMP/broken.png"
 expect 2 "$BIN" lens "$TMP/broken.png" -o "$TMP/x.png" --roi circle:10,10,5
-contains "$TMP/err" "not a readable PNG"
+contains "$TMP/err" "not a PNG or JPEG image"
 expect 2 "$BIN" lens "$IMG" -o "$TMP/x.png" --roi circle:900,10,5
 contains "$TMP/err" "outside the 512x512 image"
 expect 2 "$BIN" lens "$IMG" -o "$TMP/x.png" --roi circle:100,100,0

@@ -8,6 +8,7 @@ set(TEST_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/ply_format_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/stl_format_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/gltf_format_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/json_depth_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/spline_json_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/vtu_writer_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/volume_vtu_writer_test.cpp
