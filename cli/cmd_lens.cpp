@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -49,7 +50,10 @@ std::string textured_obj(const pipeline::LensResult& r, int width, int height) {
 int run_lens(const std::vector<std::string>& argv_in) {
   std::vector<OptionSpec> specs = {
       {"output", "FILE", "output PNG (also -o); required"},
-      {"roi", "SPEC", "region: circle:CX,CY,R | rect:X,Y,W,H | polygon:X1,Y1,X2,Y2,... | mask:MASK.png (pixels)", true},
+      {"roi", "SPEC",
+       "region (pixels): circle:CX,CY,R | rect:X,Y,W,H | polygon:X1,Y1,... | mask:MASK.png; default a centred "
+       "circle, radius min(width, height)/4",
+       true},
       {"magnification", "M", "wanted linear magnification at each ROI centre, in (1, 16] (default 2)"},
       {"height", "H", "lens height h0 in ROI inscribed radii, instead of --magnification (metric only)"},
       {"alpha", "A", "metric blend, 0 rigid .. 1 conformal (Eq. 6.8; default 0)"},
@@ -57,6 +61,7 @@ int run_lens(const std::vector<std::string>& argv_in) {
       {"square-boundary", "", "pin only the image border (thesis boundary control); default pins the far context too"},
       {"band", "B", "free context band around each ROI, in ROI radii (default 0.75)"},
       {"method", "NAME", "metric | fisheye | bifocal | zoom (default metric)"},
+      {"max-pixels", "N", "refuse images (and masks) of more pixels, checked on the header before decoding (default 67108864)"},
       {"mesh-out", "FILE", "flattened textured mesh, .obj (with texture coordinates) or .glb (y up, UVs, the image embedded)"},
   };
   for (auto spec : common_job_options()) {
@@ -65,7 +70,7 @@ int run_lens(const std::vector<std::string>& argv_in) {
   }
   const Args args = parse_args(argv_in, specs);
   if (args.has("help")) {
-    std::fputs(format_help("volspline lens IMAGE.png -o OUT.png --roi SPEC [--roi SPEC ...] [options]",
+    std::fputs(format_help("volspline lens IMAGE.png -o OUT.png [--roi SPEC ...] [options]",
                            "Focus+context magnification lens (thesis ch. 6): the ROIs are lifted to a 3D lens\n"
                            "mesh, textured harmonically and flattened back to the plane preserving a blend of\n"
                            "its rigid and conformal metric; the result is rendered to OUT.png. The baselines\n"
@@ -77,7 +82,6 @@ int run_lens(const std::vector<std::string>& argv_in) {
   }
   if (args.positional.size() != 1) throw UsageError("expects exactly one IMAGE (see --help)");
   if (!args.has("output")) throw UsageError("missing -o OUT.png");
-  if (!args.has("roi")) throw UsageError("missing --roi (at least one region of interest)");
   const std::string output = args.get("output");
   if (io::file_extension(output) != "png") throw UsageError("-o must name a .png file, got '" + output + "'");
   const std::string mesh_out = args.get("mesh-out");
@@ -108,10 +112,24 @@ int run_lens(const std::vector<std::string>& argv_in) {
   files.output("-o", output);
   if (!mesh_out.empty()) files.output("--mesh-out", mesh_out);
   if (args.has("stats-json")) files.output("--stats-json", args.get("stats-json"));
-  input.image = io::read_image(input.name);
+  io::ImageLimits limits;
+  if (args.has("max-pixels")) {
+    const double max_pixels = args.get_double("max-pixels", 0.0);
+    if (!(max_pixels >= 1) || max_pixels != std::floor(max_pixels) || max_pixels > 9e15)
+      throw UsageError("--max-pixels expects a positive integer, got '" + args.get("max-pixels") + "'");
+    limits.max_pixels = static_cast<std::int64_t>(max_pixels);
+  }
+  input.image = io::read_image(input.name, limits);
   for (lens::RoiSpec& spec : specs_in) {
-    if (!spec.mask_path.empty()) spec.roi.mask = io::read_image(spec.mask_path);
+    if (!spec.mask_path.empty()) spec.roi.mask = io::read_image(spec.mask_path, limits);
     input.rois.push_back(std::move(spec.roi));
+  }
+  if (input.rois.empty()) {
+    // The default ROI: a circle at the image centre, a quarter of the shorter side in radius.
+    const double w = input.image.width, h = input.image.height;
+    input.rois.push_back(lens::parse_roi_spec("circle:" + std::to_string(w / 2) + "," + std::to_string(h / 2) + "," +
+                                              std::to_string(std::min(w, h) / 4))
+                             .roi);
   }
 
   ProgressBar bar(!args.has("quiet"));

@@ -101,6 +101,7 @@ int run_vol2spline(const std::vector<std::string>& argv) {
       {"clusters", "K", "k-means materials, 2..16 (default automatic)"},
       {"iso", "V", "classify by the threshold V (sample units) instead of k-means"},
       {"corners", "FILE", "corner voxels, one 'x y z' per line (aligned; default automatic)"},
+      {"max-voxels", "N", "refuse volumes of more voxels, checked on the header before reading (default 16777216 = 256^3)"},
   };
   for (auto common : common_job_options()) {
     if (common.name == "threads") common.help = "worker threads (default: the cores, at most 8; same output for any N)";
@@ -145,6 +146,12 @@ int run_vol2spline(const std::vector<std::string>& argv) {
   options.compute_frames = args.has("frames-vtk");
 
   io::VolumeReadOptions read;
+  if (args.has("max-voxels")) {
+    const double max_voxels = args.get_double("max-voxels", 0.0);
+    if (!(max_voxels >= 1) || max_voxels != std::floor(max_voxels) || max_voxels > 9e15)
+      throw UsageError("--max-voxels expects a positive integer, got '" + args.get("max-voxels") + "'");
+    read.max_voxels = static_cast<std::int64_t>(max_voxels);
+  }
   const std::string& path = args.positional[0];
   if (args.has("dims") || args.has("type")) {
     io::RawVolumeLayout layout;

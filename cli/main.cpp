@@ -10,6 +10,7 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/heap_tuning.h"
+#include "cli/messages.h"
 #include "cli/output_files.h"
 #include "core/common/error.h"
 #include "core/common/version.h"
@@ -48,6 +49,9 @@ const Command kCommands[] = {
 
 }  // namespace
 
+using volspline::cli::printable;
+using volspline::cli::with_flag_names;
+
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
@@ -67,13 +71,13 @@ int main(int argc, char** argv) {
     try {
       return command.run(std::vector<std::string>(args.begin() + 1, args.end()));
     } catch (const volspline::cli::UsageError& e) {
-      std::fprintf(stderr, "volspline %s: %s\n", name.c_str(), e.what());
+      std::fprintf(stderr, "volspline %s: %s\n", name.c_str(), printable(e.what()).c_str());
       return 2;
     } catch (const volspline::cli::WriteError& e) {
-      std::fprintf(stderr, "volspline %s: error: %s\n", name.c_str(), e.what());
+      std::fprintf(stderr, "volspline %s: error: %s\n", name.c_str(), printable(e.what()).c_str());
       return 1;
     } catch (const volspline::Error& e) {
-      std::fprintf(stderr, "volspline %s: error: %s\n", name.c_str(), e.what());
+      std::fprintf(stderr, "volspline %s: error: %s\n", name.c_str(), printable(with_flag_names(e.what())).c_str());
       return 2;
     } catch (const volspline::Cancelled&) {
       std::fprintf(stderr, "volspline %s: cancelled\n", name.c_str());
@@ -82,10 +86,10 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "volspline %s: out of memory\n", name.c_str());
       return 1;
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "volspline %s: failed: %s\n", name.c_str(), e.what());
+      std::fprintf(stderr, "volspline %s: failed: %s\n", name.c_str(), printable(e.what()).c_str());
       return 1;
     }
   }
-  std::fprintf(stderr, "volspline: unknown command '%s' (see 'volspline --help')\n", name.c_str());
+  std::fprintf(stderr, "volspline: unknown command '%s' (see 'volspline --help')\n", printable(name).c_str());
   return 2;
 }

@@ -1,12 +1,16 @@
 // SPDX-License-Identifier: MIT
 #include "cli/progress_bar.h"
 
+#include <unistd.h>
+
 #include <cstdio>
 
 namespace volspline::cli {
 
 ProgressBar::ProgressBar(bool enabled)
-    : enabled_(enabled), start_(std::chrono::steady_clock::now()), last_draw_(start_) {}
+    : enabled_(enabled), terminal_(::isatty(STDERR_FILENO) == 1), start_(std::chrono::steady_clock::now()) {
+  if (enabled_) thread_ = std::thread([this] { tick(); });
+}
 
 ProgressBar::~ProgressBar() { finish(); }
 
@@ -16,25 +20,50 @@ Progress ProgressBar::progress() {
 
 bool ProgressBar::update(const std::string& stage, double fraction) {
   if (!enabled_) return true;
-  const auto now = std::chrono::steady_clock::now();
-  if (now - start_ < std::chrono::seconds(1)) return true;
-  if (drawn_ && now - last_draw_ < std::chrono::milliseconds(100)) return true;
-  last_draw_ = now;
-  drawn_ = true;
-  if (fraction < 0) fraction = 0;
-  if (fraction > 1) fraction = 1;
-  const int width = 30;
-  const int filled = static_cast<int>(fraction * width + 0.5);
-  std::string bar(static_cast<size_t>(filled), '#');
-  bar.resize(width, '.');
-  std::fprintf(stderr, "\r%-24.24s [%s] %3d%%", stage.c_str(), bar.c_str(), static_cast<int>(fraction * 100 + 0.5));
-  std::fflush(stderr);
+  std::lock_guard<std::mutex> lock(mutex_);
+  stage_ = stage;
+  fraction_ = fraction < 0 ? 0 : fraction > 1 ? 1 : fraction;
   return true;
 }
 
+void ProgressBar::tick() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (!stop_) {
+    wake_.wait_for(lock, std::chrono::milliseconds(200));
+    if (stop_) break;
+    const auto now = std::chrono::steady_clock::now();
+    if (now - start_ >= std::chrono::seconds(1) && !stage_.empty()) draw_locked(now);
+  }
+}
+
+void ProgressBar::draw_locked(std::chrono::steady_clock::time_point now) {
+  const int percent = static_cast<int>(fraction_ * 100 + 0.5);
+  const double seconds = std::chrono::duration<double>(now - start_).count();
+  if (terminal_) {
+    const int width = 30;
+    std::string bar(static_cast<size_t>(fraction_ * width + 0.5), '#');
+    bar.resize(width, '.');
+    std::fprintf(stderr, "\r%-24.24s [%s] %3d%% %5.0fs", stage_.c_str(), bar.c_str(), percent, seconds);
+    drawn_ = true;
+  } else {
+    if (stage_ == printed_stage_ && now - last_line_ < std::chrono::seconds(10)) return;
+    std::fprintf(stderr, "%s  %d %%  (%.0f s)\n", stage_.c_str(), percent, seconds);
+    printed_stage_ = stage_;
+    last_line_ = now;
+  }
+  std::fflush(stderr);
+}
+
 void ProgressBar::finish() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (stop_) return;
+    stop_ = true;
+  }
+  wake_.notify_all();
+  if (thread_.joinable()) thread_.join();
   if (drawn_) {
-    std::fprintf(stderr, "\r%*s\r", 64, "");
+    std::fprintf(stderr, "\r%*s\r", 72, "");
     std::fflush(stderr);
     drawn_ = false;
   }

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 # The test command: installs what is missing, builds every configuration and runs every test.
-#   1. native Release build: unit tests, CLI integration tests (ctest)
+#   1. native Release build: unit tests, CLI integration tests (ctest); then samples/run_demo.sh
 #   2. clang Debug build under AddressSanitizer + UndefinedBehaviorSanitizer: the same tests
 #   3. libFuzzer targets from that build: the saved corpus, then a short bounded run per reader
 #   4. WebAssembly build (em++): the core called from node
@@ -59,7 +59,11 @@ web_e2e() {
   node tests/e2e/run_e2e.cjs build/wasm/site --shared-data "$ROOT/../shared/data" --artifacts tests/artifacts
 }
 
+# The README's main command on a fresh build tree's CLI: every job on samples/ must succeed.
+demo() { bash samples/run_demo.sh > build/demo.log 2>&1 || { tail -n 30 build/demo.log; return 1; }; }
+
 stage native-release native
+stage demo demo
 stage asan-ubsan sanitized
 stage fuzz fuzz
 stage wasm-node wasm

@@ -8,8 +8,17 @@ import { JobClient } from './job_client.js';
 export const $ = (id) => document.getElementById(id);
 export const jobs = new JobClient();
 
+// The core names option fields in backticks (`max_rms_rel`); the page shows its own labels.
+const FIELD_LABELS = {
+  max_rms_rel: 'the max rms setting', max_levels: 'the levels setting', rois: 'a lens on the image',
+  raw_layout: 'the raw dims and type fields', corners: 'other corners', magnification: 'the magnification',
+  alpha: 'α', grid: 'the grid setting', max_pixels: 'the image size limit', max_voxels: 'the volume size limit',
+};
+function withLabels(message) {
+  return String(message).replace(/`([a-z][a-z0-9_]*)`/g, (all, field) => FIELD_LABELS[field] || field.replace(/_/g, ' '));
+}
 export function showError(message) {
-  $('error-text').textContent = message;
+  $('error-text').textContent = withLabels(message);
   $('error').hidden = false;
 }
 export function clearError() { $('error').hidden = true; $('error-text').textContent = ''; }

@@ -133,7 +133,7 @@ Image decode_image(const std::string& bytes, const std::string& name, const Imag
   const ImageHeader header = read_image_header(bytes, name);
   if (static_cast<std::int64_t>(header.width) * header.height > limits.max_pixels)
     throw Error("'" + name + "': " + (header.png ? "PNG" : "JPEG") + " of " + std::to_string(header.width) + " x " +
-                std::to_string(header.height) + " pixels is above the limit max_pixels = " +
+                std::to_string(header.height) + " pixels is above the limit `max_pixels` = " +
                 std::to_string(limits.max_pixels));
   const char* kind = header.png ? "PNG" : "JPEG";
   int width = 0, height = 0, channels_in_file = 0;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "core/io/nifti_format.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -62,13 +63,19 @@ bool host_is_big_endian() {
 
 }  // namespace
 
-volume::Volume parse_nifti(const std::string& file_bytes, const std::string& name) {
+volume::Volume parse_nifti(const std::string& file_bytes, const std::string& name, std::int64_t max_voxels) {
   std::string inflated;
   const bool gzipped = file_bytes.size() >= 2 && static_cast<unsigned char>(file_bytes[0]) == 0x1f &&
                        static_cast<unsigned char>(file_bytes[1]) == 0x8b;
-  if (gzipped)
-    inflated = gzip_inflate(file_bytes.data(), file_bytes.size(),
-                            gzip_stated_size(file_bytes.data(), file_bytes.size(), name), name);
+  if (gzipped) {
+    // The header, an extension block and 8-byte samples at most: a larger stated size is a bomb.
+    const std::size_t stated = gzip_stated_size(file_bytes.data(), file_bytes.size(), name);
+    const double most = 65536.0 + 8.0 * static_cast<double>(std::max<std::int64_t>(max_voxels, 0));
+    if (static_cast<double>(stated) > most)
+      throw Error(name + ": inflates to " + std::to_string(stated) + " bytes, more than a volume within the limit " +
+                  "`max_voxels` = " + std::to_string(max_voxels) + " can hold");
+    inflated = gzip_inflate(file_bytes.data(), file_bytes.size(), stated, name);
+  }
   const std::string& bytes = gzipped ? inflated : file_bytes;
   if (bytes.size() < kHeaderSize) throw Error(name + ": truncated NIfTI header (" + std::to_string(bytes.size()) + " bytes)");
   std::int32_t sizeof_hdr = 0;
@@ -96,6 +103,7 @@ volume::Volume parse_nifti(const std::string& file_bytes, const std::string& nam
     if (h.at<std::int16_t>(42 + 2 * a) > 1)
       throw Error(name + ": only 3-dimensional NIfTI volumes are supported (dim[" + std::to_string(a + 1) + "] = " +
                   std::to_string(h.at<std::int16_t>(42 + 2 * a)) + ")");
+  volume_data::check_voxel_limit(layout.raw.dims, max_voxels, name);
   layout.raw.type = nifti_type(h.at<std::int16_t>(70), name);
   layout.raw.big_endian = swap != host_is_big_endian();
   const double vox_offset = h.real(108);

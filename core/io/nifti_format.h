@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 #include "core/volume/volume.h"
@@ -13,7 +14,10 @@ namespace volspline::io {
 /// applied. Placement in NIfTI's RAS world: the sform when its code is set, else the qform
 /// (quaternion, qfac, offsets), else the pixdim spacings at the origin.
 /// Throws volspline::Error naming `name` on a bad magic (".hdr/.img pairs are not supported"),
-/// bad dimensions, an unsupported datatype, truncated or oversized data, non-finite samples.
-volume::Volume parse_nifti(const std::string& bytes, const std::string& name);
+/// bad dimensions, an unsupported datatype, truncated or oversized data, more than max_voxels
+/// voxels (a .nii.gz stating a larger inflated size is refused before inflating), non-finite
+/// samples.
+volume::Volume parse_nifti(const std::string& bytes, const std::string& name,
+                           std::int64_t max_voxels = std::int64_t{1} << 24);
 
 }  // namespace volspline::io

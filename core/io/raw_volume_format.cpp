@@ -52,6 +52,33 @@ std::optional<RawVolumeLayout> raw_layout_from_name(const std::string& path) {
   return layout;
 }
 
+std::string raw_name_problem(const std::string& path) {
+  const std::string need = "raw volume needs its dims and type (`raw_layout`), or a name like volume_64x64x64_uint8.raw";
+  const auto slash = path.find_last_of("/\\");
+  std::string stem = slash == std::string::npos ? path : path.substr(slash + 1);
+  const auto dot = stem.find_last_of('.');
+  if (dot != std::string::npos) stem = stem.substr(0, dot);
+  const auto type_sep = stem.find_last_of('_');
+  if (type_sep == std::string::npos) return need;
+  const std::string type_text = lower(stem.substr(type_sep + 1));
+  const auto dims_sep = type_sep == 0 ? std::string::npos : stem.find_last_of('_', type_sep - 1);
+  const std::size_t dims_begin = dims_sep == std::string::npos ? 0 : dims_sep + 1;
+  const std::string dims_text = stem.substr(dims_begin, type_sep - dims_begin);
+  // Only a name of the _XxYxZ_TYPE form gets a message about its parts.
+  bool dims_like = dims_text.find_first_of("xX") != std::string::npos;
+  for (char c : dims_text) dims_like = dims_like && (std::isdigit(static_cast<unsigned char>(c)) || c == 'x' || c == 'X');
+  if (!dims_like) return need;
+  try {
+    sample_type_from_name(type_text);
+  } catch (const Error&) {
+    return "the name's sample type '" + type_text +
+           "' is not uint8, int8, uint16, int16, uint32, int32, float32 or float64 (give `raw_layout`, or a name like "
+           "volume_64x64x64_uint8.raw)";
+  }
+  return "the name's dims '" + dims_text + "' are not three positive sizes XxYxZ of at most 9 digits (give " +
+         "`raw_layout`, or a name like volume_64x64x64_uint8.raw)";
+}
+
 volume::Volume parse_raw_volume(const std::string& bytes, const RawVolumeLayout& layout, const std::string& name) {
   return volume_data::decode_binary(bytes.data(), bytes.size(), layout, Eigen::Vector3d::Ones(), true, name);
 }

@@ -24,6 +24,10 @@ volume::SampleType sample_type_from_name(const std::string& name);
 /// std::nullopt if the name does not have that form. Little-endian.
 std::optional<RawVolumeLayout> raw_layout_from_name(const std::string& path);
 
+/// Why raw_layout_from_name found no layout in the name: no `_XxYxZ_TYPE` part, an unknown
+/// sample type ("uint7"), or dims that are not three positive sizes ("0x64x64").
+std::string raw_name_problem(const std::string& path);
+
 /// Decodes a header-less raw volume held in memory. `name` is used in error messages.
 /// Throws volspline::Error naming `name` if dims are not positive, the byte count differs from
 /// dims * sample size, or a float sample is not finite.

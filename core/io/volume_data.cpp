@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "core/io/volume_data.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -94,6 +95,13 @@ Volume decode_ascii(const std::string& bytes, std::size_t begin, const RawVolume
   return volume;
 }
 }  // namespace
+
+void check_voxel_limit(const std::array<int, 3>& dims, std::int64_t max_voxels, const std::string& name) {
+  const std::uint64_t count = checked_voxel_count(dims, name);
+  if (count > static_cast<std::uint64_t>(std::max<std::int64_t>(max_voxels, 0)))
+    throw Error(name + ": volume of " + std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "x" +
+                std::to_string(dims[2]) + " voxels is above the limit `max_voxels` = " + std::to_string(max_voxels));
+}
 
 std::uint64_t checked_voxel_count(const std::array<int, 3>& dims, const std::string& name) {
   std::uint64_t count = 1;

@@ -49,6 +49,10 @@ void set_axes_from_steps(DataLayout& layout, const Eigen::Matrix3d& steps, const
 /// has more than 2^31 voxels (checked before anything is allocated).
 std::uint64_t checked_voxel_count(const std::array<int, 3>& dims, const std::string& name);
 
+/// Throws volspline::Error "NAME: volume of XxYxZ voxels is above the limit `max_voxels` = N"
+/// if nx * ny * nz exceeds max_voxels (the caller's documented limit, checked on the header).
+void check_voxel_limit(const std::array<int, 3>& dims, std::int64_t max_voxels, const std::string& name);
+
 /// Decodes binary samples from data[0, size); `exact` requires size to match, else extra bytes
 /// are ignored. Throws volspline::Error naming `name` on truncated data or non-finite samples.
 volume::Volume decode_binary(const char* data, std::size_t size, const RawVolumeLayout& layout,

@@ -50,10 +50,12 @@ VolumeFormat volume_format_from_path(const std::string& path) {
   throw Error(path + ": unknown volume file extension '" + ext + "'");
 }
 
-volume::Volume parse_volume(const std::string& bytes, VolumeFormat format, const std::string& name) {
-  if (format == VolumeFormat::Vti) return parse_vti(bytes, name);
-  if (format == VolumeFormat::Nifti) return parse_nifti(bytes, name);
+volume::Volume parse_volume(const std::string& bytes, VolumeFormat format, const std::string& name,
+                            const VolumeReadOptions& options) {
+  if (format == VolumeFormat::Vti) return parse_vti(bytes, name, options.max_voxels);
+  if (format == VolumeFormat::Nifti) return parse_nifti(bytes, name, options.max_voxels);
   const volume_data::DataLayout layout = parse_header(bytes, format, name);
+  volume_data::check_voxel_limit(layout.raw.dims, options.max_voxels, name);
   if (!layout.data_file.empty())
     throw Error(name + ": data is in the detached file '" + layout.data_file + "'; read it with read_volume");
   return decode_data(bytes, layout.data_offset, layout, name);
@@ -64,13 +66,15 @@ volume::Volume read_volume(const std::string& path, const VolumeReadOptions& opt
   if (format == VolumeFormat::Raw) {
     std::optional<RawVolumeLayout> layout = options.raw_layout;
     if (!layout) layout = raw_layout_from_name(path);
-    if (!layout)
-      throw Error(path + ": raw volume needs --dims X,Y,Z and --type, or a name like volume_64x64x64_uint8.raw");
+    if (!layout) throw Error(path + ": " + raw_name_problem(path));
+    volume_data::check_voxel_limit(layout->dims, options.max_voxels, path);
     return parse_raw_volume(read_file_bytes(path), *layout, path);
   }
-  if (format == VolumeFormat::Vti || format == VolumeFormat::Nifti) return parse_volume(read_file_bytes(path), format, path);
+  if (format == VolumeFormat::Vti || format == VolumeFormat::Nifti)
+    return parse_volume(read_file_bytes(path), format, path, options);
   const std::string bytes = read_file_bytes(path);
   const volume_data::DataLayout layout = parse_header(bytes, format, path);
+  volume_data::check_voxel_limit(layout.raw.dims, options.max_voxels, path);
   if (layout.data_file.empty()) return decode_data(bytes, layout.data_offset, layout, path);
   const std::string data_path = sibling_path(path, layout.data_file);
   return decode_data(read_file_bytes(data_path), 0, layout, data_path);

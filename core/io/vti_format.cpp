@@ -226,7 +226,7 @@ std::string decode_base64_array(const char* text, std::size_t size, const Encodi
 
 }  // namespace
 
-volume::Volume parse_vti(const std::string& xml, const std::string& name) {
+volume::Volume parse_vti(const std::string& xml, const std::string& name, std::int64_t max_voxels) {
   std::size_t pos = 0;
   Tag tag;
   Encoding encoding;
@@ -304,6 +304,7 @@ volume::Volume parse_vti(const std::string& xml, const std::string& name) {
                                                       extent[4] * layout.spacing.z());
   layout.raw.type = vti_type(attribute(chosen, "type", name), name);
   layout.raw.big_endian = encoding.big_endian;
+  volume_data::check_voxel_limit(layout.raw.dims, max_voxels, name);
   const std::uint64_t count = volume_data::checked_voxel_count(layout.raw.dims, name);
   const std::uint64_t expected = count * static_cast<std::uint64_t>(volume::sample_type_size(layout.raw.type));
   const std::string format = attribute_or(chosen, "format", "ascii");

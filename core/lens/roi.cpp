@@ -10,6 +10,9 @@ namespace volspline::lens {
 
 namespace {
 
+// Largest ROI area, in image areas (a circle through the corners of a square image is 1.57).
+constexpr double kMaxRoiCover = 4.0;
+
 std::vector<double> parse_numbers(const std::string& list, const std::string& text) {
   std::vector<double> values;
   std::size_t start = 0;
@@ -67,18 +70,28 @@ void validate_roi(const Roi& roi, int width, int height) {
   for (double v : roi.values)
     if (!std::isfinite(v)) throw Error(who + ": values must be finite");
   const auto inside = [&](double x, double y) { return x > 0 && y > 0 && x < width && y < height; };
+  // A region far larger than the image leaves no context to compress (the result is one
+  // magnified corner or black): refuse areas beyond kMaxRoiCover image areas.
+  const auto check_cover = [&](double area) {
+    if (!(area <= kMaxRoiCover * double(width) * height))
+      throw Error(who + ": covers " + std::to_string(static_cast<long long>(area / (double(width) * height))) +
+                  " times the " + std::to_string(width) + "x" + std::to_string(height) + " image (at most " +
+                  std::to_string(int(kMaxRoiCover)) + ")");
+  };
   switch (roi.shape) {
     case RoiShape::Circle:
       if (roi.values.size() != 3) throw Error(who + ": circle needs CX,CY,R");
       if (roi.values[2] <= 0) throw Error(who + ": radius must be positive");
       if (!inside(roi.values[0], roi.values[1]))
         throw Error(who + ": centre lies outside the " + std::to_string(width) + "x" + std::to_string(height) + " image");
+      check_cover(3.14159265358979 * roi.values[2] * roi.values[2]);
       break;
     case RoiShape::Rect:
       if (roi.values.size() != 4) throw Error(who + ": rect needs X,Y,W,H");
       if (roi.values[2] <= 0 || roi.values[3] <= 0) throw Error(who + ": width and height must be positive");
       if (!inside(roi.values[0] + roi.values[2] / 2, roi.values[1] + roi.values[3] / 2))
         throw Error(who + ": centre lies outside the " + std::to_string(width) + "x" + std::to_string(height) + " image");
+      check_cover(roi.values[2] * roi.values[3]);
       break;
     case RoiShape::Polygon: {
       const std::size_t n = roi.values.size() / 2;
@@ -93,6 +106,7 @@ void validate_roi(const Roi& roi, int width, int height) {
       if (std::abs(area2) < 2.0) throw Error(who + ": polygon has (nearly) zero area");
       if (!inside(cx, cy))
         throw Error(who + ": centre lies outside the " + std::to_string(width) + "x" + std::to_string(height) + " image");
+      check_cover(std::abs(area2) / 2);
       break;
     }
     case RoiShape::Mask: {

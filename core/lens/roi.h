@@ -34,8 +34,8 @@ struct RoiSpec {
 RoiSpec parse_roi_spec(const std::string& text);
 
 /// Checks a ROI against an image of width × height pixels: positive radius/size, finite values,
-/// the shape at least partly inside and its centre inside the image, a mask of the image's size
-/// with at least one inside pixel. Throws volspline::Error naming the ROI and the problem.
+/// the shape at least partly inside and its centre inside the image, an area of at most 4 image
+/// areas, a mask of the image's size with at least one inside pixel. Throws volspline::Error naming the ROI and the problem.
 void validate_roi(const Roi& roi, int width, int height);
 
 }  // namespace volspline::lens

@@ -7,4 +7,5 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/laplacian.cpp
   ${CMAKE_CURRENT_LIST_DIR}/graph_distance.cpp
   ${CMAKE_CURRENT_LIST_DIR}/hex_quality.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/unit_box.cpp
 )

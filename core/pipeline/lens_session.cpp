@@ -263,7 +263,7 @@ void validate(const LensInput& input, const LensOptions& o) {
       input.image.pixels.size() != std::size_t(input.image.width) * input.image.height * input.image.channels)
     bad("'" + input.name + "': empty or malformed image");
   if (input.image.width < 2 || input.image.height < 2) bad("'" + input.name + "': image must be at least 2x2 pixels");
-  if (input.rois.empty()) bad("lens: at least one ROI is needed (--roi)");
+  if (input.rois.empty()) bad("lens: at least one ROI is needed (`rois`)");
   if (!(o.magnification > 1.0)) bad("lens: magnification must be > 1, got " + std::to_string(o.magnification));
   if (!(o.magnification <= 16.0)) bad("lens: magnification must be at most 16, got " + std::to_string(o.magnification));
   if (!(o.height >= 0.0 && o.height <= 50.0)) bad("lens: height must be in (0, 50] ROI radii, got " + std::to_string(o.height));

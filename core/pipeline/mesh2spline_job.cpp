@@ -16,6 +16,7 @@
 #include "core/mesh/halfedge_mesh.h"
 #include "core/mesh/hex_quality.h"
 #include "core/mesh/mesh_report.h"
+#include "core/mesh/unit_box.h"
 #include "core/param/cuboid_surface_locator.h"
 #include "core/param/volumetric_grid_map.h"
 #include "core/pipeline/mesh2spline_measures.h"
@@ -41,21 +42,21 @@ constexpr int kDenseMeshVertices = 8000;
 void check_options(const Mesh2SplineOptions& o) {
   auto fail = [](const std::string& what) { throw Error("mesh2spline: " + what); };
   if (!(o.max_rms_rel > 0.0) || !std::isfinite(o.max_rms_rel))
-    fail("--max-rms must be a positive number, got " + std::to_string(o.max_rms_rel));
-  if (o.max_control_points < 64) fail("--max-control-points must be ≥ 64");
-  if (o.max_levels < 0 || o.max_levels > 10) fail("--max-levels must be in [0, 10]");
+    fail("`max_rms_rel` must be a positive number, got " + std::to_string(o.max_rms_rel));
+  if (o.max_control_points < 64) fail("`max_control_points` must be ≥ 64");
+  if (o.max_levels < 0 || o.max_levels > 10) fail("`max_levels` must be in [0, 10]");
   if (o.area_balance_iterations < 0 || o.area_balance_iterations > 20)
-    fail("area balance iterations must be in [0, 20]");
-  if (o.initial_cells < 1 || o.initial_cells > 64) fail("initial cells must be in [1, 64]");
+    fail("`area_balance_iterations` must be in [0, 20]");
+  if (o.initial_cells < 1 || o.initial_cells > 64) fail("`initial_cells` must be in [1, 64]");
   if (o.grid_nodes != 0 && (o.grid_nodes < 5 || o.grid_nodes > 256))
-    fail("grid nodes must be 0 (auto) or in [5, 256]");
-  if (!(o.smoothing >= 0.0) || !std::isfinite(o.smoothing)) fail("smoothing must be ≥ 0");
+    fail("`grid_nodes` must be 0 (auto) or in [5, 256]");
+  if (!(o.smoothing >= 0.0) || !std::isfinite(o.smoothing)) fail("`smoothing` must be ≥ 0");
   if (!(o.min_scaled_jacobian >= 0.0 && o.min_scaled_jacobian <= 0.5))
-    fail("the Jacobian repair target must be in [0, 0.5]");
-  if (o.threads < 1) fail("--threads must be ≥ 1");
+    fail("`min_scaled_jacobian` (the Jacobian repair target) must be in [0, 0.5]");
+  if (o.threads < 1) fail("`threads` must be ≥ 1");
   if (!(o.max_surface_error_rel > 0.0) || !std::isfinite(o.max_surface_error_rel))
-    fail("the surface error target must be a positive number");
-  if (o.measure_samples < 8 || o.measure_samples > 512) fail("measure samples must be in [8, 512]");
+    fail("`max_surface_error_rel` must be a positive number");
+  if (o.measure_samples < 8 || o.measure_samples > 512) fail("`measure_samples` must be in [8, 512]");
 }
 
 // The validated, outward-oriented half-edge mesh; throws on anything mesh2spline refuses.
@@ -358,7 +359,10 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
   };
 
   progress.report("validate", 0.0);
-  const mesh::HalfedgeMesh hm = validated_mesh(input, name);
+  // Every stage works in a unit box (centred, longest side in [0.5, 1)): absolute tolerances
+  // then mean the same for any position and unit; the spline is mapped back at the end.
+  const mesh::UnitBox box = mesh::unit_box_of(input, name);
+  const mesh::HalfedgeMesh hm = validated_mesh(box.to_unit(input), name);
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector3d hi = -lo;
   for (int v = 0; v < hm.num_vertices(); ++v)
@@ -383,6 +387,16 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
       dims(e / 4) += 0.25 * (hm.vertex_position(path[i + 1]) - hm.vertex_position(path[i])).norm();
   }
   dims = dims.cwiseMax(1e-3 * dims.maxCoeff());
+  // Level 0 alone must fit the control point budget; checked before the volumetric grid (which
+  // grows with initial_cells³) is allocated.
+  {
+    const std::array<int, 3> level0 = cells_for(dims, options.initial_cells);
+    const long long level0_points = (level0[0] + 3LL) * (level0[1] + 3LL) * (level0[2] + 3LL);
+    if (level0_points > options.max_control_points)
+      throw Error("mesh '" + name + "': `initial_cells` = " + std::to_string(options.initial_cells) + " gives " +
+                  std::to_string(level0_points) + " control points at level 0, above `max_control_points` = " +
+                  std::to_string(options.max_control_points));
+  }
   lap("layout");
 
   progress.report("surface map", 0.1);
@@ -485,7 +499,13 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
     // From here on the control points change only a few at a time (incremental cell updates)
     // while the untangler and the measures evaluate whole lattices: per-cell polynomials pay.
     ts.use_cell_polynomials();
-    const spline::SplineUntangleReport untangled = spline::untangle_spline(ts, samples.uvw, samples.xyz);
+    // The untangler's passes report within the job's untangle share and honour cancellation.
+    const Progress untangle_progress([&progress](const std::string& stage, double fraction) {
+      progress.report(stage, 0.7 + 0.05 * fraction);
+      return true;
+    });
+    const spline::SplineUntangleReport untangled =
+        spline::untangle_spline(ts, samples.uvw, samples.xyz, {}, untangle_progress);
     stats.negative_jacobian_fraction_fit = double(untangled.initial_negative) / untangled.scanned;
     stats.untangled_control_points = untangled.free_functions;
     if (untangled.free_functions > 0) {
@@ -579,6 +599,7 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
     }
     lap("uniform_comparison");
   }
+  ts.set_points(box.from_unit_points(ts.points()));
   progress.report("done", 1.0);
   return Mesh2SplineResult{std::move(ts), std::move(stats)};
 }

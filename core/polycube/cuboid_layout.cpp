@@ -348,7 +348,7 @@ CuboidLayout compute_cuboid_layout(const mesh::HalfedgeMesh& mesh,
       if (layout_with_corners(mesh, layout, &why)) return layout;
       reasons += (reasons.empty() ? "" : "; ") + why;
     }
-    throw Error(name + ": cannot lay out a cuboid: " + reasons + " (try other corners with --corners)");
+    throw Error(name + ": cannot lay out a cuboid: " + reasons + " (try other corners: `corners`)");
   }
   CuboidLayout layout;
   if (options.corners.size() != num_cube_corners)
@@ -372,7 +372,7 @@ CuboidLayout compute_cuboid_layout(const mesh::HalfedgeMesh& mesh,
                 "(c&1, c>>1&1, c>>2&1) of a right-handed box");
   std::string why;
   if (!layout_with_corners(mesh, layout, &why))
-    throw Error(name + ": cannot lay out a cuboid: " + why + " (try other corners with --corners)");
+    throw Error(name + ": cannot lay out a cuboid: " + why + " (try other corners: `corners`)");
   return layout;
 }
 

@@ -811,7 +811,7 @@ std::vector<Eigen::Vector3d> bad_lattice_points(const TSpline& spline, const std
 }  // namespace
 
 SplineUntangleReport untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
-                                     const SplineUntangleOptions& options) {
+                                     const SplineUntangleOptions& options, const Progress& progress) {
   assert(spline.dimension() == 3 && uvw.rows() == xyz.rows());
   assert(options.lattice >= 4 && options.seed_stride >= 1 && options.rings >= 0 && options.max_support_steps >= 4);
   assert(options.passes >= 1);
@@ -825,7 +825,9 @@ SplineUntangleReport untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uv
   NodeCache cache;  // node Jacobians from one pass to the next
   SplineUntangleOptions pass_options = options;
   std::vector<Eigen::Vector3d> extra;
+  const double steps = options.passes + options.polish_rounds;
   for (int pass = 0; pass < options.passes; ++pass) {
+    progress.report("untangle pass " + std::to_string(pass + 1), pass / steps);
     const SplineUntangleReport r = untangle_pass(spline, options.lattice, uvw, xyz, extra, pass_options, cache);
     if (pass == 0) {
       total.seeds = r.seeds;
@@ -869,6 +871,7 @@ SplineUntangleReport untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uv
     polish_options.rings = 0;
     std::size_t previous = std::numeric_limits<std::size_t>::max();
     for (int round = 0; round < options.polish_rounds; ++round) {
+      progress.report("untangle polish " + std::to_string(round + 1), (options.passes + round) / steps);
       const std::vector<Eigen::Vector3d> bad = bad_lattice_points(spline, fine, 0.0);
       total.polish_folded = static_cast<int>(bad.size());
       if (bad.empty() || bad.size() >= previous) break;  // done, or no progress

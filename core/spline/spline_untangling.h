@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 
+#include "core/common/progress.h"
 #include "core/polycube/cube_faces.h"
 #include "core/spline/tspline.h"
 
@@ -127,7 +128,10 @@ struct SplineUntangleReport {
 /// 64³ cell centres, without the check 56). After the passes the polish (polish_rounds) holds
 /// the finest lattice: bunny 8 → 0 folded of 64³.
 /// uvw, xyz: m×3 fitting samples (may be empty). Precondition: dimension() == 3.
+/// progress: "untangle pass K" / "untangle polish K" before each pass and polish round (fraction
+/// of the passes done); throws volspline::Cancelled there if the callback asks to stop (the
+/// spline then holds the points of the passes done so far).
 SplineUntangleReport untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
-                                     const SplineUntangleOptions& options = {});
+                                     const SplineUntangleOptions& options = {}, const Progress& progress = {});
 
 }  // namespace volspline::spline

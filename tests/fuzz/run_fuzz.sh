@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# Runs every mesh-reader fuzz target over its saved corpus (regressions), then fuzzes each for
-# SECONDS. Fails on any crash; new crash inputs are left as BUILD_DIR/fuzz-artifacts/<reader>/crash-*.
+# Runs every reader fuzz target (meshes, images, volumes, spline JSON) over its saved corpus
+# (regressions), then fuzzes each for SECONDS. Fails on any crash; new crash inputs are left as
+# BUILD_DIR/fuzz-artifacts/<reader>/crash-*.
 # usage: run_fuzz.sh BUILD_DIR SECONDS
 set -u
 BUILD=${1:?usage: run_fuzz.sh BUILD_DIR SECONDS}
 SECONDS_EACH=${2:?usage: run_fuzz.sh BUILD_DIR SECONDS}
 HERE=$(cd "$(dirname "$0")" && pwd)
 status=0
-for reader in obj off ply stl gltf volume; do
+for reader in obj off ply stl gltf image volume spline_json; do
   bin=$(find "$BUILD" -type f -name "fuzz_$reader" -perm -u+x | head -n 1)
   if [ -z "$bin" ]; then echo "FAIL: fuzz_$reader not built in $BUILD"; status=1; continue; fi
   corpus=$HERE/corpus/$reader

@@ -36,8 +36,6 @@ expect 2 "$BIN" lens "$IMG" -o "$TMP/x.png" --roi circle:100,100,20 --grid 3
 contains "$TMP/err" "grid must be at least 4"
 expect 2 "$BIN" lens "$IMG" -o "$TMP/x.png" --roi blob:1,2
 contains "$TMP/err" "unknown kind"
-expect 2 "$BIN" lens "$IMG" -o "$TMP/x.png"
-contains "$TMP/err" "missing --roi"
 expect 2 "$BIN" lens "$IMG" --roi circle:100,100,20
 contains "$TMP/err" "missing -o"
 expect 2 "$BIN" lens "$IMG" -o "$TMP/x.png" --roi circle:100,100,20 --method magic

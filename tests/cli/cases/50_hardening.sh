@@ -88,3 +88,43 @@ contains "$TMP/err" "is a folder, not a regular file"
 printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 4 4 4\nencoding: raw\ndata file: /dev/zero\n\n' > "$TMP/o/z.nhdr"
 expect 2 timeout 20 "$BIN" vol2spline "$TMP/o/z.nhdr" -o "$TMP/o/z.json" --quiet
 contains "$TMP/err" "not a regular file"
+# Size limits are checked on the header, before allocating; an option raises them.
+printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 1024 1024 1024\nencoding: gzip\n\n' > "$TMP/o/bomb.nrrd"
+head -c 1000 /dev/zero | gzip -c >> "$TMP/o/bomb.nrrd"
+expect 2 "$BIN" vol2spline "$TMP/o/bomb.nrrd" -o "$TMP/o/bomb.json" --quiet
+contains "$TMP/err" "1024x1024x1024 voxels is above the limit --max-voxels = 16777216"
+expect 2 "$BIN" vol2spline "$SRC/samples/volumes/bucky_32x32x32_uint8.raw" -o "$TMP/o/b.json" --max-voxels 1000 --quiet
+contains "$TMP/err" "32x32x32 voxels is above the limit --max-voxels = 1000"
+python3 -c "
+import struct, zlib, sys
+def chunk(t, d): return struct.pack('>I', len(d)) + t + d + struct.pack('>I', zlib.crc32(t + d) & 0xffffffff)
+ihdr = struct.pack('>IIBBBBB', 20000, 20000, 8, 0, 0, 0, 0)
+sys.stdout.buffer.write(b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', ihdr) + chunk(b'IDAT', zlib.compress(b'\0' * 1000)) + chunk(b'IEND', b''))
+" > "$TMP/o/big.png"
+expect 2 "$BIN" lens "$TMP/o/big.png" -o "$TMP/o/big_out.png" --roi circle:10,10,5 --quiet
+contains "$TMP/err" "PNG of 20000 x 20000 pixels is above the limit --max-pixels = 67108864"
+expect 2 "$BIN" lens "$SRC/samples/images/text.png" -o "$TMP/o/t.png" --roi circle:10,10,5 --max-pixels 100 --quiet
+contains "$TMP/err" "is above the limit --max-pixels = 100"
+expect 2 "$BIN" mesh2spline "$DATA/meshes/sphere.off" -o "$TMP/o/x.json" --initial-cells 64 --quiet
+contains "$TMP/err" "control points at level 0, above --max-control-points = 50000"
+# Messages: the real problem, control bytes escaped, core fields shown as flags.
+expect 2 "$BIN" vol2spline "$TMP/o/x_64x64x64_uint7.raw" -o "$TMP/o/x.json" --quiet
+contains "$TMP/err" "sample type 'uint7' is not uint8"
+expect 2 "$BIN" vol2spline "$TMP/o/x_0x64x64_uint8.raw" -o "$TMP/o/x.json" --quiet
+contains "$TMP/err" "dims '0x64x64' are not three positive sizes"
+expect 2 "$BIN" vol2spline "$TMP/o/plain.raw" -o "$TMP/o/x.json" --quiet
+contains "$TMP/err" "needs its dims and type (--dims X,Y,Z and --type T)"
+printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n\033[31mred\n' > "$TMP/o/esc.off"
+expect 2 "$BIN" info "$TMP/o/esc.off"
+if grep -q "$(printf '\033')" "$TMP/err"; then bad "an escape byte reached the terminal: $(cat -v "$TMP/err")"; else ok; fi
+expect 2 "$BIN" mesh2spline "$DATA/meshes/sphere.off" -o "$TMP/o/x.json" --max-rms -1 --quiet
+contains "$TMP/err" "--max-rms must be a positive number"
+# ROIs: refused when they cover the image many times over; without --roi a centred circle.
+expect 2 "$BIN" lens "$SRC/samples/images/text.png" -o "$TMP/o/r.png" --roi circle:100,100,1e9 --quiet
+contains "$TMP/err" "times the"
+expect 0 "$BIN" lens "$SRC/samples/images/text.png" -o "$TMP/o/r.png" --grid 40 --stats-json "$TMP/o/r.json" --quiet
+contains "$TMP/o/r.json" "\"magnification_center\""
+# Progress to a file or pipe: plain lines, no carriage-return frames.
+expect 0 "$BIN" mesh2spline "$DATA/meshes/bimba.off" -o "$TMP/o/p.json" --max-levels 1
+if grep -q "$(printf '\r')" "$TMP/err"; then bad "progress wrote \\r frames to a non-terminal"; else ok; fi
+contains "$TMP/err" " %  ("

@@ -102,10 +102,10 @@ TEST_CASE("truncated, corrupt, oversize and unknown images get messages of their
   CHECK(image_error(jpeg.substr(0, 40)).find("truncated JPEG") != std::string::npos);
   CHECK(image_error(jpeg.substr(0, 2)) == "'x.img': truncated JPEG (no image data: the file ends before the first scan)");
   CHECK(image_error(png_header(20000, 20000)) ==
-        "'x.img': PNG of 20000 x 20000 pixels is above the limit max_pixels = 67108864");
+        "'x.img': PNG of 20000 x 20000 pixels is above the limit `max_pixels` = 67108864");
   io::ImageLimits small;
   small.max_pixels = 100;
-  CHECK(image_error(jpeg, small) == "'x.img': JPEG of 16 x 8 pixels is above the limit max_pixels = 100");
+  CHECK(image_error(jpeg, small) == "'x.img': JPEG of 16 x 8 pixels is above the limit `max_pixels` = 100");
   CHECK(image_error(png_header(20000, 20000).substr(0, 20)) == "'x.img': truncated PNG (the file ends inside its IHDR header)");
   CHECK(image_error(png_header(4, 4)).find("cannot decode the PNG data") != std::string::npos);
   CHECK(image_error("GIF89a......") == "'x.img': not a PNG or JPEG image (no PNG signature or JPEG start marker)");

@@ -118,5 +118,64 @@ TEST_CASE("mesh2spline refuses bad input with a clear message") {
   pipeline::Mesh2SplineOptions options;
   options.max_rms_rel = -1.0;
   CHECK_THROWS_WITH_AS(pipeline::run_mesh2spline(test::subdivided_cube(1), "c", options),
-                       doctest::Contains("--max-rms"), Error);
+                       doctest::Contains("`max_rms_rel`"), Error);
+}
+
+TEST_CASE("mesh2spline does not depend on where the mesh sits or its units") {
+  // The same mesh translated by ±1e6, scaled by 1e-6, 1e6 and 1e300: the job runs on the
+  // unit-box copy, so the counts are equal and the relative measures agree to 1e-9. The base
+  // coordinates lie on a 2^-30 grid, so the translated files hold the same mesh exactly (off the
+  // grid, adding 1e6 rounds them by 1e-10 of the model's size: a different input, and the
+  // refinement's marking may then differ by a few cells).
+  pipeline::Mesh2SplineOptions options;
+  options.max_levels = 2;
+  options.measure_samples = 16;
+  mesh::TriangleMesh base = test::cube_sphere(8);
+  base.positions = (base.positions.array() * 0x1p30).round().matrix() * 0x1p-30;
+  const auto reference = pipeline::run_mesh2spline(base, "sphere", options);
+  struct Variant {
+    double scale;
+    double shift;
+  };
+  for (const Variant v : {Variant{1.0, 1e6}, Variant{1e-6, 0.0}, Variant{1e6, 0.0}, Variant{1e300, 0.0},
+                          Variant{1.0, -1e6}}) {
+    CAPTURE(v.scale);
+    CAPTURE(v.shift);
+    mesh::TriangleMesh moved = base;
+    moved.positions = (base.positions.array() * v.scale + v.shift).matrix();
+    const auto result = pipeline::run_mesh2spline(moved, "moved sphere", options);
+    CHECK(result.stats.control_points == reference.stats.control_points);
+    CHECK(result.stats.levels == reference.stats.levels);
+    CHECK(result.stats.rms_rel == doctest::Approx(reference.stats.rms_rel).epsilon(1e-9));
+    CHECK(result.stats.hausdorff_rel == doctest::Approx(reference.stats.hausdorff_rel).epsilon(1e-9));
+    CHECK(result.stats.negative_jacobian_fraction == reference.stats.negative_jacobian_fraction);
+    // The spline is mapped back to the mesh's own coordinates.
+    const Eigen::VectorXd centre = result.spline.evaluate(Eigen::Vector3d(0.5, 0.5, 0.5));
+    const Eigen::VectorXd expected =
+        (reference.spline.evaluate(Eigen::Vector3d(0.5, 0.5, 0.5)).array() * v.scale + v.shift).matrix();
+    CHECK((centre - expected).cwiseAbs().maxCoeff() <= 1e-9 * v.scale);
+  }
+}
+
+TEST_CASE("mesh2spline refuses coordinates it cannot normalize") {
+  mesh::TriangleMesh wide = test::cube_sphere(4);
+  wide.positions.col(0) *= 1.5e308;  // spans 3e308: beyond the doubles
+  CHECK(error_of(wide).find("span more than the range of doubles") != std::string::npos);
+  mesh::TriangleMesh far = test::cube_sphere(4);
+  far.positions.array() += 1e14;  // a unit ball 1e14 from the origin keeps 2 digits of its shape
+  CHECK(error_of(far).find("too few digits") != std::string::npos);
+}
+
+TEST_CASE("mesh2spline's untangling reports its passes and honours cancellation") {
+  pipeline::Mesh2SplineOptions options;
+  options.max_levels = 1;
+  options.measure_samples = 8;
+  std::vector<std::string> stages;
+  const Progress stop_in_untangling([&stages](const std::string& stage, double) {
+    stages.push_back(stage);
+    return stage.rfind("untangle pass", 0) != 0;  // continue until the untangler's first pass
+  });
+  CHECK_THROWS_AS(pipeline::run_mesh2spline(test::cube_sphere(6), "sphere", options, stop_in_untangling), Cancelled);
+  REQUIRE(!stages.empty());
+  CHECK(stages.back() == "untangle pass 1");
 }
