@@ -158,7 +158,8 @@ special = [('dev-zero', ['info', '/dev/zero']), ('dev-zero-img', ['lens', '/dev/
            ('dir-in', ['info', '.']), ('fifo', ['info', 'fifo.off']), ('fifo-vol', ['vol2spline', 'f_4x4x4_uint8.raw', '-o', 'out/f.json']),
            ('out-is-in', ['mesh2spline', 'in.off', '-o', 'in.off', '--quiet']),
            ('out-dir', ['mesh2spline', 'in.off', '-o', 'out', '--quiet']),
-           ('out-full', ['mesh2spline', 'in.off', '-o', 'out/a.json', '--stats-json', '/dev/full', '--quiet']),
+           ('out-full', ['mesh2spline', 'in.off', '-o', 'out/a.json', '--stats-json', 'full', '--quiet']),
+           ('out-null', ['mesh2spline', 'in.off', '-o', 'null', '--quiet']),
            ('out-same', ['mesh2spline', 'in.off', '-o', 'out/a.json', '--vtk', 'out/./a.json', '--quiet']),
            ('out-missing-dir', ['mesh2spline', 'in.off', '-o', 'out/a.json', '--glb', 'nope/x.glb', '--quiet']),
            ('out-symlink-tmp', ['mesh2spline', 'in.off', '-o', 'out/b.json', '--max-levels', '0', '--quiet']),
@@ -180,6 +181,10 @@ for n, (name, filename, data, template) in enumerate(cases):
     open(os.path.join(run, 'in.off'), 'wb').write(cube_off)
     open(os.path.join(run, 'in.png'), 'wb').write(png)
     os.mkfifo(os.path.join(run, 'fifo.off')); os.mkfifo(os.path.join(run, 'f_4x4x4_uint8.raw'))
+    # Private device nodes for the device-output cases (never the system's /dev/null, /dev/full).
+    if os.geteuid() == 0:
+        os.mknod(os.path.join(run, 'null'), 0o666 | 0o020000, os.makedev(1, 3))
+        os.mknod(os.path.join(run, 'full'), 0o666 | 0o020000, os.makedev(1, 7))
     os.symlink(os.path.join(run, 'in.off'), os.path.join(run, 'out', 'b.json.tmp-volspline'))
     before = set()
     for root, dirs, files in os.walk(run):
@@ -209,6 +214,10 @@ for n, (name, filename, data, template) in enumerate(cases):
         for x in files + dirs: after.add(os.path.relpath(os.path.join(root, x), run))
     stray = [x for x in after - before if os.path.normpath(x) not in {os.path.normpath(o) for o in outputs}]
     if stray: failures.append('STRAY %s %s wrote %s' % (name, ' '.join(argv), stray))
+    for dev in ('null', 'full'):
+        node = os.path.join(run, dev)
+        if os.geteuid() == 0 and (not os.path.lexists(node) or os.path.isfile(node)):
+            failures.append('DEVICE %s: the device node %s was replaced or removed' % (name, dev))
     if not os.path.exists(os.path.join(run, 'in.off')) or read(os.path.join(run, 'in.off')) != cube_off:
         failures.append('CLOBBER %s: the input changed' % name)
     if os.path.islink(os.path.join(run, 'out', 'b.json.tmp-volspline')) and read(os.path.join(run, 'in.off')) != cube_off:
