@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include <cstdio>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/corners_file.h"
+#include "cli/output_files.h"
 #include "cli/progress_bar.h"
 #include "core/io/file_bytes.h"
 #include "core/io/gpc_json.h"
@@ -14,30 +15,6 @@
 #include "core/pipeline/gpc_job.h"
 
 namespace volspline::cli {
-
-namespace {
-
-std::vector<int> read_corner_ids(const std::string& path) {
-  std::istringstream in(io::read_file_bytes(path));
-  std::vector<int> ids;
-  std::string token;
-  while (in >> token) {
-    std::size_t used = 0;
-    int id = -1;
-    try {
-      id = std::stoi(token, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != token.size() || id < 0) throw Error("corners file '" + path + "': '" + token + "' is not a vertex id");
-    ids.push_back(id);
-  }
-  if (ids.size() != 8)
-    throw Error("corners file '" + path + "': expected 8 vertex ids, found " + std::to_string(ids.size()));
-  return ids;
-}
-
-}  // namespace
 
 int run_gpc(const std::vector<std::string>& argv) {
   std::vector<OptionSpec> specs = {
@@ -72,19 +49,25 @@ int run_gpc(const std::vector<std::string>& argv) {
   options.threads = args.get_int("threads", options.threads);
   options.grid.target_nodes = args.get_int("grid-nodes", options.grid.target_nodes);
   if (args.has("no-untangle")) options.grid.untangle = param::GpcGridOptions::Untangle::Off;
+  const std::string& path = args.positional[0];
+  OutputFiles files;
+  files.input(path);
+  if (args.has("corners")) files.input(args.get("corners"));
+  files.output("-o", output);
+  for (const char* flag : {"vtk", "glb", "stats-json"})
+    if (args.has(flag)) files.output(std::string("--") + flag, args.get(flag));
   if (args.has("corners")) options.corners = read_corner_ids(args.get("corners"));
 
-  const std::string& path = args.positional[0];
   const mesh::TriangleMesh input = io::read_mesh(path);
   ProgressBar bar(!args.has("quiet"));
   const pipeline::GpcResult result = pipeline::run_gpc(input, path, options, bar.progress());
   bar.finish();
 
-  io::write_gpc_domain(output, result.construction.domain);
+  files.stage(output, io::serialize_gpc_domain(result.construction.domain));
   if (args.has("vtk")) {
     std::vector<io::HexGridView> grids;
     for (const param::GpcCuboidGrid& g : result.map.grids) grids.push_back({g.nodes, &g.xyz});
-    io::write_hex_grids_vtu(args.get("vtk"), grids);
+    files.stage(args.get("vtk"), io::serialize_hex_grids_vtu(grids));
   }
   if (args.has("glb")) {
     std::vector<std::vector<Eigen::Vector3d>> lines;
@@ -97,7 +80,7 @@ int run_gpc(const std::vector<std::string>& argv) {
       }
       for (int c : s.layout.corners) corners.push_back(s.mesh.positions.row(c).transpose());
     }
-    io::write_segmented_glb(args.get("glb"), result.surface, result.face_cuboid, lines, corners);
+    files.stage(args.get("glb"), io::serialize_segmented_glb(result.surface, result.face_cuboid, lines, corners));
   }
   const pipeline::GpcStats& s = result.stats;
   if (args.has("stats-json")) {
@@ -124,8 +107,9 @@ int run_gpc(const std::vector<std::string>& argv) {
     nlohmann::ordered_json times;
     for (const auto& [stage, seconds] : s.times_s) times[stage] = seconds;
     j["times_s"] = times;
-    io::write_file_atomic(args.get("stats-json"), j.dump(2) + "\n");
+    files.stage(args.get("stats-json"), j.dump(2) + "\n");
   }
+  files.commit();
   if (!args.has("quiet"))
     std::fprintf(stderr,
                  "gpc: genus %d, %d T-shapes, %d tubes, %d caps -> %d cuboids, %d ill-points; %d inverted hexes, "

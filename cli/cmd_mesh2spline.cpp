@@ -6,6 +6,7 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/corners_file.h"
 #include "cli/output_files.h"
 #include "cli/progress_bar.h"
 #include "core/io/bezier_vtu_writer.h"
@@ -17,31 +18,6 @@
 #include "core/pipeline/mesh2spline_job.h"
 
 namespace volspline::cli {
-
-namespace {
-
-std::vector<int> read_corners(const std::string& path) {
-  std::istringstream in(io::read_file_bytes(path));
-  std::vector<int> ids;
-  std::string token;
-  while (in >> token) {
-    std::size_t used = 0;
-    int id = -1;
-    try {
-      id = std::stoi(token, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != token.size() || id < 0)
-      throw Error("corners file '" + path + "': '" + token + "' is not a vertex id");
-    ids.push_back(id);
-  }
-  if (ids.size() != 8)
-    throw Error("corners file '" + path + "': expected 8 vertex ids, found " + std::to_string(ids.size()));
-  return ids;
-}
-
-}  // namespace
 
 int run_mesh2spline(const std::vector<std::string>& argv) {
   std::vector<OptionSpec> specs = {
@@ -113,7 +89,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
   files.output("-o", output);
   for (const char* flag : {"vtk", "glb", "stats-json"})
     if (args.has(flag)) files.output(std::string("--") + flag, args.get(flag));
-  if (args.has("corners")) options.corners = read_corners(args.get("corners"));
+  if (args.has("corners")) options.corners = read_corner_ids(args.get("corners"));
 
   const int vtk_linear = args.has("vtk-linear") ? args.get_int("vtk-linear", 24) : 0;
   if (args.has("vtk-linear") && (vtk_linear < 1 || vtk_linear > 512))

@@ -123,6 +123,27 @@ ImageHeader read_image_header(const std::string& bytes, const std::string& name)
   throw Error("'" + name + "': not a PNG or JPEG image (no PNG signature or JPEG start marker)");
 }
 
+// The PNG without its empty IDAT chunks. stb_image 2.27 copies every IDAT chunk into a buffer it
+// has not allocated yet when the chunk is empty (memcpy from null, undefined behaviour); an empty
+// IDAT adds no data (PNG §11.2.4), so dropping it changes nothing. A truncated chunk list is left
+// for stb to report.
+std::string without_empty_idat(const std::string& bytes) {
+  std::string out;
+  std::size_t at = 8, copied = 0;
+  while (at + 12 <= bytes.size()) {
+    const std::uint32_t length = big_endian32(bytes, at);
+    if (length > bytes.size() - at - 12) break;
+    if (length == 0 && bytes.compare(at + 4, 4, "IDAT") == 0) {
+      out.append(bytes, copied, at - copied);
+      copied = at + 12;
+    }
+    at += 12 + static_cast<std::size_t>(length);
+  }
+  if (copied == 0) return bytes;
+  out.append(bytes, copied, std::string::npos);
+  return out;
+}
+
 }  // namespace
 
 Image decode_image(const std::string& bytes, const std::string& name, const ImageLimits& limits) {
@@ -137,12 +158,14 @@ Image decode_image(const std::string& bytes, const std::string& name, const Imag
                 std::to_string(limits.max_pixels));
   const char* kind = header.png ? "PNG" : "JPEG";
   int width = 0, height = 0, channels_in_file = 0;
-  const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
-  if (!stbi_info_from_memory(data, static_cast<int>(bytes.size()), &width, &height, &channels_in_file))
+  const std::string cleaned = header.png ? without_empty_idat(bytes) : std::string();
+  const std::string& input = header.png ? cleaned : bytes;
+  const auto* data = reinterpret_cast<const stbi_uc*>(input.data());
+  if (!stbi_info_from_memory(data, static_cast<int>(input.size()), &width, &height, &channels_in_file))
     throw Error("'" + name + "': cannot read the " + kind + " header (" + failure_reason() + ")");
   // Grey+alpha has no 8-bit interchange layout of its own here, so it is widened to RGBA.
   const int channels = channels_in_file == 2 ? 4 : channels_in_file;
-  stbi_uc* pixels = stbi_load_from_memory(data, static_cast<int>(bytes.size()), &width, &height,
+  stbi_uc* pixels = stbi_load_from_memory(data, static_cast<int>(input.size()), &width, &height,
                                           &channels_in_file, channels);
   if (!pixels) throw Error("'" + name + "': cannot decode the " + kind + " data (" + failure_reason() + ")");
   Image image;

@@ -165,11 +165,11 @@ DiscEmbedding check_interface_discs(const mesh::TriangleMesh& surface, const std
       for (int a = 0; a < 3; ++a) {
         const double tmin = std::min({t[0](a), t[1](a), t[2](a)}), tmax = std::max({t[0](a), t[1](a), t[2](a)});
         const double scale = res[a] / std::max(hi(a) - lo(a), 1e-300);
-        c0[a] = static_cast<int>(std::floor((tmin - lo(a)) * scale));
-        c1[a] = static_cast<int>(std::floor((tmax - lo(a)) * scale));
-        if (c1[a] < 0 || c0[a] >= res[a]) return false;
-        c0[a] = std::max(c0[a], 0);
-        c1[a] = std::min(c1[a], res[a] - 1);
+        // Clamped in double first: a flat axis (hi = lo) scales by up to 1e300.
+        const double f0 = std::floor((tmin - lo(a)) * scale), f1 = std::floor((tmax - lo(a)) * scale);
+        if (f1 < 0.0 || f0 >= res[a]) return false;
+        c0[a] = static_cast<int>(std::max(f0, 0.0));
+        c1[a] = static_cast<int>(std::min(f1, static_cast<double>(res[a] - 1)));
       }
       return true;
     };

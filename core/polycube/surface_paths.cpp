@@ -15,8 +15,8 @@ int edge_between(const mesh::HalfedgeMesh& mesh, int a, int b) {
   return -1;
 }
 
-std::vector<int> restricted_path(const mesh::HalfedgeMesh& mesh, const std::vector<double>& length,
-                                 int source, int target, const std::vector<char>& blocked,
+std::vector<int> path_to_nearest(const mesh::HalfedgeMesh& mesh, const std::vector<double>& length, int source,
+                                 const std::vector<char>& is_target, const std::vector<char>& blocked,
                                  const std::function<bool(int)>& edge_ok) {
   const int n = mesh.num_vertices();
   std::vector<double> distance(n, std::numeric_limits<double>::infinity());
@@ -26,15 +26,19 @@ std::vector<int> restricted_path(const mesh::HalfedgeMesh& mesh, const std::vect
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
   distance[source] = 0.0;
   queue.push({0.0, source});
+  int reached = -1;
   while (!queue.empty()) {
     const auto [d, u] = queue.top();
     queue.pop();
     if (settled[u]) continue;
     settled[u] = 1;
-    if (u == target) break;
+    if (u != source && is_target[u]) {
+      reached = u;
+      break;
+    }
     for (int h : mesh.vertex_outgoing(u)) {
       const int v = mesh.halfedge_vertex(h);
-      if (settled[v] || (blocked[v] && v != target)) continue;
+      if (settled[v] || (blocked[v] && !is_target[v])) continue;
       if (edge_ok && !edge_ok(h)) continue;
       const double candidate = d + length[mesh.halfedge_edge(h)];
       if (candidate < distance[v]) {
@@ -45,10 +49,18 @@ std::vector<int> restricted_path(const mesh::HalfedgeMesh& mesh, const std::vect
     }
   }
   std::vector<int> path;
-  if (!settled[target]) return path;
-  for (int v = target; v != -1; v = predecessor[v]) path.push_back(v);
+  if (reached < 0) return path;
+  for (int v = reached; v != -1; v = predecessor[v]) path.push_back(v);
   std::reverse(path.begin(), path.end());
   return path;
+}
+
+std::vector<int> restricted_path(const mesh::HalfedgeMesh& mesh, const std::vector<double>& length,
+                                 int source, int target, const std::vector<char>& blocked,
+                                 const std::function<bool(int)>& edge_ok) {
+  std::vector<char> is_target(mesh.num_vertices(), 0);
+  is_target[target] = 1;
+  return path_to_nearest(mesh, length, source, is_target, blocked, edge_ok);
 }
 
 int face_components(const mesh::HalfedgeMesh& mesh, const std::vector<char>& cut_edge,

@@ -18,6 +18,13 @@ std::vector<int> restricted_path(const mesh::HalfedgeMesh& mesh, const std::vect
                                  int source, int target, const std::vector<char>& blocked,
                                  const std::function<bool(int)>& edge_ok);
 
+/// Dijkstra from source to the nearest vertex with is_target set (the source itself does not
+/// count), entering only unblocked or target vertices through halfedges accepted by edge_ok
+/// (null: all). Same order and ties as restricted_path. Empty if no target is reached.
+std::vector<int> path_to_nearest(const mesh::HalfedgeMesh& mesh, const std::vector<double>& length, int source,
+                                 const std::vector<char>& is_target, const std::vector<char>& blocked,
+                                 const std::function<bool(int)>& edge_ok);
+
 /// Face components separated by the flagged edges (per edge); returns the component count.
 int face_components(const mesh::HalfedgeMesh& mesh, const std::vector<char>& cut_edge,
                     std::vector<int>& component);

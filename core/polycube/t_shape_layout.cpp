@@ -14,48 +14,6 @@ namespace volspline::polycube {
 
 namespace {
 
-// Dijkstra from source to the nearest vertex with is_target set, through unblocked vertices and
-// halfedges accepted by edge_ok. Empty if none.
-std::vector<int> path_to_nearest(const mesh::HalfedgeMesh& mesh, const std::vector<double>& length, int source,
-                                 const std::vector<char>& is_target, const std::vector<char>& blocked,
-                                 const std::function<bool(int)>& edge_ok) {
-  const int n = mesh.num_vertices();
-  std::vector<double> distance(n, std::numeric_limits<double>::infinity());
-  std::vector<int> predecessor(n, -1);
-  std::vector<char> settled(n, 0);
-  using Entry = std::pair<double, int>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
-  distance[source] = 0.0;
-  queue.push({0.0, source});
-  int reached = -1;
-  while (!queue.empty()) {
-    const auto [d, u] = queue.top();
-    queue.pop();
-    if (settled[u]) continue;
-    settled[u] = 1;
-    if (u != source && is_target[u]) {
-      reached = u;
-      break;
-    }
-    for (int h : mesh.vertex_outgoing(u)) {
-      const int v = mesh.halfedge_vertex(h);
-      if (settled[v] || (blocked[v] && !is_target[v])) continue;
-      if (edge_ok && !edge_ok(h)) continue;
-      const double candidate = d + length[mesh.halfedge_edge(h)];
-      if (candidate < distance[v]) {
-        distance[v] = candidate;
-        predecessor[v] = u;
-        queue.push({candidate, v});
-      }
-    }
-  }
-  std::vector<int> path;
-  if (reached < 0) return path;
-  for (int v = reached; v != -1; v = predecessor[v]) path.push_back(v);
-  std::reverse(path.begin(), path.end());
-  return path;
-}
-
 // Edge lengths that make paths keep off the vertices next to the used ones (×4 for an edge that
 // touches such a vertex), so that cut paths leave room between them for the later paths.
 std::vector<double> repelled(const mesh::HalfedgeMesh& mesh, const std::vector<double>& length,

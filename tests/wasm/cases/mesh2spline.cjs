@@ -101,7 +101,7 @@ module.exports = function (vs, { check, sourceDir, fs, path }) {
   bad([sample('sphere.off'), 'sphere.off', { min_scaled_jacobian: -0.1 }, null], /min_scaled_jacobian/, 'min_scaled_jacobian -0.1');
   bad([sample('sphere.off'), 'sphere.off', { threads: 0 }, null], /threads/, 'threads 0');
   bad([sample('sphere.off'), 'sphere.off', { compare_uniform: 'yes' }, null], /compare_uniform/, 'compare_uniform not a boolean');
-  bad([sample('sphere.off'), 'sphere.off', { max_control_points: 10 }, null], /max-control-points|control points/, 'max_control_points 10');
+  bad([sample('sphere.off'), 'sphere.off', { max_control_points: 10 }, null], /max_control_points|max-control-points|control points/, 'max_control_points 10');
   bad([sample('sphere.off'), 'sphere.off', { max_rms_rel: -1 }, null], /max-rms|rms/, 'max_rms_rel -1');
   check(r.ok && r.stats.uniform_control_points === null && r.stats.repaired_control_points === 0 &&
         r.stats.negative_jacobian_fraction_fit === r.stats.negative_jacobian_fraction,
