@@ -123,21 +123,26 @@ ImageHeader read_image_header(const std::string& bytes, const std::string& name)
   throw Error("'" + name + "': not a PNG or JPEG image (no PNG signature or JPEG start marker)");
 }
 
-// The PNG without its empty IDAT chunks. stb_image 2.27 copies every IDAT chunk into a buffer it
-// has not allocated yet when the chunk is empty (memcpy from null, undefined behaviour); an empty
-// IDAT adds no data (PNG §11.2.4), so dropping it changes nothing. A truncated chunk list is left
-// for stb to report.
-std::string without_empty_idat(const std::string& bytes) {
+// The PNG checked chunk by chunk and without its empty IDAT chunks. stb_image 2.27 grows its
+// data buffer to a chunk's declared length before it checks that the file holds those bytes
+// (gigabytes for a 100-byte file), and copies an empty IDAT from a buffer it has not allocated
+// yet (memcpy from null). So a chunk that runs past the end of the file is refused here, and an
+// empty IDAT, which adds no data (PNG §11.2.4), is dropped. The walk ends at IEND.
+std::string checked_png(const std::string& bytes, const std::string& name) {
   std::string out;
   std::size_t at = 8, copied = 0;
   while (at + 12 <= bytes.size()) {
     const std::uint32_t length = big_endian32(bytes, at);
-    if (length > bytes.size() - at - 12) break;
+    if (length > bytes.size() - at - 12)
+      throw Error("'" + name + "': truncated PNG (a chunk of " + std::to_string(length) +
+                  " bytes runs past the end of the file)");
     if (length == 0 && bytes.compare(at + 4, 4, "IDAT") == 0) {
       out.append(bytes, copied, at - copied);
       copied = at + 12;
     }
+    const bool end = bytes.compare(at + 4, 4, "IEND") == 0;
     at += 12 + static_cast<std::size_t>(length);
+    if (end) break;
   }
   if (copied == 0) return bytes;
   out.append(bytes, copied, std::string::npos);
@@ -158,7 +163,7 @@ Image decode_image(const std::string& bytes, const std::string& name, const Imag
                 std::to_string(limits.max_pixels));
   const char* kind = header.png ? "PNG" : "JPEG";
   int width = 0, height = 0, channels_in_file = 0;
-  const std::string cleaned = header.png ? without_empty_idat(bytes) : std::string();
+  const std::string cleaned = header.png ? checked_png(bytes, name) : std::string();
   const std::string& input = header.png ? cleaned : bytes;
   const auto* data = reinterpret_cast<const stbi_uc*>(input.data());
   if (!stbi_info_from_memory(data, static_cast<int>(input.size()), &width, &height, &channels_in_file))
