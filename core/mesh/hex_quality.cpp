@@ -26,4 +26,20 @@ double hex_min_scaled_jacobian(const std::array<Eigen::Vector3d, 8>& x) {
   return worst;
 }
 
+HexGridQuality hex_grid_quality(const std::array<int, 3>& n, const Positions& xyz) {
+  HexGridQuality out;
+  for (int k = 0; k + 1 < n[2]; ++k)
+    for (int j = 0; j + 1 < n[1]; ++j)
+      for (int i = 0; i + 1 < n[0]; ++i) {
+        std::array<Eigen::Vector3d, 8> corners;
+        for (int c = 0; c < 8; ++c)
+          corners[c] = xyz.row((i + (c & 1)) + n[0] * ((j + ((c >> 1) & 1)) + n[1] * (k + ((c >> 2) & 1)))).transpose();
+        const double q = hex_min_scaled_jacobian(corners);
+        ++out.num_hexes;
+        if (q <= 0.0) ++out.num_inverted;
+        out.min_scaled_jacobian = std::min(out.min_scaled_jacobian, q);
+      }
+  return out;
+}
+
 }  // namespace volspline::mesh

@@ -5,6 +5,8 @@
 
 #include <Eigen/Core>
 
+#include "core/mesh/triangle_mesh.h"
+
 namespace volspline::mesh {
 
 /// Scaled Jacobian det J / (|J_0| |J_1| |J_2|) of a 3×3 Jacobian with columns J_a = ∂x/∂u_a,
@@ -14,5 +16,13 @@ double scaled_jacobian(const Eigen::Matrix3d& jacobian);
 /// Smallest scaled Jacobian det[e1 e2 e3]/(|e1||e2||e3|) over the 8 corners of the hex with
 /// corners x[c], c = i + 2j + 4k (the trilinear hex of a grid cell); ≤ 0 means folded.
 double hex_min_scaled_jacobian(const std::array<Eigen::Vector3d, 8>& x);
+
+/// Hex counts of a structured grid: node (i, j, k) at row i + n0·(j + n1·k) of xyz.
+struct HexGridQuality {
+  int num_hexes = 0;
+  int num_inverted = 0;            ///< hexes with hex_min_scaled_jacobian ≤ 0
+  double min_scaled_jacobian = 1.0;
+};
+HexGridQuality hex_grid_quality(const std::array<int, 3>& nodes, const Positions& xyz);
 
 }  // namespace volspline::mesh

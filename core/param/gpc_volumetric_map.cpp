@@ -223,20 +223,10 @@ GpcVolumetricMap compute_gpc_volumetric_map(polycube::GpcConstruction& construct
 
   // Per-cuboid grids, hex checks, untangling with every shared or surface node held.
   auto check = [&](GpcCuboidGrid& grid) {
-    const auto& n = grid.nodes;
-    grid.num_hexes = grid.num_inverted_hexes = 0;
-    grid.min_scaled_jacobian = 1.0;
-    for (int k = 0; k + 1 < n[2]; ++k)
-      for (int j = 0; j + 1 < n[1]; ++j)
-        for (int i = 0; i + 1 < n[0]; ++i) {
-          std::array<Eigen::Vector3d, 8> corners;
-          for (int c = 0; c < 8; ++c)
-            corners[c] = grid.xyz.row(grid_node_index(n, i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1))).transpose();
-          const double q = mesh::hex_min_scaled_jacobian(corners);
-          ++grid.num_hexes;
-          if (q <= 0.0) ++grid.num_inverted_hexes;
-          grid.min_scaled_jacobian = std::min(grid.min_scaled_jacobian, q);
-        }
+    const mesh::HexGridQuality q = mesh::hex_grid_quality(grid.nodes, grid.xyz);
+    grid.num_hexes = q.num_hexes;
+    grid.num_inverted_hexes = q.num_inverted;
+    grid.min_scaled_jacobian = q.min_scaled_jacobian;
   };
   out.grids.resize(nc);
   for (int c = 0; c < nc; ++c) {
