@@ -50,12 +50,14 @@ int big_endian16(const std::string& bytes, std::size_t at) {
 // The Huffman tables of one DHT segment (ITU T.81 §B.2.4.2): a class/id byte, 16 counts and as
 // many symbols as the counts sum to, at most 256 per table (stb 2.27 writes past its tables
 // otherwise). The walk is the one stb makes over the segment.
-void check_dht(const std::string& bytes, std::size_t begin, std::size_t end, const std::string& name) {
+// `defined` gets bit 4·class + id of every table.
+void check_dht(const std::string& bytes, std::size_t begin, std::size_t end, const std::string& name, int& defined) {
   std::size_t at = begin;
   while (at < end) {
     if (end - at < 17) throw Error("'" + name + "': corrupt JPEG: a Huffman table (DHT) is cut short");
     const int id = std::uint8_t(bytes[at]);
     if ((id >> 4) > 1 || (id & 15) > 3) throw Error("'" + name + "': corrupt JPEG: bad Huffman table (DHT) id");
+    defined |= 1 << (4 * (id >> 4) + (id & 15));
     std::size_t symbols = 0;
     for (int i = 1; i <= 16; ++i) symbols += std::uint8_t(bytes[at + std::size_t(i)]);
     if (symbols > 256)
@@ -66,10 +68,32 @@ void check_dht(const std::string& bytes, std::size_t begin, std::size_t end, con
   }
 }
 
+// A scan header (ITU T.81 §B.2.3): every Huffman table the scan decodes with is defined (stb
+// 2.27 decodes with an undefined table's uninitialized memory). A progressive scan decodes
+// with its DC tables when it starts at coefficient 0 (first pass only), else its AC tables.
+void check_sos(const std::string& bytes, std::size_t begin, std::size_t end, const std::string& name, bool progressive,
+               int defined) {
+  if (end - begin < 1) throw Error("'" + name + "': corrupt JPEG: empty scan header (SOS)");
+  const std::size_t components = std::uint8_t(bytes[begin]);
+  if (components < 1 || components > 4 || end - begin != 1 + 2 * components + 3)
+    throw Error("'" + name + "': corrupt JPEG: bad scan header (SOS) length");
+  const int start = std::uint8_t(bytes[begin + 1 + 2 * components]);
+  const int high = std::uint8_t(bytes[begin + 3 + 2 * components]) >> 4;
+  const bool uses_dc = !progressive || (start == 0 && high == 0), uses_ac = !progressive || start > 0;
+  for (std::size_t c = 0; c < components; ++c) {
+    const int tables = std::uint8_t(bytes[begin + 2 + 2 * c]);
+    const int dc = tables >> 4, ac = tables & 15;
+    if ((uses_dc && (dc > 3 || !(defined >> dc & 1))) || (uses_ac && (ac > 3 || !(defined >> (4 + ac) & 1))))
+      throw Error("'" + name + "': corrupt JPEG: a scan uses a Huffman table that no DHT segment defines");
+  }
+}
+
 // JPEG markers (ITU T.81 §B.1.1): walks every segment, and the entropy-coded data after each
 // scan to the next marker, so DHT segments between progressive scans are checked too.
 ImageHeader read_jpeg_header(const std::string& bytes, const std::string& name) {
   ImageHeader header;
+  int defined_tables = 0;
+  bool progressive = false;
   std::size_t at = 2;
   bool has_scan = false;
   while (true) {
@@ -90,7 +114,9 @@ ImageHeader read_jpeg_header(const std::string& bytes, const std::string& name) 
       throw Error("'" + name + "': truncated JPEG (a marker segment runs " + std::to_string(length - (bytes.size() - at)) +
                   " bytes past the end of the file)");
     const std::size_t begin = at + 2, end = at + length;
-    if (marker == 0xC4) check_dht(bytes, begin, end, name);
+    if (marker == 0xC4) check_dht(bytes, begin, end, name, defined_tables);
+    if (marker == 0xC2) progressive = true;
+    if (marker == 0xDA) check_sos(bytes, begin, end, name, progressive, defined_tables);
     const bool frame = marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC;
     if (frame && end - begin >= 5 && header.width == 0) {
       header.height = big_endian16(bytes, begin + 1);

@@ -96,8 +96,11 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
         polycube::check_interface_discs(decomposition.mesh, result.construction.discs, loop_ids);
     stats.cut_disc_intersections = embedding.num_intersections;
     stats.cut_discs_outside = embedding.num_outside;
-    if (embedding.num_outside > 0)
-      throw polycube::DecompositionError("meridian check: " + embedding.first_problem);
+    for (std::size_t k = 0; k < embedding.winding.size(); ++k)
+      if (embedding.winding[k] < 0.5)
+        throw polycube::DecompositionError("meridian check: the interface disc of cut " + std::to_string(k) +
+                                           " lies outside the solid (winding number " +
+                                           std::to_string(embedding.winding[k]) + " at its centre)");
   }
   stats.times_s["t_to_cube"] = seconds_since(t0);
 

@@ -242,10 +242,9 @@ CuboidSurface assemble_cuboid(const PieceMesh& pm, const TShapeCuboid& c, const 
   return s;
 }
 
-void build_t_shape(const SolidPiece& sp, const PieceMesh& pm, int piece,
+void build_t_shape(SolidDecomposition& d, const SolidPiece& sp, PieceMesh& pm, int piece,
                    GpcConstruction& out, std::vector<std::array<FaceOnLoop, 2>>& on_loop, std::vector<Glue>& glues) {
   const std::string part = "piece " + std::to_string(piece) + " (T-shape)";
-  const mesh::HalfedgeMesh open = mesh::HalfedgeMesh::build(pm.mesh, "gpc " + part);
   std::array<std::vector<int>, 3> loops;
   std::array<bool, 3> forward;
   std::array<std::array<int, 4>, 3> corners;
@@ -254,10 +253,46 @@ void build_t_shape(const SolidPiece& sp, const PieceMesh& pm, int piece,
     forward[k] = sp.boundary[k].side == 0;
     corners[k] = out.loop_corners[sp.boundary[k].loop];
   }
+  const int n0 = pm.mesh.num_vertices(), m0 = pm.mesh.num_faces();
+  std::vector<int> origin(m0);
+  std::iota(origin.begin(), origin.end(), 0);
+  std::vector<double> value(n0);
+  for (int v = 0; v < n0; ++v) value[v] = d.value[pm.surface_vertex[v]];
   TShapeLayout t;
   std::string why;
-  if (!lay_out_t_shape(open, loops, forward, corners, t, &why))
+  if (!lay_out_t_shape(pm.mesh, origin, value, loops, forward, corners, t, &why))
     throw DecompositionError("T-to-cube: " + part + ": " + why);
+  // The layout's cuts refine the decomposition mesh inside this piece: new vertices and the
+  // extra parts of split faces are appended; a split face keeps its id for its first part.
+  const int dn = d.mesh.num_vertices();
+  const int n1 = pm.mesh.num_vertices();
+  d.mesh.positions.conservativeResize(dn + (n1 - n0), 3);
+  for (int v = n0; v < n1; ++v) {
+    pm.surface_vertex.push_back(dn + (v - n0));
+    d.mesh.positions.row(dn + (v - n0)) = pm.mesh.positions.row(v);
+    d.value.push_back(value[v]);
+  }
+  std::vector<char> reused(m0, 0);
+  std::vector<int> surface_face(pm.mesh.num_faces());
+  std::vector<std::array<int, 3>> appended;
+  SolidPiece& dp = d.pieces[piece];
+  for (int f = 0; f < pm.mesh.num_faces(); ++f) {
+    const int o = origin[f];
+    int id = pm.surface_face[o];
+    if (reused[o]) {
+      id = d.mesh.num_faces() + static_cast<int>(appended.size());
+      appended.push_back({});
+      d.parent_face.push_back(d.parent_face[pm.surface_face[o]]);
+      dp.faces.push_back(id);
+    }
+    reused[o] = 1;
+    surface_face[f] = id;
+  }
+  const int dm = d.mesh.num_faces();
+  d.mesh.triangles.conservativeResize(dm + static_cast<int>(appended.size()), 3);
+  for (int f = 0; f < pm.mesh.num_faces(); ++f)
+    for (int k = 0; k < 3; ++k) d.mesh.triangles(surface_face[f], k) = pm.surface_vertex[pm.mesh.triangles(f, k)];
+  pm.surface_face = std::move(surface_face);
   const int first = static_cast<int>(out.domain.cuboids.size());
   for (int c = 0; c < 4; ++c) {
     // Assemble first: a piece mesh vertex id is not a sphere id.
@@ -285,7 +320,7 @@ void build_t_shape(const SolidPiece& sp, const PieceMesh& pm, int piece,
 
 }  // namespace
 
-GpcConstruction build_gpc(const SolidDecomposition& d, double bbox_diagonal, const std::vector<int>& solid_corners) {
+GpcConstruction build_gpc(SolidDecomposition& d, double bbox_diagonal, const std::vector<int>& solid_corners) {
   GpcConstruction out;
   const mesh::TriangleMesh& S = d.mesh;
   for (const CutLoop& loop : d.loops) {
@@ -322,9 +357,9 @@ GpcConstruction build_gpc(const SolidDecomposition& d, double bbox_diagonal, con
       out.domain.cuboids.push_back(cuboid);
       continue;
     }
-    const PieceMesh pm = extract_piece(d, sp);
+    PieceMesh pm = extract_piece(d, sp);
     if (sp.kind == PieceKind::TShape) {
-      build_t_shape(sp, pm, static_cast<int>(p), out, on_loop, glues);
+      build_t_shape(d, sp, pm, static_cast<int>(p), out, on_loop, glues);
       continue;
     }
     CuboidSurface base = close_piece(pm, sp, out.discs);

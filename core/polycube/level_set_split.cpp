@@ -9,7 +9,8 @@
 namespace volspline::polycube {
 
 LevelSetSplit split_at_level(const mesh::TriangleMesh& mesh, const std::vector<double>& value,
-                             const std::vector<int>& parent, double level, double snap) {
+                             const std::vector<int>& parent, double level, double snap,
+                             const std::vector<char>& frozen) {
   const int n = mesh.num_vertices();
   const int m = mesh.num_faces();
   assert(static_cast<int>(value.size()) == n);
@@ -33,6 +34,7 @@ LevelSetSplit split_at_level(const mesh::TriangleMesh& mesh, const std::vector<d
       const double span = std::abs(f[b] - f[a]);
       const int near = std::abs(f[a] - level) <= std::abs(f[b] - level) ? a : b;
       if (!(std::abs(f[near] - level) < snap * span)) continue;
+      if (!frozen.empty() && frozen[near]) continue;
       bool blocked = false;
       for (int u : neighbours[near]) blocked = blocked || on[u];
       if (blocked) continue;
@@ -51,6 +53,8 @@ LevelSetSplit split_at_level(const mesh::TriangleMesh& mesh, const std::vector<d
     const double t = (level - f[a]) / (f[b] - f[a]);
     positions.push_back(positions[a] + t * (positions[b] - positions[a]));
     f.push_back(level);
+    out.new_vertex_edge.push_back({a, b});
+    out.new_vertex_t.push_back(t);
     const int id = static_cast<int>(positions.size()) - 1;
     crossing.emplace(key, id);
     return id;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include "core/mesh/triangle_mesh.h"
@@ -12,6 +13,10 @@ struct LevelSetSplit {
   mesh::TriangleMesh mesh;        ///< the same surface, more triangles
   std::vector<double> value;      ///< per vertex; exactly `level` on the level set
   std::vector<int> parent_face;   ///< per face, the face of the input it lies in
+  /// Per vertex added (id num_vertices() of the input + k): the input edge (a, b) it lies on and
+  /// its parameter t there (position = (1 − t)·x_a + t·x_b), for other vertex data to follow.
+  std::vector<std::array<int, 2>> new_vertex_edge;
+  std::vector<double> new_vertex_t;
 };
 
 /// Inserts the level set {value = level} of a piecewise-linear vertex function into the mesh:
@@ -21,8 +26,11 @@ struct LevelSetSplit {
 /// value becomes `level`, its position stays), unless a neighbour already is on it, so no sliver
 /// thinner than `snap` of an edge appears and no triangle lies flat in the level set.
 /// Orientation and positions of the input are kept; `parent_face` composes with the input's.
+/// `frozen` (per vertex, or empty): vertices never snapped. The mesh may have a boundary (the
+/// snapping test then sees a boundary vertex's one-ring partly; freeze the boundary to be safe).
 /// Preconditions: value.size() == positions rows, parent.size() == faces (or empty), 0 ≤ snap < 0.5.
 LevelSetSplit split_at_level(const mesh::TriangleMesh& mesh, const std::vector<double>& value,
-                             const std::vector<int>& parent, double level, double snap = 0.05);
+                             const std::vector<int>& parent, double level, double snap = 0.05,
+                             const std::vector<char>& frozen = {});
 
 }  // namespace volspline::polycube

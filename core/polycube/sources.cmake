@@ -11,4 +11,5 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/solid_decomposition.cpp
   ${CMAKE_CURRENT_LIST_DIR}/surface_paths.cpp
   ${CMAKE_CURRENT_LIST_DIR}/t_shape_layout.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/disc_chords.cpp
 )

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "core/mesh/mesh_geometry.h"
+#include "core/polycube/disc_chords.h"
 #include "core/polycube/surface_paths.h"
 
 namespace volspline::polycube {
@@ -84,9 +85,10 @@ struct Seams {
 
 }  // namespace
 
-bool lay_out_t_shape(const mesh::HalfedgeMesh& pants, const std::array<std::vector<int>, 3>& loops,
-                     const std::array<bool, 3>& piece_forward, const std::array<std::array<int, 4>, 3>& corners,
-                     TShapeLayout& out, std::string* why) {
+bool lay_out_t_shape(mesh::TriangleMesh& pants_mesh, std::vector<int>& face_origin, std::vector<double>& vertex_value,
+                     const std::array<std::vector<int>, 3>& loops, const std::array<bool, 3>& piece_forward,
+                     const std::array<std::array<int, 4>, 3>& corners, TShapeLayout& out, std::string* why) {
+  const mesh::HalfedgeMesh pants = mesh::HalfedgeMesh::build(pants_mesh, "T-shape");
   const int n = pants.num_vertices();
   const std::vector<double> length = mesh::edge_lengths(pants);
   // Corners of each loop in the pants's halfedge direction along it.
@@ -189,13 +191,14 @@ bool lay_out_t_shape(const mesh::HalfedgeMesh& pants, const std::array<std::vect
     }
     return std::vector<int>{};
   };
-  auto midpoint = [&](const std::vector<int>& path) {
+  // Index of the interior vertex of a path nearest to a fraction of its arc length.
+  auto midpoint = [&](const std::vector<int>& path, double fraction) {
     std::vector<double> arc(path.size(), 0.0);
     for (std::size_t i = 1; i < path.size(); ++i)
       arc[i] = arc[i - 1] + (pants.vertex_position(path[i]) - pants.vertex_position(path[i - 1])).norm();
     std::size_t best_i = 1;
     for (std::size_t i = 1; i + 1 < path.size(); ++i)
-      if (std::abs(arc[i] - 0.5 * arc.back()) < std::abs(arc[best_i] - 0.5 * arc.back())) best_i = i;
+      if (std::abs(arc[i] - fraction * arc.back()) < std::abs(arc[best_i] - fraction * arc.back())) best_i = i;
     return static_cast<int>(best_i);
   };
 
@@ -214,73 +217,65 @@ bool lay_out_t_shape(const mesh::HalfedgeMesh& pants, const std::array<std::vect
       last_reason += std::string(last_reason.empty() ? "" : "; ") + "a seam borders no hexagon";
       continue;
     }
-    const int p02 = sF02[midpoint(sF02)], p12 = sF12[midpoint(sF12)];
-    const int p02b = sB02[midpoint(sB02)], p12b = sB12[midpoint(sB12)];
-    std::vector<char> blocked(n, 0);
-    for (int v = 0; v < n; ++v) blocked[v] = on_loop[v];
-    for (const auto& path : {sF01, sB01, sF02, sB02, sF12, sB12})
-      for (int v : path) blocked[v] = 1;
-    auto in_region = [&](int region) {
-      return [&, region](int h) {
-        const int f = pants.halfedge_face(h), g = pants.halfedge_face(pants.halfedge_twin(h));
-        return (f >= 0 && best.region[f] == region) || (g >= 0 && best.region[g] == region);
-      };
-    };
-    auto interior_target = [&](const std::vector<int>& seam) {
-      std::vector<char> t(n, 0);
-      for (std::size_t i = 1; i + 1 < seam.size(); ++i) t[seam[i]] = 1;
-      return t;
-    };
-    std::vector<double> cost = repelled(pants, length, blocked);
-    auto use = [&](const std::vector<int>& path) {
-      for (int v : path) blocked[v] = 1;
-      cost = repelled(pants, length, blocked);
-    };
-    auto single = [&](int v) {
-      std::vector<char> t(n, 0);
-      t[v] = 1;
-      return t;
-    };
-    // Centre's vertical edges in each hexagon: from the concave corners to the top seam.
-    std::vector<int> leftF = path_to_nearest(pants, cost, p02, interior_target(sF01), blocked, in_region(hf));
-    use(leftF);
-    std::vector<int> rightF = path_to_nearest(pants, cost, p12, interior_target(sF01), blocked, in_region(hf));
-    use(rightF);
-    std::vector<int> leftB = path_to_nearest(pants, cost, p02b, interior_target(sB01), blocked, in_region(hb));
-    use(leftB);
-    std::vector<int> rightB = path_to_nearest(pants, cost, p12b, interior_target(sB01), blocked, in_region(hb));
-    use(rightB);
-    if (leftF.empty() || rightF.empty() || leftB.empty() || rightB.empty()) {
-      last_reason += std::string(last_reason.empty() ? "" : "; ") + "no free path from a concave corner to the top seam";
-      continue;
+    const int p02 = sF02[midpoint(sF02, 0.5)], p12 = sF12[midpoint(sF12, 0.5)];
+    const int p02b = sB02[midpoint(sB02, 0.5)], p12b = sB12[midpoint(sB12, 0.5)];
+    // The centre's top corners at a third and two thirds of the top seams.
+    const int q01a = sF01[midpoint(sF01, 1.0 / 3.0)], q01b = sF01[midpoint(sF01, 2.0 / 3.0)];
+    const int r01a = sB01[midpoint(sB01, 1.0 / 3.0)], r01b = sB01[midpoint(sB01, 2.0 / 3.0)];
+    if (q01a == q01b || r01a == r01b) {
+      if (why) *why = "a top seam has too few vertices for the centre's two top corners";
+      return false;
     }
-    auto index_in = [](const std::vector<int>& path, int v) {
-      return static_cast<int>(std::find(path.begin(), path.end(), v) - path.begin());
+    // The centre's 10 inner edges: straight chords of the hexagons and rims (disc_chords.h), so
+    // they are disjoint by construction. Each try works on a copy of the pants.
+    mesh::TriangleMesh cut_mesh = pants_mesh;
+    std::vector<int> cut_region = best.region;
+    std::vector<int> cut_origin = face_origin;
+    std::vector<double> cut_value = vertex_value;
+    auto ends_of = [](std::initializer_list<const std::vector<int>*> seams) {
+      std::vector<int> c;
+      for (const auto* s : seams) {
+        c.push_back(s->front());
+        c.push_back(s->back());
+      }
+      return c;
     };
-    const int q01a = leftF.back(), q01b = rightF.back(), r01a = leftB.back(), r01b = rightB.back();
-    if (!(index_in(sF01, q01a) < index_in(sF01, q01b)) || !(index_in(sB01, r01a) < index_in(sB01, r01b))) {
-      last_reason += std::string(last_reason.empty() ? "" : "; ") + std::string("the centre's top corners are out of order");
-      continue;
-    }
-    std::vector<int> bottomF = path_to_nearest(pants, cost, p02, single(p12), blocked, in_region(hf));
-    use(bottomF);
-    std::vector<int> bottomB = path_to_nearest(pants, cost, p02b, single(p12b), blocked, in_region(hb));
-    use(bottomB);
+    auto chords_in = [&](int region, const std::vector<int>& corners,
+                         const std::vector<std::array<int, 2>>& chords, std::vector<std::vector<int>>& paths) {
+      std::vector<int> faces;
+      for (int f = 0; f < cut_mesh.num_faces(); ++f)
+        if (cut_region[f] == region) faces.push_back(f);
+      DiscChords dc;
+      std::string reason;
+      if (!cut_disc_chords(cut_mesh, faces, corners, chords, dc, &reason)) {
+        last_reason += std::string(last_reason.empty() ? "" : "; ") + "region " + std::to_string(region) + ": " + reason;
+        return false;
+      }
+      for (std::size_t f = cut_region.size(); f < dc.face_origin.size(); ++f) {
+        cut_region.push_back(cut_region[dc.face_origin[f]]);
+        cut_origin.push_back(cut_origin[dc.face_origin[f]]);
+      }
+      interpolate_added_vertices(dc, cut_value);
+      paths = std::move(dc.paths);
+      return true;
+    };
     const int rim_top = best.rim.at({std::min(l0, l1), std::max(l0, l1)});
     const int rim02 = best.rim.at({std::min(l0, l2), std::max(l0, l2)});
     const int rim12 = best.rim.at({std::min(l1, l2), std::max(l1, l2)});
-    std::vector<int> crossA = path_to_nearest(pants, cost, q01a, single(r01a), blocked, in_region(rim_top));
-    use(crossA);
-    std::vector<int> crossB = path_to_nearest(pants, cost, q01b, single(r01b), blocked, in_region(rim_top));
-    use(crossB);
-    std::vector<int> e0 = path_to_nearest(pants, cost, p02, single(p02b), blocked, in_region(rim02));
-    use(e0);
-    std::vector<int> e1 = path_to_nearest(pants, cost, p12, single(p12b), blocked, in_region(rim12));
-    use(e1);
-    if (bottomF.empty() || bottomB.empty() || crossA.empty() || crossB.empty() || e0.empty() || e1.empty()) {
-      last_reason += std::string(last_reason.empty() ? "" : "; ") + std::string("no free path for an edge of the centre cuboid (") + (bottomF.empty() ? "front bottom" : bottomB.empty() ? "back bottom" : crossA.empty() ? "top cross 0" : crossB.empty() ? "top cross 1" : e0.empty() ? "concave 0" : "concave 1") + ")";
+    std::vector<std::vector<int>> front, back, top_rim, rim0, rim1;
+    if (!chords_in(hf, ends_of({&sF01, &sF02, &sF12}), {{{p02, q01a}}, {{p12, q01b}}, {{p02, p12}}}, front) ||
+        !chords_in(hb, ends_of({&sB01, &sB02, &sB12}), {{{p02b, r01a}}, {{p12b, r01b}}, {{p02b, p12b}}}, back) ||
+        !chords_in(rim_top, ends_of({&sF01, &sB01}), {{{q01a, r01a}}, {{q01b, r01b}}}, top_rim) ||
+        !chords_in(rim02, ends_of({&sF02, &sB02}), {{{p02, p02b}}}, rim0) ||
+        !chords_in(rim12, ends_of({&sF12, &sB12}), {{{p12, p12b}}}, rim1))
       continue;
-    }
+    const std::vector<int> &leftF = front[0], &rightF = front[1], &bottomF = front[2];
+    const std::vector<int> &leftB = back[0], &rightB = back[1], &bottomB = back[2];
+    const std::vector<int> &crossA = top_rim[0], &crossB = top_rim[1], &e0 = rim0[0], &e1 = rim1[0];
+    const mesh::HalfedgeMesh cut_pants = mesh::HalfedgeMesh::build(cut_mesh, "T-shape");
+    auto index_in = [](const std::vector<int>& path, int v) {
+      return static_cast<int>(std::find(path.begin(), path.end(), v) - path.begin());
+    };
     // The segments of the top seams between the centre's corners.
     auto sub = [&](const std::vector<int>& path, int a, int b) {
       const int ia = index_in(path, a), ib = index_in(path, b);
@@ -291,11 +286,11 @@ bool lay_out_t_shape(const mesh::HalfedgeMesh& pants, const std::array<std::vect
     const std::vector<int> j0 = join_cycle({reversed(leftF), e0, leftB, reversed(crossA)});
     const std::vector<int> j1 = join_cycle({reversed(rightF), e1, rightB, reversed(crossB)});
     const std::vector<int> j2 = join_cycle({bottomF, e1, reversed(bottomB), reversed(e0)});
-    std::vector<char> cut(pants.num_edges(), 0);
+    std::vector<char> cut(cut_pants.num_edges(), 0);
     for (const auto* path : {&leftF, &e0, &leftB, &crossA, &rightF, &e1, &rightB, &crossB, &bottomF, &bottomB})
-      mark_path_edges(pants, *path, cut);
+      mark_path_edges(cut_pants, *path, cut);
     std::vector<int> region;
-    if (face_components(pants, cut, region) != 4) {
+    if (face_components(cut_pants, cut, region) != 4) {
       last_reason += std::string(last_reason.empty() ? "" : "; ") + "the inner loops do not cut the pants into 4 parts";
       continue;
     }
@@ -303,7 +298,7 @@ bool lay_out_t_shape(const mesh::HalfedgeMesh& pants, const std::array<std::vect
     std::vector<int> touch(4, 0);
     for (int k = 0; k < 3; ++k)
       for (int v : loops[k])
-        for (int f : pants.vertex_faces(v)) touch[region[f]] |= 1 << k;
+        for (int f : cut_pants.vertex_faces(v)) touch[region[f]] |= 1 << k;
     for (int r = 0; r < 4; ++r) {
       if (touch[r] == 0) part[0] = r;
       for (int a = 0; a < 3; ++a)
@@ -316,28 +311,28 @@ bool lay_out_t_shape(const mesh::HalfedgeMesh& pants, const std::array<std::vect
     // Orientation: the centre's front face (y = 0) runs 0 → 1 along bottomF in its halfedge
     // direction (cube face 2 lists its corners clockwise seen from outside).
     {
-      const int e = edge_between(pants, bottomF[0], bottomF[1]);
-      const int h = pants.edge_halfedge(e);
-      const int forward = pants.halfedge_source(h) == bottomF[0] ? h : pants.halfedge_twin(h);
-      const int f = pants.halfedge_face(forward);
+      const int e = edge_between(cut_pants, bottomF[0], bottomF[1]);
+      const int h = cut_pants.edge_halfedge(e);
+      const int forward = cut_pants.halfedge_source(h) == bottomF[0] ? h : cut_pants.halfedge_twin(h);
+      const int f = cut_pants.halfedge_face(forward);
       if (f < 0 || region[f] != part[0]) {
         last_reason += std::string(last_reason.empty() ? "" : "; ") + "mirrored";
         continue;
       }
     }
     for (int c = 0; c < 4; ++c) out.cuboids[c] = TShapeCuboid{};
-    for (int f = 0; f < pants.num_faces(); ++f)
+    for (int f = 0; f < cut_pants.num_faces(); ++f)
       for (int c = 0; c < 4; ++c)
         if (region[f] == part[c]) out.cuboids[c].faces.push_back(f);
     // A closing disc's cycle runs against the cuboid's own halfedges along the loop.
     auto closing = [&](const std::vector<int>& cycle, int c) {
       for (std::size_t i = 0; i < cycle.size(); ++i) {
         const int a = cycle[i], b = cycle[(i + 1) % cycle.size()];
-        for (int h : pants.vertex_outgoing(a))
-          if (pants.halfedge_vertex(h) == b) {
-            const int f = pants.halfedge_face(h);
+        for (int h : cut_pants.vertex_outgoing(a))
+          if (cut_pants.halfedge_vertex(h) == b) {
+            const int f = cut_pants.halfedge_face(h);
             if (f >= 0 && region[f] == part[c]) return reversed(cycle);
-            const int g = pants.halfedge_face(pants.halfedge_twin(h));
+            const int g = cut_pants.halfedge_face(cut_pants.halfedge_twin(h));
             if (g >= 0 && region[g] == part[c]) return cycle;
           }
       }
@@ -412,6 +407,9 @@ bool lay_out_t_shape(const mesh::HalfedgeMesh& pants, const std::array<std::vect
       arm.discs = {closing(loops[k], 1 + a), closing(inner[a], 1 + a)};
     }
     out.concave_edges = {{{p02, p02b}, {p12, p12b}}};
+    pants_mesh = std::move(cut_mesh);
+    face_origin = std::move(cut_origin);
+    vertex_value = std::move(cut_value);
     return true;
   }
   if (why) *why = last_reason;

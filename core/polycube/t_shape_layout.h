@@ -37,15 +37,19 @@ struct TShapeLayout {
 /// cuts: the pants is cut by 6 disjoint seams between the 12 loop corners (every loop's two
 /// opposite rim arcs face the other two loops; of the 64 choices the valid one with the
 /// shortest seams wins) into two hexagons (front and back) and three strips (rims); the top rim
-/// is the longest; the concave corners sit at the seams' midpoints on the other two rims; the
-/// centre's edges are the shortest paths inside the hexagons and rims between them. Every cut is
-/// a disjoint edge path, so the 4 regions are discs bounded in cube order by construction
-/// (checked again by complete_cuboid_layout).
+/// is the longest; the concave corners sit at the seams' midpoints on the other two rims, the
+/// centre's top corners at a third and two thirds of the top seams; the centre's 10 inner edges
+/// are straight chords of the hexagons and rims inserted into the mesh (cut_disc_chords), so the
+/// 4 regions are discs bounded in cube order by construction (checked again by
+/// complete_cuboid_layout).
+/// `pants_mesh` is refined in place where the chords cross its faces (its boundary loops keep
+/// their vertices); `face_origin` (per face) and `vertex_value` (per vertex) are extended over
+/// the new faces (the origin of the face they split) and vertices (linear along the split edge).
 /// `loops[k]`: boundary loop k as pants vertex ids in loop order; `piece_forward[k]`: the pants's
 /// halfedges run along loop k in loop order; `corners[k]`: 4 ascending indices into loops[k].
 /// Returns false with the reason in *why.
-bool lay_out_t_shape(const mesh::HalfedgeMesh& pants, const std::array<std::vector<int>, 3>& loops,
-                     const std::array<bool, 3>& piece_forward, const std::array<std::array<int, 4>, 3>& corners,
-                     TShapeLayout& out, std::string* why);
+bool lay_out_t_shape(mesh::TriangleMesh& pants_mesh, std::vector<int>& face_origin, std::vector<double>& vertex_value,
+                     const std::array<std::vector<int>, 3>& loops, const std::array<bool, 3>& piece_forward,
+                     const std::array<std::array<int, 4>, 3>& corners, TShapeLayout& out, std::string* why);
 
 }  // namespace volspline::polycube

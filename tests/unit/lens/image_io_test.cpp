@@ -97,6 +97,15 @@ TEST_CASE("a JPEG Huffman table with more than 256 codes is refused before stb d
   CHECK(image_error(later).find("declares 272 codes, more than 256") != std::string::npos);
 }
 
+TEST_CASE("a JPEG scan that uses an undefined Huffman table is refused before stb decodes it") {
+  std::string jpeg = gradient_jpeg();
+  const std::size_t sos = jpeg.find("\xFF\xDA");
+  REQUIRE(sos != std::string::npos);
+  // First component's selectors: DC table 1, AC table 2 (stb's writer defines tables 0 and 1).
+  jpeg[sos + 6] = 0x12;
+  CHECK(image_error(jpeg) == "'x.img': corrupt JPEG: a scan uses a Huffman table that no DHT segment defines");
+}
+
 TEST_CASE("truncated, corrupt, oversize and unknown images get messages of their own") {
   const std::string jpeg = gradient_jpeg();
   CHECK(image_error(jpeg.substr(0, 40)).find("truncated JPEG") != std::string::npos);

@@ -3,12 +3,14 @@
 
 #include <cmath>
 #include <map>
+#include <set>
 
 #include "core/io/gpc_json.h"
 #include "core/mesh/halfedge_mesh.h"
 #include "core/mesh/mesh_report.h"
 #include "core/pipeline/gpc_job.h"
 #include "core/polycube/cylinder_map.h"
+#include "core/polycube/disc_chords.h"
 #include "core/polycube/gpc_domain.h"
 #include "core/polycube/interface_disc.h"
 #include "core/polycube/level_set_split.h"
@@ -290,4 +292,93 @@ TEST_CASE("GPC JSON: write → read → write is byte-identical; bad files name 
   CHECK(io::serialize_gpc_domain(back) == text);
   CHECK_THROWS_WITH(io::parse_gpc_domain("{", "x.json"), doctest::Contains("x.json"));
   CHECK_THROWS_WITH(io::parse_gpc_domain("{\"format\": \"other\"}", "x.json"), doctest::Contains("format"));
+}
+
+TEST_CASE("disc chords: straight cuts across a disc become disjoint edge paths") {
+  // A 6 × 6 grid on the unit square, lifted onto a paraboloid; corners at the square's corners.
+  const int k = 6;
+  mesh::TriangleMesh m;
+  m.positions.resize((k + 1) * (k + 1), 3);
+  for (int j = 0; j <= k; ++j)
+    for (int i = 0; i <= k; ++i) {
+      const double x = double(i) / k, y = double(j) / k;
+      m.positions.row(j * (k + 1) + i) << x, y, 0.3 * (x * x + y * y);
+    }
+  m.triangles.resize(2 * k * k, 3);
+  for (int j = 0; j < k; ++j)
+    for (int i = 0; i < k; ++i) {
+      const int a = j * (k + 1) + i, b = a + 1, c = a + k + 2, d = a + k + 1;
+      m.triangles.row(2 * (j * k + i)) << a, b, c;
+      m.triangles.row(2 * (j * k + i) + 1) << a, c, d;
+    }
+  std::vector<int> region(m.num_faces());
+  for (int f = 0; f < m.num_faces(); ++f) region[f] = f;
+  const int c00 = 0, c10 = k, c11 = (k + 1) * (k + 1) - 1, c01 = k * (k + 1);
+  // Bottom-side vertex 2 to top-side vertex 3, and left-side vertex 1 to right-side vertex 4.
+  const int b2 = 2, t3 = k * (k + 1) + 3, l1 = (k + 1), r4 = 4 * (k + 1) + k;
+  polycube::DiscChords dc;
+  std::string why;
+  const mesh::TriangleMesh before = m;
+  REQUIRE(polycube::cut_disc_chords(m, region, {c00, c10, c11, c01}, {{{b2, t3}}, {{l1, r4}}}, dc, &why));
+  REQUIRE(dc.paths.size() == 2);
+  CHECK(dc.paths[0].front() == b2);
+  CHECK(dc.paths[0].back() == t3);
+  CHECK(dc.paths[1].front() == l1);
+  CHECK(dc.paths[1].back() == r4);
+  // Crossing chords share exactly one (new) vertex; consecutive path vertices are mesh edges.
+  std::set<int> first(dc.paths[0].begin(), dc.paths[0].end());
+  int shared = 0;
+  for (int v : dc.paths[1]) shared += static_cast<int>(first.count(v));
+  CHECK(shared == 1);
+  const mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(m, "chords");
+  const mesh::MeshReport report = mesh::analyze_mesh(hm);
+  CHECK(report.num_boundary_loops == 1);
+  CHECK(report.consistently_oriented);
+  for (const auto& path : dc.paths)
+    for (std::size_t i = 1; i < path.size(); ++i) {
+      bool adjacent = false;
+      for (int h : hm.vertex_outgoing(path[i - 1])) adjacent = adjacent || hm.halfedge_vertex(h) == path[i];
+      CHECK(adjacent);
+    }
+  // Same surface: the area is kept, old vertices did not move, new ones lie on old edges.
+  auto area = [](const mesh::TriangleMesh& t) {
+    double a = 0.0;
+    for (int f = 0; f < t.num_faces(); ++f) {
+      const Eigen::Vector3d p = t.positions.row(t.triangles(f, 0)), q = t.positions.row(t.triangles(f, 1)),
+                            r = t.positions.row(t.triangles(f, 2));
+      a += 0.5 * (q - p).cross(r - p).norm();
+    }
+    return a;
+  };
+  CHECK(area(m) == doctest::Approx(area(before)).epsilon(1e-3));
+  CHECK((m.positions.topRows(before.num_vertices()) - before.positions).norm() == 0.0);
+  CHECK(static_cast<int>(dc.face_origin.size()) == m.num_faces());
+  CHECK(static_cast<int>(dc.new_vertex_t.size()) == m.num_vertices() - before.num_vertices());
+  // A chord end inside the disc is refused.
+  mesh::TriangleMesh again = before;
+  CHECK_FALSE(polycube::cut_disc_chords(again, region, {c00, c10, c11, c01}, {{{b2, k + 3}}}, dc, &why));
+  CHECK(why.find("boundary") != std::string::npos);
+}
+
+TEST_CASE("gpc job: a two-hole solid is two T-shapes with Type-1 ill-points only, glued exactly") {
+  const pipeline::GpcResult r = pipeline::run_gpc(make_two_hole_slab(3), "slab");
+  const pipeline::GpcStats& s = r.stats;
+  CHECK(s.genus == 2);
+  CHECK(s.t_shapes == 2);
+  CHECK(s.cuboids == 8);
+  CHECK(s.ill_points == 4);
+  for (const auto& p : r.construction.domain.ill_points) CHECK(p.type == 1);
+  CHECK(s.flipped_triangles == 0);
+  CHECK(s.interface_gap_rel <= 1e-12);
+  CHECK(s.cut_discs_outside == 0);
+  // Every interface glues by a rotation by multiples of π/2 (Eq. 3.4) whose inverse undoes it, and
+  // each cuboid face is glued at most once.
+  std::set<std::pair<int, int>> glued;
+  for (const auto& g : r.construction.domain.interfaces) {
+    const polycube::GpcTransition id = g.transition.after(g.transition.inverse());
+    CHECK(id.axis == std::array<int, 3>{0, 1, 2});
+    CHECK(id.sign == std::array<int, 3>{1, 1, 1});
+    CHECK(id.translation.norm() < 1e-12);
+    for (int k = 0; k < 2; ++k) CHECK(glued.insert({g.cuboid[k], g.face[k]}).second);
+  }
 }
