@@ -7,6 +7,7 @@
 #include <queue>
 #include <set>
 
+#include "core/mesh/graph_distance.h"
 #include "core/mesh/mesh_geometry.h"
 #include "core/polycube/disc_chords.h"
 #include "core/polycube/surface_paths.h"
@@ -217,11 +218,55 @@ bool lay_out_t_shape(mesh::TriangleMesh& pants_mesh, std::vector<int>& face_orig
       last_reason += std::string(last_reason.empty() ? "" : "; ") + "a seam borders no hexagon";
       continue;
     }
-    const int p02 = sF02[midpoint(sF02, 0.5)], p12 = sF12[midpoint(sF12, 0.5)];
-    const int p02b = sB02[midpoint(sB02, 0.5)], p12b = sB12[midpoint(sB12, 0.5)];
-    // The centre's top corners at a third and two thirds of the top seams.
-    const int q01a = sF01[midpoint(sF01, 1.0 / 3.0)], q01b = sF01[midpoint(sF01, 2.0 / 3.0)];
-    const int r01a = sB01[midpoint(sB01, 1.0 / 3.0)], r01b = sB01[midpoint(sB01, 2.0 / 3.0)];
+    // The centre sits at the junction, where the arms part: its height above the stem is the
+    // crotch's, the top seams' lowest point in distance from the stem loop; the concave corners
+    // are the side seams' points at that height and the top corners the top seam's points
+    // nearest to them on either side of the crotch (a compact centre also when the arms are
+    // long, as in a handle's ring).
+    const mesh::GraphDistances from_stem = mesh::graph_distances(pants, loops[l2]);
+    const std::vector<double>& height = from_stem.distance;
+    auto lowest = [&](const std::vector<int>& seam) {
+      int best_i = 1;
+      for (int i = 1; i + 1 < static_cast<int>(seam.size()); ++i)
+        if (height[seam[i]] < height[seam[best_i]]) best_i = i;
+      return best_i;
+    };
+    auto at_height = [&](const std::vector<int>& seam, double h) {
+      // Side seams run from an arm loop to the stem loop; the point nearest height h, kept off
+      // the seam's ends (15 % of its vertices).
+      const int n_seam = static_cast<int>(seam.size());
+      const int lo = std::max(1, static_cast<int>(0.15 * (n_seam - 1))), hi = std::min(n_seam - 2, static_cast<int>(0.85 * (n_seam - 1)));
+      int best_i = std::clamp(midpoint(seam, 0.5), lo, std::max(lo, hi));
+      for (int i = lo; i <= hi; ++i)
+        if (std::abs(height[seam[i]] - h) < std::abs(height[seam[best_i]] - h)) best_i = i;
+      return seam[best_i];
+    };
+    auto nearest_on = [&](const std::vector<int>& seam, int from, int to, int v) {
+      // The vertex of seam[from..to) nearest to vertex v.
+      int best_i = from;
+      for (int i = from; i < to; ++i)
+        if ((pants.vertex_position(seam[i]) - pants.vertex_position(v)).squaredNorm() <
+            (pants.vertex_position(seam[best_i]) - pants.vertex_position(v)).squaredNorm())
+          best_i = i;
+      return best_i;
+    };
+    const int crotch_f = lowest(sF01), crotch_b = lowest(sB01);
+    const double crotch = std::min(height[sF01[crotch_f]], height[sB01[crotch_b]]);
+    // sF02 and sF12 run from the arm loops to the stem loop.
+    const int p02 = at_height(sF02, crotch), p12 = at_height(sF12, crotch);
+    const int p02b = at_height(sB02, crotch), p12b = at_height(sB12, crotch);
+    auto top_corners = [&](const std::vector<int>& seam, int crotch_i, int left, int right) {
+      const int n_seam = static_cast<int>(seam.size());
+      int a = nearest_on(seam, 1, std::max(2, crotch_i), left);
+      int b = nearest_on(seam, std::min(crotch_i + 1, n_seam - 2), n_seam - 1, right);
+      if (a >= b) {
+        a = midpoint(seam, 1.0 / 3.0);
+        b = midpoint(seam, 2.0 / 3.0);
+      }
+      return std::array<int, 2>{seam[a], seam[b]};
+    };
+    const auto qf = top_corners(sF01, crotch_f, p02, p12), qb = top_corners(sB01, crotch_b, p02b, p12b);
+    const int q01a = qf[0], q01b = qf[1], r01a = qb[0], r01b = qb[1];
     if (q01a == q01b || r01a == r01b) {
       if (why) *why = "a top seam has too few vertices for the centre's two top corners";
       return false;
