@@ -24,6 +24,7 @@ int run_gpc(const std::vector<std::string>& argv) {
       {"corners", "FILE", "8 corner vertex ids of a genus-0 solid's cuboid (cube corner c at (c&1, c>>1&1, c>>2&1))"},
       {"grid-nodes", "N", "about N volumetric grid nodes over all cuboids (default 24000)"},
       {"no-untangle", "", "keep the harmonic grid's folds (the thesis's plain Eq. 3.1 map)"},
+      {"no-merge", "", "keep every T-shape arm, tube and cap its own cuboid (no merging across cuts)"},
   };
   for (auto common : common_job_options()) {
     if (common.name == "threads") common.help = "accepted for scripts; the job runs on one thread (same output for any N)";
@@ -49,6 +50,7 @@ int run_gpc(const std::vector<std::string>& argv) {
   options.threads = args.get_int("threads", options.threads);
   options.grid.target_nodes = args.get_int("grid-nodes", options.grid.target_nodes);
   if (args.has("no-untangle")) options.grid.untangle = param::GpcGridOptions::Untangle::Off;
+  if (args.has("no-merge")) options.merge_cuboids = false;
   const std::string& path = args.positional[0];
   OutputFiles files;
   files.input(path);

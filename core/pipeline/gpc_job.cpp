@@ -81,7 +81,7 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
   // A piece too coarse for its layout's disjoint paths is refined (at most twice) and retried.
   for (int attempt = 0;; ++attempt) {
     try {
-      result.construction = polycube::build_gpc(decomposition, 1.0, options.corners);
+      result.construction = polycube::build_gpc(decomposition, 1.0, options.corners, options.merge_cuboids);
       break;
     } catch (const polycube::DecompositionError&) {
       if (attempt == 2 || stats.genus == 0) throw;

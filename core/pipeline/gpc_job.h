@@ -19,6 +19,7 @@ struct GpcOptions {
   std::vector<int> corners;
   param::GpcGridOptions grid;  ///< the volumetric grids (node budget, untangling)
   double snap = 0.05;          ///< level-set splitting snap, see split_at_level, in [0, 0.45)
+  bool merge_cuboids = true;   ///< merge cuboids glued end to end across cuts (build_gpc)
   int threads = 1;             ///< ≥ 1; the stages run on one thread (same output for any value)
 };
 

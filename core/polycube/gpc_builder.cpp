@@ -7,6 +7,7 @@
 #include <limits>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <string>
 
 #include "core/common/error.h"
@@ -318,9 +319,227 @@ void build_t_shape(SolidDecomposition& d, const SolidPiece& sp, PieceMesh& pm, i
   }
 }
 
+
+// A rotation of the cube as a corner permutation: corner c goes to rotated[c].
+using CornerMap = std::array<int, num_cube_corners>;
+
+CornerMap corner_map(const Eigen::Matrix3i& r) {
+  CornerMap out{};
+  for (int c = 0; c < num_cube_corners; ++c) {
+    const Eigen::Vector3i x(2 * (c & 1) - 1, 2 * (c >> 1 & 1) - 1, 2 * (c >> 2 & 1) - 1);
+    const Eigen::Vector3i y = r * x;
+    out[c] = (y(0) > 0) | (y(1) > 0) << 1 | (y(2) > 0) << 2;
+  }
+  return out;
+}
+
+int mapped_face(const CornerMap& m, int face) {
+  const auto corners = cube_face_corners(face);
+  for (int f = 0; f < num_cube_faces; ++f) {
+    const auto g = cube_face_corners(f);
+    int hits = 0;
+    for (int a : corners)
+      for (int b : g) hits += m[a] == b;
+    if (hits == 4) return f;
+  }
+  return -1;
+}
+
+// The same layout in the frame rotated by m (corner c becomes corner m[c]).
+CuboidLayout rotated_layout(const CuboidLayout& in, const CornerMap& m) {
+  CuboidLayout out = in;
+  for (int c = 0; c < num_cube_corners; ++c) out.corners[m[c]] = in.corners[c];
+  for (int e = 0; e < num_cube_edges; ++e) {
+    const auto ends = cube_edge_corners(e);
+    const int f = cube_edge_between(m[ends[0]], m[ends[1]]);
+    std::vector<int> path = in.poly_edges[e];
+    if (cube_edge_corners(f)[0] != m[ends[0]]) std::reverse(path.begin(), path.end());
+    out.poly_edges[f] = std::move(path);
+  }
+  for (int& r : out.face_region) r = mapped_face(m, r);
+  return out;
+}
+
+// Merges cuboid b into cuboid a across glue `g` (a cut loop between an end face, 4 or 5, of
+// each): the union is one cuboid running from a's far end face to b's. Returns false (nothing
+// changed) when the glued faces are not end faces or the corners do not meet by a rotation.
+bool merge_end_to_end(GpcConstruction& out, std::vector<Glue>& glues, std::size_t g_index) {
+  const Glue g = glues[g_index];
+  if (g.cuboid_a == g.cuboid_b || g.face_a < 4 || g.face_b < 4) return false;
+  const int a = g.cuboid_a, b = g.cuboid_b;
+  // Frames: a runs toward the cut (cut on its face 5), b away from it (cut on its face 4).
+  const CornerMap identity = corner_map(Eigen::Matrix3i::Identity());
+  Eigen::Matrix3i half_turn;  // about v: u → −u, w → −w
+  half_turn << -1, 0, 0, 0, 1, 0, 0, 0, -1;
+  const CornerMap map_a = g.face_a == 5 ? identity : corner_map(half_turn);
+  CuboidSurface sa = out.surfaces[a], sb = out.surfaces[b];
+  sa.layout = rotated_layout(sa.layout, map_a);
+  // b: the turn that puts the cut on face 4, then the quarter turn about w that lines its
+  // corners up with a's.
+  const CornerMap flip_b = g.face_b == 4 ? identity : corner_map(half_turn);
+  CornerMap map_b{};
+  bool found = false;
+  for (int q = 0; q < 4 && !found; ++q) {
+    Eigen::Matrix3i quarter = Eigen::Matrix3i::Identity();
+    for (int k = 0; k < q; ++k) {
+      Eigen::Matrix3i turn;
+      turn << 0, -1, 0, 1, 0, 0, 0, 0, 1;
+      quarter = turn * quarter;
+    }
+    const CornerMap qm = corner_map(quarter);
+    CornerMap m{};
+    for (int c = 0; c < num_cube_corners; ++c) m[c] = qm[flip_b[c]];
+    const CuboidLayout lb = rotated_layout(sb.layout, m);
+    bool match = true;
+    for (int k = 0; k < 4; ++k) {
+      const int top_a = sa.surface_vertex[sa.layout.corners[k + 4]];
+      const int bottom_b = sb.surface_vertex[lb.corners[k]];
+      match = match && top_a >= 0 && top_a == bottom_b;
+    }
+    if (match) {
+      map_b = m;
+      sb.layout = lb;
+      found = true;
+    }
+  }
+  if (!found) return false;
+
+  // The merged surface: a's and b's triangles but the cut's disc (the disc triangles that touch
+  // the cut's corners), vertices of the decomposition mesh shared.
+  CuboidSurface merged;
+  std::map<std::pair<int, int>, int> id;  // (cuboid or −1 for a surface vertex, vertex) → merged id
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<std::array<int, 3>> tris;
+  auto add_vertex = [&](const CuboidSurface& s, int which, int v) {
+    const int sv = s.surface_vertex[v];
+    const std::pair<int, int> key = sv >= 0 ? std::make_pair(-1, sv) : std::make_pair(which, v);
+    auto it = id.find(key);
+    if (it != id.end()) return it->second;
+    const int n = static_cast<int>(positions.size());
+    id.emplace(key, n);
+    positions.push_back(s.mesh.positions.row(v).transpose());
+    merged.surface_vertex.push_back(sv);
+    return n;
+  };
+  auto cut_disc = [](const CuboidSurface& s, const std::array<int, 4>& corners) {
+    // Disc faces connected (through disc faces) to a disc face at one of the corners.
+    const int m = s.mesh.num_faces();
+    std::vector<char> in(m, 0);
+    std::vector<int> stack;
+    for (int f = 0; f < m; ++f)
+      if (s.surface_face[f] < 0)
+        for (int k = 0; k < 3; ++k)
+          if (std::find(corners.begin(), corners.end(), s.mesh.triangles(f, k)) != corners.end() && !in[f]) {
+            in[f] = 1;
+            stack.push_back(f);
+          }
+    std::map<std::pair<int, int>, std::vector<int>> edge_faces;
+    for (int f = 0; f < m; ++f)
+      if (s.surface_face[f] < 0)
+        for (int k = 0; k < 3; ++k) {
+          const int x = s.mesh.triangles(f, k), y = s.mesh.triangles(f, (k + 1) % 3);
+          edge_faces[{std::min(x, y), std::max(x, y)}].push_back(f);
+        }
+    while (!stack.empty()) {
+      const int f = stack.back();
+      stack.pop_back();
+      for (int k = 0; k < 3; ++k) {
+        const int x = s.mesh.triangles(f, k), y = s.mesh.triangles(f, (k + 1) % 3);
+        for (int h : edge_faces[{std::min(x, y), std::max(x, y)}])
+          if (!in[h]) {
+            in[h] = 1;
+            stack.push_back(h);
+          }
+      }
+    }
+    return in;
+  };
+  const std::vector<char> drop_a =
+      cut_disc(sa, {sa.layout.corners[4], sa.layout.corners[5], sa.layout.corners[6], sa.layout.corners[7]});
+  const std::vector<char> drop_b =
+      cut_disc(sb, {sb.layout.corners[0], sb.layout.corners[1], sb.layout.corners[2], sb.layout.corners[3]});
+  for (int which = 0; which < 2; ++which) {
+    const CuboidSurface& s = which == 0 ? sa : sb;
+    const std::vector<char>& drop = which == 0 ? drop_a : drop_b;
+    for (int f = 0; f < s.mesh.num_faces(); ++f) {
+      if (drop[f]) continue;
+      tris.push_back({add_vertex(s, which, s.mesh.triangles(f, 0)), add_vertex(s, which, s.mesh.triangles(f, 1)),
+                      add_vertex(s, which, s.mesh.triangles(f, 2))});
+      merged.surface_face.push_back(s.surface_face[f]);
+    }
+  }
+  merged.mesh.positions.resize(static_cast<int>(positions.size()), 3);
+  for (std::size_t v = 0; v < positions.size(); ++v) merged.mesh.positions.row(static_cast<int>(v)) = positions[v].transpose();
+  merged.mesh.triangles.resize(static_cast<int>(tris.size()), 3);
+  for (std::size_t t = 0; t < tris.size(); ++t)
+    for (int k = 0; k < 3; ++k) merged.mesh.triangles(static_cast<int>(t), k) = tris[t][k];
+  // The two may also touch along the surface: then the union is no sphere (or not even a
+  // manifold) and they stay apart.
+  std::optional<mesh::HalfedgeMesh> built;
+  try {
+    built.emplace(mesh::HalfedgeMesh::build(merged.mesh, "gpc merged cuboid"));
+  } catch (const Error&) {
+    return false;
+  }
+  const mesh::HalfedgeMesh& hm = *built;
+  const mesh::MeshReport report = mesh::analyze_mesh(hm);
+  if (!report.closed || report.genus != 0 || !report.consistently_oriented) return false;
+  // Layout: a's bottom, b's top; the bands run through the cut's corners.
+  auto in_merged = [&](const CuboidSurface& s, int which, const std::vector<int>& path) {
+    std::vector<int> p;
+    for (int v : path) p.push_back(add_vertex(s, which, v));
+    return p;
+  };
+  std::array<std::vector<int>, num_cube_edges> fixed;
+  for (int e = 0; e < num_cube_edges; ++e) {
+    const auto ends = cube_edge_corners(e);
+    if (ends[0] < 4 && ends[1] < 4) {
+      fixed[e] = in_merged(sa, 0, sa.layout.poly_edges[e]);
+    } else if (ends[0] >= 4 && ends[1] >= 4) {
+      fixed[e] = in_merged(sb, 1, sb.layout.poly_edges[e]);
+    } else {
+      fixed[e] = in_merged(sa, 0, sa.layout.poly_edges[e]);
+      const std::vector<int> rest = in_merged(sb, 1, sb.layout.poly_edges[e]);
+      fixed[e].insert(fixed[e].end(), rest.begin() + 1, rest.end());
+    }
+  }
+  if (static_cast<int>(positions.size()) != merged.mesh.num_vertices()) return false;  // a path left the surface
+  for (int c = 0; c < 4; ++c) {
+    merged.layout.corners[c] = add_vertex(sa, 0, sa.layout.corners[c]);
+    merged.layout.corners[c + 4] = add_vertex(sb, 1, sb.layout.corners[c + 4]);
+  }
+  std::string why;
+  if (!complete_cuboid_layout(hm, 2, fixed, merged.layout, &why)) return false;
+
+  // The GPC graph: b's glues move to a with their faces in the merged frame; the cut's glue goes.
+  out.surfaces[a] = std::move(merged);
+  GpcCuboid& ca = out.domain.cuboids[a];
+  ca.piece_kind = static_cast<int>(PieceKind::Tube);
+  glues.erase(glues.begin() + static_cast<long>(g_index));
+  for (Glue& x : glues) {
+    for (int side = 0; side < 2; ++side) {
+      int& c = side == 0 ? x.cuboid_a : x.cuboid_b;
+      int& f = side == 0 ? x.face_a : x.face_b;
+      if (c == a) {
+        f = mapped_face(map_a, f);
+      } else if (c == b) {
+        c = a;
+        f = mapped_face(map_b, f);
+      }
+      if (c > b) --c;
+    }
+  }
+  out.surfaces.erase(out.surfaces.begin() + b);
+  out.domain.cuboids.erase(out.domain.cuboids.begin() + b);
+  for (GpcIllPoint& p : out.domain.ill_points)
+    for (int& c : p.cuboids) c = c == b ? (a > b ? a - 1 : a) : (c > b ? c - 1 : c);
+  return true;
+}
+
 }  // namespace
 
-GpcConstruction build_gpc(SolidDecomposition& d, double bbox_diagonal, const std::vector<int>& solid_corners) {
+GpcConstruction build_gpc(SolidDecomposition& d, double bbox_diagonal, const std::vector<int>& solid_corners,
+                          bool merge_cuboids) {
   GpcConstruction out;
   const mesh::TriangleMesh& S = d.mesh;
   for (const CutLoop& loop : d.loops) {
@@ -488,6 +707,15 @@ GpcConstruction build_gpc(SolidDecomposition& d, double bbox_diagonal, const std
   for (std::size_t l = 0; l < d.loops.size(); ++l)
     glues.insert(glues.begin() + static_cast<long>(l),
                  Glue{on_loop[l][0].cuboid, on_loop[l][0].face, on_loop[l][1].cuboid, on_loop[l][1].face, static_cast<int>(l)});
+  // Cuboids glued end to end across a cut (arms of T-shapes, tubes, caps) become one cuboid: the
+  // thesis's GPC merges them too (Table 3.1: eight 6 cuboids from 2 T-shapes). Ill-points stay
+  // where the T-shapes put them.
+  if (merge_cuboids)
+    for (bool merged = true; merged;) {
+      merged = false;
+      for (std::size_t k = 0; k < glues.size() && !merged; ++k)
+        if (glues[k].cut >= 0) merged = merge_end_to_end(out, glues, k);
+    }
   std::vector<std::array<std::array<int, 4>, 2>> glue_corners;
   for (const Glue& gl : glues) {
     GpcInterface g;

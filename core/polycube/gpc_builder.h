@@ -38,11 +38,13 @@ struct GpcConstruction {
 /// class of axes glued together (union–find over the interfaces), the mean length of the class's
 /// poly-edges over the bounding-box diagonal.
 /// `solid_corners`: user corners of a genus-0 solid's one cuboid (compute_cuboid_layout's), or empty.
+/// With `merge_cuboids`, cuboids glued end to end across a cut (their faces w = 1 and w = 0: arms,
+/// tubes, caps) are merged into one while the union's surface is a sphere, repeatedly.
 /// A T-shape's layout cuts run along new edges: `decomposition` is refined inside its T-shapes
 /// (vertices and faces appended, each split face keeping its id for one part; loops unchanged).
 /// Throws DecompositionError naming the piece when a layout cannot be traced, volspline::Error
 /// when user corners are invalid.
 GpcConstruction build_gpc(SolidDecomposition& decomposition, double bbox_diagonal,
-                          const std::vector<int>& solid_corners = {});
+                          const std::vector<int>& solid_corners = {}, bool merge_cuboids = true);
 
 }  // namespace volspline::polycube

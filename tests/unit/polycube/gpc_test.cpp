@@ -365,8 +365,15 @@ TEST_CASE("gpc job: a two-hole solid is two T-shapes with Type-1 ill-points only
   const pipeline::GpcStats& s = r.stats;
   CHECK(s.genus == 2);
   CHECK(s.t_shapes == 2);
-  CHECK(s.cuboids == 8);
   CHECK(s.ill_points == 4);
+  // 4 cuboids per T-shape; merging across cuts removes one cuboid and one interface per merge.
+  pipeline::GpcOptions separate;
+  separate.merge_cuboids = false;
+  const pipeline::GpcResult u = pipeline::run_gpc(make_two_hole_slab(3), "slab", separate);
+  CHECK(u.stats.cuboids == 8);
+  CHECK(u.stats.ill_points == 4);
+  CHECK(s.cuboids < 8);
+  CHECK(u.stats.interfaces - s.interfaces == 8 - s.cuboids);
   for (const auto& p : r.construction.domain.ill_points) CHECK(p.type == 1);
   CHECK(s.flipped_triangles == 0);
   CHECK(s.interface_gap_rel <= 1e-12);
