@@ -25,3 +25,12 @@ contains "$TMP/err" "needs -o"
 printf '1 2 3 4 5 6 7 8\n' > "$TMP/gcorners.txt"
 expect 2 "$BIN" gpc "$DATA/meshes/torus.off" -o "$TMP/gx.json" --corners "$TMP/gcorners.txt" --quiet
 contains "$TMP/err" "genus-0"
+# Two T-shapes (genus 2): merged across cuts 5 cuboids, unmerged 8; 4 Type-1 ill-points either way.
+expect 0 "$BIN" gpc "$DATA/meshes/eight.off" -o "$TMP/ge.json" --stats-json "$TMP/ge_stats.json" --quiet
+contains "$TMP/ge_stats.json" "\"genus\": 2"
+contains "$TMP/ge_stats.json" "\"t_shapes\": 2"
+contains "$TMP/ge_stats.json" "\"cuboids\": 5"
+contains "$TMP/ge_stats.json" "\"ill_points\": 4"
+contains "$TMP/ge_stats.json" "\"flipped_triangles\": 0"
+expect 0 "$BIN" gpc "$DATA/meshes/eight.off" -o "$TMP/ge8.json" --stats-json "$TMP/ge8_stats.json" --no-merge --quiet
+contains "$TMP/ge8_stats.json" "\"cuboids\": 8"
