@@ -245,7 +245,41 @@ GpcVolumetricMap compute_gpc_volumetric_map(polycube::GpcConstruction& construct
       }
       out.untangled_nodes += untangle_hex_grid(grid.nodes, fixed, grid.xyz).free_nodes;
       check(grid);
+      for (int id = 0; id < count; ++id) xyz.row(root[offset[c] + id]) = grid.xyz.row(id);
     }
+  }
+  // Folds the held glued nodes kept: untangled again over all cuboids at once, the glued nodes
+  // free and shared (one unknown per node), only the surface held.
+  int folded = 0;
+  for (const GpcCuboidGrid& grid : out.grids) folded += grid.num_inverted_hexes;
+  if (options.untangle == GpcGridOptions::Untangle::On && folded > 0 && out.shared_nodes > 0) {
+    std::vector<std::array<int, 8>> hexes;
+    for (int c = 0; c < nc; ++c) {
+      const auto& n = domain.cuboids[c].nodes;
+      for (int k = 0; k + 1 < n[2]; ++k)
+        for (int j = 0; j + 1 < n[1]; ++j)
+          for (int i = 0; i + 1 < n[0]; ++i) {
+            std::array<int, 8> hex;
+            for (int q = 0; q < 8; ++q)
+              hex[q] = root[offset[c] + grid_node_index(n, i + (q & 1), j + ((q >> 1) & 1), k + ((q >> 2) & 1))];
+            hexes.push_back(hex);
+          }
+    }
+    std::vector<char> fixed(total);
+    for (int r = 0; r < total; ++r) fixed[r] = root[r] != r || on_surface[r];
+    // Only the folds near glued nodes: the others had every node they can move free before.
+    std::vector<char> glued(total, 0);
+    for (int r = 0; r < total; ++r) glued[r] = root[r] == r && copies[r] > 1 && !on_surface[r];
+    HexGridUntangleOptions global;
+    global.rounds = 1;
+    out.untangled_nodes += untangle_hex_mesh(hexes, fixed, xyz, glued, global).free_nodes;
+    for (int c = 0; c < nc; ++c) {
+      GpcCuboidGrid& grid = out.grids[c];
+      for (int id = 0; id < offset[c + 1] - offset[c]; ++id) grid.xyz.row(id) = xyz.row(root[offset[c] + id]);
+      check(grid);
+    }
+  }
+  for (const GpcCuboidGrid& grid : out.grids) {
     out.grid_inverted_hexes += grid.num_inverted_hexes;
     out.grid_min_scaled_jacobian = std::min(out.grid_min_scaled_jacobian, grid.min_scaled_jacobian);
   }

@@ -50,7 +50,8 @@ struct GpcVolumetricMap {
 /// the 6-neighbour Laplacian of Eq. 3.1 over the union of the grids, solved by CG. Solving across
 /// the glued faces is the thesis's "boundary modification" (end of §3.4.2) done once for all
 /// interfaces: the parameterization is smooth across them instead of pinned to the discs. Folded
-/// hexes are then untangled per cuboid (untangle_hex_grid) with the shared nodes held.
+/// hexes are then untangled per cuboid (untangle_hex_grid) with the shared nodes held, and the
+/// folds left over all cuboids at once (untangle_hex_mesh) with the shared nodes free.
 /// Writes the node counts into construction.domain.cuboids[c].nodes.
 /// Throws polycube::DecompositionError naming the cuboid if a surface map is not bijective.
 GpcVolumetricMap compute_gpc_volumetric_map(polycube::GpcConstruction& construction, double bbox_diagonal,

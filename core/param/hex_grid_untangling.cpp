@@ -124,8 +124,9 @@ Eigen::Matrix3d corner_edges(const Corner& c, const mesh::Positions& xyz) {
 // doubles; the arithmetic is that of corner_edges, so results do not depend on the layout.
 class Energy {
  public:
-  Energy(const std::array<int, 3>& n, std::vector<Corner> corners, std::vector<int> free_nodes, mesh::Positions& xyz,
-         double h, double theta)
+  // hex_nodes[h]: the 8 nodes of hex h (node q at offset (q&1, q>>1&1, q>>2&1)), h = Corner::hex.
+  Energy(const std::vector<std::array<int, 8>>& hex_nodes, std::vector<Corner> corners, std::vector<int> free_nodes,
+         mesh::Positions& xyz, double h, double theta)
       : corners_(std::move(corners)), free_(std::move(free_nodes)), xyz_(xyz), inv_h_(1.0 / h), theta_(theta) {
     var_of_.assign(xyz.rows(), -1);
     for (std::size_t v = 0; v < free_.size(); ++v) var_of_[free_[v]] = static_cast<int>(v);
@@ -137,9 +138,8 @@ class Energy {
       if (hexes_.empty() || hexes_.back().id != c.hex) {
         Hex hex;
         hex.id = c.hex;
-        const int i = c.hex % (n[0] - 1), j = (c.hex / (n[0] - 1)) % (n[1] - 1), k = c.hex / ((n[0] - 1) * (n[1] - 1));
         for (int q = 0; q < 8; ++q) {
-          hex.node[q] = node_id(n, i + (q & 1), j + ((q >> 1) & 1), k + ((q >> 2) & 1));
+          hex.node[q] = hex_nodes[c.hex][q];
           hex.var[q] = var_of_[hex.node[q]];
         }
         hexes_.push_back(hex);
@@ -280,6 +280,12 @@ HexGridUntangleReport untangle_hex_grid(const std::array<int, 3>& n, const std::
   assert(options.volume_weight >= 0.0 && options.volume_weight < 1.0);
   HexGridUntangleReport report;
   const std::vector<Corner> corners = all_corners(n);
+  std::vector<std::array<int, 8>> hex_nodes((n[0] - 1) * (n[1] - 1) * (n[2] - 1));
+  for (int k = 0; k + 1 < n[2]; ++k)
+    for (int j = 0; j + 1 < n[1]; ++j)
+      for (int i = 0; i + 1 < n[0]; ++i)
+        for (int q = 0; q < 8; ++q)
+          hex_nodes[i + (n[0] - 1) * (j + (n[1] - 1) * k)][q] = node_id(n, i + (q & 1), j + ((q >> 1) & 1), k + ((q >> 2) & 1));
   auto movable = [&](const Corner& c) {
     return !fixed[c.node[0]] || !fixed[c.node[1]] || !fixed[c.node[2]] || !fixed[c.node[3]];
   };
@@ -323,7 +329,7 @@ HexGridUntangleReport untangle_hex_grid(const std::array<int, 3>& n, const std::
   std::vector<char> region(total, 0), is_free(total, 0);
   report.initial_inverted = report.final_inverted = count_inverted(&region);
   for (int round = 0, rings = options.rings, before = report.initial_inverted + 1;
-       round < 3 && report.final_inverted > 0 && report.final_inverted < before; ++round, rings *= 2) {
+       round < options.rounds && report.final_inverted > 0 && report.final_inverted < before; ++round, rings *= 2) {
     before = report.final_inverted;
     dilate(region, rings);
     // ε continuation of Garanzha et al. 2021 (§3) with untangle's update and stop rules, but the
@@ -360,7 +366,7 @@ HexGridUntangleReport untangle_hex_grid(const std::array<int, 3>& n, const std::
         std::vector<Corner> terms;
         for (const Corner& c : corners)
           if (is_free[c.node[0]] || is_free[c.node[1]] || is_free[c.node[2]] || is_free[c.node[3]]) terms.push_back(c);
-        energy = std::make_unique<Energy>(n, std::move(terms), std::move(free_nodes), xyz, h, options.volume_weight);
+        energy = std::make_unique<Energy>(hex_nodes, std::move(terms), std::move(free_nodes), xyz, h, options.volume_weight);
       }
       Eigen::VectorXd x = energy->variables();
       if (step == 0) {
@@ -412,6 +418,138 @@ HexGridUntangleReport untangle_hex_grid(const std::array<int, 3>& n, const std::
             }
     }
     if (!border_held) break;
+  }
+  return report;
+}
+
+HexGridUntangleReport untangle_hex_mesh(const std::vector<std::array<int, 8>>& hexes, const std::vector<char>& fixed,
+                                        mesh::Positions& xyz, const std::vector<char>& near,
+                                        const HexGridUntangleOptions& options) {
+  assert(static_cast<Eigen::Index>(fixed.size()) == xyz.rows());
+  assert(options.rings >= 1 && options.max_steps >= 1 && options.max_inner >= 1);
+  HexGridUntangleReport report;
+  const int total = static_cast<int>(xyz.rows());
+  std::vector<Corner> corners;
+  for (std::size_t h = 0; h < hexes.size(); ++h)
+    for (int c = 0; c < 8; ++c) {
+      Corner corner;
+      corner.node[0] = hexes[h][c];
+      corner.hex = static_cast<int>(h);
+      corner.index = c;
+      for (int a = 0; a < 3; ++a) {
+        corner.node[a + 1] = hexes[h][c ^ (1 << a)];
+        corner.sign[a] = ((c >> a) & 1) ? -1.0 : 1.0;
+      }
+      corners.push_back(corner);
+    }
+  auto movable = [&](const Corner& c) {
+    return !fixed[c.node[0]] || !fixed[c.node[1]] || !fixed[c.node[2]] || !fixed[c.node[3]];
+  };
+  double mean_det = 0.0;
+  for (const Corner& c : corners) mean_det += corner_edges(c, xyz).determinant() / corners.size();
+  const double h = std::cbrt(std::max(mean_det, 1e-300));
+  // Hexes around each node, for growing regions by rings of hexes.
+  std::vector<std::vector<int>> node_hexes(total);
+  for (std::size_t q = 0; q < hexes.size(); ++q)
+    for (int v : hexes[q]) node_hexes[v].push_back(static_cast<int>(q));
+  auto dilate = [&](std::vector<char>& region, int rings) {
+    for (int r = 0; r < rings; ++r) {
+      std::vector<char> next = region;
+      for (int v = 0; v < total; ++v)
+        if (region[v])
+          for (int q : node_hexes[v])
+            for (int u : hexes[q]) next[u] = 1;
+      region.swap(next);
+    }
+  };
+  // Hexes with a node within `rings` of a `near` node may seed the free region.
+  std::vector<char> seeding(hexes.size(), 1);
+  if (!near.empty()) {
+    std::vector<char> zone = near;
+    dilate(zone, options.rings);
+    for (std::size_t q = 0; q < hexes.size(); ++q) {
+      seeding[q] = 0;
+      for (int v : hexes[q]) seeding[q] = seeding[q] || zone[v];
+    }
+  }
+  auto count_inverted = [&](std::vector<char>* seeds) {
+    int count = 0;
+    for (std::size_t c = 0; c < corners.size(); ++c) {
+      if (!seeding[corners[c].hex] || !movable(corners[c]) || corner_edges(corners[c], xyz).determinant() > 0.0) continue;
+      ++count;
+      if (seeds)
+        for (int v : hexes[corners[c].hex]) (*seeds)[v] = 1;
+    }
+    return count;
+  };
+  std::vector<char> region(total, 0), is_free(total, 0);
+  report.initial_inverted = report.final_inverted = count_inverted(&region);
+  // The ε continuation of untangle_hex_grid, with regions grown over shared hexes.
+  for (int round = 0, rings = options.rings, before = report.initial_inverted + 1;
+       round < options.rounds && report.final_inverted > 0 && report.final_inverted < before; ++round, rings *= 2) {
+    before = report.final_inverted;
+    std::fill(region.begin(), region.end(), 0);
+    count_inverted(&region);
+    dilate(region, rings);
+    std::unique_ptr<Energy> energy;
+    std::vector<char> first_region;
+    UntangleProblem problem;
+    problem.energy = [&](const Eigen::VectorXd& v, double eps, Eigen::VectorXd* g) { return energy->evaluate(v, eps, g); };
+    double eps = 0.0, previous_eps = 0.0, e_prev = 0.0, best_d_min = -std::numeric_limits<double>::infinity();
+    int stalled = 0, best_count = std::numeric_limits<int>::max(), count_stalled = 0, count = 1;
+    for (int step = 0; step < options.max_steps; ++step) {
+      if (step > 0 && count > 0) {
+        std::fill(region.begin(), region.end(), 0);
+        count_inverted(&region);
+        dilate(region, rings);
+      } else if (step > 0) {
+        region = first_region;
+      }
+      std::vector<int> free_nodes;
+      bool changed = !energy;
+      for (int v = 0; v < total; ++v) {
+        const char now = region[v] && !fixed[v];
+        changed = changed || now != is_free[v];
+        is_free[v] = now;
+        if (now) free_nodes.push_back(v);
+      }
+      if (free_nodes.empty()) break;
+      if (step == 0) {
+        report.free_nodes = static_cast<int>(free_nodes.size());
+        first_region = region;
+      }
+      if (changed) {
+        std::vector<Corner> terms;
+        for (const Corner& c : corners)
+          if (is_free[c.node[0]] || is_free[c.node[1]] || is_free[c.node[2]] || is_free[c.node[3]]) terms.push_back(c);
+        energy = std::make_unique<Energy>(hexes, std::move(terms), std::move(free_nodes), xyz, h, options.volume_weight);
+      }
+      Eigen::VectorXd x = energy->variables();
+      if (step == 0) {
+        const double d_min = energy->min_det();
+        eps = d_min > 0.0 ? 1e-8 : 2.0 * std::sqrt(0.1 * (0.1 - d_min));
+        e_prev = energy->evaluate(x, eps, nullptr);
+      } else if (changed) {
+        e_prev = energy->evaluate(x, previous_eps, nullptr);
+      }
+      report.iterations += minimize_lbfgs(problem, eps, options.max_inner, x);
+      const double e = energy->evaluate(x, eps, nullptr);
+      const double d_min = energy->min_det();
+      count = energy->num_inverted();
+      const double sigma = std::max(1.0 - e / e_prev, kMinSigma);
+      const double mu = (1.0 - sigma) * barrier_chi(d_min, eps);
+      previous_eps = eps;
+      eps = d_min < mu ? 2.0 * std::sqrt(mu * (mu - d_min)) : 1e-8;
+      const bool settled = std::abs(e_prev - e) <= 1e-4 * std::abs(e);
+      e_prev = e;
+      if (d_min > 0.0 && settled) break;
+      stalled = d_min > best_d_min + 1e-3 ? 0 : stalled + 1;
+      best_d_min = std::max(best_d_min, d_min);
+      count_stalled = count < best_count ? 0 : count_stalled + 1;
+      best_count = std::min(best_count, count);
+      if (d_min <= 0.0 && (stalled >= 4 || count_stalled >= kCountStallSteps)) break;
+    }
+    report.final_inverted = count_inverted(nullptr);
   }
   return report;
 }

@@ -15,6 +15,7 @@ struct HexGridUntangleOptions {
   /// shrinks as folds open); doubled (at most twice) while folds remain that the region's
   /// border held.
   int rings = 2;
+  int rounds = 3;              ///< at most this many rounds of doubling `rings`, ≥ 1
   int max_steps = 40;          ///< ε-continuation steps, ≥ 1
   int max_inner = 30;          ///< L-BFGS iterations per step, ≥ 1
   /// Weight θ of the volume term (det² + 1)/χ against the shape term tr(JᵀJ)/χ^(2/3), in [0, 1).
@@ -44,5 +45,14 @@ struct HexGridUntangleReport {
 /// order of grid_node_index, changed in place; fixed: one flag per node.
 HexGridUntangleReport untangle_hex_grid(const std::array<int, 3>& nodes, const std::vector<char>& fixed,
                                         mesh::Positions& xyz, const HexGridUntangleOptions& options = {});
+
+/// untangle_hex_grid on hexes that need not form one grid (the cuboid grids of a generalized
+/// poly-cube with their glued nodes shared): hexes[h] lists hex h's 8 node ids, node q at offset
+/// (q&1, q>>1&1, q>>2&1), into xyz (changed in place); fixed: one flag per node. The free region
+/// grows by rings of hexes through shared nodes. `near` (per node, or empty = everywhere): only
+/// folds within options.rings hexes of a flagged node are worked on (and counted in the report).
+HexGridUntangleReport untangle_hex_mesh(const std::vector<std::array<int, 8>>& hexes, const std::vector<char>& fixed,
+                                        mesh::Positions& xyz, const std::vector<char>& near = {},
+                                        const HexGridUntangleOptions& options = {});
 
 }  // namespace volspline::param
