@@ -25,6 +25,7 @@ int run_gpc(const std::vector<std::string>& argv) {
       {"grid-nodes", "N", "about N volumetric grid nodes over all cuboids (default 24000)"},
       {"no-untangle", "", "keep the harmonic grid's folds (the thesis's plain Eq. 3.1 map)"},
       {"no-merge", "", "keep every T-shape arm, tube and cap its own cuboid (no merging across cuts)"},
+      {"limbs", "P", "limb ends become caps when their branch is at least P of the shape's graph diameter long (default 0.25 for genus > 0, off for genus 0; 0 = off)"},
   };
   for (auto common : common_job_options()) {
     if (common.name == "threads") common.help = "accepted for scripts; the job runs on one thread (same output for any N)";
@@ -51,6 +52,11 @@ int run_gpc(const std::vector<std::string>& argv) {
   options.grid.target_nodes = args.get_int("grid-nodes", options.grid.target_nodes);
   if (args.has("no-untangle")) options.grid.untangle = param::GpcGridOptions::Untangle::Off;
   if (args.has("no-merge")) options.merge_cuboids = false;
+  if (args.has("limbs")) {
+    options.limb_persistence = args.get_double("limbs", 0.0);
+    if (!(options.limb_persistence >= 0.0 && options.limb_persistence < 1.0))
+      throw UsageError("--limbs expects a fraction in [0, 1)");
+  }
   const std::string& path = args.positional[0];
   OutputFiles files;
   files.input(path);
@@ -105,6 +111,8 @@ int run_gpc(const std::vector<std::string>& argv) {
     j["cut_disc_intersections"] = s.cut_disc_intersections;
     j["cut_discs_outside"] = s.cut_discs_outside;
     j["saddles"] = s.num_saddles;
+    j["limb_caps"] = s.limb_caps;
+    if (!s.limb_fallback.empty()) j["limb_fallback"] = s.limb_fallback;
     j["surface_vertices"] = s.surface_vertices;
     nlohmann::ordered_json times;
     for (const auto& [stage, seconds] : s.times_s) times[stage] = seconds;

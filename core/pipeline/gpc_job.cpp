@@ -58,49 +58,68 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
 
   auto t0 = Clock::now();
   progress.report("decompose", 0.0);
+  // Decomposition, T-to-cube and meridian certificate with the given limb persistence (0: two
+  // poles). A genus-0 solid without limbs is not cut: the blob is one cuboid on the unrefined
+  // surface, as mesh2spline maps it.
   polycube::SolidDecomposition decomposition;
-  if (stats.genus == 0) {
-    // No cut: the blob is one cuboid on the unrefined surface, as mesh2spline maps it.
-    decomposition.mesh = solid.mesh.to_triangle_mesh();
-    decomposition.value.assign(decomposition.mesh.num_vertices(), 0.0);
-    decomposition.parent_face.resize(decomposition.mesh.num_faces());
-    std::iota(decomposition.parent_face.begin(), decomposition.parent_face.end(), 0);
-    polycube::SolidPiece piece;
-    piece.faces = decomposition.parent_face;
-    decomposition.pieces.push_back(piece);
-  } else {
+  auto construct = [&](double limb_persistence) {
     polycube::DecompositionOptions d;
     d.snap = options.snap;
-    decomposition = polycube::decompose_solid(solid.mesh, stats.genus, d);
-  }
-  stats.num_saddles = decomposition.num_saddles;
-  stats.times_s["decompose"] = seconds_since(t0);
-
-  t0 = Clock::now();
-  progress.report("T-to-cube", 0.0);
-  // A piece too coarse for its layout's disjoint paths is refined (at most twice) and retried.
-  for (int attempt = 0;; ++attempt) {
-    try {
-      result.construction = polycube::build_gpc(decomposition, 1.0, options.corners, options.merge_cuboids);
-      break;
-    } catch (const polycube::DecompositionError&) {
-      if (attempt == 2 || stats.genus == 0) throw;
-      polycube::subdivide_decomposition(decomposition);
+    d.morse.limb_persistence = limb_persistence;
+    decomposition = polycube::SolidDecomposition{};
+    if (stats.genus > 0 || limb_persistence > 0.0) decomposition = polycube::decompose_solid(solid.mesh, stats.genus, d);
+    if (decomposition.pieces.size() <= 1 && stats.genus == 0) {
+      decomposition = polycube::SolidDecomposition{};
+      decomposition.mesh = solid.mesh.to_triangle_mesh();
+      decomposition.value.assign(decomposition.mesh.num_vertices(), 0.0);
+      decomposition.parent_face.resize(decomposition.mesh.num_faces());
+      std::iota(decomposition.parent_face.begin(), decomposition.parent_face.end(), 0);
+      polycube::SolidPiece piece;
+      piece.faces = decomposition.parent_face;
+      decomposition.pieces.push_back(piece);
     }
-  }
-  // Meridian certificate of every cut.
-  if (!decomposition.loops.empty()) {
-    std::vector<std::vector<int>> loop_ids;
-    for (const polycube::CutLoop& l : decomposition.loops) loop_ids.push_back(l.vertices);
-    const polycube::DiscEmbedding embedding =
-        polycube::check_interface_discs(decomposition.mesh, result.construction.discs, loop_ids);
-    stats.cut_disc_intersections = embedding.num_intersections;
-    stats.cut_discs_outside = embedding.num_outside;
-    for (std::size_t k = 0; k < embedding.winding.size(); ++k)
-      if (embedding.winding[k] < 0.5)
-        throw polycube::DecompositionError("meridian check: the interface disc of cut " + std::to_string(k) +
-                                           " lies outside the solid (winding number " +
-                                           std::to_string(embedding.winding[k]) + " at its centre)");
+    stats.num_saddles = decomposition.num_saddles;
+    stats.times_s["decompose"] = seconds_since(t0);
+    progress.report("T-to-cube", 0.0);
+    // A piece too coarse for its layout's disjoint paths is refined (at most twice) and retried.
+    const bool cut = !decomposition.loops.empty();
+    for (int attempt = 0;; ++attempt) {
+      try {
+        result.construction = polycube::build_gpc(decomposition, 1.0, options.corners, options.merge_cuboids);
+        break;
+      } catch (const polycube::DecompositionError&) {
+        if (attempt == 2 || !cut) throw;
+        polycube::subdivide_decomposition(decomposition);
+      }
+    }
+    // Meridian certificate of every cut.
+    if (cut) {
+      std::vector<std::vector<int>> loop_ids;
+      for (const polycube::CutLoop& l : decomposition.loops) loop_ids.push_back(l.vertices);
+      const polycube::DiscEmbedding embedding =
+          polycube::check_interface_discs(decomposition.mesh, result.construction.discs, loop_ids);
+      stats.cut_disc_intersections = embedding.num_intersections;
+      stats.cut_discs_outside = embedding.num_outside;
+      for (std::size_t k = 0; k < embedding.winding.size(); ++k)
+        if (embedding.winding[k] < 0.5)
+          throw polycube::DecompositionError("meridian check: the interface disc of cut " + std::to_string(k) +
+                                             " lies outside the solid (winding number " +
+                                             std::to_string(embedding.winding[k]) + " at its centre)");
+    }
+  };
+  // Limbs first (their ends become caps); where that construction fails, the two-pole one.
+  const double limb_persistence =
+      options.limb_persistence >= 0.0 ? options.limb_persistence : (stats.genus > 0 ? 0.25 : 0.0);
+  if (limb_persistence > 0.0 && options.corners.empty()) {
+    try {
+      construct(limb_persistence);
+      stats.limb_caps = static_cast<int>(result.construction.domain.caps);
+    } catch (const polycube::DecompositionError& e) {
+      stats.limb_fallback = e.what();
+      construct(0.0);
+    }
+  } else {
+    construct(0.0);
   }
   stats.times_s["t_to_cube"] = seconds_since(t0);
 

@@ -20,6 +20,11 @@ struct GpcOptions {
   param::GpcGridOptions grid;  ///< the volumetric grids (node budget, untangling)
   double snap = 0.05;          ///< level-set splitting snap, see split_at_level, in [0, 0.45)
   bool merge_cuboids = true;   ///< merge cuboids glued end to end across cuts (build_gpc)
+  /// Limb ends become caps: see MorseFunctionOptions::limb_persistence (fraction of the graph
+  /// diameter, 0 = off; negative = automatic: 0.25 for genus > 0, off for genus 0, whose blob
+  /// stays one cuboid as in mesh2spline). If that construction fails the job falls back to two
+  /// poles (a genus-0 solid then stays one cuboid) and says why in GpcStats::limb_fallback.
+  double limb_persistence = -1.0;
   int threads = 1;             ///< ≥ 1; the stages run on one thread (same output for any value)
 };
 
@@ -42,6 +47,8 @@ struct GpcStats {
   int cut_disc_intersections = 0;  ///< meridian certificate: disc–surface/disc–disc crossings (must be 0)
   int cut_discs_outside = 0;       ///< discs outside the solid (must be 0)
   int num_saddles = 0;
+  int limb_caps = 0;               ///< caps of the limb construction (0 if not used)
+  std::string limb_fallback;       ///< why the limb construction was dropped (empty if not)
   int surface_vertices = 0;        ///< of the refined surface the cuboids partition
   std::map<std::string, double> times_s;
 };

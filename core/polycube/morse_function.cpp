@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <functional>
 
 #include "core/linalg/conjugate_gradient.h"
 #include "core/linalg/csr_matrix.h"
@@ -19,6 +20,35 @@ int farthest_vertex(const mesh::HalfedgeMesh& mesh, int from) {
   for (int v = 0; v < mesh.num_vertices(); ++v)
     if (d.distance[v] != std::numeric_limits<double>::infinity() && d.distance[v] > d.distance[best]) best = v;
   return best;
+}
+
+// Maxima of d (per vertex, finite) whose superlevel-set component lives at least `threshold`
+// (0-dimensional persistence by a union–find sweep from the top; the global maximum is left
+// out, it never dies). Ascending ids.
+std::vector<int> persistent_maxima(const mesh::HalfedgeMesh& mesh, const std::vector<double>& d, double threshold) {
+  const int n = mesh.num_vertices();
+  std::vector<int> order;
+  for (int v = 0; v < n; ++v)
+    if (mesh.vertex_halfedge(v) != mesh::no_id) order.push_back(v);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return d[a] > d[b] || (d[a] == d[b] && a < b); });
+  std::vector<int> parent(n, -1), top(n, -1);
+  std::function<int(int)> find = [&](int x) { return parent[x] == x ? x : parent[x] = find(parent[x]); };
+  std::vector<int> out;
+  for (int v : order) {
+    parent[v] = v;
+    top[v] = v;
+    for (int u : mesh.vertex_neighbors(v)) {
+      if (parent[u] < 0) continue;
+      int a = find(u), b = find(v);
+      if (a == b) continue;
+      // The component with the lower top dies here.
+      if (d[top[a]] < d[top[b]] || (d[top[a]] == d[top[b]] && top[a] > top[b])) std::swap(a, b);
+      if (d[top[b]] - d[v] >= threshold && top[b] != v) out.push_back(top[b]);
+      parent[b] = a;
+    }
+  }
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 // (value, id) order: the symbolic perturbation that makes every vertex value distinct.
@@ -63,14 +93,26 @@ MorseFunction compute_morse_function(const mesh::HalfedgeMesh& mesh, const Morse
   MorseFunction function;
   function.source = farthest_vertex(mesh, start);
   function.sink = farthest_vertex(mesh, function.source);
+  std::vector<char> pole(n, 0);
+  pole[function.source] = pole[function.sink] = 1;
+  if (options.limb_persistence > 0.0) {
+    const mesh::GraphDistances from_source = mesh::graph_distances(mesh, {function.source});
+    for (int v : persistent_maxima(mesh, from_source.distance,
+                                   options.limb_persistence * from_source.distance[function.sink]))
+      if (!pole[v]) {
+        function.limb_tips.push_back(v);
+        pole[v] = 1;
+      }
+  }
 
   const std::vector<double> mvc = mesh::mean_value_weights(mesh);
   std::vector<int> unknown(n, -1);
   int m = 0;
   for (int v = 0; v < n; ++v)
-    if (v != function.source && v != function.sink && mesh.vertex_halfedge(v) != mesh::no_id) unknown[v] = m++;
+    if (!pole[v] && mesh.vertex_halfedge(v) != mesh::no_id) unknown[v] = m++;
   function.value.assign(n, 0.0);
   function.value[function.sink] = 1.0;
+  for (int v : function.limb_tips) function.value[v] = 1.0;
   std::vector<linalg::Triplet> triplets;
   triplets.reserve(7 * static_cast<std::size_t>(m));
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(m);

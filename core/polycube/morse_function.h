@@ -15,7 +15,8 @@ enum class CriticalKind { Regular, Minimum, Maximum, Saddle };
 struct MorseFunction {
   std::vector<double> value;  ///< per vertex, in [0, 1]; 0 at `source`, 1 at `sink`
   int source = -1;            ///< pole with value 0 (a vertex id)
-  int sink = -1;              ///< pole with value 1
+  int sink = -1;              ///< pole with value 1 (the farthest from the source)
+  std::vector<int> limb_tips; ///< further poles with value 1 (MorseFunctionOptions::limb_persistence)
   /// Per vertex: its kind; for a saddle, its multiplicity (sign changes in the link / 2 − 1).
   std::vector<CriticalKind> kind;
   std::vector<int> multiplicity;
@@ -27,6 +28,10 @@ struct MorseFunction {
 /// Options of compute_morse_function.
 struct MorseFunctionOptions {
   double tolerance = 1e-13;  ///< relative CG residual of the harmonic solve (unitless)
+  /// Limbs: the ends of the shape's limbs become extra poles with value 1: the maxima of the graph
+  /// distance from the source whose persistence (height above the level where their branch
+  /// joins a higher one) is at least this fraction of the graph diameter. 0 = off (two poles).
+  double limb_persistence = 0.0;
 };
 
 /// §3.3.1 Step 1 deviation: the thesis segments by the shape diameter function and builds an

@@ -23,7 +23,7 @@ SolidDecomposition decompose_solid(const mesh::HalfedgeMesh& input, int genus,
                                    const DecompositionOptions& options) {
   SolidDecomposition out;
   out.genus = genus;
-  MorseFunction morse = compute_morse_function(input);
+  MorseFunction morse = compute_morse_function(input, options.morse);
   out.num_saddles = morse.num_saddles;
 
   // Cut levels: midway between consecutive distinct critical values.
@@ -149,11 +149,21 @@ SolidDecomposition decompose_solid(const mesh::HalfedgeMesh& input, int genus,
     }
   }
 
-  // Algorithm 1 by contraction: remove cuts while the merged piece keeps ≤ 3 loops.
+  // Algorithm 1 by contraction: remove cuts while the merged piece keeps ≤ 3 loops. With limb
+  // poles, a piece holding a pole stays a cap (the limb's end), so no limb is merged away.
   std::vector<int> group(num_pieces);
   std::iota(group.begin(), group.end(), 0);
   std::vector<int> count = loops_of_piece;
   std::vector<char> kept(loops.size(), 1);
+  const bool limbs = !morse.limb_tips.empty();
+  std::vector<char> has_pole(num_pieces, 0);
+  if (limbs) {
+    std::vector<int> poles = morse.limb_tips;
+    poles.push_back(morse.source);
+    poles.push_back(morse.sink);
+    for (int v : poles)
+      for (int f : hm.vertex_faces(v)) has_pole[piece[f]] = 1;
+  }
   for (;;) {
     int best = -1, best_result = 4;
     for (std::size_t l = 0; l < loops.size(); ++l) {
@@ -162,6 +172,7 @@ SolidDecomposition decompose_solid(const mesh::HalfedgeMesh& input, int genus,
       if (a == b) continue;
       const int result = count[a] + count[b] - 2;
       if (result == 0 && genus > 0) continue;
+      if (limbs && (has_pole[a] || has_pole[b]) && result != 1) continue;
       if (result < best_result) {
         best_result = result;
         best = static_cast<int>(l);
@@ -171,6 +182,7 @@ SolidDecomposition decompose_solid(const mesh::HalfedgeMesh& input, int genus,
     const int a = find(group, loops[best].piece[0]), b = find(group, loops[best].piece[1]);
     group[b] = a;
     count[a] = best_result;
+    has_pole[a] = has_pole[a] || has_pole[b];
     kept[best] = 0;
   }
 

@@ -64,6 +64,7 @@ struct SolidDecomposition {
 /// Options of decompose_solid.
 struct DecompositionOptions {
   double snap = 0.05;  ///< see split_at_level, in [0, 0.45)
+  MorseFunctionOptions morse;  ///< the Morse function (limb poles: morse.limb_persistence)
 };
 
 /// §3.3.1, Algorithm 1, by level sets of a fair Morse function (see compute_morse_function):

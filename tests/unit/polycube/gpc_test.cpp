@@ -2,6 +2,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <functional>
 #include <map>
 #include <set>
 
@@ -14,6 +15,7 @@
 #include "core/polycube/gpc_domain.h"
 #include "core/polycube/interface_disc.h"
 #include "core/polycube/level_set_split.h"
+#include "core/polycube/morse_function.h"
 #include "core/polycube/solid_decomposition.h"
 
 using namespace volspline;
@@ -44,11 +46,10 @@ mesh::TriangleMesh make_torus(int nu, int nv, double r = 0.35) {
 
 // A slab of voxels with two square through-holes (genus 2), each voxel face split into k × k
 // quads, two triangles each; outward oriented.
-mesh::TriangleMesh make_two_hole_slab(int k) {
-  const int nx = 7, ny = 3, nz = 2;
+mesh::TriangleMesh make_voxel_solid(int nx, int ny, int nz, int k, const std::function<bool(int, int, int)>& cell) {
   auto filled = [&](int x, int y, int z) {
     if (x < 0 || y < 0 || z < 0 || x >= nx || y >= ny || z >= nz) return false;
-    return !(y == 1 && (x == 1 || x == 5));
+    return cell(x, y, z);
   };
   std::map<std::array<long, 3>, int> ids;
   std::vector<Eigen::Vector3d> pts;
@@ -93,6 +94,16 @@ mesh::TriangleMesh make_two_hole_slab(int k) {
   for (std::size_t i = 0; i < tris.size(); ++i)
     m.triangles.row(static_cast<int>(i)) << tris[i][0], tris[i][1], tris[i][2];
   return m;
+}
+
+mesh::TriangleMesh make_two_hole_slab(int k) {
+  return make_voxel_solid(7, 3, 2, k, [](int x, int y, int) { return !(y == 1 && (x == 1 || x == 5)); });
+}
+
+// A "T" of voxels (a bar of 7 cells and a stem of 4 under its middle, one cell thick): genus 0
+// with three limbs.
+mesh::TriangleMesh make_t_solid(int k) {
+  return make_voxel_solid(7, 5, 1, k, [](int x, int y, int) { return y == 4 || x == 3; });
 }
 
 mesh::HalfedgeMesh outward(const mesh::TriangleMesh& m) {
@@ -388,4 +399,38 @@ TEST_CASE("gpc job: a two-hole solid is two T-shapes with Type-1 ill-points only
     CHECK(id.translation.norm() < 1e-12);
     for (int k = 0; k < 2; ++k) CHECK(glued.insert({g.cuboid[k], g.face[k]}).second);
   }
+}
+
+TEST_CASE("limbs: the three ends of a T-shaped solid become caps around one T-shape") {
+  const mesh::HalfedgeMesh t = outward(make_t_solid(3));
+  REQUIRE(mesh::analyze_mesh(t).genus == 0);
+  polycube::MorseFunctionOptions limbs;
+  limbs.limb_persistence = 0.25;
+  const polycube::MorseFunction f = polycube::compute_morse_function(t, limbs);
+  CHECK(f.limb_tips.size() == 1);      // the third end (source and sink are the other two)
+  CHECK(f.num_maxima == 2);            // sink and tip, value 1
+  CHECK(f.num_saddles == 1);           // χ = 2 = 1 − 1 + 2
+  polycube::DecompositionOptions d;
+  d.morse = limbs;
+  const polycube::SolidDecomposition e = polycube::decompose_solid(t, 0, d);
+  int caps = 0, tshapes = 0;
+  for (const auto& p : e.pieces) {
+    caps += p.kind == polycube::PieceKind::Cap;
+    tshapes += p.kind == polycube::PieceKind::TShape;
+  }
+  CHECK(caps == 3);
+  CHECK(tshapes == 1);
+  // Without limbs the blob stays one cuboid; with them the job cuts the three limbs off.
+  pipeline::GpcOptions on;
+  on.limb_persistence = 0.25;
+  const pipeline::GpcResult r = pipeline::run_gpc(make_t_solid(3), "T", on);
+  CHECK(r.stats.limb_fallback == "");
+  CHECK(r.stats.limb_caps == 3);
+  CHECK(r.stats.t_shapes == 1);
+  CHECK(r.stats.ill_points == 2);
+  CHECK(r.stats.flipped_triangles == 0);
+  CHECK(r.stats.interface_gap_rel <= 1e-12);
+  CHECK(r.stats.cut_discs_outside == 0);
+  const pipeline::GpcResult blob = pipeline::run_gpc(make_t_solid(3), "T");
+  CHECK(blob.stats.cuboids == 1);
 }
