@@ -88,7 +88,8 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
         result.construction = polycube::build_gpc(decomposition, 1.0, options.corners, options.merge_cuboids);
         break;
       } catch (const polycube::DecompositionError&) {
-        if (attempt == 2 || !cut) throw;
+        // Refining helps narrow T-shapes; past 200,000 faces it only costs time.
+        if (attempt == 2 || !cut || decomposition.mesh.num_faces() > 200000) throw;
         polycube::subdivide_decomposition(decomposition);
       }
     }
