@@ -227,4 +227,11 @@ DiscEmbedding check_interface_discs(const mesh::TriangleMesh& surface, const std
   return out;
 }
 
+DiscEmbedding check_loop_disc(const mesh::TriangleMesh& surface, const std::vector<int>& loop) {
+  assert(loop.size() >= 3);
+  mesh::Positions xyz(static_cast<int>(loop.size()), 3);
+  for (std::size_t i = 0; i < loop.size(); ++i) xyz.row(static_cast<int>(i)) = surface.positions.row(loop[i]);
+  return check_interface_discs(surface, {triangulate_interface_disc(xyz)}, {loop});
+}
+
 }  // namespace volspline::polycube

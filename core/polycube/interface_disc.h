@@ -44,4 +44,8 @@ struct DiscEmbedding {
 DiscEmbedding check_interface_discs(const mesh::TriangleMesh& surface, const std::vector<InterfaceDisc>& discs,
                                     const std::vector<std::vector<int>>& loop_ids);
 
+/// The meridian certificate of one loop of `surface` (vertex ids in loop order, ≥ 3): its
+/// triangulate_interface_disc disc checked against the surface by check_interface_discs.
+DiscEmbedding check_loop_disc(const mesh::TriangleMesh& surface, const std::vector<int>& loop);
+
 }  // namespace volspline::polycube

@@ -6,7 +6,9 @@
 #include <numeric>
 #include <set>
 
+#include "core/polycube/interface_disc.h"
 #include "core/polycube/level_set_split.h"
+#include "core/polycube/piece_resplit.h"
 
 namespace volspline::polycube {
 
@@ -39,8 +41,12 @@ SolidDecomposition decompose_solid(const mesh::HalfedgeMesh& input, int genus,
   mesh::TriangleMesh surface = input.to_triangle_mesh();
   std::vector<double> value = morse.value;
   std::vector<int> parent;
+  // A vertex on a level is never snapped onto the next one: its loop would lose it and pinch.
+  std::vector<char> frozen;
   for (double level : levels) {
-    LevelSetSplit split = split_at_level(surface, value, parent, level, options.snap);
+    LevelSetSplit split = split_at_level(surface, value, parent, level, options.snap, frozen);
+    frozen.resize(split.value.size(), 0);
+    for (std::size_t v = 0; v < frozen.size(); ++v) frozen[v] = frozen[v] || split.value[v] == level;
     surface = std::move(split.mesh);
     value = std::move(split.value);
     parent = std::move(split.parent_face);
@@ -216,6 +222,27 @@ SolidDecomposition decompose_solid(const mesh::HalfedgeMesh& input, int genus,
   out.mesh = std::move(surface);
   out.value = std::move(value);
   out.parent_face = std::move(parent);
+
+  // §3.3.1, Algorithm 1 cuts only along meridians. A level-set loop is one topologically on a
+  // tube of the Reeb graph, but between two T-shapes it may be a band sum of two meridians that
+  // runs along a tube lying in a level (a tetrahedron frame's edge opposite the poles): its disc
+  // leaves the solid. How every kept loop is guaranteed to bound a disc inside the solid: each
+  // one passes the certificate (check_loop_disc: its interface disc's centre has winding number
+  // ≥ 1/2) or is replaced by a re-split of its two pieces whose cut passes it, or decompose_solid
+  // throws. Disc–surface crossings are reported by the gpc job, not repaired here.
+  ResplitOptions resplit;
+  resplit.snap = options.snap;
+  for (std::size_t l = 0; l < out.loops.size(); ++l) {
+    const DiscEmbedding check = check_loop_disc(out.mesh, out.loops[l].vertices);
+    if (check.num_outside == 0) continue;
+    std::string why;
+    if (!resplit_across_loop(out, static_cast<int>(l), resplit, &why))
+      throw DecompositionError("decomposition: cut " + std::to_string(l) + " at level " +
+                               std::to_string(out.loops[l].level) + " is not a meridian (winding number " +
+                               std::to_string(check.winding[0]) + " at its disc's centre) and cannot be replaced: " +
+                               why);
+    ++out.num_resplit_cuts;
+  }
   return out;
 }
 

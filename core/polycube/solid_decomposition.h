@@ -29,9 +29,11 @@ enum class PieceKind {
 /// A closed curve on the surface along which the solid is cut.
 struct CutLoop {
   /// Vertex cycle in SolidDecomposition::mesh (first vertex not repeated), in the direction of
-  /// the halfedges of the faces below the level (value < level).
+  /// the halfedges of the faces below the level (value < level), which lie on its left.
   std::vector<int> vertices;
-  double level = 0.0;              ///< value of the Morse function on the loop
+  /// Value of the Morse function on the loop; for a cut replaced by resplit_across_loop, the
+  /// level of its merged piece's harmonic function instead (not of SolidDecomposition::value).
+  double level = 0.0;
   std::array<int, 2> piece{-1, -1};  ///< piece below and piece above (may be equal)
 };
 
@@ -59,6 +61,7 @@ struct SolidDecomposition {
   int num_saddles = 0;          ///< of the Morse function, with multiplicity (= 2·genus)
   int num_levels = 0;           ///< levels cut before merging
   int num_initial_pieces = 0;   ///< pieces before merging
+  int num_resplit_cuts = 0;     ///< level-set cuts that failed the meridian certificate and were replaced
 };
 
 /// Options of decompose_solid.
@@ -73,12 +76,13 @@ struct DecompositionOptions {
 /// simple saddle), then cuts are removed greedily, the one giving the fewest boundary loops first,
 /// while the merged piece keeps ≤ 3 loops and the two sides differ (a cut between a piece and
 /// itself would add a handle). Every piece is planar (checked: genus 0 by its Euler
-/// characteristic); level-set loops of a tube or T-shape of the Reeb graph separate the solid
-/// locally, and the caller checks that each kept loop bounds a disc inside the solid
-/// (interface_disc.h). Count check: #T-shapes = #caps + 2g − 2.
+/// characteristic). Every kept loop bounds a disc inside the solid: it passes the meridian
+/// certificate (check_loop_disc) or is replaced by resplit_across_loop, whose cut passes it.
+/// Count check: #T-shapes = #caps + 2g − 2.
 /// Preconditions: `mesh` closed, connected, consistently and outward oriented.
 /// Throws DecompositionError if a piece is not planar or has more than 3 loops (a degenerate
-/// saddle the sweep cannot separate), naming the piece.
+/// saddle the sweep cannot separate), naming the piece, or if a kept loop fails the meridian
+/// certificate and no re-split of its two pieces passes it (resplit_across_loop), naming the cut.
 SolidDecomposition decompose_solid(const mesh::HalfedgeMesh& mesh, int genus,
                                    const DecompositionOptions& options = {});
 

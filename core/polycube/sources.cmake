@@ -12,4 +12,5 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/surface_paths.cpp
   ${CMAKE_CURRENT_LIST_DIR}/t_shape_layout.cpp
   ${CMAKE_CURRENT_LIST_DIR}/disc_chords.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/piece_resplit.cpp
 )

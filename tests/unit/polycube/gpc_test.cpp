@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -106,6 +108,112 @@ mesh::TriangleMesh make_t_solid(int k) {
   return make_voxel_solid(7, 5, 1, k, [](int x, int y, int) { return y == 4 || x == 3; });
 }
 
+// The boundary of {sdf < 0} on an n³ grid over [−half, half]³ by marching tetrahedra (6 per
+// cube along its main diagonal, so neighbouring cubes match): a closed manifold when no grid value
+// is 0; triangles oriented from the inside to the outside.
+template <class Sdf>
+mesh::TriangleMesh marching_tetrahedra(const Sdf& sdf, int n, double half) {
+  const double h = 2.0 * half / n;
+  auto grid_id = [&](int i, int j, int k) { return (static_cast<long>(i) * (n + 1) + j) * (n + 1) + k; };
+  auto grid_xyz = [&](long id) {
+    const int k = static_cast<int>(id % (n + 1)), j = static_cast<int>(id / (n + 1) % (n + 1)),
+              i = static_cast<int>(id / ((n + 1) * (n + 1)));
+    return Eigen::Vector3d(-half + i * h, -half + j * h, -half + k * h);
+  };
+  std::map<long, double> value_cache;
+  auto value = [&](long id) {
+    auto it = value_cache.find(id);
+    if (it != value_cache.end()) return it->second;
+    double s = sdf(grid_xyz(id));
+    if (std::abs(s) < 1e-9) s = 1e-9;
+    return value_cache[id] = s;
+  };
+  std::map<std::pair<long, long>, int> edge_vertex;
+  std::vector<Eigen::Vector3d> pts;
+  auto crossing = [&](long a, long b) {
+    const std::pair<long, long> key{std::min(a, b), std::max(a, b)};
+    auto it = edge_vertex.find(key);
+    if (it != edge_vertex.end()) return it->second;
+    const double fa = value(key.first), fb = value(key.second);
+    // Kept off the grid points, so that no triangle degenerates.
+    const double t = std::clamp(fa / (fa - fb), 0.05, 0.95);
+    pts.push_back(grid_xyz(key.first) + t * (grid_xyz(key.second) - grid_xyz(key.first)));
+    return edge_vertex[key] = static_cast<int>(pts.size()) - 1;
+  };
+  std::vector<std::array<int, 3>> tris;
+  auto emit = [&](int a, int b, int c, const Eigen::Vector3d& outward_dir) {
+    if ((pts[b] - pts[a]).cross(pts[c] - pts[a]).dot(outward_dir) < 0) std::swap(b, c);
+    tris.push_back({a, b, c});
+  };
+  const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k)
+        for (const auto& perm : perms) {
+          std::array<long, 4> tet;
+          std::array<int, 3> c = {i, j, k};
+          tet[0] = grid_id(c[0], c[1], c[2]);
+          for (int s = 0; s < 3; ++s) {
+            ++c[perm[s]];
+            tet[s + 1] = grid_id(c[0], c[1], c[2]);
+          }
+          std::vector<long> in, out;
+          for (long v : tet) (value(v) < 0 ? in : out).push_back(v);
+          if (in.empty() || out.empty()) continue;
+          Eigen::Vector3d ci = Eigen::Vector3d::Zero(), co = Eigen::Vector3d::Zero();
+          for (long v : in) ci += grid_xyz(v) / static_cast<double>(in.size());
+          for (long v : out) co += grid_xyz(v) / static_cast<double>(out.size());
+          const Eigen::Vector3d dir = co - ci;
+          if (in.size() == 1 || out.size() == 1) {
+            const long apex = in.size() == 1 ? in[0] : out[0];
+            const std::vector<long>& rest = in.size() == 1 ? out : in;
+            emit(crossing(apex, rest[0]), crossing(apex, rest[1]), crossing(apex, rest[2]), dir);
+          } else {
+            const int a = crossing(in[0], out[0]), b = crossing(in[0], out[1]), c1 = crossing(in[1], out[1]),
+                      d = crossing(in[1], out[0]);
+            emit(a, b, c1, dir);
+            emit(a, c1, d, dir);
+          }
+        }
+  mesh::TriangleMesh m;
+  m.positions.resize(static_cast<int>(pts.size()), 3);
+  for (std::size_t v = 0; v < pts.size(); ++v) m.positions.row(static_cast<int>(v)) = pts[v].transpose();
+  m.triangles.resize(static_cast<int>(tris.size()), 3);
+  for (std::size_t t = 0; t < tris.size(); ++t)
+    m.triangles.row(static_cast<int>(t)) << tris[t][0], tris[t][1], tris[t][2];
+  return m;
+}
+
+// A frame of genus 3 shaped as the planar drawing of a tetrahedron's edges: the triangle
+// (−1, −0.6, 0), (1, −0.6, 0), (0, 0.9, 0) with a centre (0, −0.1, 0) joined to its corners, the
+// spoke to the top corner bent into an arch of height `arch` over the plane z = 0; tubes of
+// radius r, on an n³ grid over [−1.5, 1.5]³.
+mesh::TriangleMesh make_arched_frame(int n, double r, double arch) {
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> segments;
+  const Eigen::Vector3d p0(-1, -0.6, 0), p1(1, -0.6, 0), p2(0, 0.9, 0), q(0, -0.1, 0);
+  segments.push_back({p0, p1});
+  segments.push_back({p0, p2});
+  segments.push_back({p1, p2});
+  segments.push_back({q, p0});
+  segments.push_back({q, p1});
+  const double pi = 3.14159265358979323846;
+  const int steps = 12;
+  auto on_arch = [&](int i) {
+    const double t = double(i) / steps;
+    return Eigen::Vector3d(0, -0.1 + t, arch * std::sin(pi * t));
+  };
+  for (int i = 0; i < steps; ++i) segments.push_back({on_arch(i), on_arch(i + 1)});
+  auto sdf = [&](const Eigen::Vector3d& p) {
+    double d = 1e300;
+    for (const auto& [a, b] : segments) {
+      const double t = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+      d = std::min(d, (a + t * (b - a) - p).norm() - r);
+    }
+    return d;
+  };
+  return marching_tetrahedra(sdf, n, 1.5);
+}
+
 mesh::HalfedgeMesh outward(const mesh::TriangleMesh& m) {
   mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(m, "test");
   if (mesh::analyze_mesh(hm).signed_volume < 0) {
@@ -176,6 +284,41 @@ TEST_CASE("meridian certificate: a meridian disc is inside the torus, the hole's
   CHECK(good.winding[0] == doctest::Approx(1.0).epsilon(1e-6));
   const auto bad = polycube::check_interface_discs(torus, {disc_of(inner)}, {inner});
   CHECK(bad.num_outside == 1);
+}
+
+TEST_CASE("Morse decomposition: an arched frame is cut along meridians only, one loop re-split") {
+  // The arched spoke lies along a level of the Morse function: the naive cut between its two
+  // junctions runs along the arch and its disc lies under it, outside the solid. The
+  // decomposition replaces that cut (resplit_across_loop): 4 T-shapes, 6 cuts, every disc inside.
+  const mesh::HalfedgeMesh frame = outward(make_arched_frame(40, 0.2, 0.6));
+  REQUIRE(mesh::analyze_mesh(frame).genus == 3);
+  const polycube::SolidDecomposition d = polycube::decompose_solid(frame, 3);
+  CHECK(d.num_saddles == 6);
+  CHECK(d.num_resplit_cuts == 1);
+  int tshapes = 0;
+  for (const auto& p : d.pieces) tshapes += p.kind == polycube::PieceKind::TShape;
+  CHECK(tshapes == 4);
+  REQUIRE(d.loops.size() == 6);
+  const mesh::MeshReport cut = mesh::analyze_mesh(mesh::HalfedgeMesh::build(d.mesh, "cut"));
+  CHECK(cut.closed);
+  CHECK(cut.genus == 3);
+  // Each piece lists exactly the loop sides that name it.
+  for (std::size_t p = 0; p < d.pieces.size(); ++p)
+    for (const polycube::LoopSide& b : d.pieces[p].boundary)
+      CHECK(d.loops[b.loop].piece[b.side] == static_cast<int>(p));
+  for (const polycube::CutLoop& loop : d.loops) {
+    const polycube::DiscEmbedding e = polycube::check_loop_disc(d.mesh, loop.vertices);
+    CHECK(e.winding[0] == doctest::Approx(1.0).epsilon(1e-3));  // solid angles of a closed surface
+  }
+}
+
+TEST_CASE("gpc job: the arched frame is 4 T-shapes with Type-1 ill-points only, its cut discs inside") {
+  const pipeline::GpcResult r = pipeline::run_gpc(make_arched_frame(40, 0.2, 0.6), "frame");
+  CHECK(r.stats.genus == 3);
+  CHECK(r.stats.t_shapes == 4);
+  CHECK(r.stats.cut_discs_outside == 0);
+  CHECK(r.stats.flipped_triangles == 0);
+  for (const auto& p : r.construction.domain.ill_points) CHECK(p.type == 1);
 }
 
 TEST_CASE("cylinder map: u runs from loop to loop, v around") {
