@@ -1,8 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include <cstdio>
 
-#include <nlohmann/json.hpp>
-
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/corners_file.h"
@@ -13,6 +11,7 @@
 #include "core/io/gpc_writers.h"
 #include "core/io/mesh_io.h"
 #include "core/pipeline/gpc_job.h"
+#include "core/pipeline/gpc_outputs.h"
 
 namespace volspline::cli {
 
@@ -77,49 +76,10 @@ int run_gpc(const std::vector<std::string>& argv) {
     for (const param::GpcCuboidGrid& g : result.map.grids) grids.push_back({g.nodes, &g.xyz});
     files.stage(args.get("vtk"), io::serialize_hex_grids_vtu(grids));
   }
-  if (args.has("glb")) {
-    std::vector<std::vector<Eigen::Vector3d>> lines;
-    std::vector<Eigen::Vector3d> corners;
-    for (const polycube::CuboidSurface& s : result.construction.surfaces) {
-      for (const auto& path_ids : s.layout.poly_edges) {
-        std::vector<Eigen::Vector3d> line;
-        for (int v : path_ids) line.push_back(s.mesh.positions.row(v).transpose());
-        lines.push_back(std::move(line));
-      }
-      for (int c : s.layout.corners) corners.push_back(s.mesh.positions.row(c).transpose());
-    }
-    files.stage(args.get("glb"), io::serialize_segmented_glb(result.surface, result.face_cuboid, lines, corners));
-  }
-  const pipeline::GpcStats& s = result.stats;
-  if (args.has("stats-json")) {
-    nlohmann::ordered_json j;
-    j["input"] = path;
-    j["genus"] = s.genus;
-    j["t_shapes"] = s.t_shapes;
-    j["tubes"] = s.tubes;
-    j["caps"] = s.caps;
-    j["cuboids"] = s.cuboids;
-    j["interfaces"] = s.interfaces;
-    j["ill_points"] = s.ill_points;
-    j["flipped_triangles"] = s.flipped_triangles;
-    j["grid_inverted_hexes"] = s.grid_inverted_hexes;
-    j["grid_harmonic_inverted_hexes"] = s.grid_harmonic_inverted_hexes;
-    j["grid_min_scaled_jacobian"] = s.grid_min_scaled_jacobian;
-    j["interface_gap_rel"] = s.interface_gap_rel;
-    j["grid_nodes"] = s.grid_nodes;
-    j["shared_nodes"] = s.shared_nodes;
-    j["cut_disc_intersections"] = s.cut_disc_intersections;
-    j["cut_discs_outside"] = s.cut_discs_outside;
-    j["saddles"] = s.num_saddles;
-    j["limb_caps"] = s.limb_caps;
-    if (!s.limb_fallback.empty()) j["limb_fallback"] = s.limb_fallback;
-    j["surface_vertices"] = s.surface_vertices;
-    nlohmann::ordered_json times;
-    for (const auto& [stage, seconds] : s.times_s) times[stage] = seconds;
-    j["times_s"] = times;
-    files.stage(args.get("stats-json"), j.dump(2) + "\n");
-  }
+  if (args.has("glb")) files.stage(args.get("glb"), pipeline::gpc_segmentation_glb(result));
+  if (args.has("stats-json")) files.stage(args.get("stats-json"), pipeline::gpc_stats_json(result.stats, path));
   files.commit();
+  const pipeline::GpcStats& s = result.stats;
   if (!args.has("quiet"))
     std::fprintf(stderr,
                  "gpc: genus %d, %d T-shapes, %d tubes, %d caps -> %d cuboids, %d ill-points; %d inverted hexes, "

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/common/version.h"
+#include "wasm/gpc_binding.h"
 #include "wasm/lens_binding.h"
 #include "wasm/mesh2spline_binding.h"
 #include "wasm/mesh_info_binding.h"
@@ -26,6 +27,7 @@ EMSCRIPTEN_BINDINGS(volspline) {
   emscripten::function("encodePng", &volspline::wasm::encode_png);
   emscripten::function("lens", &volspline::wasm::lens);
   emscripten::function("mesh2spline", &volspline::wasm::mesh2spline);
+  emscripten::function("gpc", &volspline::wasm::gpc);
   emscripten::function("splineCut", &volspline::wasm::spline_cut);
   emscripten::function("loadVolume", &volspline::wasm::load_volume);
   emscripten::function("vol2spline", &volspline::wasm::vol2spline);

@@ -73,7 +73,18 @@ void put_u32(std::string& out, std::uint32_t x) {
   for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((x >> (8 * i)) & 0xff));
 }
 
-// A well-spread colour per segment (golden-angle hues), components in [0.25, 0.95].
+nlohmann::ordered_json bounds(const std::vector<float>& xyz, bool upper) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (int d = 0; d < 3; ++d) {
+    float v = upper ? -std::numeric_limits<float>::max() : std::numeric_limits<float>::max();
+    for (std::size_t i = d; i < xyz.size(); i += 3) v = upper ? std::max(v, xyz[i]) : std::min(v, xyz[i]);
+    out.push_back(v);
+  }
+  return out;
+}
+
+}  // namespace
+
 std::array<float, 3> segment_colour(int s) {
   const double h = std::fmod(s * 0.61803398875, 1.0) * 6.0;
   const double f = h - std::floor(h);
@@ -88,18 +99,6 @@ std::array<float, 3> segment_colour(int s) {
   }
   return {static_cast<float>(0.25 + 0.7 * r), static_cast<float>(0.25 + 0.7 * g), static_cast<float>(0.25 + 0.7 * b)};
 }
-
-nlohmann::ordered_json bounds(const std::vector<float>& xyz, bool upper) {
-  nlohmann::ordered_json out = nlohmann::ordered_json::array();
-  for (int d = 0; d < 3; ++d) {
-    float v = upper ? -std::numeric_limits<float>::max() : std::numeric_limits<float>::max();
-    for (std::size_t i = d; i < xyz.size(); i += 3) v = upper ? std::max(v, xyz[i]) : std::min(v, xyz[i]);
-    out.push_back(v);
-  }
-  return out;
-}
-
-}  // namespace
 
 std::string serialize_segmented_glb(const mesh::TriangleMesh& surface, const std::vector<int>& face_segment,
                                     const std::vector<std::vector<Eigen::Vector3d>>& polylines,

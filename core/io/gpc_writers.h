@@ -24,6 +24,10 @@ struct HexGridView {
 std::string serialize_hex_grids_vtu(const std::vector<HexGridView>& grids);
 void write_hex_grids_vtu(const std::string& path, const std::vector<HexGridView>& grids);
 
+/// The colour of segment s ≥ 0 in serialize_segmented_glb: RGB, components in [0.25, 0.95], the
+/// hues spread by the golden angle so that consecutive ids differ strongly.
+std::array<float, 3> segment_colour(int s);
+
 /// GLB (binary glTF 2.0) of a segmented surface: the triangles coloured by segment (vertex
 /// colours, one per face corner so segments have sharp borders, with flat normals), the given
 /// polylines as line segments and the given points (e.g. corners) as a point primitive. Opens in

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: MIT
 list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/gpc_job.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/gpc_outputs.cpp
   ${CMAKE_CURRENT_LIST_DIR}/lens_job.cpp
   ${CMAKE_CURRENT_LIST_DIR}/lens_session.cpp
   ${CMAKE_CURRENT_LIST_DIR}/mesh2spline_job.cpp
