@@ -4,6 +4,7 @@
 // {ok, ...} objects and typed arrays.
 import { $, jobs, setProgress, showError, samplesMenu } from './ui.js';
 import { meshTab } from './tabs/mesh_tab.js';
+import { gpcRun } from './tabs/gpc_run.js';
 import { volumeTab } from './tabs/volume_tab.js';
 import { lensTab } from './tabs/lens_tab.js';
 
@@ -11,7 +12,7 @@ jobs.ready().then(({ version, jobs: available }) => {
   $('core-version').textContent = 'core ' + version;
   setProgress('ready', 0);
   jobs.available = available;
-  if (available.includes('mesh2spline') && meshTab.bytes) $('mesh-run').disabled = false;
+  meshTab.updateButtons();
   if (available.includes('vol2spline')) for (const id of ['volume-run', 'volume-download-json', 'volume-options']) $(id).hidden = false;
 }, (e) => { setProgress('core failed to load', 0); showError(e.message); });
 
@@ -47,4 +48,4 @@ fetch('samples/index.json').then((r) => (r.ok ? r.json() : [])).then((list) => {
 selectTab(tabs.includes(location.hash.slice(1)) ? location.hash.slice(1) : 'mesh');
 
 // Hooks for the end-to-end tests and the console (read-only use).
-window.volspline = { jobs, meshTab, lensTab, volumeTab, showError };
+window.volspline = { jobs, meshTab, gpcRun, lensTab, volumeTab, showError };

@@ -5,6 +5,7 @@
 //   boundary  the spline's boundary surface and its iso-parameter lines ('lines')
 //   control   the control points (drawn over everything)
 //   cut       the cut through the volume, coloured by scaled Jacobian
+//   cuboids   a GPC domain: the surface coloured by cuboid, its poly-edges and corners ('poly_edges')
 // The boundary and its lines are cut away on the far side of the cut (uvw[axis] > position), so
 // the cut is visible inside the solid. Flat shading from screen-space derivatives.
 import { VERTEX, FRAGMENT } from './shaders/mesh_shaders.js';
@@ -15,6 +16,9 @@ const WIREFRAME_MAX_TRIANGLES = 20000;
 // While the camera moves, frames render at this fraction of the canvas resolution (level of
 // detail for software GL, whose cost follows the pixels); the frame after the motion is full size.
 const MOTION_SCALE = 0.5;
+// The layers of a mesh2spline result and of a gpc result: showing one drops the other.
+const SPLINE_LAYERS = ['boundary', 'lines', 'control', 'cut'];
+const GPC_LAYERS = ['cuboids', 'poly_edges', 'corners'];
 
 /// Legend colours of the scaled Jacobian (CSS), matching the shader.
 export const QUALITY_GRADIENT = 'linear-gradient(to right, rgb(242,115,26) 0%, rgb(250,217,51) 33%, rgb(77,191,89) 67%, rgb(51,102,217) 100%)';
@@ -27,11 +31,11 @@ export class MeshView {
     if (!gl) throw new Error('WebGL2 is not available in this browser');
     this.gl = gl;
     this.program = createProgram(gl, VERTEX, FRAGMENT);
-    this.uniforms = Object.fromEntries(['view_projection', 'view', 'colour', 'lit', 'use_scalar', 'cut_axis', 'cut_position', 'point_size']
+    this.uniforms = Object.fromEntries(['view_projection', 'view', 'colour', 'lit', 'use_scalar', 'use_vertex_colour', 'cut_axis', 'cut_position', 'point_size']
       .map((n) => [n, gl.getUniformLocation(this.program, n)]));
-    this.attributes = Object.fromEntries(['position', 'uvw', 'scalar'].map((n) => [n, gl.getAttribLocation(this.program, n)]));
+    this.attributes = Object.fromEntries(['position', 'uvw', 'scalar', 'vertex_colour'].map((n) => [n, gl.getAttribLocation(this.program, n)]));
     this.layers = {};   // name -> {vao, buffers, count, mode, indexed}
-    this.visible = { input: true, wireframe: true, boundary: true, lines: true, control: true, cut: true };
+    this.visible = { input: true, wireframe: true, boundary: true, lines: true, control: true, cut: true, cuboids: true, poly_edges: true };
     this.cut = null;    // {axis, position} while a cut is shown
     this.resetCamera([0, 0, 0], 1);
     this.installControls();
@@ -39,9 +43,10 @@ export class MeshView {
   }
 
   /// Replaces layer `name`: positions Float32Array (3 per vertex); optional uvw Float32Array
-  /// (3 per vertex, fractions of the domain), scalar Float32Array (1 per vertex), indices
-  /// Uint32Array; mode 'triangles' | 'lines' | 'points'. Null positions remove the layer.
-  setLayer(name, { positions, uvw = null, scalar = null, indices = null, mode = 'triangles' } = {}) {
+  /// (3 per vertex, fractions of the domain), scalar Float32Array (1 per vertex), colours
+  /// Float32Array (RGB in [0, 1], 3 per vertex), indices Uint32Array; mode 'triangles' | 'lines' |
+  /// 'points'. Null positions remove the layer.
+  setLayer(name, { positions, uvw = null, scalar = null, colours = null, indices = null, mode = 'triangles' } = {}) {
     const gl = this.gl;
     const old = this.layers[name];
     if (old) {
@@ -70,6 +75,7 @@ export class MeshView {
     attribute(this.attributes.position, positions, 3, [0, 0, 0]);
     attribute(this.attributes.uvw, uvw, 3, [0, 0, 0]);
     attribute(this.attributes.scalar, scalar, 1, 0);
+    attribute(this.attributes.vertex_colour, colours, 3, [1, 1, 1]);
     if (indices) {
       const b = gl.createBuffer();
       buffers.push(b);
@@ -78,14 +84,14 @@ export class MeshView {
     }
     gl.bindVertexArray(null);
     const glMode = { triangles: gl.TRIANGLES, lines: gl.LINES, points: gl.POINTS }[mode];
-    this.layers[name] = { vao, buffers, count: indices ? indices.length : positions.length / 3, mode: glMode, indexed: !!indices, hasUvw: !!uvw, hasScalar: !!scalar };
+    this.layers[name] = { vao, buffers, count: indices ? indices.length : positions.length / 3, mode: glMode, indexed: !!indices, hasUvw: !!uvw, hasScalar: !!scalar, hasColours: !!colours };
     this.requestDraw();
   }
 
   /// Shows an input mesh (positions Float32Array, triangles Uint32Array) and its wireframe, drops
   /// every spline layer and frames the bounding box bbox_min/bbox_max [x,y,z].
   setMesh(positions, triangles, bboxMin, bboxMax) {
-    for (const name of ['boundary', 'lines', 'control', 'cut']) this.setLayer(name, {});
+    for (const name of [...SPLINE_LAYERS, ...GPC_LAYERS]) this.setLayer(name, {});
     this.cut = null;
     this.setLayer('input', { positions, indices: triangles });
     // Unique edges for the wireframe, keyed by (min, max) vertex pair. Above WIREFRAME_MAX_TRIANGLES
@@ -114,6 +120,7 @@ export class MeshView {
   /// Shows a mesh2spline result: r.boundary {positions, uvw, triangles}, r.lines {positions, uvw},
   /// r.control_points, and r.cut (see setCut). The input mesh stays as a faint wireframe.
   setSpline(r) {
+    for (const name of GPC_LAYERS) this.setLayer(name, {});
     this.boundarySamples = { positions: r.boundary.positions, uvw: r.boundary.uvw };
     this.cut = null;  // the first cut turns the camera towards it
     this.setLayer('boundary', { positions: r.boundary.positions, uvw: r.boundary.uvw, indices: r.boundary.triangles });
@@ -156,7 +163,20 @@ export class MeshView {
     this.requestDraw();
   }
 
+  /// Shows a gpc result: r.surface {positions, colours} (3 points per triangle, coloured by
+  /// cuboid), r.poly_edges (line segments) and r.corners (points); drops every spline layer.
+  setGpc(r) {
+    for (const name of SPLINE_LAYERS) this.setLayer(name, {});
+    this.cut = null;
+    this.boundarySamples = null;
+    this.setLayer('cuboids', { positions: r.surface.positions, colours: r.surface.colours });
+    this.setLayer('poly_edges', { positions: r.poly_edges, mode: 'lines' });
+    this.setLayer('corners', { positions: r.corners, mode: 'points' });
+  }
+
   get hasSpline() { return !!this.layers.boundary; }
+  /// A job's result is shown (a spline or a GPC domain): the input mesh is context only.
+  get hasResult() { return !!(this.layers.boundary || this.layers.cuboids); }
 
   resetCamera(target, radius) {
     this.home = { target: [...target], radius };
@@ -229,6 +249,7 @@ export class MeshView {
     gl.uniform4f(u.colour, ...colour);
     gl.uniform1i(u.lit, lit ? 1 : 0);
     gl.uniform1i(u.use_scalar, layer.hasScalar ? 1 : 0);
+    gl.uniform1i(u.use_vertex_colour, layer.hasColours ? 1 : 0);
     gl.uniform1i(u.cut_axis, cutAway && this.cut && layer.hasUvw && this.visible.cut ? this.cut.axis : -1);
     gl.uniform1f(u.cut_position, this.cut ? this.cut.position : 0);
     gl.uniform1f(u.point_size, pointSize);
@@ -256,15 +277,20 @@ export class MeshView {
     gl.uniformMatrix4fv(this.uniforms.view_projection, false, mat4.multiply(projection, view));
     gl.uniformMatrix4fv(this.uniforms.view, false, view);
     gl.enable(gl.DEPTH_TEST);
-    const v = this.visible, spline = this.hasSpline;
+    const v = this.visible, spline = this.hasResult;
     gl.enable(gl.POLYGON_OFFSET_FILL);
     gl.polygonOffset(1, 1);
     // With a spline shown, the input mesh is context only: its wireframe, no surface.
     if (v.input && !spline) this.drawLayer('input', { colour: [0.42, 0.62, 0.85, 1], lit: true });
     if (v.boundary) this.drawLayer('boundary', { colour: [0.8, 0.8, 0.82, 1], lit: true, cutAway: true });
     if (v.cut) this.drawLayer('cut', { colour: [1, 1, 1, 1], lit: true });
+    if (v.cuboids) this.drawLayer('cuboids', { colour: [1, 1, 1, 1], lit: true });
     gl.disable(gl.POLYGON_OFFSET_FILL);
     if (v.boundary && v.lines) this.drawLayer('lines', { colour: [0.05, 0.05, 0.15, 1], cutAway: true });
+    if (v.poly_edges) {
+      this.drawLayer('poly_edges', { colour: [0.05, 0.05, 0.1, 1] });
+      this.drawLayer('corners', { colour: [1, 1, 1, 1], pointSize: Math.max(5, 7 * dpr) });  // white: visible on every cuboid colour
+    }
     if (v.control) this.drawLayer('control', { colour: [0.85, 0.1, 0.45, 1], pointSize: Math.max(2, 3 * dpr) });
     if (v.input && v.wireframe && !(this.moving && spline)) {
       // Over a spline the input mesh is faint context: blended, and not hiding what is behind.

@@ -121,6 +121,10 @@ const LABELS = {
   bbox_min: 'bbox min', bbox_max: 'bbox max', boundary_loops: 'boundary loops', euler_characteristic: 'Euler characteristic',
   consistently_oriented: 'consistently oriented', degenerate_faces: 'degenerate faces', signed_volume: 'signed volume',
   frame_smoothness_initial: 'frame smoothness before (Eq. 5.6)', frame_smoothness_final: 'frame smoothness after (Eq. 5.6)',
+  t_shapes: 'T-shapes', ill_points: 'ill-points (Type 1)', interface_gap_rel: 'glued-face gap (÷ bbox diagonal)',
+  grid_nodes: 'grid nodes', surface_vertices: 'surface vertices (refined along the cuts)',
+  cut_disc_intersections: 'cut-disc crossings (meridian check, 0)', time_validate_s: 'validate (s)',
+  time_decompose_s: 'decompose (s)', time_t_to_cube_s: 'T-to-cube (s)', time_volumetric_map_s: 'volumetric map (s)',
 };
 /** @param {string} key @returns {string} the label shown for a stats key */
 export const statLabel = (key) => LABELS[key] ?? key.replace(/_/g, ' ');

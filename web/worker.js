@@ -29,6 +29,7 @@ const transferables = (value, out = []) => {
 const jobs = {
   meshInfo: ({ bytes, name }) => core.meshInfo(bytes, name),
   mesh2spline: ({ bytes, name, options }, progress) => core.mesh2spline(bytes, name, options, progress),
+  gpc: ({ bytes, name, options }, progress) => core.gpc(bytes, name, options, progress),
   splineCut: ({ json, axis, position, samples }) => core.splineCut(json, axis, position, samples),
   loadVolume: ({ bytes, name, layout }) => core.loadVolume(bytes, name, layout ?? null),
   vol2spline: ({ volume, name, options }, progress) => core.vol2spline(volume, name, options, progress),
@@ -61,7 +62,7 @@ const jobs = {
 };
 
 // Jobs that need a binding which older builds of the core may lack.
-const bindingOf = { mesh2spline: 'mesh2spline', splineCut: 'splineCut', loadVolume: 'loadVolume', vol2spline: 'vol2spline' };
+const bindingOf = { mesh2spline: 'mesh2spline', gpc: 'gpc', splineCut: 'splineCut', loadVolume: 'loadVolume', vol2spline: 'vol2spline' };
 
 /** @param {import('./messages.js').RunMessage} message @returns {import('./messages.js').JobResult} */
 function run({ id, job, args }) {

@@ -187,6 +187,79 @@ async function meshToSpline(page) {
   check(cancelled.busy && /cancelled/.test(cancelled.stage) && cancelled.error === '', `Cancel stops mesh2spline (${cancelled.stage}, ${cancelled.ms.toFixed(0)} ms)`);
 }
 
+// Mesh tab, GPC domain: torus.off (genus 1) uploaded → the tab says mesh2spline needs genus 0 →
+// Run GPC domain → stats (genus 1, 1 cuboid, 0 ill-points), the cuboid colours and poly-edges on
+// the canvas, DOMAIN.json / SEG.glb / stats downloads; Run mesh2spline on it runs gpc instead of
+// ending in an error.
+async function meshGpc(page) {
+  await page.setInputFiles('#mesh-file', path.join(sharedData, 'meshes/torus.off'));
+  await waitStat(page, 'mesh-stats', 'file', (v) => v === 'torus.off');
+  await page.waitForFunction(() => !document.getElementById('mesh-run-gpc').disabled, null, { timeout: 10000 }).catch(() => {});
+  const notice = await page.evaluate(() => { const n = document.getElementById('mesh-notice'); return n.hidden ? '' : n.textContent; });
+  check(/genus 1/.test(notice) && /GPC domain/.test(notice), `opening a genus-1 mesh says mesh2spline needs genus 0 and what runs instead: "${notice}"`);
+  const t0 = Date.now();
+  await page.click('#mesh-run-gpc');
+  await page.waitForFunction(() => window.volspline.gpcRun.result || !document.getElementById('error').hidden, null, { timeout: 120000 }).catch(() => {});
+  const r = await page.evaluate(() => { const g = window.volspline.gpcRun.result; return g && { ...g.stats, triangles: g.surface.face_cuboid.length }; });
+  check(r !== null, `gpc on torus.off finishes in the page (${Date.now() - t0} ms) ${r ? '' : await errorText(page)}`);
+  if (!r) return;
+  notes.push(`gpc torus.off in the browser: ${Date.now() - t0} ms wall, core ${(1000 * r.times_s.total).toFixed(0)} ms, ${r.triangles} triangles`);
+  const shown = {};
+  for (const k of ['genus', 'cuboids', 'ill_points', 't_shapes', 'tubes', 'caps', 'flipped_triangles', 'grid_inverted_hexes', 'grid_min_scaled_jacobian', 'time_s'])
+    shown[k] = await stat(page, 'mesh-stats', k);
+  check(shown.genus === '1' && shown.cuboids === '1' && shown.ill_points === '0', `GPC stats shown: genus ${shown.genus}, cuboids ${shown.cuboids}, ill_points ${shown.ill_points}`);
+  check(shown.t_shapes === '0' && shown.tubes === '1' && shown.caps === '0' && shown.flipped_triangles === '0' && Number(shown.grid_min_scaled_jacobian) > 0 && Number(shown.time_s) > 0,
+        `GPC stats shown: ${shown.tubes} tube, ${shown.t_shapes} T-shapes, ${shown.caps} caps, ${shown.flipped_triangles} flipped, grid min scaled Jacobian ${shown.grid_min_scaled_jacobian}, ${shown.time_s} s`);
+  check((await errorText(page)) === '', 'no error after gpc');
+  await page.waitForTimeout(300);
+  const pixels = await canvasContent(page, '#mesh-canvas');
+  // The cuboid's colour (saturated) and the poly-edges (near black) are on screen.
+  const seen = await page.evaluate(() => {
+    const c = document.getElementById('mesh-canvas');
+    const tmp = document.createElement('canvas');
+    tmp.width = c.width; tmp.height = c.height;
+    const ctx = tmp.getContext('2d');
+    ctx.drawImage(c, 0, 0);
+    const d = ctx.getImageData(0, 0, c.width, c.height).data;
+    let saturated = 0, dark = 0;
+    for (let i = 0; i < d.length; i += 4) {
+      if (Math.max(d[i], d[i + 1], d[i + 2]) - Math.min(d[i], d[i + 1], d[i + 2]) > 60) saturated++;
+      if (Math.max(d[i], d[i + 1], d[i + 2]) < 50) dark++;
+    }
+    return { saturated: saturated / (d.length / 4), dark: dark / (d.length / 4) };
+  });
+  check(pixels.differ > 0.05 && pixels.colours > 10 && seen.saturated > 0.02 && seen.dark > 0.0005,
+        `GPC view is drawn (${(100 * pixels.differ).toFixed(1)} % drawn, ${pixels.colours} colours, ${(100 * seen.saturated).toFixed(1)} % cuboid colour, ${(100 * seen.dark).toFixed(2)} % poly-edge pixels)`);
+  await page.screenshot({ path: path.join(artifacts, 'mesh-torus-gpc.png') });
+
+  const save = async (button, file) => {
+    const [d] = await Promise.all([page.waitForEvent('download', { timeout: 20000 }), page.click(button)]);
+    const target = path.join(artifacts, file);
+    await d.saveAs(target);
+    return fs.readFileSync(target);
+  };
+  const domain = JSON.parse((await save('#mesh-download-domain', 'torus.domain.json')).toString());
+  check(domain.format === 'volspline-gpc' && domain.genus === 1 && domain.cuboids.length === 1, 'Download DOMAIN.json gives the GPC domain (1 cuboid)');
+  const glb = await save('#mesh-download-seg', 'torus.seg.glb');
+  check(glb.length > 1000 && glb.toString('latin1', 0, 4) === 'glTF' && glb.readUInt32LE(8) === glb.length, `Download SEG.glb gives a GLB (${glb.length} bytes)`);
+  const statsFile = JSON.parse((await save('#mesh-download-stats', 'torus.gpc.stats.json')).toString());
+  check(statsFile.job === 'gpc' && statsFile.cuboids === 1 && statsFile.genus === 1, 'Download stats gives the gpc stats');
+
+  // Run mesh2spline on the genus-1 torus: the GPC domain is built instead, with a message, no error.
+  const before = await page.evaluate(() => { window.volspline.gpcRun.result.seen = true; return true; });
+  await page.click('#mesh-run');
+  await page.waitForFunction(() => (window.volspline.gpcRun.result && !window.volspline.gpcRun.result.seen) || !document.getElementById('error').hidden, null, { timeout: 120000 }).catch(() => {});
+  const fallback = await page.evaluate(() => ({
+    fresh: !!window.volspline.gpcRun.result && !window.volspline.gpcRun.result.seen,
+    spline: window.volspline.meshTab.result !== null,
+    notice: document.getElementById('mesh-notice').hidden ? '' : document.getElementById('mesh-notice').textContent,
+    cuboids: document.querySelector('#mesh-stats td[data-key="cuboids"]')?.textContent,
+  }));
+  const fallbackError = await errorText(page);
+  check(before && fallback.fresh && !fallback.spline && fallback.cuboids === '1' && fallbackError === '' && /needs genus 0/.test(fallback.notice) && /instead/.test(fallback.notice),
+        `Run mesh2spline on genus 1 builds the GPC domain instead, no error: "${fallback.notice}"${fallbackError ? ' error: ' + fallbackError : ''}`);
+}
+
 // Volume tab: a generated NRRD and a raw file; slices not blank; bad input gives a message.
 async function volumeSlices(page) {
   await page.click('#tab-volume');
@@ -399,6 +472,11 @@ async function main() {
       await meshToSpline(page);
     } else {
       check(false, 'mesh2spline is in the worker\'s job list');
+    }
+    if (available.includes('gpc')) {
+      await meshGpc(page);
+    } else {
+      check(false, 'gpc is in the worker\'s job list');
     }
     if (available.includes('loadVolume')) {
       await volumeSlices(page);

@@ -6,29 +6,36 @@ export const VERTEX = `#version 300 es
 in vec3 position;
 in vec3 uvw;
 in float scalar;
+in vec3 vertex_colour;
 uniform mat4 view_projection;
 uniform mat4 view;
 uniform float point_size;
 out vec3 view_position;
 out vec3 v_uvw;
 out float v_scalar;
+out vec3 v_colour;
 void main() {
   view_position = (view * vec4(position, 1.0)).xyz;
   v_uvw = uvw;
   v_scalar = scalar;
+  v_colour = vertex_colour;
   gl_PointSize = point_size;
   gl_Position = view_projection * vec4(position, 1.0);
 }`;
 
-// Scaled Jacobian colours: ≤ 0 (folded) red; 0 → 1 from orange through yellow and green to blue.
+// Colour from the scaled Jacobian (use_scalar: ≤ 0, folded, red; 0 → 1 from orange through
+// yellow and green to blue), else per vertex (use_vertex_colour: the cuboids of a GPC), else the
+// layer's colour.
 export const FRAGMENT = `#version 300 es
 precision highp float;
 in vec3 view_position;
 in vec3 v_uvw;
 in float v_scalar;
+in vec3 v_colour;
 uniform vec4 colour;
 uniform bool lit;
 uniform bool use_scalar;
+uniform bool use_vertex_colour;
 uniform int cut_axis;      // -1: no cut-away
 uniform float cut_position;
 out vec4 out_colour;
@@ -41,7 +48,7 @@ vec3 quality(float q) {
 }
 void main() {
   if (cut_axis >= 0 && v_uvw[cut_axis] > cut_position + 1e-4) discard;
-  vec3 base = use_scalar ? quality(v_scalar) : colour.rgb;
+  vec3 base = use_scalar ? quality(v_scalar) : use_vertex_colour ? v_colour : colour.rgb;
   if (!lit) { out_colour = vec4(base, colour.a); return; }
   vec3 n = normalize(cross(dFdx(view_position), dFdy(view_position)));
   vec3 l = normalize(vec3(0.4, 0.6, 1.0));

@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: MIT
 // The Mesh tab: open a mesh (its facts), run a spline job on it, show the result in the 3D view
 // with a cut, the stats and the downloads. Another job on the same mesh adds a run button with
-// meshTab.addRun({button, job, options, render}): its result goes to `render` (the hook a new
-// job's view and stats use), the tab handles busy state, errors and cancellation.
+// meshTab.addRun({button, job, options, render, reset, anyGenus}): its result goes to `render`
+// (the hook a new job's view and stats use), `reset` clears what render showed when another mesh
+// or result replaces it; the tab handles busy state, errors and cancellation. A run marked
+// anyGenus (gpc) is what "Run mesh2spline" starts on a solid of genus ≥ 1, which mesh2spline
+// refuses (it maps a solid to one cuboid).
 import { $, jobs, runJob, showError, clearError, download, acceptFiles, fillStats, fmt, baseName } from '../ui.js';
 import { MeshView, QUALITY_GRADIENT } from '../mesh_view.js';
 
@@ -11,6 +14,8 @@ export const meshTab = {
   info: null,        // meshInfo result of the open mesh (without its arrays)
   bytes: null, name: null,
   result: null,      // the last mesh2spline result
+  runs: [],          // the jobs added by addRun: {button, job, reset, anyGenus, start}
+  lastRun: null,     // {job, options, result} of the last addRun job shown
   cutRunning: false, cutPending: false,
 
   async open(bytes, name) {
@@ -18,15 +23,42 @@ export const meshTab = {
     const r = await runJob('meshInfo', { bytes: bytes.slice(), name });
     if (!r.ok) { if (r.message !== 'cancelled') showError(r.message); return; }
     const { positions, triangles, ok, ms_worker, ...facts } = r;
-    Object.assign(this, { info: { file: name, ...facts }, bytes, name, result: null });
+    Object.assign(this, { info: { file: name, ...facts }, bytes, name });
+    this.clearResults();
     $('mesh-show-input').checked = true;
     if (this.view) this.view.visible.input = true;
     this.view?.setMesh(positions, triangles, r.bbox_min, r.bbox_max);
     this.showInfo();
-    $('mesh-run').disabled = !jobs.available?.includes('mesh2spline');
+    this.updateButtons();
     $('mesh-download-stats').disabled = false;
+    const fallback = this.anyGenusRun();
+    this.notice(this.info.genus > 0 && fallback
+      ? `${name} has genus ${this.info.genus}: mesh2spline needs genus 0 (one cuboid), so Run mesh2spline builds the GPC domain instead`
+      : '');
+  },
+
+  /// Enables each run button whose job the core offers, once a mesh is open.
+  updateButtons() {
+    $('mesh-run').disabled = !this.bytes || !jobs.available?.includes('mesh2spline');
+    for (const run of this.runs) run.button.disabled = !this.bytes || !jobs.available?.includes(run.job);
+  },
+
+  /// The run that takes a solid of any genus, if the core offers it.
+  anyGenusRun() { return this.runs.find((run) => run.anyGenus && jobs.available?.includes(run.job)) ?? null; },
+
+  /// Shows `text` in the tab's notice line (a remark, not an error); '' hides it.
+  notice(text) {
+    $('mesh-notice').textContent = text;
+    $('mesh-notice').hidden = !text;
+  },
+
+  /// Forgets the shown results of every job (the view's layers are replaced by the caller).
+  clearResults() {
+    this.result = null;
+    this.lastRun = null;
     for (const k of ['json', 'glb', 'vtu']) $('mesh-download-' + k).disabled = true;
     $('mesh-legend').hidden = true;
+    for (const run of this.runs) run.reset?.();
   },
 
   showInfo() {
@@ -51,12 +83,19 @@ export const meshTab = {
 
   async run() {
     if (!this.bytes || jobs.busy) return;
+    const fallback = this.anyGenusRun();
+    if (this.info?.genus > 0 && fallback) {
+      this.notice(`${this.name} has genus ${this.info.genus}: mesh2spline maps a solid to one cuboid and needs genus 0, ` +
+                  `so its GPC domain (any genus) is built instead`);
+      return fallback.start();
+    }
     clearError();
     $('mesh-run').disabled = true;
     const options = this.options();
     const r = await runJob('mesh2spline', { bytes: this.bytes.slice(), name: this.name, options });
     $('mesh-run').disabled = false;
     if (!r.ok) { if (r.message !== 'cancelled') showError(r.message); return; }
+    this.clearResults();
     this.result = { ...r, options };
     this.view?.setSpline(r);
     // The input mesh would hide the cut: shown again by its checkbox.
@@ -108,20 +147,34 @@ export const meshTab = {
   },
 
   /// Adds a job that runs on the open mesh: `button` (an element) starts it with `options()`,
-  /// `render(result)` shows its result. The job gets {bytes, name, options} like mesh2spline.
-  addRun({ button, job, options, render }) {
-    button.addEventListener('click', async () => {
+  /// `render(result)` shows its result, `reset()` (optional) clears it when another mesh or result
+  /// replaces it; anyGenus: this job is run instead of mesh2spline on a solid of genus ≥ 1. The
+  /// job gets {bytes, name, options} like mesh2spline; its result's `stats` are the stats download.
+  /// Returns the start function (what a click does): resolves when the job has finished.
+  addRun({ button, job, options, render, reset = null, anyGenus = false }) {
+    const start = async () => {
       if (!this.bytes || jobs.busy) return;
       clearError();
       button.disabled = true;
-      const r = await runJob(job, { bytes: this.bytes.slice(), name: this.name, options: options() });
+      const opts = options();
+      const r = await runJob(job, { bytes: this.bytes.slice(), name: this.name, options: opts });
       button.disabled = false;
       if (!r.ok) { if (r.message !== 'cancelled') showError(r.message); return; }
+      this.clearResults();
+      this.lastRun = { job, options: opts, result: r };
+      // The input mesh would hide the result: shown again by its checkbox.
+      $('mesh-show-input').checked = false;
+      if (this.view) this.view.visible.input = false;
       render(r);
-    });
+    };
+    this.runs.push({ button, job, reset, anyGenus, start });
+    button.addEventListener('click', start);
+    this.updateButtons();
+    return start;
   },
 
   statsJson() {
+    if (this.lastRun) return { job: this.lastRun.job, ...this.lastRun.result.stats, options: this.lastRun.options };
     if (!this.result) return this.info;
     return { ...this.result.stats, options: this.result.options, cut_min_scaled_jacobian: this.result.cut.min_scaled_jacobian };
   },
@@ -133,7 +186,7 @@ try {
   showError(e.message);
 }
 acceptFiles($('panel-mesh'), $('mesh-file'), (b, n) => meshTab.open(b, n));
-for (const layer of ['input', 'wireframe', 'boundary', 'lines', 'control', 'cut']) {
+for (const layer of ['input', 'wireframe', 'boundary', 'lines', 'control', 'cut', 'cuboids', 'poly_edges']) {
   $('mesh-show-' + layer).addEventListener('change', (e) => {
     if (!meshTab.view) return;
     meshTab.view.visible[layer] = e.target.checked;
@@ -147,6 +200,7 @@ $('mesh-download-json').addEventListener('click', () => download(meshTab.result.
 $('mesh-download-glb').addEventListener('click', () => download(meshTab.result.glb, baseName(meshTab.name) + '.spline.glb', 'model/gltf-binary'));
 $('mesh-download-vtu').addEventListener('click', () => download(meshTab.result.vtu, baseName(meshTab.name) + '.spline.vtu', 'application/xml'));
 $('mesh-download-stats').addEventListener('click', () => {
-  download(JSON.stringify(meshTab.statsJson(), null, 2) + '\n', baseName(meshTab.name) + (meshTab.result ? '.stats.json' : '.info.json'), 'application/json');
+  const suffix = meshTab.lastRun ? `.${meshTab.lastRun.job}.stats.json` : meshTab.result ? '.stats.json' : '.info.json';
+  download(JSON.stringify(meshTab.statsJson(), null, 2) + '\n', baseName(meshTab.name) + suffix, 'application/json');
 });
 
