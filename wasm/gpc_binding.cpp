@@ -37,6 +37,7 @@ pipeline::GpcOptions job_options_from_js(const val& o) {
   options.grid.untangle = bool_option(o, "untangle", true) ? param::GpcGridOptions::Untangle::On
                                                             : param::GpcGridOptions::Untangle::Off;
   options.snap = number_option(o, "snap", options.snap);
+  options.merge_cuboids = bool_option(o, "merge_cuboids", options.merge_cuboids);
   options.threads = integer_option(o, "threads", options.threads, 1, 1024);
   if (!o.isUndefined() && !o.isNull()) {
     const val corners = o["corners"];

@@ -13,8 +13,9 @@ namespace volspline::wasm {
 ///   options  plain object, every key optional (pipeline::GpcOptions): grid_nodes (about this
 ///            many volumetric grid nodes over all cuboids, default 24000, [64, 2e7]), untangle
 ///            (boolean, default true: remove the harmonic grid's folds), corners (8 vertex ids of a
-///            genus-0 solid's cuboid), snap ([0, 0.45)), threads (≥ 1), outputs (boolean, default
-///            true: also serialize DOMAIN.json and the segmented GLB);
+///            genus-0 solid's cuboid), snap ([0, 0.45)), merge_cuboids (boolean, default true:
+///            merge cuboids glued end to end across cuts), threads (≥ 1), outputs (boolean,
+///            default true: also serialize DOMAIN.json and the segmented GLB);
 ///   progress function (stage, fraction) -> boolean or undefined/null; false cancels
 ///            ({ok:false, message:'cancelled'}).
 /// Output: stats (the object of `volspline gpc --stats-json`: genus, t_shapes, tubes, caps,

@@ -4,7 +4,9 @@
 // --glb … --stats-json … --quiet`, wall and user+sys CPU of the process from /usr/bin/time) and
 // the node build in this process (gpc with default options, so DOMAIN.json, the segmented GLB and
 // the view arrays are made as the CLI makes its files: wall and process CPU of the call). Also
-// compares the core's own times_s.total (the job without reading, writing or serializing).
+// compares the core's own times_s.total (the job without reading, writing or serializing). One
+// untimed node run per mesh first: the engine compiles the hot wasm functions optimized on first
+// use, which on a small mesh (torus.off) takes several times the job itself.
 // Prints medians, the ratios and the stats keys whose values differ between the two as JSON.
 // usage: node --no-experimental-fetch tests/wasm/bench_gpc_wasm.cjs NODE_BUILD.cjs VOLSPLINE_CLI MESH... [--runs 3]
 'use strict';
@@ -36,6 +38,7 @@ require(path.resolve(modulePath))().then((vs) => {
   for (const mesh of meshes) {
     const bytes = new Uint8Array(fs.readFileSync(mesh));
     const n = [], w = [];
+    vs.gpc(bytes, path.basename(mesh), { outputs: false }, null);
     for (let k = 0; k < runs; k++) {
       n.push(native(mesh));
       const t0 = performance.now(), c0 = process.cpuUsage();
