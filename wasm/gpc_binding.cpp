@@ -38,6 +38,9 @@ pipeline::GpcOptions job_options_from_js(const val& o) {
                                                             : param::GpcGridOptions::Untangle::Off;
   options.snap = number_option(o, "snap", options.snap);
   options.merge_cuboids = bool_option(o, "merge_cuboids", options.merge_cuboids);
+  options.limb_persistence = number_option(o, "limb_persistence", options.limb_persistence);
+  if (!(options.limb_persistence < 1.0))
+    throw Error("option 'limb_persistence': expected a fraction in [0, 1) of the graph diameter, or negative (automatic)");
   options.threads = integer_option(o, "threads", options.threads, 1, 1024);
   if (!o.isUndefined() && !o.isNull()) {
     const val corners = o["corners"];

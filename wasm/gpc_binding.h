@@ -14,7 +14,9 @@ namespace volspline::wasm {
 ///            many volumetric grid nodes over all cuboids, default 24000, [64, 2e7]), untangle
 ///            (boolean, default true: remove the harmonic grid's folds), corners (8 vertex ids of a
 ///            genus-0 solid's cuboid), snap ([0, 0.45)), merge_cuboids (boolean, default true:
-///            merge cuboids glued end to end across cuts), threads (≥ 1), outputs (boolean,
+///            merge cuboids glued end to end across cuts), limb_persistence (limb ends become
+///            caps: fraction of the graph diameter in [0, 1), 0 = off, negative (default) =
+///            automatic, the CLI's --limbs), threads (≥ 1), outputs (boolean,
 ///            default true: also serialize DOMAIN.json and the segmented GLB);
 ///   progress function (stage, fraction) -> boolean or undefined/null; false cancels
 ///            ({ok:false, message:'cancelled'}).

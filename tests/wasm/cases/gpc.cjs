@@ -91,6 +91,7 @@ module.exports = function (vs, { check, dataDir, sourceDir, fs, path }) {
   bad([torus, 'torus.off', { untangle: 'yes' }, null], /untangle/, 'untangle not a boolean');
   bad([torus, 'torus.off', { snap: 0.5 }, null], /snap/, 'snap 0.5');
   bad([torus, 'torus.off', { merge_cuboids: 1 }, null], /merge_cuboids/, 'merge_cuboids not a boolean');
+  bad([torus, 'torus.off', { limb_persistence: 1 }, null], /limb_persistence/, 'limb_persistence 1');
   bad([torus, 'torus.off', { threads: 0 }, null], /threads/, 'threads 0');
   bad([torus, 'torus.off', {}, 42], /progress/, 'progress not a function');
   bad(['nope', 'torus.off', {}, null], /Uint8Array/, 'bytes not an array');
