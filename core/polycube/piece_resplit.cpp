@@ -3,11 +3,13 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <map>
 
 #include "core/linalg/conjugate_gradient.h"
 #include "core/linalg/csr_matrix.h"
 #include "core/mesh/edge_weights.h"
+#include "core/mesh/graph_distance.h"
 #include "core/polycube/interface_disc.h"
 #include "core/polycube/level_set_split.h"
 #include "core/polycube/morse_function.h"
@@ -312,6 +314,137 @@ bool resplit_across_loop(SolidDecomposition& d, int loop, const ResplitOptions& 
               [](const LoopSide& x, const LoopSide& y) { return x.loop != y.loop ? x.loop < y.loop : x.side < y.side; });
     p.kind = PieceKind::TShape;
   }
+  return true;
+}
+
+bool replace_handle_cut(SolidDecomposition& d, int loop, std::string* why) {
+  auto fail = [&](const std::string& message) {
+    if (why) *why = message;
+    return false;
+  };
+  const int p = d.loops[loop].piece[0];
+  if (d.loops[loop].piece[1] != p || d.pieces[p].boundary.size() != 2)
+    return fail("its sides are not one tube closed on itself");
+  const std::vector<LoopSide> entries = {{loop, 0}, {loop, 1}};
+  const mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(d.mesh, "decomposition");
+  const MergedPiece tube = extract_merged(d, hm, d.pieces[p].faces, entries);
+  const mesh::HalfedgeMesh sub = mesh::HalfedgeMesh::build(tube.mesh, "tube");
+  const int n = sub.num_vertices(), m = static_cast<int>(tube.boundary[0].size());
+  std::vector<char> on_boundary(n, 0);
+  for (const auto& b : tube.boundary)
+    for (int v : b) on_boundary[v] = 1;
+  std::vector<double> length(sub.num_edges());
+  for (int e = 0; e < sub.num_edges(); ++e) {
+    const auto [a, b] = sub.edge_vertices(e);
+    length[e] = (tube.mesh.positions.row(a) - tube.mesh.positions.row(b)).norm();
+  }
+  // Shortest crossing at every loop vertex, the path kept off the loop between its ends.
+  struct Crossing {
+    double length;
+    int at;
+    std::vector<int> path;  // tube vertices, from the side-0 copy to the side-1 copy
+  };
+  std::vector<Crossing> crossings;
+  const double inf = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < m; ++i) {
+    const int from = tube.boundary[0][i], to = tube.boundary[1][i];
+    std::vector<double> blocked = length;
+    for (int e = 0; e < sub.num_edges(); ++e) {
+      const auto [a, b] = sub.edge_vertices(e);
+      for (int v : {a, b})
+        if (on_boundary[v] && v != from && v != to) blocked[e] = inf;
+    }
+    const mesh::GraphDistances dist = mesh::graph_distances(sub, {from}, blocked);
+    if (!(dist.distance[to] < inf)) continue;
+    crossings.push_back({dist.distance[to], i, mesh::graph_path(dist, to)});
+  }
+  std::sort(crossings.begin(), crossings.end(),
+            [](const Crossing& x, const Crossing& y) { return x.length != y.length ? x.length < y.length : x.at < y.at; });
+  struct Accepted {
+    int crossings;
+    double length;
+    std::vector<int> loop;
+    std::vector<double> value;
+  };
+  std::vector<Accepted> accepted;
+  std::string rejected;
+  const int tries = std::min<int>(8, static_cast<int>(crossings.size()));
+  for (int c = 0; c < tries; ++c) {
+    const std::vector<int>& path = crossings[c].path;
+    std::vector<int> cycle;
+    for (std::size_t k = 0; k + 1 < path.size(); ++k) cycle.push_back(tube.surface_vertex[path[k]]);
+    if (cycle.size() < 3) continue;
+    const DiscEmbedding check = check_loop_disc(d.mesh, cycle);
+    if (check.num_outside > 0) {
+      rejected = "the shortest crossings' discs lie outside the solid (winding number " +
+                 std::to_string(check.winding[0]) + ")";
+      continue;
+    }
+    // The value: harmonic on the tube cut open along the new loop, 0 left of it, 1 right.
+    SolidDecomposition trial = d;
+    trial.loops[loop].vertices = cycle;
+    const MergedPiece open = extract_merged(trial, hm, d.pieces[p].faces, entries);
+    const mesh::HalfedgeMesh oh = mesh::HalfedgeMesh::build(open.mesh, "tube");
+    const int no = oh.num_vertices();
+    std::vector<double> fixed(no, -1.0);
+    for (int side = 0; side < 2; ++side)
+      for (int v : open.boundary[side]) fixed[v] = side;
+    std::vector<int> unknown(no, -1);
+    int num_unknowns = 0;
+    for (int v = 0; v < no; ++v)
+      if (fixed[v] < 0.0) unknown[v] = num_unknowns++;
+    const std::vector<double> mvc = mesh::mean_value_weights(oh);
+    std::vector<linalg::Triplet> triplets;
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(num_unknowns);
+    for (int v = 0; v < no; ++v) {
+      if (unknown[v] < 0) continue;
+      double diagonal = 0.0;
+      for (int h : oh.vertex_outgoing(v)) {
+        const int u = oh.halfedge_vertex(h);
+        const double w = 0.5 * (mvc[h] + mvc[oh.halfedge_twin(h)]);
+        diagonal += w;
+        if (unknown[u] >= 0)
+          triplets.push_back({unknown[v], unknown[u], -w});
+        else
+          rhs(unknown[v]) += w * fixed[u];
+      }
+      triplets.push_back({unknown[v], unknown[v], diagonal > 0.0 ? diagonal : 1.0});
+    }
+    if (num_unknowns == 0) continue;
+    linalg::ConjugateGradient<linalg::IncompleteCholesky0> cg;
+    cg.set_tolerance(1e-12);
+    cg.set_max_iterations(std::max(1000, 4 * num_unknowns));
+    cg.compute(linalg::CsrMatrix::from_triplets(num_unknowns, num_unknowns, triplets));
+    const Eigen::VectorXd x = cg.solve(rhs, Eigen::VectorXd::Constant(num_unknowns, 0.5));
+    std::vector<double> value = d.value;
+    for (int v = 0; v < no; ++v)
+      value[open.surface_vertex[v]] = unknown[v] >= 0 ? std::clamp(x(unknown[v]), 0.0, 1.0) : 0.5;
+    // Every face touching the loop must fall on its side by value (as gpc_builder tells them).
+    bool consistent = true;
+    for (std::size_t t = 0; t < open.surface_face.size() && consistent; ++t) {
+      int side = -1;
+      double centroid = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        const int v = open.mesh.triangles(static_cast<int>(t), k);
+        if (fixed[v] >= 0.0) side = static_cast<int>(fixed[v]);
+        centroid += value[open.surface_vertex[v]] / 3.0;
+      }
+      if (side >= 0) consistent = (centroid < 0.5 ? 0 : 1) == side;
+    }
+    if (!consistent) {
+      rejected = "a face at a crossing's loop cannot be told apart by value";
+      continue;
+    }
+    accepted.push_back({check.num_intersections, crossings[c].length, cycle, std::move(value)});
+  }
+  if (accepted.empty())
+    return fail(crossings.empty() ? "no path crosses the tube" : "no crossing qualifies: " + rejected);
+  const Accepted& best = *std::min_element(accepted.begin(), accepted.end(), [](const Accepted& x, const Accepted& y) {
+    return x.crossings != y.crossings ? x.crossings < y.crossings : x.length < y.length;
+  });
+  d.loops[loop].vertices = best.loop;
+  d.loops[loop].level = 0.5;
+  d.value = best.value;
   return true;
 }
 

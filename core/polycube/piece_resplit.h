@@ -30,4 +30,17 @@ struct ResplitOptions {
 bool resplit_across_loop(SolidDecomposition& d, int loop, const ResplitOptions& options = {},
                          std::string* why = nullptr);
 
+/// Replaces cut `loop` of `d` whose both sides bound the same tube (a genus-1 solid cut along a
+/// loop that is no meridian, e.g. a longitude of a tall pipe) by a loop that crosses it once and
+/// passes the meridian certificate (§3.3.1: every cut is a meridian). Candidates: for each loop
+/// vertex p, the shortest edge path through the tube (cut open along the loop) from one copy of p
+/// to the other, not touching the loop elsewhere, closed at p; the 8 shortest are certified
+/// (check_loop_disc: centre winding number ≥ 1/2) and the one with the fewest crossings, then the
+/// shortest, wins. The mesh stays as it is; `d.value` becomes, on the tube cut open along the new
+/// loop, the harmonic function (symmetrized mean-value weights) 0 on its left copy and 1 on its
+/// right one, with 1/2 on the loop (its `level`), so the loop's sides are told apart by value as
+/// for a level set. Returns false with *why (if given) and `d` unchanged when the sides are not one
+/// tube or no candidate passes. Precondition: 0 ≤ loop < d.loops.size(), d.mesh closed.
+bool replace_handle_cut(SolidDecomposition& d, int loop, std::string* why = nullptr);
+
 }  // namespace volspline::polycube

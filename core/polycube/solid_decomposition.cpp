@@ -228,15 +228,19 @@ SolidDecomposition decompose_solid(const mesh::HalfedgeMesh& input, int genus,
   // runs along a tube lying in a level (a tetrahedron frame's edge opposite the poles): its disc
   // leaves the solid. How every kept loop is guaranteed to bound a disc inside the solid: each
   // one passes the certificate (check_loop_disc: its interface disc's centre has winding number
-  // ≥ 1/2) or is replaced by a re-split of its two pieces whose cut passes it, or decompose_solid
-  // throws. Disc–surface crossings are reported by the gpc job, not repaired here.
+  // ≥ 1/2) or is replaced by a cut that passes it (two T-shapes: resplit_across_loop; a tube
+  // closed on itself: replace_handle_cut), or decompose_solid throws. Disc–surface crossings are
+  // reported by the gpc job, not repaired here.
   ResplitOptions resplit;
   resplit.snap = options.snap;
   for (std::size_t l = 0; l < out.loops.size(); ++l) {
     const DiscEmbedding check = check_loop_disc(out.mesh, out.loops[l].vertices);
     if (check.num_outside == 0) continue;
     std::string why;
-    if (!resplit_across_loop(out, static_cast<int>(l), resplit, &why))
+    const bool replaced = out.loops[l].piece[0] == out.loops[l].piece[1]
+                              ? replace_handle_cut(out, static_cast<int>(l), &why)
+                              : resplit_across_loop(out, static_cast<int>(l), resplit, &why);
+    if (!replaced)
       throw DecompositionError("decomposition: cut " + std::to_string(l) + " at level " +
                                std::to_string(out.loops[l].level) + " is not a meridian (winding number " +
                                std::to_string(check.winding[0]) + " at its disc's centre) and cannot be replaced: " +

@@ -32,7 +32,8 @@ struct CutLoop {
   /// the halfedges of the faces below the level (value < level), which lie on its left.
   std::vector<int> vertices;
   /// Value of the Morse function on the loop; for a cut replaced by resplit_across_loop, the
-  /// level of its merged piece's harmonic function instead (not of SolidDecomposition::value).
+  /// level of its merged piece's harmonic function instead (not of SolidDecomposition::value);
+  /// for one replaced by replace_handle_cut, 0.5 (SolidDecomposition::value is then redefined).
   double level = 0.0;
   std::array<int, 2> piece{-1, -1};  ///< piece below and piece above (may be equal)
 };
@@ -53,7 +54,7 @@ struct SolidPiece {
 /// The surface cut into caps, tubes and T-shapes along level-set loops.
 struct SolidDecomposition {
   mesh::TriangleMesh mesh;      ///< the input surface refined so that every cut runs along edges
-  std::vector<double> value;    ///< the Morse function per vertex of `mesh`
+  std::vector<double> value;    ///< the Morse function per vertex of `mesh` (see replace_handle_cut)
   std::vector<int> parent_face; ///< per face of `mesh`, the input face it lies in
   std::vector<CutLoop> loops;   ///< the kept cuts
   std::vector<SolidPiece> pieces;
@@ -77,12 +78,13 @@ struct DecompositionOptions {
 /// while the merged piece keeps ≤ 3 loops and the two sides differ (a cut between a piece and
 /// itself would add a handle). Every piece is planar (checked: genus 0 by its Euler
 /// characteristic). Every kept loop bounds a disc inside the solid: it passes the meridian
-/// certificate (check_loop_disc) or is replaced by resplit_across_loop, whose cut passes it.
+/// certificate (check_loop_disc) or is replaced by a cut that passes it (resplit_across_loop,
+/// replace_handle_cut).
 /// Count check: #T-shapes = #caps + 2g − 2.
 /// Preconditions: `mesh` closed, connected, consistently and outward oriented.
 /// Throws DecompositionError if a piece is not planar or has more than 3 loops (a degenerate
 /// saddle the sweep cannot separate), naming the piece, or if a kept loop fails the meridian
-/// certificate and no re-split of its two pieces passes it (resplit_across_loop), naming the cut.
+/// certificate and no replacement passes it, naming the cut.
 SolidDecomposition decompose_solid(const mesh::HalfedgeMesh& mesh, int genus,
                                    const DecompositionOptions& options = {});
 

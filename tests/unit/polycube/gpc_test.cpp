@@ -214,6 +214,16 @@ mesh::TriangleMesh make_arched_frame(int n, double r, double arch) {
   return marching_tetrahedra(sdf, n, 1.5);
 }
 
+// A pipe around the z axis (genus 1): radii 0.45 to 0.75, height 2·half_height, rounded outside.
+// Taller than wide, the Morse function's levels run around the axis (longitudes).
+mesh::TriangleMesh make_pipe(int n, double half_height) {
+  auto sdf = [&](const Eigen::Vector3d& p) {
+    const double qx = std::abs(std::hypot(p.x(), p.y()) - 0.6) - 0.15, qz = std::abs(p.z()) - half_height;
+    return std::hypot(std::max(qx, 0.0), std::max(qz, 0.0)) + std::min(std::max(qx, qz), 0.0);
+  };
+  return marching_tetrahedra(sdf, n, 1.45);
+}
+
 mesh::HalfedgeMesh outward(const mesh::TriangleMesh& m) {
   mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(m, "test");
   if (mesh::analyze_mesh(hm).signed_volume < 0) {
@@ -319,6 +329,40 @@ TEST_CASE("gpc job: the arched frame is 4 T-shapes with Type-1 ill-points only, 
   CHECK(r.stats.cut_discs_outside == 0);
   CHECK(r.stats.flipped_triangles == 0);
   for (const auto& p : r.construction.domain.ill_points) CHECK(p.type == 1);
+}
+
+TEST_CASE("Morse decomposition: a tall pipe's longitude cut is replaced by a meridian") {
+  const mesh::HalfedgeMesh pipe = outward(make_pipe(32, 1.0));
+  REQUIRE(mesh::analyze_mesh(pipe).genus == 1);
+  const polycube::SolidDecomposition d = polycube::decompose_solid(pipe, 1);
+  CHECK(d.num_resplit_cuts == 1);
+  REQUIRE(d.pieces.size() == 1);
+  CHECK(d.pieces[0].kind == polycube::PieceKind::Tube);
+  REQUIRE(d.loops.size() == 1);
+  const polycube::CutLoop& loop = d.loops[0];
+  CHECK(loop.piece[0] == loop.piece[1]);
+  CHECK(polycube::check_loop_disc(d.mesh, loop.vertices).winding[0] == doctest::Approx(1.0).epsilon(1e-3));
+  // A meridian goes around the wall: up the outside, down the inside, at one angle about the axis.
+  double z_lo = 1e300, z_hi = -1e300, r_lo = 1e300, r_hi = -1e300;
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (int v : loop.vertices) {
+    const Eigen::RowVector3d x = d.mesh.positions.row(v);
+    z_lo = std::min(z_lo, x(2));
+    z_hi = std::max(z_hi, x(2));
+    r_lo = std::min(r_lo, std::hypot(x(0), x(1)));
+    r_hi = std::max(r_hi, std::hypot(x(0), x(1)));
+    mean += Eigen::Vector2d(x(0), x(1)).normalized();
+  }
+  CHECK(z_hi - z_lo > 1.8);
+  CHECK(r_lo < 0.5);
+  CHECK(r_hi > 0.7);
+  for (int v : loop.vertices)
+    CHECK(Eigen::Vector2d(d.mesh.positions(v, 0), d.mesh.positions(v, 1)).normalized().dot(mean.normalized()) > 0.9);
+  const pipeline::GpcResult r = pipeline::run_gpc(make_pipe(32, 1.0), "pipe");
+  CHECK(r.stats.cuboids == 1);
+  CHECK(r.stats.tubes == 1);
+  CHECK(r.stats.cut_discs_outside == 0);
+  CHECK(r.stats.flipped_triangles == 0);
 }
 
 TEST_CASE("cylinder map: u runs from loop to loop, v around") {
