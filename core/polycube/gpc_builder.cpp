@@ -261,7 +261,7 @@ void build_t_shape(SolidDecomposition& d, const SolidPiece& sp, PieceMesh& pm, i
   for (int v = 0; v < n0; ++v) value[v] = d.value[pm.surface_vertex[v]];
   TShapeLayout t;
   std::string why;
-  if (!lay_out_t_shape(pm.mesh, origin, value, loops, forward, corners, t, &why))
+  if (!lay_out_t_shape(pm.mesh, origin, value, loops, forward, corners, pm.surface_vertex, t, &why))
     throw DecompositionError("T-to-cube: " + part + ": " + why);
   // The layout's cuts refine the decomposition mesh inside this piece: new vertices and the
   // extra parts of split faces are appended; a split face keeps its id for its first part.

@@ -88,7 +88,8 @@ struct Seams {
 
 bool lay_out_t_shape(mesh::TriangleMesh& pants_mesh, std::vector<int>& face_origin, std::vector<double>& vertex_value,
                      const std::array<std::vector<int>, 3>& loops, const std::array<bool, 3>& piece_forward,
-                     const std::array<std::array<int, 4>, 3>& corners, TShapeLayout& out, std::string* why) {
+                     const std::array<std::array<int, 4>, 3>& corners, const std::vector<int>& vertex_identity,
+                     TShapeLayout& out, std::string* why) {
   const mesh::HalfedgeMesh pants = mesh::HalfedgeMesh::build(pants_mesh, "T-shape");
   const int n = pants.num_vertices();
   const std::vector<double> length = mesh::edge_lengths(pants);
@@ -100,10 +101,18 @@ bool lay_out_t_shape(mesh::TriangleMesh& pants_mesh, std::vector<int>& face_orig
   for (const auto& l : loops)
     for (int v : l) on_loop[v] = 1;
 
-  // Seams for every choice of rim arcs; the valid one with the shortest seams wins.
+  // Two loops that are the two sides of one cut (the arms of a handle) have their seams join
+  // each corner to itself: the handle's cuboids then close without a twist.
+  auto same = [&](int a, int b) { return !vertex_identity.empty() && vertex_identity[a] == vertex_identity[b]; };
+  std::array<std::array<bool, 3>, 3> twins{};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) twins[i][j] = i != j && same(loops[i][0], loops[j][0]);
+  // Seams for every choice of rim arcs; the valid one with the shortest seams wins, untwisted
+  // ones first.
   Seams best;
   best.length = std::numeric_limits<double>::infinity();
   std::string reasons;
+  for (int pass = 0; pass < 2 && best.hexagon[0] < 0; ++pass)
   for (int combo = 0; combo < 64; ++combo) {
     // arc[k][o]: the rim arc of loop k toward loop o, as (first, second) in piece direction.
     std::array<std::map<int, std::array<int, 2>>, 3> arc;
@@ -114,6 +123,15 @@ bool lay_out_t_shape(mesh::TriangleMesh& pants_mesh, std::vector<int>& face_orig
       const int o1 = (k + 1) % 3, o2 = (k + 2) % 3;
       arc[k][o1] = a == 0 ? arc0 : arc1;
       arc[k][o2] = a == 0 ? arc1 : arc0;
+    }
+    if (pass == 0) {
+      bool twisted = false;
+      for (const auto& [i, j] : {std::make_pair(0, 1), std::make_pair(0, 2), std::make_pair(1, 2)})
+        if (twins[i][j]) {
+          const auto ai = arc[i][j], aj = arc[j][i];
+          twisted = twisted || !same(ai[1], aj[0]) || !same(ai[0], aj[1]);
+        }
+      if (twisted) continue;
     }
     Seams s;
     std::vector<char> blocked = on_loop;

@@ -47,9 +47,13 @@ struct TShapeLayout {
 /// the new faces (the origin of the face they split) and vertices (linear along the split edge).
 /// `loops[k]`: boundary loop k as pants vertex ids in loop order; `piece_forward[k]`: the pants's
 /// halfedges run along loop k in loop order; `corners[k]`: 4 ascending indices into loops[k].
+/// `vertex_identity` (per pants vertex, or empty): equal for the two copies of a vertex of a cut
+/// whose both sides bound the pants; then the seams between those two loops join each corner to
+/// its own copy where possible (no twist around the handle).
 /// Returns false with the reason in *why.
 bool lay_out_t_shape(mesh::TriangleMesh& pants_mesh, std::vector<int>& face_origin, std::vector<double>& vertex_value,
                      const std::array<std::vector<int>, 3>& loops, const std::array<bool, 3>& piece_forward,
-                     const std::array<std::array<int, 4>, 3>& corners, TShapeLayout& out, std::string* why);
+                     const std::array<std::array<int, 4>, 3>& corners, const std::vector<int>& vertex_identity,
+                     TShapeLayout& out, std::string* why);
 
 }  // namespace volspline::polycube

@@ -9,6 +9,7 @@
 #include <set>
 
 #include "core/io/gpc_json.h"
+#include "core/io/mesh_io.h"
 #include "core/mesh/halfedge_mesh.h"
 #include "core/mesh/mesh_report.h"
 #include "core/pipeline/gpc_job.h"
@@ -558,6 +559,39 @@ TEST_CASE("disc chords: straight cuts across a disc become disjoint edge paths")
   CHECK(why.find("boundary") != std::string::npos);
 }
 
+// Around every cycle of the GPC graph (a spanning tree's missing interfaces) the transition
+// maps compose to a pure translation: the cuboids' frames close up without a twist. Returns the
+// number of cycles whose composed rotation is not the identity.
+int twisted_cycles(const polycube::GpcDomain& domain) {
+  const int n = static_cast<int>(domain.cuboids.size());
+  std::vector<polycube::GpcTransition> to(n);  // root frame → cuboid frame
+  std::vector<char> reached(n, 0), tree(domain.interfaces.size(), 0);
+  std::vector<int> queue = {0};
+  reached[0] = 1;
+  for (std::size_t q = 0; q < queue.size(); ++q) {
+    const int a = queue[q];
+    for (std::size_t k = 0; k < domain.interfaces.size(); ++k) {
+      const auto& g = domain.interfaces[k];
+      for (int side = 0; side < 2; ++side) {
+        if (g.cuboid[side] != a || reached[g.cuboid[1 - side]]) continue;
+        const polycube::GpcTransition t = side == 0 ? g.transition : g.transition.inverse();
+        to[g.cuboid[1 - side]] = t.after(to[a]);
+        reached[g.cuboid[1 - side]] = 1;
+        tree[k] = 1;
+        queue.push_back(g.cuboid[1 - side]);
+      }
+    }
+  }
+  int twisted = 0;
+  for (std::size_t k = 0; k < domain.interfaces.size(); ++k) {
+    if (tree[k]) continue;
+    const auto& g = domain.interfaces[k];
+    const polycube::GpcTransition around = to[g.cuboid[1]].inverse().after(g.transition.after(to[g.cuboid[0]]));
+    twisted += !(around.axis == std::array<int, 3>{0, 1, 2} && around.sign == std::array<int, 3>{1, 1, 1});
+  }
+  return twisted;
+}
+
 TEST_CASE("gpc job: a two-hole solid is two T-shapes with Type-1 ill-points only, glued exactly") {
   const pipeline::GpcResult r = pipeline::run_gpc(make_two_hole_slab(3), "slab");
   const pipeline::GpcStats& s = r.stats;
@@ -586,6 +620,8 @@ TEST_CASE("gpc job: a two-hole solid is two T-shapes with Type-1 ill-points only
     CHECK(id.translation.norm() < 1e-12);
     for (int k = 0; k < 2; ++k) CHECK(glued.insert({g.cuboid[k], g.face[k]}).second);
   }
+  // Two independent cycles of the graph (genus 2).
+  CHECK(s.interfaces - s.cuboids + 1 == 2);
 }
 
 TEST_CASE("limbs: the three ends of a T-shaped solid become caps around one T-shape") {
@@ -620,4 +656,19 @@ TEST_CASE("limbs: the three ends of a T-shaped solid become caps around one T-sh
   CHECK(r.stats.cut_discs_outside == 0);
   const pipeline::GpcResult blob = pipeline::run_gpc(make_t_solid(3), "T");
   CHECK(blob.stats.cuboids == 1);
+}
+
+TEST_CASE("gpc job: the eight's handles close without a twist") {
+  // Each T-shape of the eight has both sides of one cut as its arms (a handle): its seams join
+  // every corner of the cut to its own copy, so the merged ring closes without a twist.
+  const mesh::TriangleMesh eight = io::read_mesh(std::string(VOLSPLINE_SHARED_DATA) + "/meshes/eight.off");
+  pipeline::GpcOptions small;
+  small.grid.target_nodes = 3000;
+  const pipeline::GpcResult r = pipeline::run_gpc(eight, "eight", small);
+  CHECK(r.stats.genus == 2);
+  CHECK(r.stats.t_shapes == 2);
+  CHECK(r.stats.cuboids == 5);
+  CHECK(r.stats.ill_points == 4);
+  CHECK(r.stats.interfaces - r.stats.cuboids + 1 == 2);
+  CHECK(twisted_cycles(r.construction.domain) == 0);
 }
