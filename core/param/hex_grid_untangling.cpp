@@ -270,6 +270,84 @@ class Energy {
   double theta_;
 };
 
+// One round of the ε continuation of Garanzha et al. 2021 (§3) with untangle's update and stop
+// rules; the free nodes shrink after each step to those within `rings` of a hex still folded:
+// most folds open in the first steps, and the remaining steps sharpen the barrier around a few.
+// `region` holds the first step's free region on entry; `first_region` gets it.
+// count_inverted(seeds) counts the folded movable corners (and marks their hexes' nodes in
+// *seeds if not null); dilate(region, rings) grows a node set.
+template <class CountInverted, class Dilate>
+void continuation_round(const std::vector<std::array<int, 8>>& hex_nodes, const std::vector<Corner>& corners,
+                        const std::vector<char>& fixed, mesh::Positions& xyz, double h,
+                        const HexGridUntangleOptions& options, int rings, std::vector<char>& region,
+                        std::vector<char>& is_free, std::vector<char>& first_region, HexGridUntangleReport& report,
+                        const CountInverted& count_inverted, const Dilate& dilate) {
+  const int total = static_cast<int>(xyz.rows());
+  std::unique_ptr<Energy> energy;
+  UntangleProblem problem;
+  problem.energy = [&](const Eigen::VectorXd& v, double eps, Eigen::VectorXd* g) { return energy->evaluate(v, eps, g); };
+  double eps = 0.0, previous_eps = 0.0, e_prev = 0.0, best_d_min = -std::numeric_limits<double>::infinity();
+  int stalled = 0, best_count = std::numeric_limits<int>::max(), count_stalled = 0, count = 1;
+  for (int step = 0; step < options.max_steps; ++step) {
+    if (step > 0 && count > 0) {
+      std::fill(region.begin(), region.end(), 0);
+      count_inverted(&region);
+      dilate(region, rings);
+    } else if (step > 0) {
+      region = first_region;  // all unfolded: settle the whole region, as untangle would
+    }
+    std::vector<int> free_nodes;
+    bool changed = !energy;
+    for (int v = 0; v < total; ++v) {
+      const char now = region[v] && !fixed[v];
+      changed = changed || now != is_free[v];
+      is_free[v] = now;
+      if (now) free_nodes.push_back(v);
+    }
+    if (free_nodes.empty()) break;
+    if (step == 0) {
+      report.free_nodes = static_cast<int>(free_nodes.size());
+      first_region = region;
+    }
+    if (changed) {
+      std::vector<Corner> terms;
+      for (const Corner& c : corners)
+        if (is_free[c.node[0]] || is_free[c.node[1]] || is_free[c.node[2]] || is_free[c.node[3]]) terms.push_back(c);
+      energy = std::make_unique<Energy>(hex_nodes, std::move(terms), std::move(free_nodes), xyz, h, options.volume_weight);
+    }
+    Eigen::VectorXd x = energy->variables();
+    if (step == 0) {
+      const double d_min = energy->min_det();
+      eps = d_min > 0.0 ? 1e-8 : 2.0 * std::sqrt(0.1 * (0.1 - d_min));
+      e_prev = energy->evaluate(x, eps, nullptr);
+    } else if (changed) {
+      e_prev = energy->evaluate(x, previous_eps, nullptr);  // the last step's energy on the new terms
+    }
+    // L-BFGS preconditioned by the hex-edge Laplacian was tried: it saves few iterations
+    // (bunny 480 against 570; the folds are local barrier stiffness) and costs more each.
+    report.iterations += minimize_lbfgs(problem, eps, options.max_inner, x);
+    const double e = energy->evaluate(x, eps, nullptr);
+    const double d_min = energy->min_det();
+    count = energy->num_inverted();
+    const double sigma = std::max(1.0 - e / e_prev, kMinSigma);
+    const double mu = (1.0 - sigma) * barrier_chi(d_min, eps);
+    previous_eps = eps;
+    eps = d_min < mu ? 2.0 * std::sqrt(mu * (mu - d_min)) : 1e-8;
+    const bool settled = std::abs(e_prev - e) <= 1e-4 * std::abs(e);
+    e_prev = e;
+    if (d_min > 0.0 && settled) break;
+    // As untangle: a corner that cannot unfold stops the continuation once the worst
+    // determinant stops rising; and once the number of folded corners has not reached a new
+    // low for kCountStallSteps steps (the worst determinant of such a corner creeps up for
+    // many steps while the barrier sharpens).
+    stalled = d_min > best_d_min + 1e-3 ? 0 : stalled + 1;
+    best_d_min = std::max(best_d_min, d_min);
+    count_stalled = count < best_count ? 0 : count_stalled + 1;
+    best_count = std::min(best_count, count);
+    if (d_min <= 0.0 && (stalled >= 4 || count_stalled >= kCountStallSteps)) break;
+  }
+}
+
 }  // namespace
 
 HexGridUntangleReport untangle_hex_grid(const std::array<int, 3>& n, const std::vector<char>& fixed,
@@ -335,70 +413,9 @@ HexGridUntangleReport untangle_hex_grid(const std::array<int, 3>& n, const std::
     // ε continuation of Garanzha et al. 2021 (§3) with untangle's update and stop rules, but the
     // free nodes shrink after each step to those within `rings` of a hex still folded: most
     // folds open in the first steps, and the remaining steps sharpen the barrier around a few.
-    std::unique_ptr<Energy> energy;
     std::vector<char> first_region;
-    UntangleProblem problem;
-    problem.energy = [&](const Eigen::VectorXd& v, double eps, Eigen::VectorXd* g) { return energy->evaluate(v, eps, g); };
-    double eps = 0.0, previous_eps = 0.0, e_prev = 0.0, best_d_min = -std::numeric_limits<double>::infinity();
-    int stalled = 0, best_count = std::numeric_limits<int>::max(), count_stalled = 0, count = 1;
-    for (int step = 0; step < options.max_steps; ++step) {
-      if (step > 0 && count > 0) {
-        std::fill(region.begin(), region.end(), 0);
-        count_inverted(&region);
-        dilate(region, rings);
-      } else if (step > 0) {
-        region = first_region;  // all unfolded: settle the whole region, as untangle would
-      }
-      std::vector<int> free_nodes;
-      bool changed = !energy;
-      for (int v = 0; v < total; ++v) {
-        const char now = region[v] && !fixed[v];
-        changed = changed || now != is_free[v];
-        is_free[v] = now;
-        if (now) free_nodes.push_back(v);
-      }
-      if (free_nodes.empty()) break;
-      if (step == 0) {
-        report.free_nodes = static_cast<int>(free_nodes.size());
-        first_region = region;
-      }
-      if (changed) {
-        std::vector<Corner> terms;
-        for (const Corner& c : corners)
-          if (is_free[c.node[0]] || is_free[c.node[1]] || is_free[c.node[2]] || is_free[c.node[3]]) terms.push_back(c);
-        energy = std::make_unique<Energy>(hex_nodes, std::move(terms), std::move(free_nodes), xyz, h, options.volume_weight);
-      }
-      Eigen::VectorXd x = energy->variables();
-      if (step == 0) {
-        const double d_min = energy->min_det();
-        eps = d_min > 0.0 ? 1e-8 : 2.0 * std::sqrt(0.1 * (0.1 - d_min));
-        e_prev = energy->evaluate(x, eps, nullptr);
-      } else if (changed) {
-        e_prev = energy->evaluate(x, previous_eps, nullptr);  // the last step's energy on the new terms
-      }
-      // L-BFGS preconditioned by the hex-edge Laplacian was tried: it saves few iterations
-      // (bunny 480 against 570; the folds are local barrier stiffness) and costs more each.
-      report.iterations += minimize_lbfgs(problem, eps, options.max_inner, x);
-      const double e = energy->evaluate(x, eps, nullptr);
-      const double d_min = energy->min_det();
-      count = energy->num_inverted();
-      const double sigma = std::max(1.0 - e / e_prev, kMinSigma);
-      const double mu = (1.0 - sigma) * barrier_chi(d_min, eps);
-      previous_eps = eps;
-      eps = d_min < mu ? 2.0 * std::sqrt(mu * (mu - d_min)) : 1e-8;
-      const bool settled = std::abs(e_prev - e) <= 1e-4 * std::abs(e);
-      e_prev = e;
-      if (d_min > 0.0 && settled) break;
-      // As untangle: a corner that cannot unfold stops the continuation once the worst
-      // determinant stops rising; and once the number of folded corners has not reached a new
-      // low for kCountStallSteps steps (the worst determinant of such a corner creeps up for
-      // many steps while the barrier sharpens).
-      stalled = d_min > best_d_min + 1e-3 ? 0 : stalled + 1;
-      best_d_min = std::max(best_d_min, d_min);
-      count_stalled = count < best_count ? 0 : count_stalled + 1;
-      best_count = std::min(best_count, count);
-      if (d_min <= 0.0 && (stalled >= 4 || count_stalled >= kCountStallSteps)) break;
-    }
+    continuation_round(hex_nodes, corners, fixed, xyz, h, options, rings, region, is_free, first_region, report,
+                       count_inverted, dilate);
     std::fill(region.begin(), region.end(), 0);
     report.final_inverted = count_inverted(&region);
     // A larger region helps only folds that the region's border held: those with a movable node
@@ -491,64 +508,9 @@ HexGridUntangleReport untangle_hex_mesh(const std::vector<std::array<int, 8>>& h
     std::fill(region.begin(), region.end(), 0);
     count_inverted(&region);
     dilate(region, rings);
-    std::unique_ptr<Energy> energy;
     std::vector<char> first_region;
-    UntangleProblem problem;
-    problem.energy = [&](const Eigen::VectorXd& v, double eps, Eigen::VectorXd* g) { return energy->evaluate(v, eps, g); };
-    double eps = 0.0, previous_eps = 0.0, e_prev = 0.0, best_d_min = -std::numeric_limits<double>::infinity();
-    int stalled = 0, best_count = std::numeric_limits<int>::max(), count_stalled = 0, count = 1;
-    for (int step = 0; step < options.max_steps; ++step) {
-      if (step > 0 && count > 0) {
-        std::fill(region.begin(), region.end(), 0);
-        count_inverted(&region);
-        dilate(region, rings);
-      } else if (step > 0) {
-        region = first_region;
-      }
-      std::vector<int> free_nodes;
-      bool changed = !energy;
-      for (int v = 0; v < total; ++v) {
-        const char now = region[v] && !fixed[v];
-        changed = changed || now != is_free[v];
-        is_free[v] = now;
-        if (now) free_nodes.push_back(v);
-      }
-      if (free_nodes.empty()) break;
-      if (step == 0) {
-        report.free_nodes = static_cast<int>(free_nodes.size());
-        first_region = region;
-      }
-      if (changed) {
-        std::vector<Corner> terms;
-        for (const Corner& c : corners)
-          if (is_free[c.node[0]] || is_free[c.node[1]] || is_free[c.node[2]] || is_free[c.node[3]]) terms.push_back(c);
-        energy = std::make_unique<Energy>(hexes, std::move(terms), std::move(free_nodes), xyz, h, options.volume_weight);
-      }
-      Eigen::VectorXd x = energy->variables();
-      if (step == 0) {
-        const double d_min = energy->min_det();
-        eps = d_min > 0.0 ? 1e-8 : 2.0 * std::sqrt(0.1 * (0.1 - d_min));
-        e_prev = energy->evaluate(x, eps, nullptr);
-      } else if (changed) {
-        e_prev = energy->evaluate(x, previous_eps, nullptr);
-      }
-      report.iterations += minimize_lbfgs(problem, eps, options.max_inner, x);
-      const double e = energy->evaluate(x, eps, nullptr);
-      const double d_min = energy->min_det();
-      count = energy->num_inverted();
-      const double sigma = std::max(1.0 - e / e_prev, kMinSigma);
-      const double mu = (1.0 - sigma) * barrier_chi(d_min, eps);
-      previous_eps = eps;
-      eps = d_min < mu ? 2.0 * std::sqrt(mu * (mu - d_min)) : 1e-8;
-      const bool settled = std::abs(e_prev - e) <= 1e-4 * std::abs(e);
-      e_prev = e;
-      if (d_min > 0.0 && settled) break;
-      stalled = d_min > best_d_min + 1e-3 ? 0 : stalled + 1;
-      best_d_min = std::max(best_d_min, d_min);
-      count_stalled = count < best_count ? 0 : count_stalled + 1;
-      best_count = std::min(best_count, count);
-      if (d_min <= 0.0 && (stalled >= 4 || count_stalled >= kCountStallSteps)) break;
-    }
+    continuation_round(hexes, corners, fixed, xyz, h, options, rings, region, is_free, first_region, report,
+                       count_inverted, dilate);
     report.final_inverted = count_inverted(nullptr);
   }
   return report;
