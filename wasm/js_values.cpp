@@ -59,6 +59,14 @@ double number_option(const val& options, const char* key, double fallback) {
   return x;
 }
 
+int integer_option(const val& o, const char* key, int fallback, int lo, int hi) {
+  const double x = number_option(o, key, fallback);
+  if (x != static_cast<double>(static_cast<long long>(x)) || x < lo || x > hi)
+    throw Error(std::string("option '") + key + "': expected an integer in [" + std::to_string(lo) + ", " +
+                std::to_string(hi) + "]");
+  return static_cast<int>(x);
+}
+
 std::string string_option(const val& options, const char* key, const std::string& fallback) {
   const val v = option_value(options, key);
   if (v.isUndefined()) return fallback;

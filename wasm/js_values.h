@@ -30,6 +30,9 @@ emscripten::val uint8_array(const std::uint8_t* data, std::size_t n);
 /// `options` may be undefined or null (all defaults). Throws volspline::Error naming the key if
 /// the value is present but not a finite number, or if `options` is not an object.
 double number_option(const emscripten::val& options, const char* key, double fallback);
+/// Reads options.key as an integer in [lo, hi], `fallback` if missing. Throws volspline::Error
+/// naming the key and the range otherwise.
+int integer_option(const emscripten::val& options, const char* key, int fallback, int lo, int hi);
 /// Reads options.key as a string, `fallback` if missing. Throws volspline::Error naming the key
 /// if the value is present but not a string.
 std::string string_option(const emscripten::val& options, const char* key, const std::string& fallback);

@@ -20,14 +20,6 @@ using emscripten::val;
 
 namespace {
 
-int integer_option(const val& o, const char* key, int fallback, int lo, int hi) {
-  const double x = number_option(o, key, fallback);
-  if (x != static_cast<double>(static_cast<long long>(x)) || x < lo || x > hi)
-    throw Error(std::string("option '") + key + "': expected an integer in [" + std::to_string(lo) + ", " +
-                std::to_string(hi) + "]");
-  return static_cast<int>(x);
-}
-
 pipeline::Mesh2SplineOptions job_options_from_js(const val& o) {
   pipeline::Mesh2SplineOptions options;
   options.max_rms_rel = number_option(o, "max_rms_rel", options.max_rms_rel);
