@@ -112,8 +112,8 @@ bool lay_out_t_shape(mesh::TriangleMesh& pants_mesh, std::vector<int>& face_orig
   Seams best;
   best.length = std::numeric_limits<double>::infinity();
   std::string reasons;
-  for (int pass = 0; pass < 2 && best.hexagon[0] < 0; ++pass)
-  for (int combo = 0; combo < 64; ++combo) {
+  for (int trial = 0; trial < 128 && !(trial == 64 && best.hexagon[0] >= 0); ++trial) {
+    const int pass = trial / 64, combo = trial % 64;  // pass 0: untwisted only
     // arc[k][o]: the rim arc of loop k toward loop o, as (first, second) in piece direction.
     std::array<std::map<int, std::array<int, 2>>, 3> arc;
     for (int k = 0; k < 3; ++k) {
