@@ -34,19 +34,7 @@ pipeline::GpcOptions job_options_from_js(const val& o) {
   if (!(options.limb_persistence < 1.0))
     throw Error("option 'limb_persistence': expected a fraction in [0, 1) of the graph diameter, or negative (automatic)");
   options.threads = integer_option(o, "threads", options.threads, 1, 1024);
-  if (!o.isUndefined() && !o.isNull()) {
-    const val corners = o["corners"];
-    if (!corners.isUndefined() && !corners.isNull()) {
-      if (!corners.isArray()) throw Error("option 'corners': expected an array of 8 vertex ids");
-      const int n = corners["length"].as<int>();
-      for (int i = 0; i < n; ++i) {
-        const val c = corners[i];
-        if (!c.isNumber() || c.as<double>() != static_cast<double>(static_cast<int>(c.as<double>())) || c.as<double>() < 0)
-          throw Error("option 'corners': entry " + std::to_string(i) + " is not a vertex id");
-        options.corners.push_back(c.as<int>());
-      }
-    }
-  }
+  options.corners = corner_ids_option(o);
   return options;
 }
 

@@ -67,6 +67,24 @@ int integer_option(const val& o, const char* key, int fallback, int lo, int hi) 
   return static_cast<int>(x);
 }
 
+std::vector<int> corner_ids_option(const val& o) {
+  std::vector<int> ids;
+  if (!o.isUndefined() && !o.isNull()) {
+    const val corners = o["corners"];
+    if (!corners.isUndefined() && !corners.isNull()) {
+      if (!corners.isArray()) throw Error("option 'corners': expected an array of 8 vertex ids");
+      const int n = corners["length"].as<int>();
+      for (int i = 0; i < n; ++i) {
+        const val c = corners[i];
+        if (!c.isNumber() || c.as<double>() != static_cast<double>(static_cast<int>(c.as<double>())) || c.as<double>() < 0)
+          throw Error("option 'corners': entry " + std::to_string(i) + " is not a vertex id");
+        ids.push_back(c.as<int>());
+      }
+    }
+  }
+  return ids;
+}
+
 std::string string_option(const val& options, const char* key, const std::string& fallback) {
   const val v = option_value(options, key);
   if (v.isUndefined()) return fallback;

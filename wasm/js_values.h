@@ -33,6 +33,9 @@ double number_option(const emscripten::val& options, const char* key, double fal
 /// Reads options.key as an integer in [lo, hi], `fallback` if missing. Throws volspline::Error
 /// naming the key and the range otherwise.
 int integer_option(const emscripten::val& options, const char* key, int fallback, int lo, int hi);
+/// Reads options.corners as vertex ids (empty if missing). Throws volspline::Error naming the entry
+/// that is not a non-negative integer, or if it is not an array.
+std::vector<int> corner_ids_option(const emscripten::val& options);
 /// Reads options.key as a string, `fallback` if missing. Throws volspline::Error naming the key
 /// if the value is present but not a string.
 std::string string_option(const emscripten::val& options, const char* key, const std::string& fallback);

@@ -50,19 +50,7 @@ pipeline::Mesh2SplineOptions job_options_from_js(const val& o) {
   if (weights == "meanvalue") options.weights = param::SurfaceWeights::MeanValue;
   else if (weights == "cotan") options.weights = param::SurfaceWeights::Cotan;
   else throw Error("option 'weights': unknown '" + weights + "' (meanvalue, cotan)");
-  if (!o.isUndefined() && !o.isNull()) {
-    const val corners = o["corners"];
-    if (!corners.isUndefined() && !corners.isNull()) {
-      if (!corners.isArray()) throw Error("option 'corners': expected an array of 8 vertex ids");
-      const int n = corners["length"].as<int>();
-      for (int i = 0; i < n; ++i) {
-        const val c = corners[i];
-        if (!c.isNumber() || c.as<double>() != static_cast<double>(static_cast<int>(c.as<double>())) || c.as<double>() < 0)
-          throw Error("option 'corners': entry " + std::to_string(i) + " is not a vertex id");
-        options.corners.push_back(c.as<int>());
-      }
-    }
-  }
+  options.corners = corner_ids_option(o);
   return options;  // ranges are checked by run_mesh2spline
 }
 
