@@ -24,16 +24,15 @@ stage() {  # stage NAME COMMAND...
 }
 
 native() {
-  cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release >/dev/null &&
+  cmake --preset release >/dev/null &&
   cmake --build build/release -j"$JOBS" &&
   ctest --test-dir build/release --output-on-failure -j"$JOBS"
 }
-# Line tables only (-gline-tables-only): ASan/UBSan reports keep file:line, and the build is much
-# cheaper than with full debug info. One clang Debug build serves both the sanitizer run and the fuzzers: ASan+UBSan everywhere, and
-# the core also carries libFuzzer's coverage instrumentation (harmless for the tests).
+# The configurations are the presets of CMakePresets.json. One clang Debug build (preset sanitize,
+# line tables only) serves both the sanitizer run and the fuzzers: ASan+UBSan everywhere, and the
+# core also carries libFuzzer's coverage instrumentation (harmless for the tests).
 sanitized() {
-  CC=clang CXX=clang++ cmake -S . -B build/sanitize -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-gline-tables-only -O1" \
-        -DVOLSPLINE_SANITIZE=ON -DVOLSPLINE_FUZZ=ON -DVOLSPLINE_BENCH=OFF >/dev/null &&
+  cmake --preset sanitize >/dev/null &&
   cmake --build build/sanitize -j"$JOBS" &&
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     ctest --test-dir build/sanitize --output-on-failure -j"$JOBS"
@@ -44,7 +43,7 @@ fuzz() {
 }
 wasm() {
   export NODE_PATH=/usr/share/nodejs
-  emcmake cmake -S . -B build/wasm -DCMAKE_BUILD_TYPE=Release -DEigen3_DIR=/usr/share/eigen3/cmake >/dev/null &&
+  emcmake cmake --preset wasm >/dev/null &&
   cmake --build build/wasm -j"$JOBS" &&
   node --no-experimental-fetch tests/wasm/node_smoke_test.cjs build/wasm/wasm/volspline_node.cjs "$ROOT" "$ROOT/../shared/data"
 }
@@ -52,7 +51,7 @@ wasm() {
 web_e2e() {
   export NODE_PATH=/usr/share/nodejs
   bash tests/setup_deps.sh --web &&
-  emcmake cmake -S . -B build/wasm -DCMAKE_BUILD_TYPE=Release -DEigen3_DIR=/usr/share/eigen3/cmake >/dev/null &&
+  emcmake cmake --preset wasm >/dev/null &&
   cmake --build build/wasm -j"$JOBS" --target volspline_site &&
   (cd tests/e2e && npm ci --no-audit --no-fund) &&
   { [ ! -x build/release/cli/volspline ] || node tests/e2e/validate_glb.cjs build/release/cli/volspline "$ROOT/../shared/data"; } &&
