@@ -111,7 +111,7 @@ double foldover_free_energy(const Eigen::Matrix3d& j, double eps, double theta, 
 }
 
 void foldover_free_energy_batch(const double* j, double eps, double theta, double* energy, double* gradient) {
-#if defined(VOLSPLINE_FOLDOVER_AVX2)
+#if defined(VOLSPLINE_AVX2_KERNELS)
   static const bool avx2 = __builtin_cpu_supports("avx2");
   if (avx2) return detail::foldover_kernel4_avx2(j, eps, theta, energy, gradient);
 #endif

@@ -4,7 +4,7 @@
 
 namespace volspline::param::detail {
 
-#if defined(VOLSPLINE_FOLDOVER_AVX2)
+#if defined(VOLSPLINE_AVX2_KERNELS)
 void foldover_kernel4_avx2(const double* j, double eps, double theta, double* energy, double* gradient) {
   foldover_kernel<4>(j, eps, theta, energy, gradient);
 }

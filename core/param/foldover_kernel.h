@@ -76,7 +76,7 @@ inline void foldover_kernel(const double* j, double eps, double theta, double* e
 
 }  // namespace
 
-#if defined(VOLSPLINE_FOLDOVER_AVX2)
+#if defined(VOLSPLINE_AVX2_KERNELS)
 /// foldover_kernel<4> built for AVX2 (foldover_batch_avx2.cpp).
 void foldover_kernel4_avx2(const double* j, double eps, double theta, double* energy, double* gradient);
 #endif

@@ -1,0 +1,213 @@
+// SPDX-License-Identifier: MIT
+#include "core/spline/untangle_energy.h"
+
+#include <algorithm>
+#include <cstddef>
+#include <limits>
+
+#include <Eigen/Geometry>
+
+#include "core/param/barrier_untangling.h"
+
+namespace volspline::spline::detail {
+
+namespace {
+
+// ε shrinks at least this much per step (param::UntangleOptions::min_sigma): 5 steps instead
+// of 8 on bunny with 0.5; 0.9 shrinks it faster than the folds open.
+constexpr double kMinSigma = 0.75;
+// Weight of the scattered nodes' hinge (tuning, rings 1 in all passes): 100 left bunny 9 folded
+// points of 64³, 1000 left 4, 10⁴ left 19 (it then outweighs the barrier that holds the nodes).
+constexpr double kHingeWeight = 1000.0;
+
+// The energy of minimize_region_energy with its caches. The energy's nodes are the held ones
+// (guarded ⊆ held), kFoldoverBatch to a batch; M = J·S⁻¹ of a batch is stored as the batch
+// kernel reads it (element k of lane l at 9·kBatch·b + k·kBatch + l), the last batch padded
+// with its last node. M is linear in x: along the line search's line x + t·d it is M(x) + t·M_d,
+// so a trial needs no sums over the functions.
+class RegionEnergy {
+ public:
+  RegionEnergy(const Region& region, const SampleTerms& samples, const RegionEnergyOptions& options)
+      : r_(region), samples_(samples), options_(options), num_extra_(region.point_fixed.size()),
+        extra_jac_(num_extra_), extra_start_(num_extra_), extra_step_(num_extra_) {
+    for (std::size_t q = 0; q < r_.fixed.size(); ++q)
+      if (r_.held[q]) held_nodes_.push_back(static_cast<int>(q));
+    num_batches_ = (held_nodes_.size() + kBatch - 1) / kBatch;
+    lanes_ = num_batches_ * kBatch;
+  }
+
+  double energy(const Eigen::VectorXd& y, double eps, Eigen::VectorXd* gradient) {
+    return sum(jacobians(y), y, eps, gradient);
+  }
+
+  double min_det(const Eigen::VectorXd& y) {
+    const std::vector<double>& j = jacobians(y);
+    double worst = std::numeric_limits<double>::infinity();
+    for (std::size_t h = 0; h < held_nodes_.size(); ++h)
+      if (r_.guarded[held_nodes_[h]]) worst = std::min(worst, get(j, h).determinant());
+    return worst;
+  }
+
+  void set_line(const Eigen::VectorXd& y, const Eigen::VectorXd& d) {
+    line_start_ = jacobians(y);
+    line_x_ = y;
+    line_d_ = d;
+    fill(line_step_, d, Part::Linear);
+    for (std::size_t e = 0; e < num_extra_; ++e) {
+      extra_start_[e] = extra_jac_[e];
+      extra_step_[e] = extra_linear(d, e);
+    }
+  }
+
+  double line_energy(double t, double eps, Eigen::VectorXd* gradient) {
+    jac_x_ = line_x_ + t * line_d_;  // the same bits as the minimizer's x + t·d
+    for (std::size_t i = 0; i < jac_.size(); ++i) jac_[i] = line_start_[i] + t * line_step_[i];
+    for (std::size_t e = 0; e < num_extra_; ++e) extra_jac_[e] = extra_start_[e] + t * extra_step_[e];
+    return sum(jac_, jac_x_, eps, gradient);
+  }
+
+ private:
+  static constexpr int kBatch = param::kFoldoverBatch;
+  enum class Part { WithFixed, Linear };  // fixed + rows(y), or rows(y) alone
+
+  static void put(std::vector<double>& m, std::size_t h, const Eigen::Matrix3d& value) {
+    double* out = m.data() + (h / kBatch) * 9 * kBatch + h % kBatch;
+    for (int k = 0; k < 9; ++k) out[k * kBatch] = value.data()[k];
+  }
+  static Eigen::Matrix3d get(const std::vector<double>& m, std::size_t h) {
+    const double* in = m.data() + (h / kBatch) * 9 * kBatch + h % kBatch;
+    Eigen::Matrix3d value;
+    for (int k = 0; k < 9; ++k) value.data()[k] = in[k * kBatch];
+    return value;
+  }
+
+  // M at every held node from the rows.
+  void fill(std::vector<double>& m, const Eigen::VectorXd& y, Part part) {
+    m.resize(9 * lanes_);
+    NodeJacobians::pad(y, padded_);
+    for (std::size_t h = 0; h < lanes_; ++h) {
+      const int q = held_nodes_[std::min(h, held_nodes_.size() - 1)];
+      const Eigen::Matrix3d linear = r_.rows.linear(padded_.data(), q);
+      put(m, h, part == Part::WithFixed ? Eigen::Matrix3d(r_.fixed[q] + linear) : linear);
+    }
+  }
+
+  Eigen::Matrix3d extra_linear(const Eigen::VectorXd& y, std::size_t e) const {
+    Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+    for (int k = r_.point_start[e]; k < r_.point_start[e + 1]; ++k)
+      m += y.segment<3>(3 * r_.point_columns[k]) * r_.point_g[k].transpose();
+    return m;
+  }
+
+  // jac_ holds M at jac_x_.
+  const std::vector<double>& jacobians(const Eigen::VectorXd& y) {
+    if (jac_x_.size() != y.size() || jac_x_ != y) {
+      fill(jac_, y, Part::WithFixed);
+      for (std::size_t e = 0; e < num_extra_; ++e) extra_jac_[e] = r_.point_fixed[e] + extra_linear(y, e);
+      jac_x_ = y;
+    }
+    return jac_;
+  }
+
+  // The three terms, added to total in this order (barrier, hinge, data).
+  double sum(const std::vector<double>& j, const Eigen::VectorXd& y, double eps, Eigen::VectorXd* gradient) {
+    double total = 0.0;
+    add_barrier(j, eps, y.size(), total, gradient);
+    add_hinge(total, gradient);
+    add_data(y, total, gradient);
+    return total;
+  }
+
+  // The barrier at the held nodes, summed and its gradient scattered in node order (as one at a
+  // time); sets the gradient whole.
+  void add_barrier(const std::vector<double>& j, double eps, Eigen::Index size, double& total,
+                   Eigen::VectorXd* gradient) {
+    if (gradient) {
+      gradient->resize(size);  // set whole from gradient_padded_ below
+      gradient_padded_.assign(size / 3 * 4, 0.0);
+    }
+    double out[9 * kBatch], e[kBatch];
+    for (std::size_t batch = 0; batch < num_batches_; ++batch) {
+      const std::size_t first = batch * kBatch;
+      const int count = static_cast<int>(std::min<std::size_t>(kBatch, held_nodes_.size() - first));
+      param::foldover_free_energy_batch(j.data() + batch * 9 * kBatch, eps, options_.theta, e,
+                                        gradient ? out : nullptr);
+      for (int lane = 0; lane < count; ++lane) {
+        total += e[lane];
+        if (!gradient) continue;
+        Eigen::Matrix3d df;
+        for (int k = 0; k < 9; ++k) df.data()[k] = out[k * kBatch + lane];
+        r_.rows.add_gradient(df, held_nodes_[first + lane], gradient_padded_.data());
+      }
+    }
+    if (gradient) NodeJacobians::unpad(gradient_padded_, *gradient);
+  }
+
+  // Scattered nodes: the hinge W·max(0, τ − det J/σ)², zero where they are good enough.
+  void add_hinge(double& total, Eigen::VectorXd* gradient) const {
+    for (std::size_t e = 0; e < num_extra_; ++e) {
+      const Eigen::Matrix3d& m = extra_jac_[e];
+      const double gap = options_.hinge_target - m.determinant() / r_.point_scale[e];
+      if (gap <= 0.0) continue;
+      total += kHingeWeight * gap * gap;
+      if (!gradient) continue;
+      Eigen::Matrix3d cof;  // ∂det/∂J
+      cof.col(0) = m.col(1).cross(m.col(2));
+      cof.col(1) = m.col(2).cross(m.col(0));
+      cof.col(2) = m.col(0).cross(m.col(1));
+      const Eigen::Matrix3d d = (-2.0 * kHingeWeight * gap / r_.point_scale[e]) * cof;
+      for (int k = r_.point_start[e]; k < r_.point_start[e + 1]; ++k)
+        gradient->segment<3>(3 * r_.point_columns[k]) += d * r_.point_g[k];
+    }
+  }
+
+  // The samples' term data_scale·‖F(uvw_s) − xyz_s‖².
+  void add_data(const Eigen::VectorXd& y, double& total, Eigen::VectorXd* gradient) const {
+    const double data_scale = options_.data_scale;
+    for (int t = 0; t < samples_.size(); ++t) {
+      Eigen::Vector3d res = samples_.offset[t];
+      for (int k = samples_.start[t]; k < samples_.start[t + 1]; ++k)
+        res += samples_.b[k] * y.segment<3>(3 * samples_.column[k]);
+      total += data_scale * res.squaredNorm();
+      if (!gradient) continue;
+      for (int k = samples_.start[t]; k < samples_.start[t + 1]; ++k)
+        gradient->segment<3>(3 * samples_.column[k]) += 2.0 * data_scale * samples_.b[k] * res;
+    }
+  }
+
+  const Region& r_;
+  const SampleTerms& samples_;
+  const RegionEnergyOptions options_;
+  std::vector<int> held_nodes_;
+  std::size_t num_batches_ = 0, lanes_ = 0;
+  std::vector<double> padded_, gradient_padded_;
+  std::vector<double> jac_, line_start_, line_step_;
+  Eigen::VectorXd jac_x_, line_x_, line_d_;
+  const std::size_t num_extra_;
+  std::vector<Eigen::Matrix3d> extra_jac_, extra_start_, extra_step_;
+};
+
+}  // namespace
+
+int minimize_region_energy(const Region& region, const SampleTerms& samples, const RegionEnergyOptions& options,
+                           Eigen::VectorXd& x) {
+  RegionEnergy energy(region, samples, options);
+  param::UntangleProblem problem;
+  problem.energy = [&](const Eigen::VectorXd& y, double eps, Eigen::VectorXd* gradient) {
+    return energy.energy(y, eps, gradient);
+  };
+  problem.min_det = [&](const Eigen::VectorXd& y) { return energy.min_det(y); };
+  problem.set_line = [&](const Eigen::VectorXd& y, const Eigen::VectorXd& d) { energy.set_line(y, d); };
+  problem.line_energy = [&](double t, double eps, Eigen::VectorXd* gradient) {
+    return energy.line_energy(t, eps, gradient);
+  };
+  param::UntangleOptions untangle_options;
+  untangle_options.max_steps = options.max_steps;
+  untangle_options.max_inner = options.max_inner;
+  untangle_options.stop_min_det = options.stop_margin;
+  untangle_options.keep_curvature = true;
+  untangle_options.min_sigma = kMinSigma;
+  return param::untangle(problem, x, untangle_options);
+}
+
+}  // namespace volspline::spline::detail

@@ -1,0 +1,80 @@
+// SPDX-License-Identifier: MIT
+// Internal to untangle_spline: one pass of the untangler (its nodes, seeds, free functions and
+// energy) and the helpers it shares with untangle_spline's checks.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/spline/spline_untangling.h"
+#include "core/spline/tspline.h"
+
+namespace volspline::spline::detail {
+
+/// Least share of |w∇B| at a point that the movable functions must carry for the point to be
+/// worth untangling (bunny: seeds below 0.02 stay folded, those above 0.3 unfold).
+constexpr double kMinMovableShare = 0.1;
+
+/// The lattice of one pass, per axis: the nodes' parameters (ascending) and which are scanned.
+struct AxisNodes {
+  std::vector<double> t;
+  std::vector<char> scanned;
+};
+
+/// The node Jacobians of the last pass, kept for the next one: the same nodes (passes differ in
+/// rings only) and the spline as that pass left it need no second evaluation.
+struct NodeCache {
+  std::array<AxisNodes, 3> nodes;
+  std::vector<Eigen::Matrix3d> jacobians;
+  bool current = false;  ///< jacobians hold J at every node of `nodes` for the spline as it is
+};
+
+/// The nodes of a pass, per axis: nodes_per_knot_interval > 0: per interval of the spline's knot
+/// lines, the centres of equal parts, as many as nodes_per_knot_interval and at least as many as
+/// the interval holds steps of energy_stride/lattice (so coarse intervals keep the lattice's
+/// density), all scanned; 0: the uniform lattice j/lattice (every energy_stride-th from j = 1,
+/// every seed_stride-th scanned). Plus the boundary layers at boundary_layers[q] of the first
+/// (last) node's distance from the face.
+std::array<AxisNodes, 3> make_pass_nodes(const TSpline& spline, const SplineUntangleOptions& options);
+
+/// The functions' w·∂B/∂u_a at one parameter point (TSpline::basis_at with derivative order 1 per
+/// axis); the three lists hold the same functions in the same order.
+struct PointGradients {
+  std::array<std::vector<int>, 3> ids;
+  std::array<std::vector<double>, 3> values;
+  /// Evaluates them at p.
+  void at(const TSpline& spline, const Eigen::Vector3d& p);
+  /// Σ |w∇B| over the functions (*total) and over those for which movable(f) holds (returned),
+  /// summed in function order.
+  template <class Movable>
+  double movable_share(const TSpline& spline, Movable&& movable, double* total) const {
+    double sum = 0.0, moved = 0.0;
+    for (std::size_t q = 0; q < ids[0].size(); ++q) {
+      const int f = ids[0][q];
+      const double g = spline.weights()(f) * Eigen::Vector3d(values[0][q], values[1][q], values[2][q]).norm();
+      sum += g;
+      if (movable(f)) moved += g;
+    }
+    *total = sum;
+    return moved;
+  }
+};
+
+/// Where a pass's seeds come from.
+enum class PassSeeds {
+  ScanAndPoints,  ///< the scanned nodes below min_scaled_jacobian, plus `points`; scan after
+  PointsOnly,     ///< `points` alone; nodes evaluated only in the box of the free functions'
+                  ///< supports, no scan (the result's scan fields stay 0)
+};
+
+/// One scan of `nodes` for seeds and one untangling of the points near them (see
+/// untangle_spline); the moved control points are written to spline. points: parameter points
+/// that seed at their nearest node and are held by the hinge (the dense checks' bad points).
+/// cache: the node Jacobians carried from pass to pass. Precondition: as untangle_spline.
+SplineUntangleReport untangle_pass(TSpline& spline, const std::array<AxisNodes, 3>& nodes, const Eigen::MatrixX3d& uvw,
+                                   const Eigen::MatrixX3d& xyz, const std::vector<Eigen::Vector3d>& points,
+                                   const SplineUntangleOptions& options, PassSeeds seeds, NodeCache& cache);
+
+}  // namespace volspline::spline::detail
