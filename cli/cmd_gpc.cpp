@@ -19,10 +19,11 @@ int run_gpc(const std::vector<std::string>& argv) {
   std::vector<OptionSpec> specs = {
       {"output", "DOMAIN.json", "GPC domain (cuboids, glued faces, transition maps, ill-points) to write (required; also -o)"},
       {"glb", "SEG.glb", "the surface coloured by cuboid with poly-edges and corners"},
-      {"vtk", "GRID.vtu", "every cuboid's hex grid, cell data cuboid and scaled_jacobian"},
+      {"vtk", "GRID.vtu", "the hex mesh: every cuboid's grid over shared nodes and the padding layer, cell data cuboid, scaled_jacobian, padding"},
       {"corners", "FILE", "8 corner vertex ids of a genus-0 solid's cuboid (cube corner c at (c&1, c>>1&1, c>>2&1))"},
       {"grid-nodes", "N", "about N volumetric grid nodes over all cuboids (default 24000)"},
       {"no-untangle", "", "keep the harmonic grid's folds (the thesis's plain Eq. 3.1 map)"},
+      {"no-padding", "", "the hex mesh without the padding layer under the surface (the cuboid grids alone)"},
       {"no-merge", "", "keep every T-shape arm, tube and cap its own cuboid (no merging across cuts)"},
       {"limbs", "P", "limb ends become caps when their branch is at least P of the shape's graph diameter long (default 0.25 for genus > 0, off for genus 0; 0 = off)"},
   };
@@ -50,6 +51,7 @@ int run_gpc(const std::vector<std::string>& argv) {
   options.threads = args.get_int("threads", options.threads);
   options.grid.target_nodes = args.get_int("grid-nodes", options.grid.target_nodes);
   if (args.has("no-untangle")) options.grid.untangle = param::GpcGridOptions::Untangle::Off;
+  if (args.has("no-padding")) options.grid.padding = param::GpcGridOptions::Padding::Off;
   if (args.has("no-merge")) options.merge_cuboids = false;
   if (args.has("limbs")) {
     options.limb_persistence = args.get_double("limbs", 0.0);
@@ -72,9 +74,8 @@ int run_gpc(const std::vector<std::string>& argv) {
 
   files.stage(output, io::serialize_gpc_domain(result.construction.domain));
   if (args.has("vtk")) {
-    std::vector<io::HexGridView> grids;
-    for (const param::GpcCuboidGrid& g : result.map.grids) grids.push_back({g.nodes, &g.xyz});
-    files.stage(args.get("vtk"), io::serialize_hex_grids_vtu(grids));
+    const param::HexMesh& m = result.map.hex_mesh;
+    files.stage(args.get("vtk"), io::serialize_hex_mesh_vtu({&m.xyz, &m.hexes, &m.hex_group, &m.padding}));
   }
   if (args.has("glb")) files.stage(args.get("glb"), pipeline::gpc_segmentation_glb(result));
   if (args.has("stats-json")) files.stage(args.get("stats-json"), pipeline::gpc_stats_json(result.stats, path));

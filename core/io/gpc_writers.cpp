@@ -15,47 +15,36 @@
 
 namespace volspline::io {
 
-std::string serialize_hex_grids_vtu(const std::vector<HexGridView>& grids) {
-  std::vector<double> xyz, quality, cuboid;
+std::string serialize_hex_mesh_vtu(const HexMeshView& mesh) {
+  const mesh::Positions& p = *mesh.xyz;
+  std::vector<double> xyz, quality, cuboid, padding;
   std::vector<std::int64_t> connectivity, offsets;
+  xyz.reserve(3 * p.rows());
+  for (int r = 0; r < p.rows(); ++r)
+    for (int d = 0; d < 3; ++d) xyz.push_back(p(r, d));
   // VTK_HEXAHEDRON corner order: bottom face counter-clockwise, then top face.
   const int order[8] = {0, 1, 3, 2, 4, 5, 7, 6};
-  std::int64_t base = 0;
-  for (std::size_t gi = 0; gi < grids.size(); ++gi) {
-    const auto& n = grids[gi].nodes;
-    const mesh::Positions& p = *grids[gi].xyz;
-    for (int r = 0; r < p.rows(); ++r)
-      for (int d = 0; d < 3; ++d) xyz.push_back(p(r, d));
-    for (int k = 0; k + 1 < n[2]; ++k)
-      for (int j = 0; j + 1 < n[1]; ++j)
-        for (int i = 0; i + 1 < n[0]; ++i) {
-          std::array<int, 8> local;
-          std::array<Eigen::Vector3d, 8> x;
-          for (int c = 0; c < 8; ++c) {
-            local[c] = (i + (c & 1)) + n[0] * ((j + ((c >> 1) & 1)) + n[1] * (k + ((c >> 2) & 1)));
-            x[c] = p.row(local[c]).transpose();
-          }
-          for (int c = 0; c < 8; ++c) connectivity.push_back(base + local[order[c]]);
-          offsets.push_back(static_cast<std::int64_t>(connectivity.size()));
-          quality.push_back(mesh::hex_min_scaled_jacobian(x));
-          cuboid.push_back(static_cast<double>(gi));
-        }
-    base += static_cast<std::int64_t>(p.rows());
+  for (std::size_t h = 0; h < mesh.hexes->size(); ++h) {
+    const std::array<int, 8>& hex = (*mesh.hexes)[h];
+    std::array<Eigen::Vector3d, 8> x;
+    for (int c = 0; c < 8; ++c) x[c] = p.row(hex[c]).transpose();
+    for (int c = 0; c < 8; ++c) connectivity.push_back(hex[order[c]]);
+    offsets.push_back(static_cast<std::int64_t>(connectivity.size()));
+    quality.push_back(mesh::hex_min_scaled_jacobian(x));
+    cuboid.push_back(static_cast<double>((*mesh.cuboid)[h]));
+    if (mesh.padding) padding.push_back((*mesh.padding)[h] ? 1.0 : 0.0);
   }
   const std::vector<std::uint8_t> types(offsets.size(), 12);  // VTK_HEXAHEDRON
   VtkXmlWriter writer;
-  std::string body = "<Piece NumberOfPoints=\"" + std::to_string(xyz.size() / 3) + "\" NumberOfCells=\"" +
+  std::string body = "<Piece NumberOfPoints=\"" + std::to_string(p.rows()) + "\" NumberOfCells=\"" +
                      std::to_string(offsets.size()) + "\">\n";
   body += "<CellData Scalars=\"scaled_jacobian\">\n" + writer.add("scaled_jacobian", quality) +
-          writer.add("cuboid", cuboid) + "</CellData>\n";
+          writer.add("cuboid", cuboid) + (mesh.padding ? writer.add("padding", padding) : std::string()) +
+          "</CellData>\n";
   body += "<Points>\n" + writer.add("Points", xyz, 3) + "</Points>\n<Cells>\n";
   body += writer.add("connectivity", connectivity) + writer.add("offsets", offsets) + writer.add("types", types);
   body += "</Cells>\n</Piece>\n";
   return writer.document("UnstructuredGrid", "", body);
-}
-
-void write_hex_grids_vtu(const std::string& path, const std::vector<HexGridView>& grids) {
-  write_file_atomic(path, serialize_hex_grids_vtu(grids));
 }
 
 namespace {

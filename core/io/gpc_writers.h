@@ -11,18 +11,18 @@
 
 namespace volspline::io {
 
-/// A structured hex grid: node (i, j, k) at row i + n0·(j + n1·k) of xyz (model units).
-struct HexGridView {
-  std::array<int, 3> nodes{};
-  const mesh::Positions* xyz = nullptr;
+/// Hexes over shared nodes: hex h's node q at offset (q&1, q>>1&1, q>>2&1) of the hex.
+struct HexMeshView {
+  const mesh::Positions* xyz = nullptr;                    ///< nodes, model units
+  const std::vector<std::array<int, 8>>* hexes = nullptr;  ///< node ids into xyz
+  const std::vector<int>* cuboid = nullptr;                ///< per hex
+  const std::vector<char>* padding = nullptr;              ///< per hex, 1 in a padding layer; or null
 };
 
-/// Every grid's hexes as one VTK XML UnstructuredGrid (.vtu, VtkXmlWriter's appended binary,
-/// zlib where the build has it; VTK_HEXAHEDRON) with cell
-/// data "cuboid" (the grid's index) and "scaled_jacobian" (smallest corner scaled Jacobian of the
-/// hex, in [−1, 1]). Nodes shared between grids are written once per grid.
-std::string serialize_hex_grids_vtu(const std::vector<HexGridView>& grids);
-void write_hex_grids_vtu(const std::string& path, const std::vector<HexGridView>& grids);
+/// The hexes as one VTK XML UnstructuredGrid (.vtu, VtkXmlWriter's appended binary, zlib where
+/// the build has it; VTK_HEXAHEDRON, every node once) with cell data "cuboid", "scaled_jacobian"
+/// (smallest corner scaled Jacobian of the hex, in [−1, 1]) and, if given, "padding" (0/1).
+std::string serialize_hex_mesh_vtu(const HexMeshView& mesh);
 
 /// The colour of segment s ≥ 0 in serialize_segmented_glb: RGB, components in [0.25, 0.95], the
 /// hues spread by the golden angle so that consecutive ids differ strongly.

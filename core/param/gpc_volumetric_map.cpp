@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
 #include <numeric>
 #include <string>
 
@@ -11,6 +14,7 @@
 #include "core/linalg/csr_matrix.h"
 #include "core/param/cuboid_surface_locator.h"
 #include "core/param/hex_grid_untangling.h"
+#include "core/param/surface_distance.h"
 #include "core/mesh/hex_quality.h"
 #include "core/param/volumetric_grid_map.h"
 
@@ -31,6 +35,101 @@ int node_faces(const std::array<int, 3>& n, const std::array<int, 3>& ijk) {
     if (ijk[a] == n[a] - 1) faces |= 1 << (2 * a + 1);
   }
   return faces;
+}
+
+// The padded hex mesh pm untangled with only the surface held, the nodes inside an exposed cube
+// face sliding on it, then improved around its poor hexes. root, offset, total: the grid node
+// identification of compute_gpc_volumetric_map (rows of pm below total that are not roots are
+// unused). Returns the nodes the untanglers moved.
+int untangle_padded_mesh(const polycube::GpcConstruction& construction, const std::vector<int>& root,
+                         const std::vector<int>& offset, int total, const GpcGridOptions& options, HexMesh& pm) {
+  const polycube::GpcDomain& domain = construction.domain;
+  const int nc = static_cast<int>(domain.cuboids.size());
+  int untangled = 0;
+  const int rows = static_cast<int>(pm.xyz.rows());
+  // Surface nodes inside one exposed cube face slide on the surface (the padding hex of a
+  // bad surface quad folds whatever its inner nodes do); nodes on poly-edges, cut loops and
+  // corners stay where the surface maps put them.
+  // slides[r]: 1 + the patch (cuboid·6 + face) the node r projects onto, 0 if it does not slide.
+  std::vector<int> slides(rows, 0);
+  for (int c = 0; c < nc; ++c) {
+    const auto& n = domain.cuboids[c].nodes;
+    for (int k = 0; k < n[2]; ++k)
+      for (int j = 0; j < n[1]; ++j)
+        for (int i = 0; i < n[0]; ++i) {
+          const int faces = node_faces(n, {i, j, k});
+          if (faces == 0 || (faces & (faces - 1)) != 0) continue;
+          int f = 0;
+          while (!(faces >> f & 1)) ++f;
+          if (domain.cuboids[c].face_interface[f] < 0)
+            slides[root[offset[c] + grid_node_index(n, i, j, k)]] = 1 + 6 * c + f;
+        }
+  }
+  std::vector<char> fixed(rows);
+  for (int r = 0; r < rows; ++r) fixed[r] = (pm.on_surface[r] && !slides[r]) || (r < total && root[r] != r);
+  // Each patch on its own: a node near a thin part must not land on the far side.
+  std::vector<std::unique_ptr<SurfaceDistance>> patches(6 * nc);
+  for (int c = 0; c < nc; ++c) {
+    const polycube::CuboidSurface& cs = construction.surfaces[c];
+    for (int f = 0; f < 6; ++f) {
+      if (domain.cuboids[c].face_interface[f] >= 0) continue;
+      mesh::TriangleMesh patch;
+      patch.positions = cs.mesh.positions;
+      std::vector<int> keep;
+      for (int t = 0; t < cs.mesh.num_faces(); ++t)
+        if (cs.surface_face[t] >= 0 && cs.layout.face_region[t] == f) keep.push_back(t);
+      if (keep.empty()) continue;
+      patch.triangles.resize(static_cast<int>(keep.size()), 3);
+      for (std::size_t t = 0; t < keep.size(); ++t) patch.triangles.row(t) = cs.mesh.triangles.row(keep[t]);
+      patches[6 * c + f] = std::make_unique<SurfaceDistance>(patch);
+    }
+  }
+  for (int r = 0; r < rows; ++r)
+    if (slides[r] && !patches[slides[r] - 1]) slides[r] = 0, fixed[r] = 1;
+  // First with the whole surface held; then the folds left, with the face nodes sliding.
+  std::vector<char> held(rows);
+  for (int r = 0; r < rows; ++r) held[r] = fixed[r] || pm.on_surface[r];
+  SlidingNodes sliding;
+  sliding.slides.resize(rows);
+  for (int r = 0; r < rows; ++r) sliding.slides[r] = slides[r] > 0;
+  sliding.project = [&](int r, const Eigen::Vector3d& p, Eigen::Vector3d* normal) {
+    return patches[slides[r] - 1]->closest_point(p, normal);
+  };
+  HexGridUntangleOptions held_options;
+  held_options.rounds = 1;
+  untangled += untangle_hex_mesh(pm.hexes, held, pm.xyz, {}, held_options).free_nodes;
+  const int held_count = hex_mesh_quality(pm).num_inverted;
+  if (held_count > 0) {
+    const mesh::Positions held_result = pm.xyz;
+    HexGridUntangleOptions slide_options;
+    slide_options.rounds = 1;
+    untangled += untangle_hex_mesh(pm.hexes, fixed, pm.xyz, {}, slide_options, &sliding).free_nodes;
+    if (hex_mesh_quality(pm).num_inverted > held_count) pm.xyz = held_result;
+  }
+  if (options.quality_iterations > 0 && hex_mesh_quality(pm).num_inverted == 0) {
+    // Only around the poor hexes: nodes within 2 rings of a hex below scaled Jacobian 0.3.
+    std::vector<char> region(rows, 0);
+    for (const auto& hex : pm.hexes) {
+      std::array<Eigen::Vector3d, 8> x;
+      for (int q = 0; q < 8; ++q) x[q] = pm.xyz.row(hex[q]).transpose();
+      if (mesh::hex_min_scaled_jacobian(x) < 0.3)
+        for (int v : hex) region[v] = 1;
+    }
+    for (int ring = 0; ring < 2; ++ring) {
+      std::vector<char> next = region;
+      for (const auto& hex : pm.hexes) {
+        bool any = false;
+        for (int v : hex) any = any || region[v];
+        if (any)
+          for (int v : hex) next[v] = 1;
+      }
+      region.swap(next);
+    }
+    std::vector<char> frozen(rows);
+    for (int r = 0; r < rows; ++r) frozen[r] = fixed[r] || !region[r];
+    improve_hex_mesh(pm.hexes, frozen, pm.xyz, options.quality_iterations, 0.5, &sliding);
+  }
+  return untangled;
 }
 
 }  // namespace
@@ -248,23 +347,35 @@ GpcVolumetricMap compute_gpc_volumetric_map(polycube::GpcConstruction& construct
       for (int id = 0; id < count; ++id) xyz.row(root[offset[c] + id]) = grid.xyz.row(id);
     }
   }
+  // All hexes over the shared nodes (root ids), with their faces on the surface.
+  std::vector<std::array<int, 8>> hexes;
+  std::vector<int> hex_cuboid;
+  std::vector<std::uint8_t> surface_faces;
+  for (int c = 0; c < nc; ++c) {
+    const auto& n = domain.cuboids[c].nodes;
+    for (int k = 0; k + 1 < n[2]; ++k)
+      for (int j = 0; j + 1 < n[1]; ++j)
+        for (int i = 0; i + 1 < n[0]; ++i) {
+          std::array<int, 8> hex;
+          for (int q = 0; q < 8; ++q)
+            hex[q] = root[offset[c] + grid_node_index(n, i + (q & 1), j + ((q >> 1) & 1), k + ((q >> 2) & 1))];
+          hexes.push_back(hex);
+          hex_cuboid.push_back(c);
+          const std::array<int, 3> ijk = {i, j, k};
+          std::uint8_t mask = 0;
+          for (int f = 0; f < 6; ++f) {
+            const int a = f / 2;
+            const bool at_end = f % 2 == 0 ? ijk[a] == 0 : ijk[a] == n[a] - 2;
+            if (at_end && domain.cuboids[c].face_interface[f] < 0) mask |= std::uint8_t(1 << f);
+          }
+          surface_faces.push_back(mask);
+        }
+  }
   // Folds the held glued nodes kept: untangled again over all cuboids at once, the glued nodes
   // free and shared (one unknown per node), only the surface held.
   int folded = 0;
   for (const GpcCuboidGrid& grid : out.grids) folded += grid.num_inverted_hexes;
   if (options.untangle == GpcGridOptions::Untangle::On && folded > 0 && out.shared_nodes > 0) {
-    std::vector<std::array<int, 8>> hexes;
-    for (int c = 0; c < nc; ++c) {
-      const auto& n = domain.cuboids[c].nodes;
-      for (int k = 0; k + 1 < n[2]; ++k)
-        for (int j = 0; j + 1 < n[1]; ++j)
-          for (int i = 0; i + 1 < n[0]; ++i) {
-            std::array<int, 8> hex;
-            for (int q = 0; q < 8; ++q)
-              hex[q] = root[offset[c] + grid_node_index(n, i + (q & 1), j + ((q >> 1) & 1), k + ((q >> 2) & 1))];
-            hexes.push_back(hex);
-          }
-    }
     std::vector<char> fixed(total);
     for (int r = 0; r < total; ++r) fixed[r] = root[r] != r || on_surface[r];
     // Only the folds near glued nodes: the others had every node they can move free before.
@@ -280,9 +391,24 @@ GpcVolumetricMap compute_gpc_volumetric_map(polycube::GpcConstruction& construct
     }
   }
   for (const GpcCuboidGrid& grid : out.grids) {
-    out.grid_inverted_hexes += grid.num_inverted_hexes;
-    out.grid_min_scaled_jacobian = std::min(out.grid_min_scaled_jacobian, grid.min_scaled_jacobian);
+    out.cuboid_grid_inverted_hexes += grid.num_inverted_hexes;
+    out.cuboid_grid_min_scaled_jacobian = std::min(out.cuboid_grid_min_scaled_jacobian, grid.min_scaled_jacobian);
   }
+  // The output hex mesh: padded under the surface, then untangled with only the surface held.
+  if (options.padding == GpcGridOptions::Padding::On) {
+    out.hex_mesh = pad_hex_mesh(xyz, hexes, hex_cuboid, surface_faces, options.padding_depth);
+    if (options.untangle == GpcGridOptions::Untangle::On)
+      out.untangled_nodes += untangle_padded_mesh(construction, root, offset, total, options, out.hex_mesh);
+  } else {
+    out.hex_mesh.xyz = xyz;
+    out.hex_mesh.hexes = hexes;
+    out.hex_mesh.hex_group = hex_cuboid;
+    out.hex_mesh.padding.assign(hexes.size(), 0);
+    out.hex_mesh.on_surface.assign(on_surface.begin(), on_surface.end());
+  }
+  const HexMeshQuality quality = hex_mesh_quality(out.hex_mesh);
+  out.grid_inverted_hexes = quality.num_inverted;
+  out.grid_min_scaled_jacobian = quality.min_scaled_jacobian;
   // Copies of one node in different grids (or twice in one) are compared as they are stored.
   std::vector<int> first(total, -1);
   double gap = 0.0;

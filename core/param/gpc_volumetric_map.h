@@ -6,6 +6,7 @@
 
 #include "core/mesh/triangle_mesh.h"
 #include "core/param/cuboid_surface_map.h"
+#include "core/param/hex_padding.h"
 #include "core/polycube/gpc_builder.h"
 
 namespace volspline::param {
@@ -18,6 +19,11 @@ struct GpcGridOptions {
   double tolerance = 1e-9;   ///< relative CG residual of the Laplacian solve (unitless)
   int area_balance_iterations = 4;  ///< of every cuboid's surface map (see CuboidSurfaceMapOptions)
   enum class Untangle { Off, On } untangle = Untangle::On;  ///< remove hex folds (untangle_hex_grid)
+  /// The output hex mesh: the cuboid grids as they are, or with a padding layer under the
+  /// surface (pad_hex_mesh), untangled again with only the surface held.
+  enum class Padding { Off, On } padding = Padding::On;
+  double padding_depth = 0.5;  ///< pad_hex_mesh's depth, in (0, 1)
+  int quality_iterations = 100;  ///< improve_hex_mesh on the padded mesh once fold-free (0: off)
 };
 
 /// The grid of one cuboid: node (i, j, k) at row i + n0·(j + n1·k), parameter (i/(n0−1), …).
@@ -33,10 +39,15 @@ struct GpcCuboidGrid {
 struct GpcVolumetricMap {
   std::vector<CuboidSurfaceMap> surface_maps;  ///< per cuboid, on its CuboidSurface::mesh
   std::vector<GpcCuboidGrid> grids;            ///< per cuboid
+  /// The hex mesh of the solid: every cuboid grid's hexes over shared nodes (hex_group = cuboid),
+  /// with the padding layer if GpcGridOptions::padding is On.
+  HexMesh hex_mesh;
   int flipped_triangles = 0;         ///< over all surface maps (0: every map bijective)
-  int grid_inverted_hexes = 0;       ///< hexes with a corner Jacobian ≤ 0, all cuboids
-  int harmonic_inverted_hexes = 0;   ///< the same before untangling
-  double grid_min_scaled_jacobian = 1.0;
+  int grid_inverted_hexes = 0;       ///< hexes of hex_mesh with a corner Jacobian ≤ 0
+  double grid_min_scaled_jacobian = 1.0;  ///< least corner scaled Jacobian of hex_mesh
+  int harmonic_inverted_hexes = 0;   ///< cuboid grid hexes with a corner Jacobian ≤ 0 before untangling
+  int cuboid_grid_inverted_hexes = 0;       ///< the same after untangling (grids, no padding)
+  double cuboid_grid_min_scaled_jacobian = 1.0;  ///< of the grids, no padding
   double interface_gap_rel = 0.0;    ///< largest distance between copies of a shared node / diagonal
   int shared_nodes = 0;              ///< nodes on glued faces (counted once)
   int untangled_nodes = 0;

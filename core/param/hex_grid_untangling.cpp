@@ -125,11 +125,20 @@ Eigen::Matrix3d corner_edges(const Corner& c, const mesh::Positions& xyz) {
 class Energy {
  public:
   // hex_nodes[h]: the 8 nodes of hex h (node q at offset (q&1, q>>1&1, q>>2&1)), h = Corner::hex.
+  // sliding (or null): free nodes it flags sit at the projection of their variables onto a
+  // surface, and their gradient is taken in the tangent plane there.
   Energy(const std::vector<std::array<int, 8>>& hex_nodes, std::vector<Corner> corners, std::vector<int> free_nodes,
-         mesh::Positions& xyz, double h, double theta)
-      : corners_(std::move(corners)), free_(std::move(free_nodes)), xyz_(xyz), inv_h_(1.0 / h), theta_(theta) {
+         mesh::Positions& xyz, double h, double theta, const SlidingNodes* sliding)
+      : corners_(std::move(corners)), free_(std::move(free_nodes)), xyz_(xyz), inv_h_(1.0 / h), theta_(theta),
+        sliding_nodes_(sliding) {
     var_of_.assign(xyz.rows(), -1);
     for (std::size_t v = 0; v < free_.size(); ++v) var_of_[free_[v]] = static_cast<int>(v);
+    if (sliding)
+      for (std::size_t v = 0; v < free_.size(); ++v)
+        if (sliding->slides[free_[v]]) {
+          sliding_.push_back(static_cast<int>(v));
+          slide_normal_.push_back(Eigen::Vector3d::Zero());
+        }
     flat_.resize(3 * static_cast<std::size_t>(xyz.rows()));
     for (Eigen::Index v = 0; v < xyz.rows(); ++v)
       for (int d = 0; d < 3; ++d) flat_[3 * v + d] = xyz(v, d);
@@ -160,6 +169,13 @@ class Energy {
     for (std::size_t v = 0; v < free_.size(); ++v) {
       xyz_.row(free_[v]) = x.segment<3>(3 * v).transpose();
       for (int d = 0; d < 3; ++d) flat_[3 * static_cast<std::size_t>(free_[v]) + d] = x(3 * v + d);
+    }
+    // Sliding nodes: the variables' projection onto the surface.
+    for (std::size_t s = 0; s < sliding_.size(); ++s) {
+      const int v = sliding_[s];
+      const Eigen::Vector3d p = sliding_nodes_->project(free_[v], x.segment<3>(3 * v), &slide_normal_[s]);
+      xyz_.row(free_[v]) = p.transpose();
+      for (int d = 0; d < 3; ++d) flat_[3 * static_cast<std::size_t>(free_[v]) + d] = p(d);
     }
   }
 
@@ -236,6 +252,11 @@ class Energy {
         dst[0] += node_grad[q][0], dst[1] += node_grad[q][1], dst[2] += node_grad[q][2];
       }
     }
+    if (g_out)
+      for (std::size_t s = 0; s < sliding_.size(); ++s) {
+        Eigen::Map<Eigen::Vector3d> g(g_out + 3 * static_cast<std::size_t>(sliding_[s]));
+        g -= slide_normal_[s] * slide_normal_[s].dot(g);
+      }
     return total;
   }
 
@@ -265,6 +286,9 @@ class Energy {
   std::vector<int> free_;
   mesh::Positions& xyz_;
   std::vector<int> var_of_;
+  const SlidingNodes* sliding_nodes_ = nullptr;
+  std::vector<int> sliding_;                   // variables of sliding nodes
+  std::vector<Eigen::Vector3d> slide_normal_;  // the surface normal at each one's position
   std::vector<double> flat_;
   double inv_h_;
   double theta_;
@@ -281,7 +305,8 @@ void continuation_round(const std::vector<std::array<int, 8>>& hex_nodes, const 
                         const std::vector<char>& fixed, mesh::Positions& xyz, double h,
                         const HexGridUntangleOptions& options, int rings, std::vector<char>& region,
                         std::vector<char>& is_free, std::vector<char>& first_region, HexGridUntangleReport& report,
-                        const CountInverted& count_inverted, const Dilate& dilate) {
+                        const CountInverted& count_inverted, const Dilate& dilate,
+                        const SlidingNodes* sliding = nullptr) {
   const int total = static_cast<int>(xyz.rows());
   std::unique_ptr<Energy> energy;
   UntangleProblem problem;
@@ -313,7 +338,8 @@ void continuation_round(const std::vector<std::array<int, 8>>& hex_nodes, const 
       std::vector<Corner> terms;
       for (const Corner& c : corners)
         if (is_free[c.node[0]] || is_free[c.node[1]] || is_free[c.node[2]] || is_free[c.node[3]]) terms.push_back(c);
-      energy = std::make_unique<Energy>(hex_nodes, std::move(terms), std::move(free_nodes), xyz, h, options.volume_weight);
+      energy = std::make_unique<Energy>(hex_nodes, std::move(terms), std::move(free_nodes), xyz, h, options.volume_weight,
+                                        sliding);
     }
     Eigen::VectorXd x = energy->variables();
     if (step == 0) {
@@ -441,7 +467,8 @@ HexGridUntangleReport untangle_hex_grid(const std::array<int, 3>& n, const std::
 
 HexGridUntangleReport untangle_hex_mesh(const std::vector<std::array<int, 8>>& hexes, const std::vector<char>& fixed,
                                         mesh::Positions& xyz, const std::vector<char>& near,
-                                        const HexGridUntangleOptions& options) {
+                                        const HexGridUntangleOptions& options,
+                                        const SlidingNodes* sliding) {
   assert(static_cast<Eigen::Index>(fixed.size()) == xyz.rows());
   assert(options.rings >= 1 && options.max_steps >= 1 && options.max_inner >= 1);
   HexGridUntangleReport report;
@@ -510,10 +537,49 @@ HexGridUntangleReport untangle_hex_mesh(const std::vector<std::array<int, 8>>& h
     dilate(region, rings);
     std::vector<char> first_region;
     continuation_round(hexes, corners, fixed, xyz, h, options, rings, region, is_free, first_region, report,
-                       count_inverted, dilate);
+                       count_inverted, dilate, sliding);
     report.final_inverted = count_inverted(nullptr);
   }
   return report;
+}
+
+int improve_hex_mesh(const std::vector<std::array<int, 8>>& hexes, const std::vector<char>& fixed,
+                     mesh::Positions& xyz, int iterations, double volume_weight, const SlidingNodes* sliding) {
+  assert(static_cast<Eigen::Index>(fixed.size()) == xyz.rows() && iterations >= 1);
+  const int total = static_cast<int>(xyz.rows());
+  std::vector<Corner> corners;
+  std::vector<char> touched(total, 0);
+  for (std::size_t h = 0; h < hexes.size(); ++h)
+    for (int c = 0; c < 8; ++c) {
+      Corner corner;
+      corner.node[0] = hexes[h][c];
+      corner.hex = static_cast<int>(h);
+      corner.index = c;
+      for (int a = 0; a < 3; ++a) {
+        corner.node[a + 1] = hexes[h][c ^ (1 << a)];
+        corner.sign[a] = ((c >> a) & 1) ? -1.0 : 1.0;
+      }
+      corners.push_back(corner);
+      touched[hexes[h][c]] = 1;
+    }
+  double mean_det = 0.0;
+  for (const Corner& c : corners) mean_det += corner_edges(c, xyz).determinant() / corners.size();
+  const double h = std::cbrt(std::max(mean_det, 1e-300));
+  std::vector<int> free_nodes;
+  for (int v = 0; v < total; ++v)
+    if (touched[v] && !fixed[v]) free_nodes.push_back(v);
+  if (free_nodes.empty()) return 0;
+  std::vector<Corner> terms;
+  for (const Corner& c : corners)
+    if (!fixed[c.node[0]] || !fixed[c.node[1]] || !fixed[c.node[2]] || !fixed[c.node[3]]) terms.push_back(c);
+  Energy energy(hexes, std::move(terms), std::move(free_nodes), xyz, h, volume_weight, sliding);
+  if (energy.min_det() <= 0.0) return 0;
+  UntangleProblem problem;
+  problem.energy = [&](const Eigen::VectorXd& v, double eps, Eigen::VectorXd* g) { return energy.evaluate(v, eps, g); };
+  Eigen::VectorXd x = energy.variables();
+  const int done = minimize_lbfgs(problem, 1e-8, iterations, x);
+  energy.set_variables(x);
+  return done;
 }
 
 }  // namespace volspline::param

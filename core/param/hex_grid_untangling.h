@@ -2,7 +2,10 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "core/mesh/triangle_mesh.h"
 
@@ -20,6 +23,14 @@ struct HexGridUntangleOptions {
   int max_inner = 30;          ///< L-BFGS iterations per step, ≥ 1
   /// Weight θ of the volume term (det² + 1)/χ against the shape term tr(JᵀJ)/χ^(2/3), in [0, 1).
   double volume_weight = 0.5;
+};
+
+/// Nodes of untangle_hex_mesh that slide on a surface: slides[v] flags node v; project(v, p,
+/// normal) returns the point of the surface (v's part of it) nearest to p and writes the unit
+/// normal there. Positions of flagged nodes must lie on the surface on entry.
+struct SlidingNodes {
+  std::vector<char> slides;
+  std::function<Eigen::Vector3d(int node, const Eigen::Vector3d& p, Eigen::Vector3d* normal)> project;
 };
 
 /// Outcome of untangle_hex_grid. A corner is "movable" if one of its 4 nodes is not fixed;
@@ -51,8 +62,20 @@ HexGridUntangleReport untangle_hex_grid(const std::array<int, 3>& nodes, const s
 /// (q&1, q>>1&1, q>>2&1), into xyz (changed in place); fixed: one flag per node. The free region
 /// grows by rings of hexes through shared nodes. `near` (per node, or empty = everywhere): only
 /// folds within options.rings hexes of a flagged node are worked on (and counted in the report).
+/// sliding (or null): nodes that are not fixed and flagged there stay on a surface, at the
+/// projection of where the optimizer puts them, their gradient taken in the tangent plane.
 HexGridUntangleReport untangle_hex_mesh(const std::vector<std::array<int, 8>>& hexes, const std::vector<char>& fixed,
                                         mesh::Positions& xyz, const std::vector<char>& near = {},
-                                        const HexGridUntangleOptions& options = {});
+                                        const HexGridUntangleOptions& options = {},
+                                        const SlidingNodes* sliding = nullptr);
+
+/// Raises the quality of a fold-free hex mesh: at most `iterations` L-BFGS iterations on the
+/// energy of untangle_hex_mesh at ε = 1e-8 over every node that is not fixed (sliding nodes as
+/// there), whose barrier keeps every corner unfolded. The shape term tr(JᵀJ)/det^(2/3) is
+/// least for a cube corner, so the worst corners open up. Returns the iterations done (0 if the
+/// mesh has a folded corner or nothing is free). Arguments as untangle_hex_mesh.
+int improve_hex_mesh(const std::vector<std::array<int, 8>>& hexes, const std::vector<char>& fixed,
+                     mesh::Positions& xyz, int iterations, double volume_weight = 0.5,
+                     const SlidingNodes* sliding = nullptr);
 
 }  // namespace volspline::param

@@ -95,7 +95,8 @@ SurfaceDistance::SurfaceDistance(const mesh::TriangleMesh& mesh) {
         for (int x = ranges[f][0]; x <= ranges[f][3]; ++x) bucket_triangles_[counts[x + size_(0) * (y + size_(1) * z)]++] = f;
 }
 
-double SurfaceDistance::search(const Eigen::Vector3d& p, double best2, double stop2) const {
+double SurfaceDistance::search(const Eigen::Vector3d& p, double best2, double stop2, Eigen::Vector3d* point,
+                               int* face) const {
   Eigen::Vector3i centre;
   for (int a = 0; a < 3; ++a)
     centre(a) = std::clamp(static_cast<int>(std::floor((p(a) - origin_(a)) / cell_)), 0, size_(a) - 1);
@@ -127,7 +128,12 @@ double SurfaceDistance::search(const Eigen::Vector3d& p, double best2, double st
             const Eigen::Vector3d q = closest_point_on_triangle(p, Eigen::Vector3d(c[0], c[1], c[2]),
                                                                 Eigen::Vector3d(c[3], c[4], c[5]),
                                                                 Eigen::Vector3d(c[6], c[7], c[8]));
-            best2 = std::min(best2, (q - p).squaredNorm());
+            const double d2 = (q - p).squaredNorm();
+            if (d2 < best2) {
+              best2 = d2;
+              if (point) *point = q;
+              if (face) *face = f;
+            }
             if (best2 <= stop2) return best2;
           }
         }
@@ -135,6 +141,22 @@ double SurfaceDistance::search(const Eigen::Vector3d& p, double best2, double st
     }
   }
   return best2;
+}
+
+Eigen::Vector3d SurfaceDistance::closest_point(const Eigen::Vector3d& p, Eigen::Vector3d* normal) const {
+  Eigen::Vector3d q = p;
+  int face = -1;
+  search(p, std::numeric_limits<double>::infinity(), -1.0, &q, &face);
+  if (normal) {
+    normal->setZero();
+    if (face >= 0) {
+      const double* c = corners_.data() + 9 * std::size_t(face);
+      const Eigen::Vector3d a(c[0], c[1], c[2]), b(c[3], c[4], c[5]), d(c[6], c[7], c[8]);
+      const Eigen::Vector3d n = (b - a).cross(d - a);
+      if (n.norm() > 0.0) *normal = n.normalized();
+    }
+  }
+  return q;
 }
 
 double SurfaceDistance::distance(const Eigen::Vector3d& p) const {

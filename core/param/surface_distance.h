@@ -29,10 +29,15 @@ class SurfaceDistance {
   /// True if some point of the mesh is within radius of p (distance(p) <= radius, up to rounding
   /// when they tie); stops at the first such triangle. radius >= 0.
   bool within(const Eigen::Vector3d& p, double radius) const;
+  /// The nearest point of the mesh to p (the first of the nearest triangles in bucket order on a
+  /// tie) and, if asked, that triangle's unit normal (zero if it is degenerate).
+  Eigen::Vector3d closest_point(const Eigen::Vector3d& p, Eigen::Vector3d* normal = nullptr) const;
 
  private:
-  // Smallest squared distance from p below best2, stopping once it is <= stop2.
-  double search(const Eigen::Vector3d& p, double best2, double stop2) const;
+  // Smallest squared distance from p below best2, stopping once it is <= stop2; the point and
+  // triangle that reach it, if asked.
+  double search(const Eigen::Vector3d& p, double best2, double stop2, Eigen::Vector3d* point = nullptr,
+                int* face = nullptr) const;
 
   std::vector<double> corners_;  // 9 per triangle: a, b, c
   std::vector<double> boxes_;    // 6 per triangle: min xyz, max xyz

@@ -28,6 +28,9 @@ void check_options(const GpcOptions& o) {
   if (!(o.grid.tolerance > 0.0 && o.grid.tolerance < 1.0)) fail("grid.tolerance must be in (0, 1)");
   if (o.grid.area_balance_iterations < 0 || o.grid.area_balance_iterations > 20)
     fail("grid.area_balance_iterations must be in [0, 20]");
+  if (!(o.grid.padding_depth > 0.0 && o.grid.padding_depth < 1.0)) fail("grid.padding_depth must be in (0, 1)");
+  if (o.grid.quality_iterations < 0 || o.grid.quality_iterations > 100000)
+    fail("grid.quality_iterations must be in [0, 100000]");
 }
 
 }  // namespace
@@ -135,6 +138,7 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
   for (polycube::CuboidSurface& s : result.construction.surfaces) to_model(s.mesh.positions);
   for (polycube::InterfaceDisc& d : result.construction.discs) to_model(d.positions);
   for (param::GpcCuboidGrid& g : result.map.grids) to_model(g.xyz);
+  to_model(result.map.hex_mesh.xyz);
   for (polycube::GpcCuboid& c : result.construction.domain.cuboids)
     for (Eigen::Vector3d& x : c.corner_xyz) x = x * diagonal + centre.transpose();
   for (polycube::GpcIllPoint& p : result.construction.domain.ill_points)
@@ -157,6 +161,9 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
   stats.grid_inverted_hexes = result.map.grid_inverted_hexes;
   stats.grid_harmonic_inverted_hexes = result.map.harmonic_inverted_hexes;
   stats.grid_min_scaled_jacobian = result.map.grid_min_scaled_jacobian;
+  stats.cuboid_grid_inverted_hexes = result.map.cuboid_grid_inverted_hexes;
+  stats.cuboid_grid_min_scaled_jacobian = result.map.cuboid_grid_min_scaled_jacobian;
+  for (char p : result.map.hex_mesh.padding) stats.padding_hexes += p;
   stats.interface_gap_rel = result.map.interface_gap_rel;
   stats.shared_nodes = result.map.shared_nodes;
   for (const param::GpcCuboidGrid& g : result.map.grids) stats.grid_nodes += g.nodes[0] * g.nodes[1] * g.nodes[2];

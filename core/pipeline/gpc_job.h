@@ -41,6 +41,9 @@ struct GpcStats {
   int grid_inverted_hexes = 0;
   int grid_harmonic_inverted_hexes = 0;
   double grid_min_scaled_jacobian = 1.0;
+  int cuboid_grid_inverted_hexes = 0;        ///< the cuboid grids without the padding layer
+  double cuboid_grid_min_scaled_jacobian = 1.0;
+  int padding_hexes = 0;                     ///< hexes of the padding layer (0 with it off)
   double interface_gap_rel = 0.0;
   int grid_nodes = 0;
   int shared_nodes = 0;

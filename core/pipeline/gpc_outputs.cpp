@@ -40,6 +40,9 @@ std::string gpc_stats_json(const GpcStats& s, const std::string& input) {
   j["grid_inverted_hexes"] = s.grid_inverted_hexes;
   j["grid_harmonic_inverted_hexes"] = s.grid_harmonic_inverted_hexes;
   j["grid_min_scaled_jacobian"] = s.grid_min_scaled_jacobian;
+  j["cuboid_grid_inverted_hexes"] = s.cuboid_grid_inverted_hexes;
+  j["cuboid_grid_min_scaled_jacobian"] = s.cuboid_grid_min_scaled_jacobian;
+  j["padding_hexes"] = s.padding_hexes;
   j["interface_gap_rel"] = s.interface_gap_rel;
   j["grid_nodes"] = s.grid_nodes;
   j["shared_nodes"] = s.shared_nodes;
