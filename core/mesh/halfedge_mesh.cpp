@@ -50,20 +50,30 @@ std::string edge_text(int a, int b) {
   return "(" + std::to_string(std::min(a, b)) + ", " + std::to_string(std::max(a, b)) + ")";
 }
 
-}  // namespace
+// The directed face edges (halfedge h = 3f + k runs from corner k to corner k + 1 of face f)
+// grouped by undirected edge: halfedge order[i], i in run_start[e] .. run_start[e + 1] − 1, lie on
+// edge e = (lo, hi); edges in lexicographic order.
+struct EdgeRuns {
+  std::vector<int> lo, hi;  // per halfedge: its smaller and larger endpoint
+  std::vector<int> order;
+  std::vector<int> run_start;
+  int num_edges() const { return static_cast<int>(run_start.size()) - 1; }
+  int run_size(int e) const { return run_start[e + 1] - run_start[e]; }
+};
 
-HalfedgeMesh HalfedgeMesh::build(const TriangleMesh& input, const std::string& source_name) {
-  check_faces_and_positions(input, source_name);
-  const int n = input.num_vertices();
-  const int m = input.num_faces();
-  const int num_interior = 3 * m;
-  const Triangles& tri = input.triangles;
+// Groups the halfedges by counting sort on the smaller endpoint, then a small sort per bucket on
+// (larger endpoint, halfedge id): linear plus tiny sorts. Throws on an edge with more than two
+// faces, naming the one whose first face is lowest.
+EdgeRuns group_edges(const Triangles& tri, int n, const std::string& source_name) {
+  const int num_interior = 3 * static_cast<int>(tri.rows());
   auto source_of = [&](int h) { return tri(h / 3, h % 3); };
   auto tip_of = [&](int h) { return tri(h / 3, (h % 3 + 1) % 3); };
-
-  // Group the directed face edges by undirected edge: counting sort on the smaller endpoint,
-  // then a small sort per bucket on (larger endpoint, halfedge id); linear plus tiny sorts.
-  std::vector<int> lo(num_interior), hi(num_interior);
+  EdgeRuns edges;
+  std::vector<int>& lo = edges.lo;
+  std::vector<int>& hi = edges.hi;
+  std::vector<int>& order = edges.order;
+  lo.resize(num_interior);
+  hi.resize(num_interior);
   std::vector<int> bucket_start(n + 1, 0);
   for (int h = 0; h < num_interior; ++h) {
     lo[h] = std::min(source_of(h), tip_of(h));
@@ -71,7 +81,7 @@ HalfedgeMesh HalfedgeMesh::build(const TriangleMesh& input, const std::string& s
     ++bucket_start[lo[h] + 1];
   }
   for (int v = 0; v < n; ++v) bucket_start[v + 1] += bucket_start[v];
-  std::vector<int> order(num_interior);
+  order.resize(num_interior);
   {
     // Keys (larger endpoint, halfedge) packed in 64 bits keep the per-bucket sorts cache-local.
     std::vector<std::uint64_t> keys(num_interior);
@@ -85,9 +95,8 @@ HalfedgeMesh HalfedgeMesh::build(const TriangleMesh& input, const std::string& s
     for (int i = 0; i < num_interior; ++i) order[i] = static_cast<int>(keys[i] & 0xffffffffu);
   }
 
-  // Runs of equal (lo, hi) are edges, in lexicographic order; reject edges with > 2 faces,
-  // naming the one whose first face is lowest.
-  std::vector<int> run_start;
+  // Runs of equal (lo, hi) are edges.
+  std::vector<int>& run_start = edges.run_start;
   run_start.reserve(num_interior / 2 + 2);
   int worst_run = -1;
   for (int i = 0; i < num_interior;) {
@@ -109,55 +118,103 @@ HalfedgeMesh HalfedgeMesh::build(const TriangleMesh& input, const std::string& s
                           std::to_string(order[worst_run + 1] / 3) + ", " +
                           std::to_string(order[worst_run + 2] / 3) + ")");
   }
-  const int num_edges = static_cast<int>(run_start.size()) - 1;
+  return edges;
+}
 
+// Per face 1 where it must be flipped to agree with its neighbours: breadth-first orientation
+// propagation per edge-connected component, seeded at its lowest face (kept as it is). Throws
+// when a contradiction shows the surface is not orientable.
+std::vector<char> consistent_flips(const Triangles& tri, const EdgeRuns& edges, const std::string& source_name) {
+  const int m = static_cast<int>(tri.rows());
+  const int num_interior = 3 * m;
   // Provisional twins on the input orientation; same_direction marks two faces using the same
   // directed edge, which one of them must be flipped to fix.
   std::vector<int> mate(num_interior, no_id);
   std::vector<char> same_direction(num_interior, 0);
-  for (int e = 0; e < num_edges; ++e) {
-    if (run_start[e + 1] - run_start[e] != 2) continue;
-    const int a = order[run_start[e]], b = order[run_start[e] + 1];
+  for (int e = 0; e < edges.num_edges(); ++e) {
+    if (edges.run_size(e) != 2) continue;
+    const int a = edges.order[edges.run_start[e]], b = edges.order[edges.run_start[e] + 1];
     mate[a] = b;
     mate[b] = a;
-    same_direction[a] = same_direction[b] = source_of(a) == source_of(b);
+    same_direction[a] = same_direction[b] = tri(a / 3, a % 3) == tri(b / 3, b % 3);
   }
-
-  // Breadth-first orientation propagation per edge-connected component, seeded at its lowest
-  // face; a contradiction means the surface is not orientable.
-  HalfedgeMesh result;
-  result.source_name_ = source_name;
-  result.flipped_.assign(m, 0);
-  {
-    std::vector<char> visited(m, 0);
-    std::vector<int> queue;
-    queue.reserve(m);
-    for (int seed = 0; seed < m; ++seed) {
-      if (visited[seed]) continue;
-      visited[seed] = 1;
-      queue.assign(1, seed);
-      for (size_t q = 0; q < queue.size(); ++q) {
-        const int f = queue[q];
-        for (int k = 0; k < 3; ++k) {
-          const int h = 3 * f + k;
-          if (mate[h] == no_id) continue;
-          const int g = mate[h] / 3;
-          const char want = result.flipped_[f] ^ same_direction[h];
-          if (!visited[g]) {
-            visited[g] = 1;
-            result.flipped_[g] = want;
-            queue.push_back(g);
-          } else if (result.flipped_[g] != want) {
-            fail(source_name, "the surface is not orientable: faces " + std::to_string(f) +
-                                  " and " + std::to_string(g) + " at edge " +
-                                  edge_text(lo[h], hi[h]) +
-                                  " cannot be oriented consistently with their neighbours");
-          }
+  std::vector<char> flipped(m, 0);
+  std::vector<char> visited(m, 0);
+  std::vector<int> queue;
+  queue.reserve(m);
+  for (int seed = 0; seed < m; ++seed) {
+    if (visited[seed]) continue;
+    visited[seed] = 1;
+    queue.assign(1, seed);
+    for (size_t q = 0; q < queue.size(); ++q) {
+      const int f = queue[q];
+      for (int k = 0; k < 3; ++k) {
+        const int h = 3 * f + k;
+        if (mate[h] == no_id) continue;
+        const int g = mate[h] / 3;
+        const char want = flipped[f] ^ same_direction[h];
+        if (!visited[g]) {
+          visited[g] = 1;
+          flipped[g] = want;
+          queue.push_back(g);
+        } else if (flipped[g] != want) {
+          fail(source_name, "the surface is not orientable: faces " + std::to_string(f) +
+                                " and " + std::to_string(g) + " at edge " +
+                                edge_text(edges.lo[h], edges.hi[h]) +
+                                " cannot be oriented consistently with their neighbours");
         }
       }
     }
   }
+  return flipped;
+}
 
+// Vertex manifoldness: walks each fan of interior halfedges once, in both directions, starting
+// from the lowest outgoing halfedge not yet visited. Returns the fans per vertex; sets
+// vertex_halfedge[v] to the first halfedge of v's fan where v has exactly one.
+std::vector<int> vertex_fans(const Triangles& t, const std::vector<int>& next, const std::vector<int>& prev,
+                             const std::vector<int>& twin, std::vector<int>& vertex_halfedge) {
+  const int num_interior = 3 * static_cast<int>(t.rows());
+  auto is_boundary = [&](int h) { return h >= num_interior; };
+  auto rotate_ccw = [&](int h) { return twin[prev[h]]; };
+  auto rotate_cw = [&](int h) { return next[twin[h]]; };
+  std::vector<int> fan_count(vertex_halfedge.size(), 0);
+  std::vector<char> seen(num_interior, 0);
+  for (int h0 = 0; h0 < num_interior; ++h0) {
+    if (seen[h0]) continue;
+    const int v = t(h0 / 3, h0 % 3);
+    ++fan_count[v];
+    seen[h0] = 1;
+    int h = rotate_ccw(h0);
+    while (!is_boundary(h) && h != h0) {
+      seen[h] = 1;
+      h = rotate_ccw(h);
+    }
+    int first = h0;
+    if (is_boundary(h)) {
+      while (!is_boundary(twin[first])) {
+        first = rotate_cw(first);
+        seen[first] = 1;
+      }
+    }
+    if (fan_count[v] == 1) vertex_halfedge[v] = first;
+  }
+  return fan_count;
+}
+
+}  // namespace
+
+HalfedgeMesh HalfedgeMesh::build(const TriangleMesh& input, const std::string& source_name) {
+  check_faces_and_positions(input, source_name);
+  const int n = input.num_vertices();
+  const int m = input.num_faces();
+  const int num_interior = 3 * m;
+  const EdgeRuns edges = group_edges(input.triangles, n, source_name);
+  const int num_edges = edges.num_edges();
+
+  HalfedgeMesh result;
+  result.source_name_ = source_name;
+  result.flipped_ = consistent_flips(input.triangles, edges, source_name);
   result.positions_ = input.positions;
   result.triangles_ = input.triangles;
   for (int f = 0; f < m; ++f) {
@@ -184,10 +241,10 @@ HalfedgeMesh HalfedgeMesh::build(const TriangleMesh& input, const std::string& s
   }
   int next_boundary = num_interior;
   for (int e = 0; e < num_edges; ++e) {
-    const int a = remap(order[run_start[e]]);
+    const int a = remap(edges.order[edges.run_start[e]]);
     int b;
-    if (run_start[e + 1] - run_start[e] == 2) {
-      b = remap(order[run_start[e] + 1]);
+    if (edges.run_size(e) == 2) {
+      b = remap(edges.order[edges.run_start[e] + 1]);
     } else {
       b = next_boundary++;
       result.vertex_[b] = t(a / 3, a % 3);
@@ -198,33 +255,8 @@ HalfedgeMesh HalfedgeMesh::build(const TriangleMesh& input, const std::string& s
     result.edge_halfedge_[e] = std::min(a, b);
   }
 
-  // Vertex manifoldness: walk each fan of interior halfedges once, in both directions, starting
-  // from the lowest outgoing halfedge not yet visited.
-  auto is_boundary = [&](int h) { return h >= num_interior; };
-  auto rotate_ccw = [&](int h) { return result.twin_[result.prev_[h]]; };
-  auto rotate_cw = [&](int h) { return result.next_[result.twin_[h]]; };
   result.vertex_halfedge_.assign(n, no_id);
-  std::vector<int> fan_count(n, 0);
-  std::vector<char> seen(num_interior, 0);
-  for (int h0 = 0; h0 < num_interior; ++h0) {
-    if (seen[h0]) continue;
-    const int v = t(h0 / 3, h0 % 3);
-    ++fan_count[v];
-    seen[h0] = 1;
-    int h = rotate_ccw(h0);
-    while (!is_boundary(h) && h != h0) {
-      seen[h] = 1;
-      h = rotate_ccw(h);
-    }
-    int first = h0;
-    if (is_boundary(h)) {
-      while (!is_boundary(result.twin_[first])) {
-        first = rotate_cw(first);
-        seen[first] = 1;
-      }
-    }
-    if (fan_count[v] == 1) result.vertex_halfedge_[v] = first;
-  }
+  const std::vector<int> fan_count = vertex_fans(t, result.next_, result.prev_, result.twin_, result.vertex_halfedge_);
   for (int v = 0; v < n; ++v) {
     if (fan_count[v] > 1) {
       fail(source_name, "vertex " + std::to_string(v) + " is non-manifold: its faces form " +

@@ -277,6 +277,117 @@ void validate(const LensInput& input, const LensOptions& o) {
   for (const lens::Roi& roi : input.rois) lens::validate_roi(roi, input.image.width, input.image.height);
 }
 
+// A metric run on the full grid at height h, lowered until the flattening is fold-free: thesis
+// §6.5 repairs rare fold-overs with [77]; we lower h0 (×0.8, at most 6 times) instead. h: in, the
+// height to try; out, the height of the returned run.
+template <class RunAt>
+Deformation fold_free_run(RunAt&& run_at, const LensOptions& options, double& h, const Progress& progress) {
+  Deformation out = run_at(options.grid, h, progress);
+  for (int attempt = 0; attempt < 6; ++attempt) {
+    if (flipped(out) == 0) break;
+    h *= 0.8;
+    out = run_at(options.grid, h, progress);
+  }
+  return out;
+}
+
+// The h0 of the requested magnification: a 1-D secant on a coarse grid (3–5 cheap runs), not the
+// whole pipeline at full size. A folding height counts as overshoot, so the search settles on the
+// tallest clean lens.
+template <class RunAt>
+SearchResult coarse_height_search(RunAt&& run_at, const std::vector<lens::RoiField>& rois, const LensOptions& options) {
+  const Progress quiet;
+  const int coarse = std::min(options.grid, kCalibrationGrid);
+  const auto measure = [&](double h) {
+    const Deformation trial = run_at(coarse, h, quiet);
+    return flipped(trial) > 0 ? 4.0 * options.magnification : mean(magnifications(trial, rois));
+  };
+  return search_parameter(measure, options.magnification, 1.0, 1.4, 3, 0.01);
+}
+
+// The coarse grid resolves the centre less well: one secant step on the final grid with the
+// coarse slope, kept (d and h0 replaced) only if it lands closer to the request.
+template <class RunAt>
+void refine_on_final_grid(RunAt&& run_at, const std::vector<lens::RoiField>& rois, const LensOptions& options,
+                          double calibration_slope, const Progress& progress, Deformation& d, double& h0, LensStats& s) {
+  const double lt = std::log(options.magnification);
+  const double error = lt - std::log(std::max(mean(magnifications(d, rois)), 1e-6));
+  if (std::abs(error) <= kCalibrationTolRel) return;
+  const auto t_fix = Clock::now();
+  double h1 = h0 * std::exp(std::clamp(error / std::clamp(calibration_slope, 0.2, 5.0), -1.0, 1.0));
+  Deformation retry = fold_free_run(run_at, options, h1, progress);
+  if (std::abs(lt - std::log(std::max(mean(magnifications(retry, rois)), 1e-6))) < std::abs(error)) {
+    d = std::move(retry);
+    h0 = h1;
+  }
+  s.ms_calibration += ms_since(t_fix);
+}
+
+// A baseline lens (fisheye, bifocal, zoom) on the plain grid, its parameter searched so that the
+// measured magnification is the request (s.baseline_parameter).
+Deformation baseline_deformation(const std::vector<lens::RoiField>& rois, const LensOptions& options, int width,
+                                 int height, LensStats& s) {
+  Deformation d;
+  const lens::LensMesh grid = lens::build_grid(width, height, options.grid);
+  d.texture = grid.xyz.leftCols<2>();
+  d.triangles = grid.triangles;
+  d.grid_triangles = grid.grid_triangles;
+  std::vector<lens::RadialLens> lenses;
+  for (const lens::RoiField& roi : rois) {
+    // Baselines are radial: a disc of the ROI's area at its centre, free out to the same band.
+    lenses.push_back({roi.centre(), roi.equivalent_radius(), (1.0 + options.band) * roi.equivalent_radius()});
+  }
+  const lens::BaselineKind kind = options.method == LensMethod::Fisheye   ? lens::BaselineKind::Fisheye
+                                  : options.method == LensMethod::Bifocal ? lens::BaselineKind::Bifocal
+                                                                          : lens::BaselineKind::Zoom;
+  const auto measure = [&](double m) {
+    Deformation trial = d;
+    trial.positions = lens::baseline_positions(kind, d.texture, lenses, std::max(m, 1.0 + 1e-9));
+    return mean(magnifications(trial, rois));
+  };
+  const double m = search_parameter(measure, options.magnification, options.magnification,
+                                    options.magnification * 1.1, 12, 0.002).parameter;
+  d.positions = lens::baseline_positions(kind, d.texture, lenses, m);
+  s.baseline_parameter = m;
+  return d;
+}
+
+// The measures of a deformation (Eq. 6.9 over the whole image and the focus, magnification,
+// fold-overs) and its counts and timings into s.
+void measure_deformation(const Deformation& d, const std::vector<lens::RoiField>& rois, const LensOptions& options,
+                         LensStats& s) {
+  s.magnification_per_roi = magnifications(d, rois);
+  s.magnification_center = mean(s.magnification_per_roi);
+  const int grid_vertices = static_cast<int>(d.grid_triangles.maxCoeff()) + 1;
+  // Focus: grid triangles whose content (texture centroid) lies inside a ROI; the rest is the
+  // transition and the context. The whole-image numbers stay the headline.
+  std::vector<char> focus(static_cast<std::size_t>(d.grid_triangles.rows()), 0);
+  for (int t = 0; t < d.grid_triangles.rows(); ++t) {
+    const Eigen::Vector2d c = (d.texture.row(d.grid_triangles(t, 0)) + d.texture.row(d.grid_triangles(t, 1)) +
+                               d.texture.row(d.grid_triangles(t, 2))).transpose() / 3.0;
+    for (const lens::RoiField& roi : rois) focus[t] = focus[t] || roi.axis_distance(c.x(), c.y()) < 1.0;
+  }
+  const lens::ShapeDistortion distortion = lens::measure_distortion(
+      d.positions.topRows(grid_vertices), d.texture.topRows(grid_vertices), d.grid_triangles, focus);
+  s.distortion_sum = distortion.sum;
+  s.distortion_max = distortion.max;
+  s.distortion_sum_focus = distortion.sum_focus;
+  s.distortion_max_focus = distortion.max_focus;
+  s.flipped_triangles = flipped(d);
+  s.magnification_requested = options.magnification;
+  // The fold-free guard caps the lens height: a request above what this ROI, band and grid allow
+  // without a fold is answered with the largest fold-free lens, and said so.
+  s.magnification_limited = options.method == LensMethod::Metric && options.height <= 0 &&
+                            s.magnification_center < options.magnification * (1.0 - kLimitedTolRel);
+  s.iterations = d.iterations;
+  s.converged = d.converged;
+  s.ms_mesh = d.ms_mesh;
+  s.ms_factorize = d.ms_factorize;
+  s.ms_per_iteration = d.iterations > 0 ? d.ms_iterations / d.iterations : 0.0;
+  s.vertices = static_cast<int>(d.positions.rows());
+  s.triangles = static_cast<int>(d.triangles.rows());
+}
+
 }  // namespace
 
 struct LensSession::Cache {
@@ -305,6 +416,64 @@ struct LensSession::Cache {
       meshes.pop_back();
     }
     return flatten_prepared(*made, true, options, progress);
+  }
+
+  // The metric deformation of a request: with the height given, or calibrated (a repeated
+  // request reuses its final h0); s.height and the calibration time are set.
+  Deformation metric(const std::vector<lens::RoiField>& rois, const LensInput& input, const LensOptions& options,
+                     const Progress& progress, LensSessionCounters& counters, LensStats& s) {
+    MeshKey base;
+    base.width = input.image.width, base.height = input.image.height, base.band = options.band,
+    base.boundary = options.boundary;
+    base.rois = input.rois;
+    const auto run_at = [&](int grid, double h, const Progress& p) {
+      MeshKey key = base;
+      key.grid = grid;
+      key.h0 = h;
+      return run_metric(rois, key, options, p, counters);
+    };
+    CalibrationKey request;
+    request.mesh = base;
+    request.magnification = options.magnification, request.height = options.height, request.alpha = options.alpha;
+    request.tol_rel = options.tol_rel, request.max_iterations = options.max_iterations;
+    request.mesh.grid = options.grid;
+    const auto known = std::find_if(calibrations.begin(), calibrations.end(),
+                                    [&](const CalibrationKey& k) { return same_calibration(k, request); });
+    if (known != calibrations.end()) {
+      // The same request was answered before: its final h0 gives the same deformation at once.
+      ++counters.calibration_reuses;
+      s.height = known->h0;
+      return run_at(options.grid, known->h0, progress);
+    }
+    double h0 = options.height;
+    double calibration_slope = 0;  // log–log slope of the magnification in h0 (0: not calibrated)
+    if (h0 <= 0) {
+      const auto t_cal = Clock::now();
+      const SearchResult found = coarse_height_search(run_at, rois, options);
+      h0 = found.parameter;
+      calibration_slope = found.slope;
+      s.ms_calibration = ms_since(t_cal);
+    }
+    Deformation d = fold_free_run(run_at, options, h0, progress);
+    if (calibration_slope > 0 && options.grid > kCalibrationGrid)
+      refine_on_final_grid(run_at, rois, options, calibration_slope, progress, d, h0, s);
+    s.height = h0;
+    ++counters.calibrations;
+    request.h0 = h0;
+    calibrations.push_front(std::move(request));
+    if (calibrations.size() > kMaxCalibrations) calibrations.pop_back();
+    return d;
+  }
+
+  // The newest solved run becomes the base of later live translations (a copy of the mesh arrays).
+  void keep_translation_base(const LensResult& result, const LensInput& input, const LensOptions& options) {
+    auto kept = std::make_unique<TranslationBase>();
+    kept->width = input.image.width, kept->height = input.image.height, kept->options = options, kept->rois = input.rois;
+    kept->result.positions = result.positions;
+    kept->result.texture = result.texture;
+    kept->result.triangles = result.triangles;
+    kept->result.stats = result.stats;
+    base = std::move(kept);
   }
 };
 
@@ -346,137 +515,9 @@ LensResult LensSession::run(const LensInput& input, const LensOptions& options, 
 
   LensResult result;
   LensStats& s = result.stats;
-  Deformation d;
-  if (options.method == LensMethod::Metric) {
-    MeshKey base;
-    base.width = width, base.height = height, base.band = options.band, base.boundary = options.boundary;
-    base.rois = input.rois;
-    const auto run_metric = [&](int grid, double h, const Progress& p) {
-      MeshKey key = base;
-      key.grid = grid;
-      key.h0 = h;
-      return cache_->run_metric(rois, key, options, p, counters_);
-    };
-    CalibrationKey request;
-    request.mesh = base;
-    request.magnification = options.magnification, request.height = options.height, request.alpha = options.alpha;
-    request.tol_rel = options.tol_rel, request.max_iterations = options.max_iterations;
-    request.mesh.grid = options.grid;
-    const auto known = std::find_if(cache_->calibrations.begin(), cache_->calibrations.end(),
-                                    [&](const CalibrationKey& k) { return same_calibration(k, request); });
-    if (known != cache_->calibrations.end()) {
-      // The same request was answered before: its final h0 gives the same deformation at once.
-      ++counters_.calibration_reuses;
-      s.height = known->h0;
-      d = run_metric(options.grid, known->h0, progress);
-    } else {
-      double h0 = options.height;
-      double calibration_slope = 0;  // log–log slope of the magnification in h0 (0: not calibrated)
-      if (h0 <= 0) {
-        const auto t_cal = Clock::now();
-        const Progress quiet;
-        const auto measure_at = [&](int grid) {
-          return [&, grid](double h) {
-            const Deformation trial = run_metric(grid, h, quiet);
-            // A folding height counts as overshoot, so the search settles on the tallest clean lens.
-            return flipped(trial) > 0 ? 4.0 * options.magnification : mean(magnifications(trial, rois));
-          };
-        };
-        // A 1-D secant on a coarse grid (3–5 cheap runs), not the whole pipeline at full size.
-        const int coarse = std::min(options.grid, kCalibrationGrid);
-        const SearchResult found = search_parameter(measure_at(coarse), options.magnification, 1.0, 1.4, 3, 0.01);
-        h0 = found.parameter;
-        calibration_slope = found.slope;
-        s.ms_calibration = ms_since(t_cal);
-      }
-      const auto fold_free_run = [&](double& h) {
-        Deformation out = run_metric(options.grid, h, progress);
-        // Thesis §6.5 repairs rare fold-overs with [77]; we lower h0 until the flattening is fold-free.
-        for (int attempt = 0; attempt < 6; ++attempt) {
-          if (flipped(out) == 0) break;
-          h *= 0.8;
-          out = run_metric(options.grid, h, progress);
-        }
-        return out;
-      };
-      d = fold_free_run(h0);
-      if (calibration_slope > 0 && options.grid > kCalibrationGrid) {
-        // The coarse grid resolves the centre less well: one secant step on the final grid with the
-        // coarse slope, kept only if it lands closer to the request.
-        const double lt = std::log(options.magnification);
-        const double error = lt - std::log(std::max(mean(magnifications(d, rois)), 1e-6));
-        if (std::abs(error) > kCalibrationTolRel) {
-          const auto t_fix = Clock::now();
-          double h1 = h0 * std::exp(std::clamp(error / std::clamp(calibration_slope, 0.2, 5.0), -1.0, 1.0));
-          Deformation retry = fold_free_run(h1);
-          if (std::abs(lt - std::log(std::max(mean(magnifications(retry, rois)), 1e-6))) < std::abs(error)) {
-            d = std::move(retry);
-            h0 = h1;
-          }
-          s.ms_calibration += ms_since(t_fix);
-        }
-      }
-      s.height = h0;
-      ++counters_.calibrations;
-      request.h0 = h0;
-      cache_->calibrations.push_front(std::move(request));
-      if (cache_->calibrations.size() > kMaxCalibrations) cache_->calibrations.pop_back();
-    }
-  } else {
-    const lens::LensMesh grid = lens::build_grid(width, height, options.grid);
-    d.texture = grid.xyz.leftCols<2>();
-    d.triangles = grid.triangles;
-    d.grid_triangles = grid.grid_triangles;
-    std::vector<lens::RadialLens> lenses;
-    for (const lens::RoiField& roi : rois) {
-      // Baselines are radial: a disc of the ROI's area at its centre, free out to the same band.
-      lenses.push_back({roi.centre(), roi.equivalent_radius(), (1.0 + options.band) * roi.equivalent_radius()});
-    }
-    const lens::BaselineKind kind = options.method == LensMethod::Fisheye   ? lens::BaselineKind::Fisheye
-                                    : options.method == LensMethod::Bifocal ? lens::BaselineKind::Bifocal
-                                                                            : lens::BaselineKind::Zoom;
-    const auto measure = [&](double m) {
-      Deformation trial = d;
-      trial.positions = lens::baseline_positions(kind, d.texture, lenses, std::max(m, 1.0 + 1e-9));
-      return mean(magnifications(trial, rois));
-    };
-    const double m = search_parameter(measure, options.magnification, options.magnification,
-                                      options.magnification * 1.1, 12, 0.002).parameter;
-    d.positions = lens::baseline_positions(kind, d.texture, lenses, m);
-    s.baseline_parameter = m;
-  }
-
-  s.magnification_per_roi = magnifications(d, rois);
-  s.magnification_center = mean(s.magnification_per_roi);
-  const int grid_vertices = static_cast<int>(d.grid_triangles.maxCoeff()) + 1;
-  // Focus: grid triangles whose content (texture centroid) lies inside a ROI; the rest is the
-  // transition and the context. The whole-image numbers stay the headline.
-  std::vector<char> focus(static_cast<std::size_t>(d.grid_triangles.rows()), 0);
-  for (int t = 0; t < d.grid_triangles.rows(); ++t) {
-    const Eigen::Vector2d c = (d.texture.row(d.grid_triangles(t, 0)) + d.texture.row(d.grid_triangles(t, 1)) +
-                               d.texture.row(d.grid_triangles(t, 2))).transpose() / 3.0;
-    for (const lens::RoiField& roi : rois) focus[t] = focus[t] || roi.axis_distance(c.x(), c.y()) < 1.0;
-  }
-  const lens::ShapeDistortion distortion = lens::measure_distortion(
-      d.positions.topRows(grid_vertices), d.texture.topRows(grid_vertices), d.grid_triangles, focus);
-  s.distortion_sum = distortion.sum;
-  s.distortion_max = distortion.max;
-  s.distortion_sum_focus = distortion.sum_focus;
-  s.distortion_max_focus = distortion.max_focus;
-  s.flipped_triangles = flipped(d);
-  s.magnification_requested = options.magnification;
-  // The fold-free guard caps the lens height: a request above what this ROI, band and grid allow
-  // without a fold is answered with the largest fold-free lens, and said so.
-  s.magnification_limited = options.method == LensMethod::Metric && options.height <= 0 &&
-                            s.magnification_center < options.magnification * (1.0 - kLimitedTolRel);
-  s.iterations = d.iterations;
-  s.converged = d.converged;
-  s.ms_mesh = d.ms_mesh;
-  s.ms_factorize = d.ms_factorize;
-  s.ms_per_iteration = d.iterations > 0 ? d.ms_iterations / d.iterations : 0.0;
-  s.vertices = static_cast<int>(d.positions.rows());
-  s.triangles = static_cast<int>(d.triangles.rows());
-
+  Deformation d = options.method == LensMethod::Metric ? cache_->metric(rois, input, options, progress, counters_, s)
+                                                       : baseline_deformation(rois, options, width, height, s);
+  measure_deformation(d, rois, options, s);
   if (options.render) {
     progress.report("render", 0.0);
     const auto t_render = Clock::now();
@@ -486,16 +527,7 @@ LensResult LensSession::run(const LensInput& input, const LensOptions& options, 
   result.positions = std::move(d.positions);
   result.texture = std::move(d.texture);
   result.triangles = std::move(d.triangles);
-  if (translatable && result.positions.rows() <= kMaxCachedVertices) {
-    // The newest solved run is the base of later live translations (a copy of the mesh arrays).
-    auto base = std::make_unique<TranslationBase>();
-    base->width = width, base->height = height, base->options = options, base->rois = input.rois;
-    base->result.positions = result.positions;
-    base->result.texture = result.texture;
-    base->result.triangles = result.triangles;
-    base->result.stats = s;
-    cache_->base = std::move(base);
-  }
+  if (translatable && result.positions.rows() <= kMaxCachedVertices) cache_->keep_translation_base(result, input, options);
   s.ms_total = ms_since(t_total);
   progress.report("done", 1.0);
   ++counters_.runs;

@@ -378,42 +378,16 @@ void volume_ratio_range(int nx, int ny, int nz, const Eigen::MatrixX3d& uvw, dou
       }
 }
 
-}  // namespace
-
-double voxel_map_min_jacobian(int nx, int ny, int nz, const Eigen::MatrixX3d& uvw, int* inverted) {
-  return jacobian_check(nx, ny, nz, uvw, inverted, nullptr);
-}
-
-FieldAlignedParam compute_field_aligned_param(const Volume& volume, const FrameField& smoothed,
-                                              const MaterialClassification& classes, const FieldAlignedOptions& options,
-                                              const Progress& progress) {
-  const std::size_t n = volume.num_voxels();
-  check_options(options, n);
-  if (volume.nx < 2 || volume.ny < 2 || volume.nz < 2)
-    throw Error("field-aligned parameterization: every volume dimension must be >= 2");
-  if (smoothed.nx != volume.nx || smoothed.ny != volume.ny || smoothed.nz != volume.nz || smoothed.frames.size() != n)
-    throw Error("field-aligned parameterization: the frame field does not match the volume's grid");
-  if (classes.nx != volume.nx || classes.ny != volume.ny || classes.nz != volume.nz || classes.label.size() != n)
-    throw Error("field-aligned parameterization: the classification does not match the volume's grid");
-  progress.report("parameterization", 0.0);
-
-  FieldAlignedParam result;
-  const Grid g = make_grid(volume, options);
-  result.grid_nx = g.m[0];
-  result.grid_ny = g.m[1];
-  result.grid_nz = g.m[2];
-  Targets targets = combed_targets(smoothed, classes);
-  targets.reliability = frame_reliability(classes, options.reliability_radius);
+// Eq. 5.7/5.10 with the gradient operator of Eq. 5.8 for the trilinear polynomial on each cell
+// (an exact fit of its 8 nodes), integrated by 2x2x2 Gauss quadrature: the cubic 5^3 window
+// would give 729 nonzeros per row, the cell operator 27, and the full quadrature has no
+// hourglass null space. Adds the cells' terms of all three coordinates to s.
+void assemble_alignment(const Volume& volume, const MaterialClassification& classes, const Targets& targets,
+                        const Grid& g, const FieldAlignedOptions& options, System& s) {
   const Eigen::Vector3d h(g.ratio[0] * volume.spacing.x(), g.ratio[1] * volume.spacing.y(), g.ratio[2] * volume.spacing.z());
   // Gradient of the identity parameter per unit length: u = x / ((nx - 1) sx).
   const Eigen::Vector3d scale((volume.nx - 1) * volume.spacing.x(), (volume.ny - 1) * volume.spacing.y(),
                               (volume.nz - 1) * volume.spacing.z());
-
-  // Eq. 5.7/5.10 with the gradient operator of Eq. 5.8 for the trilinear polynomial on each cell
-  // (an exact fit of its 8 nodes), integrated by 2x2x2 Gauss quadrature: the cubic 5^3 window
-  // would give 729 nonzeros per row, the cell operator 27, and the full quadrature has no
-  // hourglass null space.
-  System s = make_system(g);
   const double gauss[2] = {0.5 - 0.5 / std::sqrt(3.0), 0.5 + 0.5 / std::sqrt(3.0)};
   const double alpha = options.anisotropy;
   for (int ck = 0; ck + 1 < g.m[2]; ++ck)
@@ -464,9 +438,10 @@ FieldAlignedParam compute_field_aligned_param(const Volume& volume, const FrameF
         }
         for (int c = 0; c < 3; ++c) scatter(g, s, c, ci, cj, ck, k[c], f[c]);
       }
-  progress.report("parameterization", 0.3);
+}
 
-  // Node values: identity on the boundary, unknowns inside, warm-started at the identity.
+// Node values at the identity: the boundary's for good, the interior's as the warm start.
+std::array<Eigen::VectorXd, 3> identity_nodes(const Grid& g) {
   std::array<Eigen::VectorXd, 3> nodes;
   for (int c = 0; c < 3; ++c) {
     nodes[c].resize(static_cast<Eigen::Index>(g.num_nodes()));
@@ -474,87 +449,191 @@ FieldAlignedParam compute_field_aligned_param(const Volume& volume, const FrameF
       for (int jj = 0; jj < g.m[1]; ++jj)
         for (int ii = 0; ii < g.m[0]; ++ii) nodes[c][g.node(ii, jj, kk)] = g.identity(c, c == 0 ? ii : c == 1 ? jj : kk);
   }
-  result.converged = true;
-  auto solve = [&](System& sys) {
-    if (sys.unknowns == 0) return;
-    // The three coordinates are independent systems: solved concurrently, combined in order.
-    std::array<int, 3> iterations{};
-    std::array<bool, 3> converged{};
-    linalg::parallel_for(options.threads, 3, [&](int c) {
-      const linalg::CsrMatrix a = linalg::CsrMatrix::from_arrays(sys.unknowns, sys.unknowns, sys.row_offsets, sys.col_indices, sys.values[c]);
-      linalg::ConjugateGradient<linalg::IncompleteCholesky0> cg(a);
-      cg.set_tolerance(options.cg_tolerance).set_max_iterations(options.cg_max_iterations);
-      Eigen::VectorXd x0(sys.unknowns);
-      for (int kk = 1; kk < g.m[2] - 1; ++kk)
-        for (int jj = 1; jj < g.m[1] - 1; ++jj)
-          for (int ii = 1; ii < g.m[0] - 1; ++ii) x0[sys.unknown(g, ii, jj, kk)] = nodes[c][g.node(ii, jj, kk)];
-      const Eigen::VectorXd x = cg.solve(sys.rhs[c], x0);
-      iterations[c] = cg.iterations();
-      converged[c] = cg.info() == linalg::SolverInfo::Success;
-      for (int kk = 1; kk < g.m[2] - 1; ++kk)
-        for (int jj = 1; jj < g.m[1] - 1; ++jj)
-          for (int ii = 1; ii < g.m[0] - 1; ++ii) nodes[c][g.node(ii, jj, kk)] = x[sys.unknown(g, ii, jj, kk)];
-    });
-    for (int c = 0; c < 3; ++c) {
-      result.cg_iterations += iterations[c];
-      if (!converged[c]) result.converged = false;
+  return nodes;
+}
+
+// Solves the three coordinates' systems from the interior node values (updated in place); adds
+// the CG iterations to result and clears result.converged if a solve did not converge.
+void solve_nodes(const Grid& g, const System& sys, const FieldAlignedOptions& options,
+                 std::array<Eigen::VectorXd, 3>& nodes, FieldAlignedParam& result) {
+  if (sys.unknowns == 0) return;
+  // The three coordinates are independent systems: solved concurrently, combined in order.
+  std::array<int, 3> iterations{};
+  std::array<bool, 3> converged{};
+  linalg::parallel_for(options.threads, 3, [&](int c) {
+    const linalg::CsrMatrix a = linalg::CsrMatrix::from_arrays(sys.unknowns, sys.unknowns, sys.row_offsets, sys.col_indices, sys.values[c]);
+    linalg::ConjugateGradient<linalg::IncompleteCholesky0> cg(a);
+    cg.set_tolerance(options.cg_tolerance).set_max_iterations(options.cg_max_iterations);
+    Eigen::VectorXd x0(sys.unknowns);
+    for (int kk = 1; kk < g.m[2] - 1; ++kk)
+      for (int jj = 1; jj < g.m[1] - 1; ++jj)
+        for (int ii = 1; ii < g.m[0] - 1; ++ii) x0[sys.unknown(g, ii, jj, kk)] = nodes[c][g.node(ii, jj, kk)];
+    const Eigen::VectorXd x = cg.solve(sys.rhs[c], x0);
+    iterations[c] = cg.iterations();
+    converged[c] = cg.info() == linalg::SolverInfo::Success;
+    for (int kk = 1; kk < g.m[2] - 1; ++kk)
+      for (int jj = 1; jj < g.m[1] - 1; ++jj)
+        for (int ii = 1; ii < g.m[0] - 1; ++ii) nodes[c][g.node(ii, jj, kk)] = x[sys.unknown(g, ii, jj, kk)];
+  });
+  for (int c = 0; c < 3; ++c) {
+    result.cg_iterations += iterations[c];
+    if (!converged[c]) result.converged = false;
+  }
+}
+
+// The corner voxels of §5.3.1 (automatic or given), ascending, without repeats.
+std::vector<std::size_t> chosen_corners(const FrameField& smoothed, const MaterialClassification& classes,
+                                        const FieldAlignedOptions& options) {
+  std::vector<std::size_t> corners;
+  if (options.corner_selection == CornerSelection::Automatic)
+    corners = detect_corners(smoothed, classes, options.corners);
+  else if (options.corner_selection == CornerSelection::Given)
+    corners = options.corner_voxels;
+  std::sort(corners.begin(), corners.end());
+  corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+  return corners;
+}
+
+// Corners whose parameters nearly agree on one coordinate (closer than tol in a sorted chain)
+// share their mean: they land on one iso-plane.
+void snap_corner_parameters(double tol, Eigen::MatrixX3d& corner_uvw) {
+  const std::size_t num_corners = static_cast<std::size_t>(corner_uvw.rows());
+  for (int c = 0; c < 3; ++c) {
+    std::vector<std::pair<double, std::size_t>> sorted;
+    for (std::size_t i = 0; i < num_corners; ++i) sorted.emplace_back(corner_uvw(static_cast<Eigen::Index>(i), c), i);
+    std::sort(sorted.begin(), sorted.end());
+    for (std::size_t begin = 0; begin < sorted.size();) {
+      std::size_t end = begin + 1;
+      while (end < sorted.size() && sorted[end].first - sorted[end - 1].first < tol) ++end;
+      double mean = 0.0;
+      for (std::size_t i = begin; i < end; ++i) mean += sorted[i].first;
+      mean /= static_cast<double>(end - begin);
+      for (std::size_t i = begin; i < end; ++i) corner_uvw(static_cast<Eigen::Index>(sorted[i].second), c) = mean;
+      begin = end;
     }
-  };
-  solve(s);
+  }
+}
+
+// Corner constraints (§5.3.1 "additional constraints"), soft: a penalty of corner_weight times
+// the system's mean diagonal pulls the trilinear value at each corner voxel to its parameter.
+void add_corner_constraints(const Volume& volume, const Grid& g, double corner_weight,
+                            const std::vector<std::size_t>& corner_voxels, const Eigen::MatrixX3d& corner_uvw, System& s) {
+  for (int c = 0; c < 3; ++c) {
+    double mean_diagonal = 0.0;
+    for (int r = 0; r < s.unknowns; ++r) mean_diagonal += s.values[c][s.slot[static_cast<std::size_t>(r) * 27 + 13]];
+    const double penalty = corner_weight * (s.unknowns > 0 ? mean_diagonal / s.unknowns : 1.0);
+    for (std::size_t i = 0; i < corner_voxels.size(); ++i) {
+      const std::size_t id = corner_voxels[i];
+      const int pos[3] = {static_cast<int>(id % volume.nx), static_cast<int>((id / volume.nx) % volume.ny),
+                          static_cast<int>(id / (static_cast<std::size_t>(volume.nx) * volume.ny))};
+      int cell[3];
+      double xi[3];
+      for (int d = 0; d < 3; ++d) g.locate(d, pos[d], cell[d], xi[d]);
+      double phi[8];
+      for (int a = 0; a < 8; ++a)
+        phi[a] = ((a & 1) ? xi[0] : 1 - xi[0]) * ((a & 2) ? xi[1] : 1 - xi[1]) * ((a & 4) ? xi[2] : 1 - xi[2]);
+      double k[8][8];
+      double f[8];
+      const double target = corner_uvw(static_cast<Eigen::Index>(i), c);
+      for (int a = 0; a < 8; ++a) {
+        f[a] = penalty * phi[a] * target;
+        for (int b = 0; b < 8; ++b) k[a][b] = penalty * phi[a] * phi[b];
+      }
+      scatter(g, s, c, cell[0], cell[1], cell[2], k, f);
+    }
+  }
+}
+
+// The fold fallback of compute_field_aligned_param on result.uvw = solution with folds.
+void blend_folds_with_identity(const Volume& volume, const Eigen::MatrixX3d& solution, FieldAlignedParam& result) {
+  const std::size_t n = volume.num_voxels();
+  // Fold fallback, local: uvw = (1 - t) solution + t identity with t = 1 at the folded hexes'
+  // voxels, falling linearly to 0 at `radius` voxels (Chebyshev); the radius doubles and new
+  // folds add their own bumps until none is left; the last resort is the identity (t = 1).
+  const int nx = volume.nx, ny = volume.ny, nz = volume.nz;
+  const Eigen::MatrixX3d identity = identity_map(nx, ny, nz);
+  std::vector<double> t(n, 0.0);
+  std::vector<int> distance(n);
+  std::vector<std::size_t> folded, front;
+  int radius = 2;
+  for (int round = 0; round < 8 && result.inverted_cells > 0; ++round, radius *= 2) {
+    folded.clear();
+    jacobian_check(nx, ny, nz, result.uvw, nullptr, &folded);
+    std::fill(distance.begin(), distance.end(), -1);
+    front.clear();
+    for (std::size_t hex : folded)
+      for (int corner = 0; corner < 8; ++corner) {
+        const std::size_t id = hex + (corner & 1) + ((corner >> 1) & 1) * static_cast<std::size_t>(nx) +
+                               ((corner >> 2) & 1) * static_cast<std::size_t>(nx) * ny;
+        if (distance[id] < 0) {
+          distance[id] = 0;
+          front.push_back(id);
+        }
+      }
+    grow_chebyshev_distance(nx, ny, nz, front, radius - 1, distance);
+    for (std::size_t i = 0; i < n; ++i)
+      if (distance[i] >= 0) t[i] = std::max(t[i], 1.0 - static_cast<double>(distance[i]) / radius);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Index r = static_cast<Eigen::Index>(i);
+      result.uvw.row(r) = (1.0 - t[i]) * solution.row(r) + t[i] * identity.row(r);
+    }
+    result.min_jacobian = voxel_map_min_jacobian(nx, ny, nz, result.uvw, &result.inverted_cells);
+  }
+  if (result.inverted_cells > 0) {
+    std::fill(t.begin(), t.end(), 1.0);
+    result.uvw = identity;
+    result.min_jacobian = voxel_map_min_jacobian(nx, ny, nz, result.uvw, &result.inverted_cells);
+  }
+  double sum = 0.0;
+  for (double value : t) sum += value;
+  result.identity_blend = sum / static_cast<double>(n);
+}
+
+}  // namespace
+
+double voxel_map_min_jacobian(int nx, int ny, int nz, const Eigen::MatrixX3d& uvw, int* inverted) {
+  return jacobian_check(nx, ny, nz, uvw, inverted, nullptr);
+}
+
+FieldAlignedParam compute_field_aligned_param(const Volume& volume, const FrameField& smoothed,
+                                              const MaterialClassification& classes, const FieldAlignedOptions& options,
+                                              const Progress& progress) {
+  const std::size_t n = volume.num_voxels();
+  check_options(options, n);
+  if (volume.nx < 2 || volume.ny < 2 || volume.nz < 2)
+    throw Error("field-aligned parameterization: every volume dimension must be >= 2");
+  if (smoothed.nx != volume.nx || smoothed.ny != volume.ny || smoothed.nz != volume.nz || smoothed.frames.size() != n)
+    throw Error("field-aligned parameterization: the frame field does not match the volume's grid");
+  if (classes.nx != volume.nx || classes.ny != volume.ny || classes.nz != volume.nz || classes.label.size() != n)
+    throw Error("field-aligned parameterization: the classification does not match the volume's grid");
+  progress.report("parameterization", 0.0);
+
+  FieldAlignedParam result;
+  const Grid g = make_grid(volume, options);
+  result.grid_nx = g.m[0];
+  result.grid_ny = g.m[1];
+  result.grid_nz = g.m[2];
+  Targets targets = combed_targets(smoothed, classes);
+  targets.reliability = frame_reliability(classes, options.reliability_radius);
+  System s = make_system(g);
+  assemble_alignment(volume, classes, targets, g, options, s);
+  progress.report("parameterization", 0.3);
+
+  std::array<Eigen::VectorXd, 3> nodes = identity_nodes(g);
+  result.converged = true;
+  solve_nodes(g, s, options, nodes, result);
   progress.report("parameterization", 0.6);
 
   // Corner constraints (§5.3.1 "additional constraints"): soft, at snapped parameters.
-  if (options.corner_selection == CornerSelection::Automatic)
-    result.corner_voxels = detect_corners(smoothed, classes, options.corners);
-  else if (options.corner_selection == CornerSelection::Given)
-    result.corner_voxels = options.corner_voxels;
-  std::sort(result.corner_voxels.begin(), result.corner_voxels.end());
-  result.corner_voxels.erase(std::unique(result.corner_voxels.begin(), result.corner_voxels.end()), result.corner_voxels.end());
+  result.corner_voxels = chosen_corners(smoothed, classes, options);
   const std::size_t num_corners = result.corner_voxels.size();
   result.corner_uvw.resize(static_cast<Eigen::Index>(num_corners), 3);
   if (num_corners > 0) {
     const Eigen::MatrixX3d before = interpolate(g, nodes);
     for (std::size_t c = 0; c < num_corners; ++c) result.corner_uvw.row(static_cast<Eigen::Index>(c)) = before.row(static_cast<Eigen::Index>(result.corner_voxels[c]));
-    // Corners whose parameters nearly agree on one coordinate share it: they land on one iso-plane.
-    for (int c = 0; c < 3; ++c) {
-      std::vector<std::pair<double, std::size_t>> sorted;
-      for (std::size_t i = 0; i < num_corners; ++i) sorted.emplace_back(result.corner_uvw(static_cast<Eigen::Index>(i), c), i);
-      std::sort(sorted.begin(), sorted.end());
-      for (std::size_t begin = 0; begin < sorted.size();) {
-        std::size_t end = begin + 1;
-        while (end < sorted.size() && sorted[end].first - sorted[end - 1].first < options.corner_snap_tol) ++end;
-        double mean = 0.0;
-        for (std::size_t i = begin; i < end; ++i) mean += sorted[i].first;
-        mean /= static_cast<double>(end - begin);
-        for (std::size_t i = begin; i < end; ++i) result.corner_uvw(static_cast<Eigen::Index>(sorted[i].second), c) = mean;
-        begin = end;
-      }
-    }
-    for (int c = 0; c < 3; ++c) {
-      double mean_diagonal = 0.0;
-      for (int r = 0; r < s.unknowns; ++r) mean_diagonal += s.values[c][s.slot[static_cast<std::size_t>(r) * 27 + 13]];
-      const double penalty = options.corner_weight * (s.unknowns > 0 ? mean_diagonal / s.unknowns : 1.0);
-      for (std::size_t i = 0; i < num_corners; ++i) {
-        const std::size_t id = result.corner_voxels[i];
-        const int pos[3] = {static_cast<int>(id % volume.nx), static_cast<int>((id / volume.nx) % volume.ny),
-                            static_cast<int>(id / (static_cast<std::size_t>(volume.nx) * volume.ny))};
-        int cell[3];
-        double xi[3];
-        for (int d = 0; d < 3; ++d) g.locate(d, pos[d], cell[d], xi[d]);
-        double phi[8];
-        for (int a = 0; a < 8; ++a)
-          phi[a] = ((a & 1) ? xi[0] : 1 - xi[0]) * ((a & 2) ? xi[1] : 1 - xi[1]) * ((a & 4) ? xi[2] : 1 - xi[2]);
-        double k[8][8];
-        double f[8];
-        const double target = result.corner_uvw(static_cast<Eigen::Index>(i), c);
-        for (int a = 0; a < 8; ++a) {
-          f[a] = penalty * phi[a] * target;
-          for (int b = 0; b < 8; ++b) k[a][b] = penalty * phi[a] * phi[b];
-        }
-        scatter(g, s, c, cell[0], cell[1], cell[2], k, f);
-      }
-    }
-    solve(s);
+    snap_corner_parameters(options.corner_snap_tol, result.corner_uvw);
+    add_corner_constraints(volume, g, options.corner_weight, result.corner_voxels, result.corner_uvw, s);
+    solve_nodes(g, s, options, nodes, result);
   }
   progress.report("parameterization", 0.9);
 
@@ -563,48 +642,7 @@ FieldAlignedParam compute_field_aligned_param(const Volume& volume, const FrameF
   result.uvw = solution;
   result.min_jacobian = voxel_map_min_jacobian(volume.nx, volume.ny, volume.nz, result.uvw, &result.inverted_cells);
   result.inverted_cells_unblended = result.inverted_cells;
-  if (result.inverted_cells > 0) {
-    // Fold fallback, local: uvw = (1 - t) solution + t identity with t = 1 at the folded hexes'
-    // voxels, falling linearly to 0 at `radius` voxels (Chebyshev); the radius doubles and new
-    // folds add their own bumps until none is left; the last resort is the identity (t = 1).
-    const int nx = volume.nx, ny = volume.ny, nz = volume.nz;
-    const Eigen::MatrixX3d identity = identity_map(nx, ny, nz);
-    std::vector<double> t(n, 0.0);
-    std::vector<int> distance(n);
-    std::vector<std::size_t> folded, front;
-    int radius = 2;
-    for (int round = 0; round < 8 && result.inverted_cells > 0; ++round, radius *= 2) {
-      folded.clear();
-      jacobian_check(nx, ny, nz, result.uvw, nullptr, &folded);
-      std::fill(distance.begin(), distance.end(), -1);
-      front.clear();
-      for (std::size_t hex : folded)
-        for (int corner = 0; corner < 8; ++corner) {
-          const std::size_t id = hex + (corner & 1) + ((corner >> 1) & 1) * static_cast<std::size_t>(nx) +
-                                 ((corner >> 2) & 1) * static_cast<std::size_t>(nx) * ny;
-          if (distance[id] < 0) {
-            distance[id] = 0;
-            front.push_back(id);
-          }
-        }
-      grow_chebyshev_distance(nx, ny, nz, front, radius - 1, distance);
-      for (std::size_t i = 0; i < n; ++i)
-        if (distance[i] >= 0) t[i] = std::max(t[i], 1.0 - static_cast<double>(distance[i]) / radius);
-      for (std::size_t i = 0; i < n; ++i) {
-        const Eigen::Index r = static_cast<Eigen::Index>(i);
-        result.uvw.row(r) = (1.0 - t[i]) * solution.row(r) + t[i] * identity.row(r);
-      }
-      result.min_jacobian = voxel_map_min_jacobian(nx, ny, nz, result.uvw, &result.inverted_cells);
-    }
-    if (result.inverted_cells > 0) {
-      std::fill(t.begin(), t.end(), 1.0);
-      result.uvw = identity;
-      result.min_jacobian = voxel_map_min_jacobian(nx, ny, nz, result.uvw, &result.inverted_cells);
-    }
-    double sum = 0.0;
-    for (double value : t) sum += value;
-    result.identity_blend = sum / static_cast<double>(n);
-  }
+  if (result.inverted_cells > 0) blend_folds_with_identity(volume, solution, result);
   const Eigen::MatrixX3d identity = identity_map(volume.nx, volume.ny, volume.nz);
   result.alignment_rms_deg = alignment_rms_deg(volume, classes, targets, result.uvw);
   result.alignment_rms_deg_identity = alignment_rms_deg(volume, classes, targets, identity);

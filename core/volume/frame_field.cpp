@@ -253,8 +253,11 @@ double frame_smoothness_energy(const FrameField& field, const std::vector<std::u
   return energy;
 }
 
-FrameSmoothingResult smooth_frame_field(const FrameField& initial, const std::vector<FrameConstraint>& constraints,
-                                        const FrameSmoothingOptions& options, const Progress& progress) {
+namespace {
+
+// Throws volspline::Error on options out of range, a grid or mask of the wrong size, or an
+// active frame that is not a rotation.
+void check_smoothing_input(const FrameField& initial, const FrameSmoothingOptions& options) {
   if (options.max_iterations < 1)
     throw Error("frame smoothing: max_iterations must be >= 1, got " + std::to_string(options.max_iterations));
   if (options.threads < 1)
@@ -269,43 +272,51 @@ FrameSmoothingResult smooth_frame_field(const FrameField& initial, const std::ve
   if (!options.active.empty() && options.active.size() != n)
     throw Error("frame smoothing: active mask has " + std::to_string(options.active.size()) + " entries for a grid of " +
                 std::to_string(n) + " voxels");
-  const std::vector<std::uint8_t>* active = options.active.empty() ? nullptr : &options.active;
-  auto is_active = [&](std::size_t id) { return !active || (*active)[id] != 0; };
   for (std::size_t i = 0; i < n; ++i) {
-    if (!is_active(i)) continue;
+    if (!options.active.empty() && options.active[i] == 0) continue;
     const Eigen::Matrix3d& f = initial.frames[i];
     if (!f.allFinite() || (f * f.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-6 || f.determinant() < 0)
       throw Error("frame smoothing: frame of voxel " + std::to_string(i) + " is not a rotation");
   }
-  // Per voxel: index into `normals` or -1.
-  std::vector<int> constraint_of(n, -1);
+}
+
+// The constraints of the active voxels: per voxel an index into `normals` (unit) or -1.
+struct ConstraintIndex {
+  std::vector<int> constraint_of;
   std::vector<Eigen::Vector3d> normals;
+};
+
+// Throws volspline::Error on a constraint outside the grid, a zero normal or a voxel constrained twice.
+ConstraintIndex index_constraints(const std::vector<FrameConstraint>& constraints, std::size_t n,
+                                  const std::vector<std::uint8_t>* active) {
+  ConstraintIndex index;
+  index.constraint_of.assign(n, -1);
   for (const FrameConstraint& c : constraints) {
     if (c.voxel_id >= n)
       throw Error("frame smoothing: constraint voxel " + std::to_string(c.voxel_id) + " is outside the grid of " + std::to_string(n) + " voxels");
     if (!c.normal.allFinite() || !(c.normal.norm() > 0))
       throw Error("frame smoothing: constraint normal of voxel " + std::to_string(c.voxel_id) + " is zero or not finite");
-    if (constraint_of[c.voxel_id] >= 0)
+    if (index.constraint_of[c.voxel_id] >= 0)
       throw Error("frame smoothing: voxel " + std::to_string(c.voxel_id) + " has more than one constraint");
-    if (!is_active(c.voxel_id)) continue;
-    constraint_of[c.voxel_id] = static_cast<int>(normals.size());
-    normals.push_back(c.normal.normalized());
+    if (active && (*active)[c.voxel_id] == 0) continue;
+    index.constraint_of[c.voxel_id] = static_cast<int>(index.normals.size());
+    index.normals.push_back(c.normal.normalized());
   }
+  return index;
+}
 
-  FrameSmoothingResult result;
-  FrameField& field = result.field;
-  field = initial;
-  for (std::size_t i = 0; i < n; ++i)
-    if (constraint_of[i] >= 0) field.frames[i] = project_to_constraint(field.frames[i], normals[constraint_of[i]]);
+// An active voxel with its active 6-neighbours.
+struct Node {
+  std::size_t id;
+  int count;
+  std::array<std::size_t, 6> ids;
+};
 
-  // The active voxels in voxel order, each with its active 6-neighbours.
-  struct Node {
-    std::size_t id;
-    int count;
-    std::array<std::size_t, 6> ids;
-  };
+// The active voxels in voxel order.
+std::vector<Node> active_nodes(const FrameField& field, const std::vector<std::uint8_t>* active) {
+  auto is_active = [&](std::size_t id) { return !active || (*active)[id] != 0; };
   std::vector<Node> nodes;
-  nodes.reserve(active ? n / 4 : n);
+  nodes.reserve(active ? field.frames.size() / 4 : field.frames.size());
   std::array<std::size_t, 6> ids{};
   for (int z = 0; z < field.nz; ++z)
     for (int y = 0; y < field.ny; ++y)
@@ -318,100 +329,128 @@ FrameSmoothingResult smooth_frame_field(const FrameField& initial, const std::ve
           if (is_active(ids[k])) node.ids[node.count++] = ids[k];
         nodes.push_back(node);
       }
+  return nodes;
+}
 
+// FrameInitialization::Propagated. Deviation (Given is the thesis): the Hessian frames of flat
+// or step-like regions are defined only up to a rotation about one axis, set by round-off, and
+// Gauss-Seidel keeps the twists they start with; growing the field from the iso-surface
+// constraints (breadth first, each voxel the polar factor of its grown neighbours' matched
+// frames) starts it without them.
+void propagate_from_constraints(const std::vector<Node>& nodes, const std::vector<int>& constraint_of, FrameField& field) {
   const auto& table = signed_permutations();
-  result.initial_energy = frame_smoothness_energy(field, active, options.threads);
-  if (options.initialization == FrameInitialization::Propagated) {
-    // Deviation (the default; Given is the thesis): the Hessian frames of flat or step-like regions are defined only up to
-    // a rotation about one axis, set by round-off, and Gauss-Seidel keeps the twists they start
-    // with; growing the field from the iso-surface constraints starts it without them.
-    std::vector<int> slot_of(n, -1);
-    for (std::size_t s = 0; s < nodes.size(); ++s) slot_of[nodes[s].id] = static_cast<int>(s);
-    std::vector<std::uint8_t> queued(nodes.size(), 0), grown(nodes.size(), 0);
-    std::vector<std::size_t> queue;
-    for (std::size_t s = 0; s < nodes.size(); ++s)
-      if (constraint_of[nodes[s].id] >= 0) {
-        queue.push_back(s);
-        queued[s] = 1;
-      }
-    for (std::size_t head = 0; head < queue.size(); ++head) {
-      const Node& node = nodes[queue[head]];
-      if (constraint_of[node.id] < 0) {
-        const Eigen::Matrix3d* reference = nullptr;
-        Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-        for (int k = 0; k < node.count; ++k) {
-          if (!grown[slot_of[node.ids[k]]]) continue;
-          const Eigen::Matrix3d& other = field.frames[node.ids[k]];
-          if (!reference) reference = &other;
-          double score = 0.0;
-          covariance += apply(table[best_match(*reference, other, score)], other);
-        }
-        field.frames[node.id] = polar_rotation(covariance);
-      }
-      grown[queue[head]] = 1;
+  std::vector<int> slot_of(field.frames.size(), -1);
+  for (std::size_t s = 0; s < nodes.size(); ++s) slot_of[nodes[s].id] = static_cast<int>(s);
+  std::vector<std::uint8_t> queued(nodes.size(), 0), grown(nodes.size(), 0);
+  std::vector<std::size_t> queue;
+  for (std::size_t s = 0; s < nodes.size(); ++s)
+    if (constraint_of[nodes[s].id] >= 0) {
+      queue.push_back(s);
+      queued[s] = 1;
+    }
+  for (std::size_t head = 0; head < queue.size(); ++head) {
+    const Node& node = nodes[queue[head]];
+    if (constraint_of[node.id] < 0) {
+      const Eigen::Matrix3d* reference = nullptr;
+      Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
       for (int k = 0; k < node.count; ++k) {
-        const int s = slot_of[node.ids[k]];
-        if (!queued[s]) {
-          queued[s] = 1;
-          queue.push_back(static_cast<std::size_t>(s));
-        }
+        if (!grown[slot_of[node.ids[k]]]) continue;
+        const Eigen::Matrix3d& other = field.frames[node.ids[k]];
+        if (!reference) reference = &other;
+        double score = 0.0;
+        covariance += apply(table[best_match(*reference, other, score)], other);
+      }
+      field.frames[node.id] = polar_rotation(covariance);
+    }
+    grown[queue[head]] = 1;
+    for (int k = 0; k < node.count; ++k) {
+      const int s = slot_of[node.ids[k]];
+      if (!queued[s]) {
+        queued[s] = 1;
+        queue.push_back(static_cast<std::size_t>(s));
       }
     }
   }
-  double energy = options.initialization == FrameInitialization::Given ? result.initial_energy : frame_smoothness_energy(field, active, options.threads);
-  result.start_energy = energy;
-  // Slab ordering (§5.2.2 sweeps in voxel order; deviation: the grid is cut into slabs of
-  // kSlabPlanes z planes, swept in voxel order inside each slab, forward and backward in turn as
-  // symmetric Gauss-Seidel; slabs of one parity only touch slabs of the other, so the even slabs
-  // run in parallel, then the odd ones (reversed on backward sweeps), with the same result for
-  // every thread count).
-  constexpr int kSlabPlanes = 4;
-  const int num_slabs = (field.nz + kSlabPlanes - 1) / kSlabPlanes;
-  std::vector<std::size_t> slab_begin(static_cast<std::size_t>(num_slabs) + 1, nodes.size());
-  const std::size_t plane = static_cast<std::size_t>(field.nx) * field.ny;
-  for (std::size_t s = nodes.size(); s-- > 0;) slab_begin[nodes[s].id / plane / kSlabPlanes] = s;
-  for (int slab = num_slabs; slab-- > 0;) slab_begin[slab] = std::min(slab_begin[slab], slab_begin[slab + 1]);
-  // Visit stamps: a voxel whose last update left it (nearly) unchanged and whose neighbours have
-  // not moved since would get (nearly) the same result again, so it is skipped. A stamp is the
-  // half-sweep number (high bits) and the step inside the slab (low bits): neighbours in other
-  // slabs do not move during a half-sweep, so the comparisons never depend on the scheduling.
-  std::uint64_t half_sweep = 0;
-  std::vector<std::uint64_t> changed_at(n, 1);
-  std::vector<std::uint64_t> visited_at(n, 0);
-  // Kahan sum of the energy decrease of one slab.
-  struct Decrease {
-    double sum = 0.0;
-    double carry = 0.0;
-    void add(double value) {
-      const double term = value - carry;
-      const double next = sum + term;
-      carry = (next - sum) - term;
-      sum = next;
+}
+
+// Kahan sum of the energy decrease of one slab.
+struct Decrease {
+  double sum = 0.0;
+  double carry = 0.0;
+  void add(double value) {
+    const double term = value - carry;
+    const double next = sum + term;
+    carry = (next - sum) - term;
+    sum = next;
+  }
+};
+
+// The sweeps of smooth_frame_field. Slab ordering (§5.2.2 sweeps in voxel order; deviation: the
+// grid is cut into slabs of kSlabPlanes z planes, swept in voxel order inside each slab, forward
+// and backward in turn as symmetric Gauss-Seidel; slabs of one parity only touch slabs of the
+// other, so the even slabs run in parallel, then the odd ones (reversed on backward sweeps), with
+// the same result for every thread count).
+class SlabSweeper {
+ public:
+  SlabSweeper(FrameField& field, const std::vector<Node>& nodes, const ConstraintIndex& constraints)
+      : field_(field), nodes_(nodes), constraints_(constraints), num_slabs_((field.nz + kSlabPlanes - 1) / kSlabPlanes),
+        slab_begin_(static_cast<std::size_t>(num_slabs_) + 1, nodes.size()), changed_at_(field.frames.size(), 1),
+        visited_at_(field.frames.size(), 0), slab_decrease_(static_cast<std::size_t>(num_slabs_)) {
+    const std::size_t plane = static_cast<std::size_t>(field.nx) * field.ny;
+    for (std::size_t s = nodes.size(); s-- > 0;) slab_begin_[nodes[s].id / plane / kSlabPlanes] = s;
+    for (int slab = num_slabs_; slab-- > 0;) slab_begin_[slab] = std::min(slab_begin_[slab], slab_begin_[slab + 1]);
+  }
+
+  // One sweep (forward on odd iterations, backward on even ones); returns the energy decrease,
+  // the slab sums added in slab order (the same bits for every thread count).
+  double sweep(int iteration, int threads) {
+    const bool forward = iteration % 2 == 1;
+    std::fill(slab_decrease_.begin(), slab_decrease_.end(), Decrease{});
+    for (int half = 0; half < 2; ++half) {
+      const int parity = forward ? half : 1 - half;
+      ++half_sweep_;
+      linalg::parallel_for(threads, (num_slabs_ + 1 - parity) / 2, [&](int k) {
+        const int slab = 2 * k + parity;
+        const std::size_t begin = slab_begin_[slab], end = slab_begin_[slab + 1];
+        for (std::size_t step = 0; step < end - begin; ++step) {
+          const std::uint64_t clock = (half_sweep_ << 32) + step + 1;
+          update_voxel(nodes_[forward ? begin + step : end - 1 - step], clock, slab_decrease_[slab]);
+        }
+      });
     }
-  };
-  auto update_voxel = [&](const Node& node, std::uint64_t clock, Decrease& decrease) {
+    Decrease sweep_decrease;
+    for (const Decrease& d : slab_decrease_) sweep_decrease.add(d.sum);
+    return sweep_decrease.sum;
+  }
+
+ private:
+  static constexpr int kSlabPlanes = 4;
+
+  void update_voxel(const Node& node, std::uint64_t clock, Decrease& decrease) {
     const std::size_t id = node.id;
     const int count = node.count;
-    bool stale = changed_at[id] >= visited_at[id];
-    for (int k = 0; k < count && !stale; ++k) stale = changed_at[node.ids[k]] > visited_at[id];
+    bool stale = changed_at_[id] >= visited_at_[id];
+    for (int k = 0; k < count && !stale; ++k) stale = changed_at_[node.ids[k]] > visited_at_[id];
     if (!stale) return;
-    visited_at[id] = clock;
-    const Eigen::Matrix3d current = field.frames[id];
+    visited_at_[id] = clock;
+    const Eigen::Matrix3d current = field_.frames[id];
     // Jump matching: each neighbour's frame end points are relabelled by the cube rotation that
     // best fits them to ours; the covariance of the matched end points (+-f_r against +-g f'_r)
     // is twice the sum of the matched frames, so the registration rotation is its polar factor.
+    const auto& table = signed_permutations();
     Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
     double old_energy = 0.0;
     for (int k = 0; k < count; ++k) {
       double score = 0.0;
-      const int g = best_match(current, field.frames[node.ids[k]], score);
-      covariance += apply(table[g], field.frames[node.ids[k]]);
+      const int g = best_match(current, field_.frames[node.ids[k]], score);
+      covariance += apply(table[g], field_.frames[node.ids[k]]);
       old_energy += distance_from_score(score);
     }
     if (old_energy == 0.0) return;
     Eigen::Matrix3d updated;
-    if (constraint_of[id] >= 0) {
-      const Eigen::Vector3d& normal = normals[constraint_of[id]];
+    const int constraint = constraints_.constraint_of[id];
+    if (constraint >= 0) {
+      const Eigen::Vector3d& normal = constraints_.normals[constraint];
       double sign = 1.0;
       const int axis = closest_axis(current, normal, sign);
       // Deviation: the thesis rotates the unconstrained update onto the normal; optimizing with
@@ -420,41 +459,74 @@ FrameSmoothingResult smooth_frame_field(const FrameField& initial, const std::ve
     } else {
       updated = polar_rotation(covariance);
     }
-    const double new_energy = local_energy(updated, field, node.ids, count);
+    const double new_energy = local_energy(updated, field_, node.ids, count);
     if (new_energy < old_energy) {
       // Only a visible move (above ~1e-4 rad) wakes the neighbours: the sweeps then work on the
       // part of the field that is still moving, the rest no longer affects the 0.1% criterion.
-      if ((updated - current).squaredNorm() > 1e-8) changed_at[id] = clock;
-      field.frames[id] = updated;
+      if ((updated - current).squaredNorm() > 1e-8) changed_at_[id] = clock;
+      field_.frames[id] = updated;
       // The voxel's edges are all the terms of Eq. 5.6 it changes (node.ids are its active
       // neighbours; those in other slabs do not move meanwhile), so the energy follows without a
       // pass over the field.
       decrease.add(old_energy - new_energy);
     }
-  };
-  std::vector<Decrease> slab_decrease(static_cast<std::size_t>(num_slabs));
+  }
+
+  FrameField& field_;
+  const std::vector<Node>& nodes_;
+  const ConstraintIndex& constraints_;
+  const int num_slabs_;
+  std::vector<std::size_t> slab_begin_;  // first node of each slab, nodes.size() at the end
+  // Visit stamps: a voxel whose last update left it (nearly) unchanged and whose neighbours have
+  // not moved since would get (nearly) the same result again, so it is skipped. A stamp is the
+  // half-sweep number (high bits) and the step inside the slab (low bits): neighbours in other
+  // slabs do not move during a half-sweep, so the comparisons never depend on the scheduling.
+  std::uint64_t half_sweep_ = 0;
+  std::vector<std::uint64_t> changed_at_, visited_at_;
+  std::vector<Decrease> slab_decrease_;
+};
+
+// Largest angle between a constrained voxel's closest frame axis and its normal.
+double max_constraint_angle(const FrameField& field, const ConstraintIndex& constraints) {
+  double angle = 0.0;
+  for (std::size_t i = 0; i < field.frames.size(); ++i) {
+    if (constraints.constraint_of[i] < 0) continue;
+    const Eigen::Vector3d& normal = constraints.normals[constraints.constraint_of[i]];
+    double sign = 1.0;
+    const int axis = closest_axis(field.frames[i], normal, sign);
+    const double cosine = std::min(1.0, std::abs(field.frames[i].row(axis).dot(normal)));
+    angle = std::max(angle, std::acos(cosine));
+  }
+  return angle;
+}
+
+}  // namespace
+
+FrameSmoothingResult smooth_frame_field(const FrameField& initial, const std::vector<FrameConstraint>& constraints,
+                                        const FrameSmoothingOptions& options, const Progress& progress) {
+  check_smoothing_input(initial, options);
+  const std::size_t n = initial.frames.size();
+  const std::vector<std::uint8_t>* active = options.active.empty() ? nullptr : &options.active;
+  const ConstraintIndex index = index_constraints(constraints, n, active);
+
+  FrameSmoothingResult result;
+  FrameField& field = result.field;
+  field = initial;
+  for (std::size_t i = 0; i < n; ++i)
+    if (index.constraint_of[i] >= 0) field.frames[i] = project_to_constraint(field.frames[i], index.normals[index.constraint_of[i]]);
+  const std::vector<Node> nodes = active_nodes(field, active);
+
+  result.initial_energy = frame_smoothness_energy(field, active, options.threads);
+  if (options.initialization == FrameInitialization::Propagated) propagate_from_constraints(nodes, index.constraint_of, field);
+  double energy = options.initialization == FrameInitialization::Given ? result.initial_energy : frame_smoothness_energy(field, active, options.threads);
+  result.start_energy = energy;
+  SlabSweeper sweeper(field, nodes, index);
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
     progress.report("frame smoothing", static_cast<double>(iteration - 1) / options.max_iterations);
-    const bool forward = iteration % 2 == 1;
-    std::fill(slab_decrease.begin(), slab_decrease.end(), Decrease{});
-    for (int half = 0; half < 2; ++half) {
-      const int parity = forward ? half : 1 - half;
-      ++half_sweep;
-      linalg::parallel_for(options.threads, (num_slabs + 1 - parity) / 2, [&](int k) {
-        const int slab = 2 * k + parity;
-        const std::size_t begin = slab_begin[slab], end = slab_begin[slab + 1];
-        for (std::size_t step = 0; step < end - begin; ++step) {
-          const std::uint64_t clock = (half_sweep << 32) + step + 1;
-          update_voxel(nodes[forward ? begin + step : end - 1 - step], clock, slab_decrease[slab]);
-        }
-      });
-    }
-    // Slab sums in slab order: the same bits for every thread count.
-    Decrease sweep_decrease;
-    for (const Decrease& d : slab_decrease) sweep_decrease.add(d.sum);
+    const double sweep_decrease = sweeper.sweep(iteration, options.threads);
     // Tracked differences carry a rounding error of ~1e-15 per update: fine against the energy of a
     // real volume, not against a field that is nearly smooth, which is summed afresh.
-    double next = energy - sweep_decrease.sum;
+    double next = energy - sweep_decrease;
     if (next < 1e-2 * result.start_energy) next = frame_smoothness_energy(field, active, options.threads);
     result.energy_per_iteration.push_back(next);
     result.iterations = iteration;
@@ -472,14 +544,7 @@ FrameSmoothingResult smooth_frame_field(const FrameField& initial, const std::ve
   energy = frame_smoothness_energy(field, active, options.threads);
   if (!result.energy_per_iteration.empty()) result.energy_per_iteration.back() = energy;
   result.final_energy = energy;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (constraint_of[i] < 0) continue;
-    const Eigen::Vector3d& normal = normals[constraint_of[i]];
-    double sign = 1.0;
-    const int axis = closest_axis(field.frames[i], normal, sign);
-    const double cosine = std::min(1.0, std::abs(field.frames[i].row(axis).dot(normal)));
-    result.max_constraint_angle_rad = std::max(result.max_constraint_angle_rad, std::acos(cosine));
-  }
+  result.max_constraint_angle_rad = max_constraint_angle(field, index);
   return result;
 }
 
