@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "core/common/error.h"
+#include "core/linalg/algebraic_multigrid.h"
 #include "core/linalg/conjugate_gradient.h"
 #include "core/linalg/csr_matrix.h"
 #include "core/mesh/edge_weights.h"
@@ -64,38 +65,95 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
       face_interior[vertex_face[v]].push_back(v);
     }
 
+  // Per cube face the pattern of its interior system, built once (the area-balancing rounds
+  // change only the values): per row the outgoing halfedges of its vertex and, for each, the
+  // entry of the neighbour's column (−1: a fixed neighbour, which goes to the right-hand side).
+  struct FaceSystem {
+    std::vector<int> first;     // per row, its range of halfedges (m + 1 offsets)
+    std::vector<int> halfedge;  // outgoing halfedges, in vertex_outgoing order
+    std::vector<int> entry;     // per halfedge, index into a.values() or −1
+    std::vector<int> diagonal;  // per row, index of the diagonal entry
+    linalg::CsrMatrix a;
+  };
+  std::vector<FaceSystem> systems(polycube::num_cube_faces);
+  for (int face = 0; face < polycube::num_cube_faces; ++face) {
+    const std::vector<int>& interior = face_interior[face];
+    const int m = static_cast<int>(interior.size());
+    FaceSystem& system = systems[face];
+    system.first.assign(1, 0);
+    std::vector<int> offsets(m + 1, 0), cols;
+    std::vector<int> row;
+    for (int i = 0; i < m; ++i) {
+      row.assign(1, i);
+      for (int h : mesh.vertex_outgoing(interior[i])) {
+        system.halfedge.push_back(h);
+        const int j = mesh.halfedge_vertex(h);
+        if (!fixed[j]) row.push_back(local[j]);
+      }
+      system.first.push_back(static_cast<int>(system.halfedge.size()));
+      std::sort(row.begin(), row.end());
+      row.erase(std::unique(row.begin(), row.end()), row.end());
+      auto entry_of = [&](int column) {
+        return offsets[i] + static_cast<int>(std::lower_bound(row.begin(), row.end(), column) - row.begin());
+      };
+      for (int k = system.first[i]; k < system.first[i + 1]; ++k) {
+        const int j = mesh.halfedge_vertex(system.halfedge[k]);
+        system.entry.push_back(fixed[j] ? -1 : entry_of(local[j]));
+      }
+      system.diagonal.push_back(entry_of(i));
+      cols.insert(cols.end(), row.begin(), row.end());
+      offsets[i + 1] = static_cast<int>(cols.size());
+    }
+    std::vector<double> values(cols.size(), 0.0);
+    system.a = linalg::CsrMatrix::from_arrays(m, m, std::move(offsets), std::move(cols), std::move(values));
+  }
+
   auto solve = [&](const std::vector<double>& weight) {
     for (int face = 0; face < polycube::num_cube_faces; ++face) {
       const std::vector<int>& interior = face_interior[face];
       const int m = static_cast<int>(interior.size());
       if (m == 0) continue;
-      std::vector<linalg::Triplet> triplets;
+      FaceSystem& system = systems[face];
+      std::vector<double>& values = system.a.values();
+      std::fill(values.begin(), values.end(), 0.0);
       Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(m, 2);
       Eigen::MatrixXd x0(m, 2);
       for (int i = 0; i < m; ++i) {
         const int v = interior[i];
         x0.row(i) = cube_face_coordinates(face, map.uvw.row(v).transpose()).transpose();
         double diagonal = 0.0;
-        for (int h : mesh.vertex_outgoing(v)) {
-          const int j = mesh.halfedge_vertex(h);
+        for (int k = system.first[i]; k < system.first[i + 1]; ++k) {
+          const int h = system.halfedge[k];
           const double w = weight[h];
           diagonal += w;
-          if (fixed[j])
-            rhs.row(i) += w * cube_face_coordinates(face, map.uvw.row(j).transpose()).transpose();
+          if (system.entry[k] < 0)
+            rhs.row(i) += w * cube_face_coordinates(face, map.uvw.row(mesh.halfedge_vertex(h)).transpose()).transpose();
           else
-            triplets.push_back({i, local[j], -w});
+            values[system.entry[k]] -= w;
         }
-        triplets.push_back({i, i, diagonal > 0.0 ? diagonal : 1.0});
+        values[system.diagonal[i]] = diagonal > 0.0 ? diagonal : 1.0;
       }
-      const linalg::CsrMatrix a = linalg::CsrMatrix::from_triplets(m, m, triplets);
-      linalg::ConjugateGradient<linalg::IncompleteCholesky0> cg;
-      cg.set_tolerance(options.tolerance);
-      cg.compute(a);
-      const Eigen::MatrixXd st = cg.solve(rhs, x0);
-      if (cg.info() == linalg::SolverInfo::NumericalIssue)
+      Eigen::MatrixXd st;
+      linalg::SolverInfo info = linalg::SolverInfo::Success;
+      int iterations = 0;
+      auto run = [&](auto& cg) {
+        cg.set_tolerance(options.tolerance);
+        cg.compute(system.a);
+        st = cg.solve(rhs, x0);
+        info = cg.info();
+        iterations = cg.iterations();
+      };
+      if (options.solver == SurfaceSolver::Multigrid) {
+        linalg::ConjugateGradient<linalg::AlgebraicMultigrid> cg;
+        run(cg);
+      } else {
+        linalg::ConjugateGradient<linalg::IncompleteCholesky0> cg;
+        run(cg);
+      }
+      if (info == linalg::SolverInfo::NumericalIssue)
         throw Error("mesh '" + mesh.source_name() + "': the harmonic map of cuboid face " +
                     std::to_string(face) + " has no SPD system (negative cotan weights?)");
-      map.cg_iterations = std::max(map.cg_iterations, cg.iterations());
+      map.cg_iterations = std::max(map.cg_iterations, iterations);
       for (int i = 0; i < m; ++i)
         map.uvw.row(interior[i]) = cube_face_point(face, st(i, 0), st(i, 1)).transpose();
     }

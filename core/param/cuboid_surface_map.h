@@ -15,6 +15,12 @@ enum class SurfaceWeights {
   Cotan,      ///< cotangent weights; can be negative on obtuse meshes (checked for flips)
 };
 
+/// Preconditioner of the conjugate-gradient solves of the rectangles' maps.
+enum class SurfaceSolver {
+  Multigrid,           ///< smoothed-aggregation AMG: about constant iterations, O(n) per solve
+  IncompleteCholesky,  ///< IC(0): iterations grow like √n, O(n^1.5) per solve
+};
+
 /// Options of compute_cuboid_surface_map.
 struct CuboidSurfaceMapOptions {
   SurfaceWeights weights = SurfaceWeights::MeanValue;
@@ -22,6 +28,7 @@ struct CuboidSurfaceMapOptions {
   /// Stretch-reweighting rounds that give squeezed parts more parameter area (0 = the plain
   /// Tutte/Floater map), in [0, 20]; every round is still a convex-combination map.
   int area_balance_iterations = 0;
+  SurfaceSolver solver = SurfaceSolver::Multigrid;
 };
 
 /// Map of a closed genus-0 surface onto the boundary of the unit cube (thesis §3.4.1).

@@ -1,0 +1,106 @@
+// SPDX-License-Identifier: MIT
+// gpc whole-job time (read + job, one thread), median of N runs (wall and CPU: the machine may
+// be shared), with the per-stage wall times of the job's times_s (medians), and, timed again
+// on the last run's cuboids, the parts of the volumetric map stage: the surface maps (§3.4.1,
+// with their largest CG iteration count) and their inverse lookups (locator build and one
+// lookup per boundary grid node). The default mesh is the shared kitten.
+// usage: bench_gpc [MESH] [--runs N] [--grid-nodes N] [--limbs P]
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/io/mesh_io.h"
+#include "core/param/cuboid_surface_locator.h"
+#include "core/pipeline/gpc_job.h"
+
+int main(int argc, char** argv) {
+  using namespace volspline;
+  using Clock = std::chrono::steady_clock;
+  std::string path = std::string(VOLSPLINE_SHARED_DATA) + "/meshes/kitten.off";
+  pipeline::GpcOptions options;
+  int runs = 5;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--runs" && i + 1 < argc)
+      runs = std::max(1, std::atoi(argv[++i]));
+    else if (a == "--grid-nodes" && i + 1 < argc)
+      options.grid.target_nodes = std::atoi(argv[++i]);
+    else if (a == "--limbs" && i + 1 < argc)
+      options.limb_persistence = std::atof(argv[++i]);
+    else
+      path = a;
+  }
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[v.size() / 2];
+  };
+  auto seconds_since = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+  try {
+    std::vector<double> seconds, cpu_seconds, read_seconds;
+    std::map<std::string, std::vector<double>> stage_s;
+    pipeline::GpcResult result;
+    for (int run = 0; run < runs; ++run) {
+      const auto start = Clock::now();
+      const std::clock_t cpu_start = std::clock();
+      const mesh::TriangleMesh mesh = io::read_mesh(path);
+      read_seconds.push_back(seconds_since(start));
+      result = pipeline::run_gpc(mesh, path, options);
+      seconds.push_back(seconds_since(start));
+      cpu_seconds.push_back(double(std::clock() - cpu_start) / CLOCKS_PER_SEC);
+      for (const auto& [stage, s] : result.stats.times_s) stage_s[stage].push_back(s);
+    }
+    // The parts of the volumetric map, on the last run's cuboid surfaces.
+    double surface_map_s = 0.0, locator_s = 0.0, lookup_s = 0.0;
+    int cg_iterations = 0, surface_faces = 0;
+    param::CuboidSurfaceMapOptions map_options;
+    map_options.area_balance_iterations = options.grid.area_balance_iterations;
+    for (std::size_t c = 0; c < result.construction.surfaces.size(); ++c) {
+      const polycube::CuboidSurface& s = result.construction.surfaces[c];
+      const mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(s.mesh, "cuboid");
+      surface_faces += hm.num_faces();
+      auto t0 = Clock::now();
+      const param::CuboidSurfaceMap map = param::compute_cuboid_surface_map(hm, s.layout, map_options);
+      surface_map_s += seconds_since(t0);
+      cg_iterations = std::max(cg_iterations, map.cg_iterations);
+      t0 = Clock::now();
+      const param::CuboidSurfaceLocator locator(hm, map);
+      locator_s += seconds_since(t0);
+      const auto& n = result.map.grids[c].nodes;
+      t0 = Clock::now();
+      double sink = 0.0;
+      for (int k = 0; k < n[2]; ++k)
+        for (int j = 0; j < n[1]; ++j)
+          for (int i = 0; i < n[0]; ++i) {
+            if (i != 0 && j != 0 && k != 0 && i + 1 != n[0] && j + 1 != n[1] && k + 1 != n[2]) continue;
+            sink += locator.locate_uvw(Eigen::Vector3d(double(i) / (n[0] - 1), double(j) / (n[1] - 1),
+                                                       double(k) / (n[2] - 1)))
+                        .sum();
+          }
+      lookup_s += seconds_since(t0);
+      if (sink == 1e300) std::printf("%g", sink);  // keeps the lookups
+    }
+    const pipeline::GpcStats& stats = result.stats;
+    std::printf("{\n  \"bench\": \"gpc\",\n  \"mesh\": \"%s\",\n  \"runs\": %d,\n", path.c_str(), runs);
+    std::printf("  \"median_s\": %.4f,\n  \"min_s\": %.4f,\n  \"max_s\": %.4f,\n  \"median_cpu_s\": %.4f,\n",
+                median(seconds), *std::min_element(seconds.begin(), seconds.end()),
+                *std::max_element(seconds.begin(), seconds.end()), median(cpu_seconds));
+    std::printf("  \"cuboids\": %d,\n  \"surface_vertices\": %d,\n  \"cuboid_surface_faces\": %d,\n", stats.cuboids,
+                stats.surface_vertices, surface_faces);
+    std::printf("  \"flipped_triangles\": %d,\n  \"grid_inverted_hexes\": %d,\n  \"grid_min_scaled_jacobian\": %.6g,\n",
+                stats.flipped_triangles, stats.grid_inverted_hexes, stats.grid_min_scaled_jacobian);
+    std::printf("  \"stage_s\": {\"read\": %.4f", median(read_seconds));
+    for (const auto& [stage, s] : stage_s) std::printf(", \"%s\": %.4f", stage.c_str(), median(s));
+    std::printf("},\n  \"volumetric_map_parts_s\": {\"surface_maps\": %.4f, \"locators\": %.4f, \"lookups\": %.4f},\n",
+                surface_map_s, locator_s, lookup_s);
+    std::printf("  \"surface_map_cg_iterations\": %d\n}\n", cg_iterations);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_gpc: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
