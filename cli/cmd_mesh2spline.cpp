@@ -65,9 +65,9 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
   options.max_control_points = args.get_int("max-control-points", options.max_control_points);
   options.max_levels = args.get_int("max-levels", options.max_levels);
   options.initial_cells = args.get_int("initial-cells", options.initial_cells);
-  options.threads = args.get_int("threads", options.threads);
-  options.compare_uniform = args.has("compare-uniform");
-  options.untangle = !args.has("no-untangle");
+  if (args.get_int("threads", 1) < 1) throw UsageError("--threads must be >= 1");  // accepted; the job runs on one thread
+  if (args.has("compare-uniform")) options.compare_uniform = pipeline::Mesh2SplineOptions::CompareUniform::On;
+  if (args.has("no-untangle")) options.untangle = pipeline::Mesh2SplineOptions::Untangle::Off;
   const std::string fit = args.get("fit", "grid");
   if (fit == "grid")
     options.fit = pipeline::Mesh2SplineFit::Grid;
@@ -146,7 +146,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
     j["samples"] = s.samples;
     j["min_corner_distance_rel"] = s.min_corner_distance_rel;
     j["corners"] = s.corners;
-    if (options.compare_uniform) {
+    if (options.compare_uniform == pipeline::Mesh2SplineOptions::CompareUniform::On) {
       j["uniform_control_points"] = s.uniform_control_points >= 0 ? nlohmann::ordered_json(s.uniform_control_points)
                                                                    : nlohmann::ordered_json(nullptr);
       j["uniform_rms_rel"] = s.uniform_rms_rel;

@@ -143,7 +143,7 @@ int run_vol2spline(const std::vector<std::string>& argv) {
     options.param = pipeline::Vol2SplineParam::Aligned;
   else
     throw UsageError("--param must be identity or aligned, got '" + param + "'");
-  options.compute_frames = args.has("frames-vtk");
+  if (args.has("frames-vtk")) options.compute_frames = pipeline::Vol2SplineOptions::ComputeFrames::On;
 
   io::VolumeReadOptions read;
   if (args.has("max-voxels")) {

@@ -105,7 +105,7 @@ pipeline::LensOptions lens_options_from_js(const val& o) {
   options.band = number_option(o, "band", options.band);
   options.tol_rel = number_option(o, "tol_rel", options.tol_rel);
   options.max_iterations = integer("max_iterations", options.max_iterations);
-  options.render = bool_option(o, "render", options.render);
+  options.render = bool_option(o, "render", true) ? pipeline::LensOptions::Render::On : pipeline::LensOptions::Render::Off;
   const std::string mode = string_option(o, "mode", "full");
   if (mode == "full") options.mode = pipeline::LensMode::Full;
   else if (mode == "live") options.mode = pipeline::LensMode::Live;

@@ -39,9 +39,10 @@ pipeline::Mesh2SplineOptions job_options_from_js(const val& o) {
   options.min_scaled_jacobian = number_option(o, "min_scaled_jacobian", options.min_scaled_jacobian);
   if (!(options.min_scaled_jacobian >= 0.0 && options.min_scaled_jacobian <= 0.5))
     throw Error("option 'min_scaled_jacobian': the Jacobian repair target must be 0 (no repair) or in (0, 0.5]");
-  options.threads = integer_option(o, "threads", options.threads, 1, 1024);
-  options.compare_uniform = bool_option(o, "compare_uniform", options.compare_uniform);
-  options.untangle = bool_option(o, "untangle", options.untangle);
+  integer_option(o, "threads", 1, 1, 1024);  // accepted and checked; the job runs on one thread
+  if (bool_option(o, "compare_uniform", false))
+    options.compare_uniform = pipeline::Mesh2SplineOptions::CompareUniform::On;
+  if (!bool_option(o, "untangle", true)) options.untangle = pipeline::Mesh2SplineOptions::Untangle::Off;
   const std::string fit = string_option(o, "fit", "grid");
   if (fit == "grid") options.fit = pipeline::Mesh2SplineFit::Grid;
   else if (fit == "meshless") options.fit = pipeline::Mesh2SplineFit::Meshless;

@@ -14,7 +14,7 @@ namespace volspline::wasm {
 ///            max_control_points, max_levels, fit ('grid'|'meshless'), weights
 ///            ('meanvalue'|'cotan'), initial_cells, grid_nodes, smoothing, seed, measure_samples,
 ///            corners (8 vertex ids), max_surface_error_rel (> 0), area_balance_iterations ([0, 20]),
-///            min_scaled_jacobian (Jacobian repair target: 0 = off, else (0, 0.5]), threads (≥ 1),
+///            min_scaled_jacobian (Jacobian repair target: 0 = off, else (0, 0.5]), threads (≥ 1; accepted, the job runs on one thread),
 ///            compare_uniform (boolean: also fit uniform B-splines, stats uniform_*). View: preview_samples (boundary lattice per face, default
 ///            25, [2, 129]), preview_lines (iso-lines per direction per face, default 9, [2, 65]),
 ///            cut_axis (0|1|2, default 2), cut_position ([0, 1], default 0.5), cut_samples

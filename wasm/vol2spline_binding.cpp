@@ -69,7 +69,7 @@ pipeline::Vol2SplineOptions options_from_js(const val& o) {
   options.min_gain_rate = number_option(o, "min_gain_rate", options.min_gain_rate);
   options.initial_cells = integer_option(o, "initial_cells", options.initial_cells);
   options.clusters = integer_option(o, "clusters", options.clusters);
-  options.compute_frames = bool_option(o, "compute_frames", options.compute_frames);
+  if (bool_option(o, "compute_frames", false)) options.compute_frames = pipeline::Vol2SplineOptions::ComputeFrames::On;
   options.iso = number_option(o, "iso", options.iso);  // a missing key keeps NaN (no threshold)
   const std::string param = string_option(o, "param", "identity");
   if (param == "identity") options.param = pipeline::Vol2SplineParam::Identity;

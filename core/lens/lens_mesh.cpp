@@ -72,7 +72,7 @@ LensMesh build_lens_mesh(const std::vector<RoiField>& rois, int width, int heigh
       near = near || roi.outside_distance(x, y) <= options.band_rel * roi.equivalent_radius();
     }
     m.in_roi[v] = in && !m.pinned[v];
-    if (options.pin_context && !near) m.pinned[v] = 1;
+    if (options.pin_context == LensMeshOptions::PinContext::On && !near) m.pinned[v] = 1;
     m.xyz(v, 2) = m.pinned[v] ? 0.0 : lens_height(rois, options.height_rel, x, y);
   };
   for (int v = 0; v < m.xyz.rows(); ++v) classify(v);

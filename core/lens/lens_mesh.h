@@ -15,7 +15,7 @@ struct LensMeshOptions {
   double band_rel = 0.75;      ///< width of the free context band around each ROI, in ROI equivalent radii
   double stretch_max = 1.5;    ///< split edges whose 3D length exceeds this multiple of their planar length
   int subdivision_levels = 2;  ///< at most this many rounds of edge splitting
-  bool pin_context = true;     ///< pin every vertex beyond the context band (else only the image border)
+  enum class PinContext { Off, On } pin_context = PinContext::On;  ///< pin every vertex beyond the context band (Off: only the image border)
 };
 
 /// The lens mesh: the image grid lifted to a height field over the ROIs, plus split vertices.

@@ -240,9 +240,9 @@ void update_forward_k(const IncompleteCholesky0& ic, const double* alpha, const 
       s[c] = ri;
     }
     for (int k = offsets[i]; k < offsets[i + 1]; ++k) {
-      const double l = vals[k];
+      const double factor = vals[k];
       const int j = cols[k];
-      for (int c = 0; c < K; ++c) s[c] -= l * v.z[c][j];
+      for (int c = 0; c < K; ++c) s[c] -= factor * v.z[c][j];
     }
     for (int c = 0; c < K; ++c) v.z[c][i] = s[c] * inv[i];
   }

@@ -39,8 +39,8 @@ class VertexRing {
     using reference = int;
 
     iterator() = default;
-    iterator(const HalfedgeMesh* mesh, int start, int halfedge, int lap)
-        : mesh_(mesh), start_(start), halfedge_(halfedge), lap_(lap) {
+    iterator(const HalfedgeMesh* mesh, int start, int halfedge, int turns)
+        : mesh_(mesh), start_(start), halfedge_(halfedge), turns_(turns) {
       skip_boundary();
     }
     int operator*() const;
@@ -55,7 +55,7 @@ class VertexRing {
       return old;
     }
     bool operator==(const iterator& other) const {
-      return halfedge_ == other.halfedge_ && lap_ == other.lap_;
+      return halfedge_ == other.halfedge_ && turns_ == other.turns_;
     }
     bool operator!=(const iterator& other) const { return !(*this == other); }
 
@@ -66,7 +66,7 @@ class VertexRing {
     const HalfedgeMesh* mesh_ = nullptr;
     int start_ = no_id;
     int halfedge_ = no_id;
-    int lap_ = 1;
+    int turns_ = 1;  // 0 on the way round, 1 back at start_ (end())
   };
 
   VertexRing(const HalfedgeMesh* mesh, int start) : mesh_(mesh), start_(start) {}
@@ -238,15 +238,15 @@ int VertexRing<kValue>::iterator::operator*() const {
 
 template <CirculatorValue kValue>
 void VertexRing<kValue>::iterator::advance() {
-  assert(lap_ == 0);
+  assert(turns_ == 0);
   halfedge_ = mesh_->halfedge_twin(mesh_->halfedge_prev(halfedge_));
-  if (halfedge_ == start_) lap_ = 1;
+  if (halfedge_ == start_) turns_ = 1;
 }
 
 template <CirculatorValue kValue>
 void VertexRing<kValue>::iterator::skip_boundary() {
   if constexpr (kValue == CirculatorValue::Face) {
-    while (lap_ == 0 && mesh_->halfedge_is_boundary(halfedge_)) advance();
+    while (turns_ == 0 && mesh_->halfedge_is_boundary(halfedge_)) advance();
   }
 }
 

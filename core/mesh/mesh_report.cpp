@@ -31,18 +31,18 @@ MeshReport analyze_mesh(const HalfedgeMesh& mesh) {
   }
 
   std::vector<int> component(m, -1);
-  std::vector<int> stack;
+  std::vector<int> pending;
   for (int seed = 0; seed < m; ++seed) {
     if (component[seed] >= 0) continue;
     component[seed] = report.num_components;
-    stack.assign(1, seed);
-    while (!stack.empty()) {
-      const int f = stack.back();
-      stack.pop_back();
+    pending.assign(1, seed);
+    while (!pending.empty()) {
+      const int f = pending.back();
+      pending.pop_back();
       for (int g : mesh.face_faces(f)) {
         if (g != no_id && component[g] < 0) {
           component[g] = report.num_components;
-          stack.push_back(g);
+          pending.push_back(g);
         }
       }
     }

@@ -134,7 +134,7 @@ int untangle(const UntangleProblem& problem, Eigen::VectorXd& x, const UntangleO
   int stalled = 0;
   LbfgsMemory memory;
   for (int step = 0; step < options.max_steps; ++step) {
-    if (!options.keep_curvature) memory = LbfgsMemory();
+    if (options.keep_curvature == UntangleOptions::KeepCurvature::Off) memory = LbfgsMemory();
     iterations += lbfgs(problem, x, eps, options.max_inner, memory);
     const double e = problem.energy(x, eps, nullptr);
     d_min = problem.min_det(x);

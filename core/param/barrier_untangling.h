@@ -44,8 +44,8 @@ struct UntangleOptions {
   /// need not settle); +∞ = run the continuation to its end.
   double stop_min_det = std::numeric_limits<double>::infinity();
   /// Keep the L-BFGS curvature pairs from one ε step to the next (the energy changes little
-  /// with ε); false restarts each step from a steepest-descent step.
-  bool keep_curvature = false;
+  /// with ε); Off restarts each step from a steepest-descent step.
+  enum class KeepCurvature { Off, On } keep_curvature = KeepCurvature::Off;
   /// Least σ of the ε update μ = (1 − σ)·χ(min det J, ε), in (0, 1). The paper's 0.1 makes ε
   /// creep down (the energy grows as ε shrinks, so its decrease never sets the pace): ~35 steps
   /// on bimba's grid instead of ~8 with 0.5.

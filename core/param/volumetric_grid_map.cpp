@@ -96,7 +96,7 @@ VolumetricGridMap compute_volumetric_grid_map(const CuboidSurfaceLocator& locato
   };
   check_hexes();
   grid.harmonic_inverted_hexes = grid.num_inverted_hexes;
-  if (options.untangle && grid.num_inverted_hexes > 0 && num_interior > 0) {
+  if (options.untangle == VolumetricGridOptions::Untangle::On && grid.num_inverted_hexes > 0 && num_interior > 0) {
     // §3.4.2 takes the harmonic nodes as they are; the fit would copy their folds into the
     // spline, so they are untangled first (the harmonic grid is the start).
     std::vector<char> fixed(total);

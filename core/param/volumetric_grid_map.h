@@ -14,7 +14,7 @@ struct VolumetricGridOptions {
   double tolerance = 1e-8;                  ///< relative CG residual (unitless)
   /// Remove the folds of the harmonic grid near its folded hexes (untangle_hex_grid); off =
   /// the thesis's map as it is.
-  bool untangle = true;
+  enum class Untangle { Off, On } untangle = Untangle::On;
 };
 
 /// Node positions of a uniform parameter grid mapped into the solid (thesis §3.4.2).

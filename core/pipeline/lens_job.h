@@ -48,7 +48,7 @@ struct LensOptions {
   double band = 0.75;          ///< free context band around each ROI, in ROI equivalent radii, in (0, 10]
   double tol_rel = 1e-3;       ///< flattening stops when the energy changes by less than this fraction
   int max_iterations = 300;    ///< flattening iterations at most, in [1, 100000]
-  bool render = true;          ///< render the output image (false: mesh and stats only)
+  enum class Render { Off, On } render = Render::On;  ///< render the output image (Off: mesh and stats only)
   LensMode mode = LensMode::Full;
 };
 

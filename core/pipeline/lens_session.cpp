@@ -111,7 +111,8 @@ std::shared_ptr<const PreparedMesh> prepare_mesh(const std::vector<lens::RoiFiel
   mesh_options.grid = key.grid;
   mesh_options.height_rel = key.h0;
   mesh_options.band_rel = key.band;
-  mesh_options.pin_context = key.boundary == LensBoundary::Pinned;
+  mesh_options.pin_context = key.boundary == LensBoundary::Pinned ? lens::LensMeshOptions::PinContext::On
+                                                                  : lens::LensMeshOptions::PinContext::Off;
   const lens::LensMesh lens_mesh = lens::build_lens_mesh(rois, key.width, key.height, mesh_options);
   p->texture = lens::harmonic_texture(lens_mesh);
   p->ms_mesh = ms_since(t_mesh);
@@ -246,7 +247,7 @@ LensResult translated(const TranslationBase& base, const Eigen::Vector2d& offset
   LensStats& s = result.stats;
   s.translated = true;
   s.ms_calibration = s.ms_mesh = s.ms_factorize = s.ms_per_iteration = s.ms_render = 0;
-  if (options.render) {
+  if (options.render == LensOptions::Render::On) {
     progress.report("render", 0.0);
     const auto t_render = Clock::now();
     result.image = lens::render_textured_mesh(input.image, result.positions, result.texture, result.triangles,
@@ -518,7 +519,7 @@ LensResult LensSession::run(const LensInput& input, const LensOptions& options, 
   Deformation d = options.method == LensMethod::Metric ? cache_->metric(rois, input, options, progress, counters_, s)
                                                        : baseline_deformation(rois, options, width, height, s);
   measure_deformation(d, rois, options, s);
-  if (options.render) {
+  if (options.render == LensOptions::Render::On) {
     progress.report("render", 0.0);
     const auto t_render = Clock::now();
     result.image = lens::render_textured_mesh(input.image, d.positions, d.texture, d.triangles, width, height);

@@ -2,9 +2,8 @@
 #include "core/pipeline/mesh2spline_job.h"
 
 #include <algorithm>
-#include <chrono>
-#include <functional>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <string>
 #include <unordered_set>
@@ -21,6 +20,7 @@
 #include "core/param/volumetric_grid_map.h"
 #include "core/pipeline/mesh2spline_measures.h"
 #include "core/pipeline/solid_mesh.h"
+#include "core/pipeline/stage_timer.h"
 #include "core/polycube/cube_faces.h"
 #include "core/polycube/cuboid_layout.h"
 #include "core/spline/bspline_volume.h"
@@ -33,8 +33,6 @@
 namespace volspline::pipeline {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 // Meshes with at least this many vertices are fitted at their vertices only (no face centroids).
 constexpr int kDenseMeshVertices = 8000;
@@ -53,7 +51,6 @@ void check_options(const Mesh2SplineOptions& o) {
   if (!(o.smoothing >= 0.0) || !std::isfinite(o.smoothing)) fail("`smoothing` must be ≥ 0");
   if (!(o.min_scaled_jacobian >= 0.0 && o.min_scaled_jacobian <= 0.5))
     fail("`min_scaled_jacobian` (the Jacobian repair target) must be in [0, 0.5]");
-  if (o.threads < 1) fail("`threads` must be ≥ 1");
   if (!(o.max_surface_error_rel > 0.0) || !std::isfinite(o.max_surface_error_rel))
     fail("`max_surface_error_rel` must be a positive number");
   if (o.measure_samples < 8 || o.measure_samples > 512) fail("`measure_samples` must be in [8, 512]");
@@ -121,7 +118,7 @@ struct Samples {
   std::vector<char> on_boundary;  // uvw on the boundary of [0,1]³ (a surface sample, Eq. 4.4)
 };
 
-Samples stack(const std::vector<Eigen::Vector3d>& uvw, const std::vector<Eigen::Vector3d>& xyz) {
+Samples to_samples(const std::vector<Eigen::Vector3d>& uvw, const std::vector<Eigen::Vector3d>& xyz) {
   Samples s;
   s.uvw.resize(uvw.size(), 3);
   s.xyz.resize(xyz.size(), 3);
@@ -157,7 +154,7 @@ void add_cell_surface_samples(const param::CuboidSurfaceLocator& locator, const 
 }
 
 // free_functions: empty = all control points.
-spline::TSplineFitReport fit(spline::TSpline& ts, const Samples& samples, const Eigen::MatrixX3d& prior,
+spline::TSplineFitResult fit(spline::TSpline& ts, const Samples& samples, const Eigen::MatrixX3d& prior,
                              const Mesh2SplineOptions& options, int laplacian_nodes,
                              const std::vector<int>& free_functions = {}) {
   spline::TSplineFitOptions fit_options;
@@ -231,15 +228,14 @@ double rms(const Eigen::VectorXd& e) { return e.size() ? std::sqrt(e.squaredNorm
 // control point budget ends the fit.
 class SolidFit final : public spline::HierarchicalFit, public spline::MarkingRule {
  public:
-  using Lap = std::function<void(const std::string&)>;
   SolidFit(spline::TSpline spline, spline::RefinementGrid grid, const param::CuboidSurfaceLocator& locator,
            const Mesh2SplineOptions& options, int laplacian_nodes, double diagonal,
            std::vector<Eigen::Vector3d> sample_uvw, std::vector<Eigen::Vector3d> sample_xyz, Mesh2SplineStats& stats,
-           const Lap& lap, const Progress& progress)
-      : ts(std::move(spline)), refinement(std::move(grid)), samples(stack(sample_uvw, sample_xyz)),
+           StageTimer& timer, const Progress& progress)
+      : ts(std::move(spline)), refinement(std::move(grid)), samples(to_samples(sample_uvw, sample_xyz)),
         locator_(locator), options_(options), laplacian_nodes_(laplacian_nodes),
         target_(options.max_rms_rel * diagonal), surface_target_(options.max_surface_error_rel * diagonal),
-        sample_uvw_(std::move(sample_uvw)), sample_xyz_(std::move(sample_xyz)), stats_(stats), lap_(lap),
+        sample_uvw_(std::move(sample_uvw)), sample_xyz_(std::move(sample_xyz)), stats_(stats), timer_(timer),
         progress_(progress) {
     prior_ = greville_prior(ts, locator_);
     ts.set_points(prior_);
@@ -249,7 +245,7 @@ class SolidFit final : public spline::HierarchicalFit, public spline::MarkingRul
     progress_.report("fit level " + std::to_string(level), 0.3 + 0.4 * level / (options_.max_levels + 1));
     pipeline::fit(ts, samples, prior_, options_, laplacian_nodes_, refit_);
     errors = sample_errors(ts, samples);
-    lap_("fit_level_" + std::to_string(level));
+    timer_.end_stage("fit_level_" + std::to_string(level));
     stats_.levels = level;
     // FittingError(g): the worst sample error inside each leaf cell, the worst
     // surface sample error, and the cell's share of the squared error.
@@ -308,7 +304,7 @@ class SolidFit final : public spline::HierarchicalFit, public spline::MarkingRul
   bool refine(const std::vector<int>& cells, int level) override {
     spline::RefinementGrid next_grid = refinement;
     spline::TSpline refined = next_grid.split(ts, cells, spline::TSplineAcceleration::FunctionLists);
-    lap_("refine_level_" + std::to_string(level));
+    timer_.end_stage("refine_level_" + std::to_string(level));
     if (refined.num_functions() > options_.max_control_points) return false;
     refit_ = functions_to_refit(refined, ts, next_grid, cells);
     ts = std::move(refined);
@@ -317,7 +313,7 @@ class SolidFit final : public spline::HierarchicalFit, public spline::MarkingRul
       if (refinement.cell_level(leaf) == level + 1)
         add_cell_surface_samples(locator_, refinement.cell_min(leaf), refinement.cell_max(leaf), 2, sample_uvw_,
                                  sample_xyz_);
-    samples = stack(sample_uvw_, sample_xyz_);
+    samples = to_samples(sample_uvw_, sample_xyz_);
     // The refined spline equals the previous fit: it is the prior of the next level.
     prior_ = ts.points();
     return true;
@@ -337,7 +333,7 @@ class SolidFit final : public spline::HierarchicalFit, public spline::MarkingRul
   const double target_, surface_target_;
   std::vector<Eigen::Vector3d> sample_uvw_, sample_xyz_;
   Mesh2SplineStats& stats_;
-  Lap lap_;
+  StageTimer& timer_;
   const Progress& progress_;
   Eigen::MatrixX3d prior_;
   std::vector<int> refit_;  // control points to re-fit after a refinement (empty: all)
@@ -345,24 +341,8 @@ class SolidFit final : public spline::HierarchicalFit, public spline::MarkingRul
   double surface_max_ = 0.0;
 };
 
-}  // namespace
-
-Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::string& name,
-                                  const Mesh2SplineOptions& options, const Progress& progress) {
-  check_options(options);
-  Mesh2SplineStats stats;
-  auto stage_start = Clock::now();
-  auto lap = [&](const std::string& stage) {
-    const auto now = Clock::now();
-    stats.times_s.emplace_back(stage, std::chrono::duration<double>(now - stage_start).count());
-    stage_start = now;
-  };
-
-  progress.report("validate", 0.0);
-  // Every stage works in a unit box (centred, longest side in [0.5, 1)): absolute tolerances
-  // then mean the same for any position and unit; the spline is mapped back at the end.
-  const mesh::UnitBox box = mesh::unit_box_of(input, name);
-  const mesh::HalfedgeMesh hm = validated_mesh(box.to_unit(input), name);
+// Bounding-box diagonal of the referenced vertices; throws on a zero-size box.
+double bbox_diagonal(const mesh::HalfedgeMesh& hm, const std::string& name) {
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector3d hi = -lo;
   for (int v = 0; v < hm.num_vertices(); ++v)
@@ -372,7 +352,222 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
     }
   const double diagonal = (hi - lo).norm();
   if (!(diagonal > 0.0)) throw Error("mesh '" + name + "': zero-size bounding box");
-  lap("validate");
+  return diagonal;
+}
+
+// Mean poly-edge length per cuboid axis (at least 1e-3 of the longest).
+Eigen::Vector3d cuboid_dims(const mesh::HalfedgeMesh& hm, const polycube::CuboidLayout& layout) {
+  Eigen::Vector3d dims = Eigen::Vector3d::Zero();
+  for (int e = 0; e < polycube::num_cube_edges; ++e) {
+    const auto& path = layout.poly_edges[e];
+    for (std::size_t i = 0; i + 1 < path.size(); ++i)
+      dims(e / 4) += 0.25 * (hm.vertex_position(path[i + 1]) - hm.vertex_position(path[i])).norm();
+  }
+  return dims.cwiseMax(1e-3 * dims.maxCoeff());
+}
+
+// Level 0 alone must fit the control point budget; checked before the volumetric grid (which
+// grows with initial_cells³) is allocated.
+void check_level0_budget(const Eigen::Vector3d& dims, const Mesh2SplineOptions& options, const std::string& name) {
+  const std::array<int, 3> level0 = cells_for(dims, options.initial_cells);
+  const long long level0_points = (level0[0] + 3LL) * (level0[1] + 3LL) * (level0[2] + 3LL);
+  if (level0_points > options.max_control_points)
+    throw Error("mesh '" + name + "': `initial_cells` = " + std::to_string(options.initial_cells) + " gives " +
+                std::to_string(level0_points) + " control points at level 0, above `max_control_points` = " +
+                std::to_string(options.max_control_points));
+}
+
+// The mesh vertices at their surface parameters, plus the face centroids of coarse meshes: they
+// pin the spline between the vertices. Dense meshes need none (their vertices already sample
+// every spline cell), and each sample costs (overlapping functions)² in the normal equations.
+void add_mesh_samples(const mesh::HalfedgeMesh& hm, const param::CuboidSurfaceMap& surface_map,
+                      std::vector<Eigen::Vector3d>& sample_uvw, std::vector<Eigen::Vector3d>& sample_xyz) {
+  for (int v = 0; v < hm.num_vertices(); ++v) {
+    if (hm.vertex_halfedge(v) == mesh::no_id) continue;
+    sample_uvw.push_back(surface_map.uvw.row(v).transpose());
+    sample_xyz.push_back(hm.vertex_position(v));
+  }
+  const bool add_centroids = static_cast<int>(sample_uvw.size()) < kDenseMeshVertices;
+  for (int f = 0; add_centroids && f < hm.num_faces(); ++f) {
+    const auto c = hm.face_vertices(f);
+    sample_uvw.push_back((surface_map.uvw.row(c[0]) + surface_map.uvw.row(c[1]) + surface_map.uvw.row(c[2])).transpose() / 3.0);
+    sample_xyz.push_back((hm.vertex_position(c[0]) + hm.vertex_position(c[1]) + hm.vertex_position(c[2])) / 3.0);
+  }
+}
+
+// Grid fit: the nodes of the volumetric grid map (§3.4.2) as samples. Interior nodes of hexes
+// still folded after the untangling are no valid targets: a fold-free spline cannot pass
+// through them, so they are left to the fairing.
+void add_grid_samples(const param::CuboidSurfaceLocator& locator, const std::array<int, 3>& nodes,
+                      Mesh2SplineStats& stats, std::vector<Eigen::Vector3d>& sample_uvw,
+                      std::vector<Eigen::Vector3d>& sample_xyz) {
+  param::VolumetricGridOptions grid_options;
+  grid_options.nodes = nodes;
+  const param::VolumetricGridMap grid = param::compute_volumetric_grid_map(locator, grid_options);
+  stats.grid_inverted_hexes = grid.num_inverted_hexes;
+  stats.grid_min_scaled_jacobian = grid.min_scaled_jacobian;
+  std::vector<char> folded(grid.xyz.rows(), 0);
+  for (int k = 0; k + 1 < nodes[2] && grid.num_inverted_hexes > 0; ++k)
+    for (int j = 0; j + 1 < nodes[1]; ++j)
+      for (int i = 0; i + 1 < nodes[0]; ++i) {
+        std::array<Eigen::Vector3d, 8> corners;
+        std::array<int, 8> ids;
+        for (int c = 0; c < 8; ++c) {
+          ids[c] = param::grid_node_index(nodes, i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1));
+          corners[c] = grid.xyz.row(ids[c]).transpose();
+        }
+        if (mesh::hex_min_scaled_jacobian(corners) <= 0.0)
+          for (int id : ids) folded[id] = 1;
+      }
+  for (int k = 0; k < nodes[2]; ++k)
+    for (int j = 0; j < nodes[1]; ++j)
+      for (int i = 0; i < nodes[0]; ++i) {
+        const bool boundary = i == 0 || j == 0 || k == 0 || i == nodes[0] - 1 || j == nodes[1] - 1 || k == nodes[2] - 1;
+        if (folded[param::grid_node_index(nodes, i, j, k)] && !boundary) continue;
+        sample_uvw.emplace_back(double(i) / (nodes[0] - 1), double(j) / (nodes[1] - 1), double(k) / (nodes[2] - 1));
+        sample_xyz.push_back(grid.xyz.row(param::grid_node_index(nodes, i, j, k)).transpose());
+      }
+}
+
+// Meshless fit (§4.3.2): the boundary nodes of the same lattice, located on the surface map.
+void add_boundary_lattice_samples(const param::CuboidSurfaceLocator& locator, const std::array<int, 3>& nodes,
+                                  std::vector<Eigen::Vector3d>& sample_uvw, std::vector<Eigen::Vector3d>& sample_xyz) {
+  for (int face = 0; face < polycube::num_cube_faces; ++face) {
+    const int a = face / 2;
+    const int ns = nodes[(a + 1) % 3], nt = nodes[(a + 2) % 3];
+    for (int j = 0; j < nt; ++j)
+      for (int i = 0; i < ns; ++i) {
+        const double s = double(i) / (ns - 1), t = double(j) / (nt - 1);
+        sample_uvw.push_back(polycube::cube_face_point(face, s, t));
+        sample_xyz.push_back(locator.locate(face, s, t));
+      }
+  }
+}
+
+// The fit's rms_rel and max_rel from the per-sample errors.
+void set_fit_errors(const Eigen::VectorXd& errors, double diagonal, Mesh2SplineStats& stats) {
+  stats.rms_rel = rms(errors) / diagonal;
+  stats.max_rel = errors.size() ? errors.maxCoeff() / diagonal : 0.0;
+}
+
+// The boundary layer folds where refined boundary cells hold no interior samples (the grid is
+// coarser than the surface's concave detail): unfold it with the interior control points only,
+// so the boundary and its surface fit stay exactly as they are.
+void untangle_fit(spline::TSpline& ts, const Samples& samples, double diagonal, const Progress& progress,
+                  Mesh2SplineStats& stats) {
+  progress.report("untangle", 0.7);
+  // From here on the control points change only a few at a time (incremental cell updates)
+  // while the untangler and the measures evaluate whole lattices: per-cell polynomials pay.
+  ts.use_cell_polynomials();
+  // The untangler's passes report within the job's untangle share and honour cancellation.
+  const Progress untangle_progress([&progress](const std::string& stage, double fraction) {
+    progress.report(stage, 0.7 + 0.05 * fraction);
+    return true;
+  });
+  const spline::SplineUntangleResult untangled =
+      spline::untangle_spline(ts, samples.uvw, samples.xyz, {}, untangle_progress);
+  stats.negative_jacobian_fraction_fit = double(untangled.initial_negative) / untangled.scanned;
+  stats.untangled_control_points = untangled.free_functions;
+  if (untangled.free_functions > 0) set_fit_errors(sample_errors(ts, samples), diagonal, stats);
+}
+
+// Optional: the Gauss–Newton repair towards a minimum scaled Jacobian.
+void repair_fit(spline::TSpline& ts, const Samples& samples, double diagonal, const Mesh2SplineOptions& options,
+                const Progress& progress, Mesh2SplineStats& stats) {
+  progress.report("Jacobian repair", 0.7);
+  spline::JacobianRepairOptions repair_options;
+  repair_options.min_scaled_jacobian = options.min_scaled_jacobian;
+  const spline::JacobianRepairResult repair = spline::repair_jacobian(ts, repair_options);
+  if (options.untangle == Mesh2SplineOptions::Untangle::Off)
+    stats.negative_jacobian_fraction_fit = double(repair.initial_negative) / repair.points;
+  stats.repaired_control_points = repair.moved_points;
+  set_fit_errors(sample_errors(ts, samples), diagonal, stats);
+}
+
+// The measures of DESIGN.md (measure_mesh2spline) and the Bernstein certificate of det J on every
+// cell (DESIGN §6, the headline validity measure).
+void measure(const spline::TSpline& ts, const mesh::HalfedgeMesh& hm, const param::CuboidSurfaceMap& surface_map,
+             const spline::RefinementGrid& refinement, double diagonal, const Mesh2SplineOptions& options,
+             const Progress& progress, StageTimer& timer, Mesh2SplineStats& stats) {
+  progress.report("measures", 0.75);
+  Mesh2SplineMeasureOptions measure_options;
+  measure_options.surface_samples = options.measure_samples;
+  measure_options.seed = options.seed;
+  const Mesh2SplineMeasureResult measures =
+      measure_mesh2spline(ts, hm, surface_map.uvw, refinement, diagonal, measure_options);
+  stats.hausdorff_rel = measures.hausdorff_rel;
+  stats.rms_geo_rel = measures.rms_geo_rel;
+  stats.min_scaled_jacobian = measures.min_scaled_jacobian;
+  stats.negative_jacobian_fraction = measures.negative_jacobian_fraction;
+  stats.jacobian_samples = measures.jacobian_samples;
+  if (options.min_scaled_jacobian == 0.0 && options.untangle == Mesh2SplineOptions::Untangle::Off)
+    stats.negative_jacobian_fraction_fit = stats.negative_jacobian_fraction;
+  stats.semi_standard_max_error = measures.semi_standard_max_error;
+  timer.end_stage("measures");
+
+  progress.report("certificate", 0.8);
+  spline::JacobianCertificate certificate = spline::certify_jacobian(ts);
+  stats.jacobian_certified_fraction = certificate.jacobian_certified_fraction;
+  stats.det_j_lower_bound_rel = certificate.det_j_lower_bound_rel;
+  stats.certificate_cells = certificate.cells;
+  stats.uncertified_cells = std::move(certificate.uncertified);
+  timer.end_stage("certificate");
+}
+
+// The smallest uniform grid (same aspect as the cuboid) whose fit reaches the T-spline's rms:
+// doubling from initial_cells, then bisection (stats uniform_control_points, uniform_rms_rel).
+void compare_uniform(const Eigen::Vector3d& dims, const param::CuboidSurfaceLocator& locator, const Samples& samples,
+                     const Mesh2SplineOptions& options, int longest_nodes, double diagonal, Mesh2SplineStats& stats) {
+  auto uniform_rms = [&](int n, int* points) {
+    spline::TSpline u = uniform_tspline(cells_for(dims, n));
+    const Eigen::MatrixX3d p = greville_prior(u, locator);
+    u.set_points(p);
+    fit(u, samples, p, options, longest_nodes);
+    *points = u.num_functions();
+    return rms(sample_errors(u, samples)) / diagonal;
+  };
+  int lo_n = options.initial_cells, hi_n = -1, points = 0;
+  double hi_rms = 0.0;
+  for (int n = options.initial_cells; n <= 64; n *= 2) {
+    const double r = uniform_rms(n, &points);
+    if (r <= stats.rms_rel) {
+      hi_n = n;
+      hi_rms = r;
+      break;
+    }
+    lo_n = n;
+    if (points > 8 * options.max_control_points) break;
+  }
+  if (hi_n <= 0) return;
+  while (hi_n - lo_n > 1) {
+    const int mid = (lo_n + hi_n) / 2;
+    const double r = uniform_rms(mid, &points);
+    if (r <= stats.rms_rel) {
+      hi_n = mid;
+      hi_rms = r;
+    } else {
+      lo_n = mid;
+    }
+  }
+  stats.uniform_control_points = uniform_tspline(cells_for(dims, hi_n)).num_functions();
+  stats.uniform_rms_rel = hi_rms;
+}
+
+}  // namespace
+
+Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::string& name,
+                                  const Mesh2SplineOptions& options, const Progress& progress) {
+  check_options(options);
+  Mesh2SplineStats stats;
+  StageTimer timer(stats.times_s);
+
+  progress.report("validate", 0.0);
+  // Every stage works in a unit box (centred, longest side in [0.5, 1)): absolute tolerances
+  // then mean the same for any position and unit; the spline is mapped back at the end.
+  const mesh::UnitBox box = mesh::unit_box_of(input, name);
+  const mesh::HalfedgeMesh hm = validated_mesh(box.to_unit(input), name);
+  const double diagonal = bbox_diagonal(hm, name);
+  timer.end_stage("validate");
 
   progress.report("cuboid layout", 0.05);
   polycube::CuboidLayoutOptions layout_options;
@@ -380,24 +575,9 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
   const polycube::CuboidLayout layout = polycube::compute_cuboid_layout(hm, layout_options);
   std::copy(layout.corners.begin(), layout.corners.end(), stats.corners.begin());
   stats.min_corner_distance_rel = layout.min_corner_distance_rel;
-  Eigen::Vector3d dims = Eigen::Vector3d::Zero();  // mean poly-edge length per cuboid axis
-  for (int e = 0; e < polycube::num_cube_edges; ++e) {
-    const auto& path = layout.poly_edges[e];
-    for (std::size_t i = 0; i + 1 < path.size(); ++i)
-      dims(e / 4) += 0.25 * (hm.vertex_position(path[i + 1]) - hm.vertex_position(path[i])).norm();
-  }
-  dims = dims.cwiseMax(1e-3 * dims.maxCoeff());
-  // Level 0 alone must fit the control point budget; checked before the volumetric grid (which
-  // grows with initial_cells³) is allocated.
-  {
-    const std::array<int, 3> level0 = cells_for(dims, options.initial_cells);
-    const long long level0_points = (level0[0] + 3LL) * (level0[1] + 3LL) * (level0[2] + 3LL);
-    if (level0_points > options.max_control_points)
-      throw Error("mesh '" + name + "': `initial_cells` = " + std::to_string(options.initial_cells) + " gives " +
-                  std::to_string(level0_points) + " control points at level 0, above `max_control_points` = " +
-                  std::to_string(options.max_control_points));
-  }
-  lap("layout");
+  const Eigen::Vector3d dims = cuboid_dims(hm, layout);
+  check_level0_budget(dims, options, name);
+  timer.end_stage("layout");
 
   progress.report("surface map", 0.1);
   param::CuboidSurfaceMapOptions map_options;
@@ -409,7 +589,7 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
   const param::CuboidSurfaceMap surface_map = param::compute_cuboid_surface_map(hm, layout, map_options);
   stats.flipped_triangles = surface_map.num_flipped;
   const param::CuboidSurfaceLocator locator(hm, surface_map);
-  lap("surface_map");
+  timer.end_stage("surface_map");
 
   // Samples: mesh vertices at their surface parameters, the lattice of the volumetric grid
   // (all nodes for the grid fit, boundary nodes for the meshless fit).
@@ -419,188 +599,42 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
   for (int a = 0; a < 3; ++a)
     nodes[a] = std::max(5, static_cast<int>(std::lround((longest_nodes - 1) * dims(a) / dims.maxCoeff())) + 1);
   std::vector<Eigen::Vector3d> sample_uvw, sample_xyz;
-  for (int v = 0; v < hm.num_vertices(); ++v) {
-    if (hm.vertex_halfedge(v) == mesh::no_id) continue;
-    sample_uvw.push_back(surface_map.uvw.row(v).transpose());
-    sample_xyz.push_back(hm.vertex_position(v));
-  }
-  // Face centroids too: they pin the spline between the vertices of coarse meshes. Dense meshes
-  // need none (their vertices already sample every spline cell), and each sample costs
-  // (overlapping functions)² in the normal equations.
-  const bool add_centroids = static_cast<int>(sample_uvw.size()) < kDenseMeshVertices;
-  for (int f = 0; add_centroids && f < hm.num_faces(); ++f) {
-    const auto c = hm.face_vertices(f);
-    sample_uvw.push_back((surface_map.uvw.row(c[0]) + surface_map.uvw.row(c[1]) + surface_map.uvw.row(c[2])).transpose() / 3.0);
-    sample_xyz.push_back((hm.vertex_position(c[0]) + hm.vertex_position(c[1]) + hm.vertex_position(c[2])) / 3.0);
-  }
-  if (options.fit == Mesh2SplineFit::Grid) {
-    param::VolumetricGridOptions grid_options;
-    grid_options.nodes = nodes;
-    const param::VolumetricGridMap grid = param::compute_volumetric_grid_map(locator, grid_options);
-    stats.grid_inverted_hexes = grid.num_inverted_hexes;
-    stats.grid_min_scaled_jacobian = grid.min_scaled_jacobian;
-    // Interior nodes of hexes still folded after the untangling are no valid targets: a
-    // fold-free spline cannot pass through them, so they are left to the fairing.
-    std::vector<char> folded(grid.xyz.rows(), 0);
-    for (int k = 0; k + 1 < nodes[2] && grid.num_inverted_hexes > 0; ++k)
-      for (int j = 0; j + 1 < nodes[1]; ++j)
-        for (int i = 0; i + 1 < nodes[0]; ++i) {
-          std::array<Eigen::Vector3d, 8> corners;
-          std::array<int, 8> ids;
-          for (int c = 0; c < 8; ++c) {
-            ids[c] = param::grid_node_index(nodes, i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1));
-            corners[c] = grid.xyz.row(ids[c]).transpose();
-          }
-          if (mesh::hex_min_scaled_jacobian(corners) <= 0.0)
-            for (int id : ids) folded[id] = 1;
-        }
-    for (int k = 0; k < nodes[2]; ++k)
-      for (int j = 0; j < nodes[1]; ++j)
-        for (int i = 0; i < nodes[0]; ++i) {
-          const bool boundary = i == 0 || j == 0 || k == 0 || i == nodes[0] - 1 || j == nodes[1] - 1 || k == nodes[2] - 1;
-          if (folded[param::grid_node_index(nodes, i, j, k)] && !boundary) continue;
-          sample_uvw.emplace_back(double(i) / (nodes[0] - 1), double(j) / (nodes[1] - 1), double(k) / (nodes[2] - 1));
-          sample_xyz.push_back(grid.xyz.row(param::grid_node_index(nodes, i, j, k)).transpose());
-        }
-  } else {
-    for (int face = 0; face < polycube::num_cube_faces; ++face) {
-      const int a = face / 2;
-      const int ns = nodes[(a + 1) % 3], nt = nodes[(a + 2) % 3];
-      for (int j = 0; j < nt; ++j)
-        for (int i = 0; i < ns; ++i) {
-          const double s = double(i) / (ns - 1), t = double(j) / (nt - 1);
-          sample_uvw.push_back(polycube::cube_face_point(face, s, t));
-          sample_xyz.push_back(locator.locate(face, s, t));
-        }
-    }
-  }
+  add_mesh_samples(hm, surface_map, sample_uvw, sample_xyz);
+  if (options.fit == Mesh2SplineFit::Grid)
+    add_grid_samples(locator, nodes, stats, sample_uvw, sample_xyz);
+  else
+    add_boundary_lattice_samples(locator, nodes, sample_uvw, sample_xyz);
   // §4.3.1 boundary restricted control grid, refined by run_hierarchical_fitting below.
   const std::array<int, 3> cells = cells_for(dims, options.initial_cells);
   spline::RefinementGrid refinement(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), cells);
   for (int leaf : refinement.leaves())
     add_cell_surface_samples(locator, refinement.cell_min(leaf), refinement.cell_max(leaf), 2, sample_uvw, sample_xyz);
-  lap("volumetric_map");
+  timer.end_stage("volumetric_map");
 
   progress.report("fit", 0.3);
   SolidFit solid(uniform_tspline(cells), std::move(refinement), locator, options, longest_nodes, diagonal,
-                 std::move(sample_uvw), std::move(sample_xyz), stats, lap, progress);
+                 std::move(sample_uvw), std::move(sample_xyz), stats, timer, progress);
   spline::run_hierarchical_fitting(solid, solid);
   spline::TSpline ts = std::move(solid.ts);
   refinement = std::move(solid.refinement);
-  Samples samples = std::move(solid.samples);
-  Eigen::VectorXd errors = std::move(solid.errors);
+  const Samples samples = std::move(solid.samples);
   stats.control_points = ts.num_functions();
   stats.samples = static_cast<int>(samples.uvw.rows());
-  stats.rms_rel = rms(errors) / diagonal;
-  stats.max_rel = errors.size() ? errors.maxCoeff() / diagonal : 0.0;
+  set_fit_errors(solid.errors, diagonal, stats);
 
-  // The boundary layer folds where refined boundary cells hold no interior samples (the grid
-  // is coarser than the surface's concave detail): unfold it with the interior control points
-  // only, so the boundary and its surface fit stay exactly as they are.
-  if (options.untangle) {
-    progress.report("untangle", 0.7);
-    // From here on the control points change only a few at a time (incremental cell updates)
-    // while the untangler and the measures evaluate whole lattices: per-cell polynomials pay.
-    ts.use_cell_polynomials();
-    // The untangler's passes report within the job's untangle share and honour cancellation.
-    const Progress untangle_progress([&progress](const std::string& stage, double fraction) {
-      progress.report(stage, 0.7 + 0.05 * fraction);
-      return true;
-    });
-    const spline::SplineUntangleReport untangled =
-        spline::untangle_spline(ts, samples.uvw, samples.xyz, {}, untangle_progress);
-    stats.negative_jacobian_fraction_fit = double(untangled.initial_negative) / untangled.scanned;
-    stats.untangled_control_points = untangled.free_functions;
-    if (untangled.free_functions > 0) {
-      errors = sample_errors(ts, samples);
-      stats.rms_rel = rms(errors) / diagonal;
-      stats.max_rel = errors.size() ? errors.maxCoeff() / diagonal : 0.0;
-    }
-    lap("untangle");
+  if (options.untangle == Mesh2SplineOptions::Untangle::On) {
+    untangle_fit(ts, samples, diagonal, progress, stats);
+    timer.end_stage("untangle");
   }
-
-  // Optional: the Gauss–Newton repair towards a minimum scaled Jacobian.
   if (options.min_scaled_jacobian > 0.0) {
-    progress.report("Jacobian repair", 0.7);
-    spline::JacobianRepairOptions repair_options;
-    repair_options.min_scaled_jacobian = options.min_scaled_jacobian;
-    const spline::JacobianRepairReport repair = spline::repair_jacobian(ts, repair_options);
-    if (!options.untangle) stats.negative_jacobian_fraction_fit = double(repair.initial_negative) / repair.points;
-    stats.repaired_control_points = repair.moved_points;
-    errors = sample_errors(ts, samples);
-    stats.rms_rel = rms(errors) / diagonal;
-    stats.max_rel = errors.size() ? errors.maxCoeff() / diagonal : 0.0;
-    lap("jacobian_repair");
+    repair_fit(ts, samples, diagonal, options, progress, stats);
+    timer.end_stage("jacobian_repair");
   }
-
-  // Measures.
-  progress.report("measures", 0.75);
-  {
-    Mesh2SplineMeasureOptions measure_options;
-    measure_options.surface_samples = options.measure_samples;
-    measure_options.seed = options.seed;
-    const Mesh2SplineMeasures measures =
-        measure_mesh2spline(ts, hm, surface_map.uvw, refinement, diagonal, measure_options);
-    stats.hausdorff_rel = measures.hausdorff_rel;
-    stats.rms_geo_rel = measures.rms_geo_rel;
-    stats.min_scaled_jacobian = measures.min_scaled_jacobian;
-    stats.negative_jacobian_fraction = measures.negative_jacobian_fraction;
-    stats.jacobian_samples = measures.jacobian_samples;
-    if (options.min_scaled_jacobian == 0.0 && !options.untangle)
-      stats.negative_jacobian_fraction_fit = stats.negative_jacobian_fraction;
-    stats.semi_standard_max_error = measures.semi_standard_max_error;
-  }
-  lap("measures");
-
-  // DESIGN §6: the Bernstein certificate of det J on every cell (the headline validity measure).
-  progress.report("certificate", 0.8);
-  {
-    spline::JacobianCertificate certificate = spline::certify_jacobian(ts);
-    stats.jacobian_certified_fraction = certificate.jacobian_certified_fraction;
-    stats.det_j_lower_bound_rel = certificate.det_j_lower_bound_rel;
-    stats.certificate_cells = certificate.cells;
-    stats.uncertified_cells = std::move(certificate.uncertified);
-  }
-  lap("certificate");
-
-  if (options.compare_uniform) {
+  measure(ts, hm, surface_map, refinement, diagonal, options, progress, timer, stats);
+  if (options.compare_uniform == Mesh2SplineOptions::CompareUniform::On) {
     progress.report("uniform comparison", 0.85);
-    // Smallest uniform grid (same aspect as the cuboid) whose fit reaches the T-spline's rms.
-    auto uniform_rms = [&](int n, int* points) {
-      spline::TSpline u = uniform_tspline(cells_for(dims, n));
-      const Eigen::MatrixX3d p = greville_prior(u, locator);
-      u.set_points(p);
-      fit(u, samples, p, options, longest_nodes);
-      *points = u.num_functions();
-      return rms(sample_errors(u, samples)) / diagonal;
-    };
-    int lo_n = options.initial_cells, hi_n = -1, points = 0;
-    double hi_rms = 0.0;
-    for (int n = options.initial_cells; n <= 64; n *= 2) {
-      const double r = uniform_rms(n, &points);
-      if (r <= stats.rms_rel) {
-        hi_n = n;
-        hi_rms = r;
-        break;
-      }
-      lo_n = n;
-      if (points > 8 * options.max_control_points) break;
-    }
-    if (hi_n > 0) {
-      while (hi_n - lo_n > 1) {
-        const int mid = (lo_n + hi_n) / 2;
-        const double r = uniform_rms(mid, &points);
-        if (r <= stats.rms_rel) {
-          hi_n = mid;
-          hi_rms = r;
-        } else {
-          lo_n = mid;
-        }
-      }
-      stats.uniform_control_points = uniform_tspline(cells_for(dims, hi_n)).num_functions();
-      stats.uniform_rms_rel = hi_rms;
-    }
-    lap("uniform_comparison");
+    compare_uniform(dims, locator, samples, options, longest_nodes, diagonal, stats);
+    timer.end_stage("uniform_comparison");
   }
   ts.set_points(box.from_unit_points(ts.points()));
   progress.report("done", 1.0);

@@ -43,10 +43,10 @@ struct Mesh2SplineOptions {
   double min_scaled_jacobian = 0.0;
   /// Unfold the fitted spline near its folds with the interior control points (spline::
   /// untangle_spline; the boundary stays, so the surface fit is untouched). Off = the thesis's fit.
-  bool untangle = true;
-  int threads = 1;                  ///< accepted for the CLI; the job runs on one thread, ≥ 1
+  enum class Untangle { Off, On } untangle = Untangle::On;
   std::uint64_t seed = 1;           ///< seeds the random parameters of semi_standard_max_error
-  bool compare_uniform = false;     ///< also fit uniform tensor B-splines to the same rms_rel
+  /// Also fit uniform tensor B-splines to the same rms_rel (stats uniform_control_points).
+  enum class CompareUniform { Off, On } compare_uniform = CompareUniform::Off;
   int measure_samples = 48;         ///< per axis per cuboid face for the surface distance, [8, 512]
 };
 

@@ -93,12 +93,12 @@ double surface_projection_distance(const spline::TSpline& spline, Eigen::Vector3
   return best;
 }
 
-Mesh2SplineMeasures measure_mesh2spline(const spline::TSpline& spline, const mesh::HalfedgeMesh& mesh,
+Mesh2SplineMeasureResult measure_mesh2spline(const spline::TSpline& spline, const mesh::HalfedgeMesh& mesh,
                                         const mesh::Positions& vertex_uvw,
                                         const spline::RefinementGrid& refinement, double diagonal,
                                         const Mesh2SplineMeasureOptions& options) {
   check_options(options);
-  Mesh2SplineMeasures measures;
+  Mesh2SplineMeasureResult measures;
   const int m = options.surface_samples;
   const mesh::TriangleMesh boundary = boundary_lattice(spline, m);
   const param::SurfaceDistance to_mesh(mesh.to_triangle_mesh());

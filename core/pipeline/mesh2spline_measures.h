@@ -31,7 +31,7 @@ struct Mesh2SplineMeasureOptions {
 };
 
 /// The spline-quality measures of DESIGN.md for one cuboid.
-struct Mesh2SplineMeasures {
+struct Mesh2SplineMeasureResult {
   double hausdorff_rel = 0;             ///< two-sided spline boundary ↔ mesh distance / diagonal
   double rms_geo_rel = 0;               ///< RMS of the lattice and vertex distances / diagonal
   double min_scaled_jacobian = 1;       ///< at the Gauss points of every knot-line cell
@@ -55,7 +55,7 @@ struct Mesh2SplineMeasures {
 /// Inputs: spline with D = 3 and domain [0,1]³; mesh with at least one face; vertex_uvw n×3
 /// (one row per mesh vertex, on the boundary of [0,1]³ for vertices with a halfedge).
 /// Throws volspline::Error on bad options.
-Mesh2SplineMeasures measure_mesh2spline(const spline::TSpline& spline, const mesh::HalfedgeMesh& mesh,
+Mesh2SplineMeasureResult measure_mesh2spline(const spline::TSpline& spline, const mesh::HalfedgeMesh& mesh,
                                         const mesh::Positions& vertex_uvw,
                                         const spline::RefinementGrid& refinement, double diagonal,
                                         const Mesh2SplineMeasureOptions& options);

@@ -2,7 +2,6 @@
 #include "core/pipeline/vol2spline_job.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <string>
 
@@ -10,6 +9,7 @@
 
 #include "core/common/error.h"
 #include "core/mesh/hex_quality.h"
+#include "core/pipeline/stage_timer.h"
 #include "core/spline/scattered_density_fitting.h"
 #include "core/volume/corner_detection.h"
 #include "core/volume/field_aligned_param.h"
@@ -22,20 +22,6 @@ namespace volspline::pipeline {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-class StageTimer {
- public:
-  explicit StageTimer(std::vector<std::pair<std::string, double>>& times) : times_(times) {}
-  void lap(const std::string& stage) {
-    const auto now = std::chrono::steady_clock::now();
-    times_.push_back({stage, std::chrono::duration<double>(now - last_).count()});
-    last_ = now;
-  }
-
- private:
-  std::vector<std::pair<std::string, double>>& times_;
-  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
-};
 
 void check_options(const Vol2SplineOptions& o) {
   if (!(o.max_rms_rel > 0.0) || !std::isfinite(o.max_rms_rel)) throw Error("vol2spline: max_rms_rel must be > 0");
@@ -84,7 +70,7 @@ Vol2SplineResult run_vol2spline(const volume::Volume& volume, const std::string&
   stats.voxels = volume.num_voxels();
   StageTimer timer(stats.times_s);
   const bool aligned = options.param == Vol2SplineParam::Aligned;
-  const bool frames = aligned || options.compute_frames;
+  const bool frames = aligned || options.compute_frames == Vol2SplineOptions::ComputeFrames::On;
   volume::FrameField smoothed;
   Eigen::MatrixX3d uvw;
   if (frames) {
@@ -94,10 +80,10 @@ Vol2SplineResult run_vol2spline(const volume::Volume& volume, const std::string&
     volume::LocalCubicFitOptions cubic;
     cubic.threads = options.threads;
     const volume::LocalCubicFit fit = volume::fit_local_cubics(volume, cubic, progress);
-    timer.lap("local_cubic_fit");
+    timer.end_stage("local_cubic_fit");
     progress.report("hessian frames", 0.0);
     volume::FrameField initial{volume.nx, volume.ny, volume.nz, volume::hessian_frames(fit.hessian, options.threads)};
-    timer.lap("hessian_frames");
+    timer.end_stage("hessian_frames");
     progress.report("classification", 0.0);
     volume::ClassificationOptions classification;
     classification.clusters = options.clusters;
@@ -105,7 +91,7 @@ Vol2SplineResult run_vol2spline(const volume::Volume& volume, const std::string&
     const volume::MaterialClassification classes = volume::classify_materials(volume, fit, classification);
     stats.clusters = classes.num_clusters;
     stats.constraints = static_cast<int>(classes.constraints.size());
-    timer.lap("classification");
+    timer.end_stage("classification");
     volume::FrameSmoothingOptions smoothing;
     smoothing.active = volume::foreground_mask(classes, 2);
     smoothing.threads = options.threads;
@@ -117,7 +103,7 @@ Vol2SplineResult run_vol2spline(const volume::Volume& volume, const std::string&
     stats.frame_iterations = smooth.iterations;
     stats.constraint_angle_max_deg = smooth.max_constraint_angle_rad * 180.0 / kPi;
     smoothed = smooth.field;
-    timer.lap("frame_smoothing");
+    timer.end_stage("frame_smoothing");
     if (aligned) {
       progress.report("parameterization", 0.0);
       volume::FieldAlignedOptions param;
@@ -134,7 +120,7 @@ Vol2SplineResult run_vol2spline(const volume::Volume& volume, const std::string&
       stats.param_min_jacobian = map.min_jacobian;
       stats.param_inverted_cells = map.inverted_cells;
       uvw = map.uvw;
-      timer.lap("parameterization");
+      timer.end_stage("parameterization");
     }
   }
   progress.report("fit", 0.0);
@@ -187,7 +173,7 @@ Vol2SplineResult run_vol2spline(const volume::Volume& volume, const std::string&
   };
   spline::TSpline result_spline = build();
   levels = static_cast<int>(curve.size()) - 1;
-  timer.lap("fit");
+  timer.end_stage("fit");
   stats.density_rms_rel = error.rms_rel;
   stats.density_max_rel = error.max_rel;
   stats.control_points = result_spline.num_functions();
@@ -204,7 +190,7 @@ Vol2SplineResult run_vol2spline(const volume::Volume& volume, const std::string&
       points.row(i).head<3>() = volume.world_from_grid(points.row(i).head<3>().transpose()).transpose();
     result_spline.set_points(std::move(points));
   }
-  timer.lap("measures");
+  timer.end_stage("measures");
   progress.report("fit", 1.0);
   return {std::move(result_spline), std::move(stats), std::move(reconstruction), std::move(smoothed), std::move(uvw)};
 }

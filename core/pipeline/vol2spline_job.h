@@ -31,7 +31,7 @@ struct Vol2SplineOptions {
   double min_gain_rate = 0.25;      ///< stop after a level with ln(rms ratio)/ln(control point ratio) below this, ≥ 0 (0 = off); spline::AdaptiveDensityOptions
   int initial_cells = 0;            ///< level-0 cells along the longest axis; 0 = automatic (longest/8)
   Vol2SplineParam param = Vol2SplineParam::Identity;
-  bool compute_frames = false;      ///< identity: also run the frame stages (aligned always does)
+  enum class ComputeFrames { Off, On } compute_frames = ComputeFrames::Off;  ///< identity: also run the frame stages (aligned always does)
   int clusters = 0;                 ///< k-means clusters, 0 = automatic, else [2, 16]
   double iso = std::numeric_limits<double>::quiet_NaN();  ///< if finite: threshold classification at this sample value
   std::vector<std::size_t> corners; ///< corner voxel ids (flat x + nx(y + ny z)); empty = automatic

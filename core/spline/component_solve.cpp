@@ -9,7 +9,7 @@
 
 namespace volspline::spline {
 
-ComponentSolveReport solve_normal_equations(linalg::CsrMatrix gram, const Eigen::MatrixXd& rhs, Eigen::MatrixXd& x,
+ComponentSolveResult solve_normal_equations(linalg::CsrMatrix gram, const Eigen::MatrixXd& rhs, Eigen::MatrixXd& x,
                                             double tolerance, int max_iterations, int threads) {
   assert(rhs.rows() == gram.rows() && x.rows() == rhs.rows() && x.cols() == rhs.cols());
   linalg::ConjugateGradient<SparsifiedCholesky> cg;
@@ -22,13 +22,13 @@ ComponentSolveReport solve_normal_equations(linalg::CsrMatrix gram, const Eigen:
   return {cg.iterations(), cg.info() == linalg::SolverInfo::Success};
 }
 
-ComponentSolveReport solve_components(TSpline& spline, linalg::CsrMatrix gram, const Eigen::MatrixXd& rhs,
+ComponentSolveResult solve_components(TSpline& spline, linalg::CsrMatrix gram, const Eigen::MatrixXd& rhs,
                                       const std::vector<int>& components, double tolerance, int max_iterations) {
   const int k = static_cast<int>(components.size());
   assert(rhs.cols() == k && rhs.rows() == spline.num_functions());
   Eigen::MatrixXd x(rhs.rows(), k);
   for (int c = 0; c < k; ++c) x.col(c) = spline.points().col(components[c]);
-  const ComponentSolveReport report = solve_normal_equations(std::move(gram), rhs, x, tolerance, max_iterations);
+  const ComponentSolveResult result = solve_normal_equations(std::move(gram), rhs, x, tolerance, max_iterations);
   Eigen::MatrixXd points = spline.points();
   for (int c = 0; c < k; ++c) points.col(components[c]) = x.col(c);
   // Per-cell polynomials would be rebuilt for the new points; the function lists are cheaper.
@@ -36,7 +36,7 @@ ComponentSolveReport solve_components(TSpline& spline, linalg::CsrMatrix gram, c
     spline = TSpline(spline.knots(), spline.weights(), std::move(points), TSplineAcceleration::FunctionLists);
   else
     spline.set_points(std::move(points));
-  return report;
+  return result;
 }
 
 }  // namespace volspline::spline

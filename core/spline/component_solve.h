@@ -8,7 +8,7 @@
 namespace volspline::spline {
 
 /// Outcome of solve_components.
-struct ComponentSolveReport {
+struct ComponentSolveResult {
   int cg_iterations = 0;
   bool converged = false;
 };
@@ -19,13 +19,13 @@ struct ComponentSolveReport {
 /// consumed: it is released once CG has copied it, which keeps the peak memory at one matrix.
 /// threads (≥ 1): for the CG's matrix products; the result is the same for every count.
 /// Precondition: x0 and rhs have gram.rows() rows and the same columns.
-ComponentSolveReport solve_normal_equations(linalg::CsrMatrix gram, const Eigen::MatrixXd& rhs, Eigen::MatrixXd& x,
+ComponentSolveResult solve_normal_equations(linalg::CsrMatrix gram, const Eigen::MatrixXd& rhs, Eigen::MatrixXd& x,
                                             double tolerance, int max_iterations, int threads = 1);
 
 /// solve_normal_equations warm-started from the spline's control-point components (n =
 /// num_functions()), writing column c of the solution into component components[c] of every
 /// control point. Precondition: components.size() == rhs.cols().
-ComponentSolveReport solve_components(TSpline& spline, linalg::CsrMatrix gram, const Eigen::MatrixXd& rhs,
+ComponentSolveResult solve_components(TSpline& spline, linalg::CsrMatrix gram, const Eigen::MatrixXd& rhs,
                                       const std::vector<int>& components, double tolerance, int max_iterations);
 
 }  // namespace volspline::spline

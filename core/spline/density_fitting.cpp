@@ -354,7 +354,7 @@ namespace {
 
 // Least-squares fit of columns components[c] of functions.points to targets[c] (fit_tspline_to_grid on
 // plain arrays); supports are those of the functions.
-GridFitReport fit_functions_to_grid(RefinementGrid::Functions& functions, const Supports& s,
+GridFitResult fit_functions_to_grid(RefinementGrid::Functions& functions, const Supports& s,
                                     const std::array<int, 3>& dims, const std::vector<int>& components,
                                     const std::vector<const std::vector<double>*>& targets,
                                     const GridFitOptions& options) {
@@ -373,10 +373,10 @@ GridFitReport fit_functions_to_grid(RefinementGrid::Functions& functions, const 
         rhs(i, c) = (s.empty(i) ? 0.0 : project(s, i, *targets[c], dims)) + ridge[i] * x(i, c);
     });
   }
-  GridFitReport report;
+  GridFitResult report;
   report.unknowns = n;
   report.normal_nonzeros = 2LL * gram.nnz() - n;  // both triangles
-  const ComponentSolveReport solve =
+  const ComponentSolveResult solve =
       solve_normal_equations(std::move(gram), rhs, x, options.tolerance, options.max_iterations, threads);
   for (int c = 0; c < k; ++c) functions.points.col(components[c]) = x.col(c);
   report.cg_iterations = solve.cg_iterations;
@@ -386,13 +386,13 @@ GridFitReport fit_functions_to_grid(RefinementGrid::Functions& functions, const 
 
 }  // namespace
 
-GridFitReport fit_tspline_to_grid(TSpline& spline, const std::array<int, 3>& dims,
+GridFitResult fit_tspline_to_grid(TSpline& spline, const std::array<int, 3>& dims,
                                   const std::vector<int>& components,
                                   const std::vector<const std::vector<double>*>& targets,
                                   const GridFitOptions& options) {
   RefinementGrid::Functions functions{spline.knots(), spline.weights(), spline.points()};
   const Supports s = compute_supports(functions.knots, functions.weights, spline.domain_max(), dims);
-  const GridFitReport report = fit_functions_to_grid(functions, s, dims, components, targets, options);
+  const GridFitResult report = fit_functions_to_grid(functions, s, dims, components, targets, options);
   if (spline.has_cell_polynomials())
     spline = TSpline(spline.knots(), spline.weights(), std::move(functions.points), TSplineAcceleration::FunctionLists);
   else
@@ -419,7 +419,7 @@ class DensityGridFit final : public HierarchicalFit, public BudgetedBulkMarking 
 
   void fit(int) override {
     const Supports s = compute_supports(current.knots, current.weights, hi_, samples_.dims);
-    const GridFitReport report = fit_functions_to_grid(current, s, samples_.dims, {0}, {&samples_.values}, options_.fit);
+    const GridFitResult report = fit_functions_to_grid(current, s, samples_.dims, {0}, {&samples_.values}, options_.fit);
     recon = accumulate(s, current.points.col(0), samples_.dims, options_.fit.threads);
     error = grid_error(samples_, recon);
     levels.push_back({num_control_points(), error.rms_rel, error.max_rel, report.cg_iterations, grid.num_leaves()});

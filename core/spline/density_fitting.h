@@ -55,7 +55,7 @@ struct GridFitOptions {
 };
 
 /// Outcome of fit_tspline_to_grid.
-struct GridFitReport {
+struct GridFitResult {
   int unknowns = 0;
   int cg_iterations = 0;
   bool converged = false;
@@ -71,7 +71,7 @@ struct GridFitReport {
 /// warm-started from the current control points. Parameters outside the spline's domain are
 /// not sampled. A spline with cell polynomials is rebuilt with TSplineAcceleration::FunctionLists.
 /// Precondition: the domain contains [0, n_a − 1]; targets sizes match dims.
-GridFitReport fit_tspline_to_grid(TSpline& spline, const std::array<int, 3>& dims,
+GridFitResult fit_tspline_to_grid(TSpline& spline, const std::array<int, 3>& dims,
                                   const std::vector<int>& components,
                                   const std::vector<const std::vector<double>*>& targets,
                                   const GridFitOptions& options = {});

@@ -48,7 +48,7 @@ PointState evaluate_points(const TSpline& spline, const std::vector<Eigen::Vecto
 
 }  // namespace
 
-JacobianRepairReport repair_jacobian(TSpline& result, const JacobianRepairOptions& options) {
+JacobianRepairResult repair_jacobian(TSpline& result, const JacobianRepairOptions& options) {
   assert(result.dimension() == 3);
   // Function lists: changing the control points then costs nothing, while per-cell polynomials
   // would be rebuilt for every trial step.
@@ -57,12 +57,12 @@ JacobianRepairReport repair_jacobian(TSpline& result, const JacobianRepairOption
   const double tau = options.min_scaled_jacobian;
   const Eigen::Vector3d lo = spline.domain_min(), hi = spline.domain_max();
   std::vector<Eigen::Vector3d> points;
-  const int l = options.lattice;
-  for (int k = 1; k < l; ++k)
-    for (int j = 1; j < l; ++j)
-      for (int i = 1; i < l; ++i)
-        points.push_back(lo + (hi - lo).cwiseProduct(Eigen::Vector3d(i, j, k) / l));
-  JacobianRepairReport report;
+  const int lattice = options.lattice;
+  for (int k = 1; k < lattice; ++k)
+    for (int j = 1; j < lattice; ++j)
+      for (int i = 1; i < lattice; ++i)
+        points.push_back(lo + (hi - lo).cwiseProduct(Eigen::Vector3d(i, j, k) / lattice));
+  JacobianRepairResult report;
   report.points = static_cast<int>(points.size());
   std::vector<double> target(points.size()), scale(points.size());
   {

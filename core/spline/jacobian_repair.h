@@ -20,7 +20,7 @@ struct JacobianRepairOptions {
 };
 
 /// Outcome of repair_jacobian.
-struct JacobianRepairReport {
+struct JacobianRepairResult {
   int points = 0;             ///< lattice points checked
   int initial_negative = 0;   ///< points with det J ≤ 0 before
   int final_negative = 0;     ///< and after
@@ -41,6 +41,6 @@ struct JacobianRepairReport {
 /// kept only if the penalty drops (else halved, at most 4 times).
 /// Points where no interior control point acts (det J fixed by the boundary alone) cannot
 /// change and stay as they are. Precondition: dimension() == 3.
-JacobianRepairReport repair_jacobian(TSpline& spline, const JacobianRepairOptions& options = {});
+JacobianRepairResult repair_jacobian(TSpline& spline, const JacobianRepairOptions& options = {});
 
 }  // namespace volspline::spline

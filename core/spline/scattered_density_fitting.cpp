@@ -334,7 +334,7 @@ class ScatteredDensityFit final : public HierarchicalFit, public BudgetedBulkMar
 
 }  // namespace
 
-ScatteredFitReport fit_tspline_scattered(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixXd& targets,
+ScatteredFitResult fit_tspline_scattered(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixXd& targets,
                                          const std::vector<int>& components, const GridFitOptions& options) {
   assert(targets.rows() == uvw.rows() && targets.cols() == static_cast<Eigen::Index>(components.size()));
   NormalEquations eq = assemble_normal_equations(spline, uvw, targets, options.regularization, std::max(1, options.threads));
@@ -343,10 +343,10 @@ ScatteredFitReport fit_tspline_scattered(TSpline& spline, const Eigen::MatrixX3d
   Eigen::MatrixXd x0(n, k);
   for (int c = 0; c < k; ++c) x0.col(c) = spline.points().col(components[c]);
   eq.rhs += eq.ridge.asDiagonal() * x0;
-  ScatteredFitReport report;
+  ScatteredFitResult report;
   report.unknowns = n;
   report.normal_nonzeros = 2LL * eq.gram.nnz() - n;  // both triangles
-  const ComponentSolveReport solve =
+  const ComponentSolveResult solve =
       solve_components(spline, std::move(eq.gram), eq.rhs, components, options.tolerance, options.max_iterations);
   report.cg_iterations = solve.cg_iterations;
   report.converged = solve.converged;

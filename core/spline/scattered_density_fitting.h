@@ -14,7 +14,7 @@
 namespace volspline::spline {
 
 /// Outcome of fit_tspline_scattered.
-struct ScatteredFitReport {
+struct ScatteredFitResult {
   int unknowns = 0;
   int cg_iterations = 0;
   bool converged = false;
@@ -30,7 +30,7 @@ struct ScatteredFitReport {
 /// `regularization` × each diagonal entry (the mean one for an empty row) towards them.
 /// A spline with cell polynomials is rebuilt with TSplineAcceleration::FunctionLists.
 /// Preconditions: targets has m rows and components.size() columns; uvw inside the domain.
-ScatteredFitReport fit_tspline_scattered(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixXd& targets,
+ScatteredFitResult fit_tspline_scattered(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixXd& targets,
                                          const std::vector<int>& components, const GridFitOptions& options = {});
 
 /// Result of fit_scattered_adaptive.

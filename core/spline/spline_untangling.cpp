@@ -98,7 +98,7 @@ std::vector<Eigen::Vector3d> bad_lattice_points(const TSpline& spline, const std
 
 }  // namespace
 
-SplineUntangleReport untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
+SplineUntangleResult untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
                                      const SplineUntangleOptions& options, const Progress& progress) {
   assert(spline.dimension() == 3 && uvw.rows() == xyz.rows());
   assert(options.lattice >= 4 && options.seed_stride >= 1 && options.rings >= 0 && options.max_support_steps >= 4);
@@ -109,14 +109,14 @@ SplineUntangleReport untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uv
   assert(options.polish_rounds >= 0 && options.polish_max_per_axis >= 2);
   assert(std::all_of(options.boundary_layers.begin(), options.boundary_layers.end(),
                      [](double d) { return d >= 0.0 && d < 1.0; }));
-  SplineUntangleReport total;
+  SplineUntangleResult total;
   detail::NodeCache cache;  // node Jacobians from one pass to the next
   SplineUntangleOptions pass_options = options;
   std::vector<Eigen::Vector3d> extra;
   const double steps = options.passes + options.polish_rounds;
   for (int pass = 0; pass < options.passes; ++pass) {
     progress.report("untangle pass " + std::to_string(pass + 1), pass / steps);
-    const SplineUntangleReport r =
+    const SplineUntangleResult r =
         detail::untangle_pass(spline, detail::make_pass_nodes(spline, pass_options), uvw, xyz, extra, pass_options,
                               detail::PassSeeds::ScanAndPoints, cache);
     if (pass == 0) {
@@ -166,7 +166,7 @@ SplineUntangleReport untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uv
       total.polish_folded = static_cast<int>(bad.size());
       if (bad.empty() || bad.size() >= previous) break;  // done, or no progress
       previous = bad.size();
-      const SplineUntangleReport r =
+      const SplineUntangleResult r =
           detail::untangle_pass(spline, fine, uvw, xyz, bad, polish_options, detail::PassSeeds::PointsOnly, cache);
       ++total.polish_passes;
       total.free_functions += r.free_functions;

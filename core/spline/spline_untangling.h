@@ -86,7 +86,7 @@ struct SplineUntangleOptions {
 };
 
 /// Outcome of untangle_spline.
-struct SplineUntangleReport {
+struct SplineUntangleResult {
   int scanned = 0;            ///< nodes scanned for seeds (and checked after), last pass
   int seeds = 0;              ///< scanned points below min_scaled_jacobian before
   int initial_negative = 0;   ///< scanned points with det J ≤ 0 before
@@ -131,7 +131,7 @@ struct SplineUntangleReport {
 /// progress: "untangle pass K" / "untangle polish K" before each pass and polish round (fraction
 /// of the passes done); throws volspline::Cancelled there if the callback asks to stop (the
 /// spline then holds the points of the passes done so far).
-SplineUntangleReport untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
+SplineUntangleResult untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
                                      const SplineUntangleOptions& options = {}, const Progress& progress = {});
 
 }  // namespace volspline::spline

@@ -248,11 +248,11 @@ linalg::CsrMatrix upper_triangle(const linalg::CsrMatrix& a) {
 // min ‖A x − b‖² + ε²‖x − prior‖², ε² = regularization · mean diagonal of AᵀA) by CG from the
 // current control points, and writes them back. ata: the upper triangle of AᵀA, the diagonal
 // first in each row (GroupedGram::take_upper), all the CG and the preconditioner read.
-TSplineFitReport solve_normal(TSpline& spline, const std::vector<int>& unknown_ids, linalg::CsrMatrix ata,
+TSplineFitResult solve_normal(TSpline& spline, const std::vector<int>& unknown_ids, linalg::CsrMatrix ata,
                               Eigen::MatrixXd atb, int rows, const Eigen::MatrixX3d& prior,
                               double regularization, double tolerance, int max_iterations) {
   const int n = static_cast<int>(unknown_ids.size());
-  TSplineFitReport report;
+  TSplineFitResult report;
   report.unknowns = n;
   if (n == 0) {
     report.converged = true;
@@ -292,7 +292,7 @@ TSplineFitReport solve_normal(TSpline& spline, const std::vector<int>& unknown_i
 }
 
 // Solves min ‖A x − b‖² + ε‖x − prior‖² for the unknown columns and writes them back.
-TSplineFitReport solve_stacked(TSpline& spline, const std::vector<int>& unknown_ids,
+TSplineFitResult solve_stacked(TSpline& spline, const std::vector<int>& unknown_ids,
                                std::vector<linalg::Triplet>& triplets, Eigen::MatrixXd& rhs,
                                int rows, const Eigen::MatrixX3d& prior, double regularization,
                                double tolerance, int max_iterations) {
@@ -371,7 +371,7 @@ bool touches_exposed_face(const BlendingKnots& knots, const Eigen::Vector3d& lo,
 namespace {
 
 // Eq. 3.5/3.6 (+ Eq. 4.7 fairing) for the control points ids (column_of: index → column or −1).
-TSplineFitReport fit_columns(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
+TSplineFitResult fit_columns(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
                              const Eigen::MatrixX3d& prior, const std::vector<int>& ids,
                              const std::vector<int>& column_of, const TSplineFitOptions& options) {
   const int n = static_cast<int>(ids.size());
@@ -429,7 +429,7 @@ TSplineFitReport fit_columns(TSpline& spline, const Eigen::MatrixX3d& uvw, const
 }
 }  // namespace
 
-TSplineFitReport fit_tspline(TSpline& spline, const Eigen::MatrixX3d& uvw,
+TSplineFitResult fit_tspline(TSpline& spline, const Eigen::MatrixX3d& uvw,
                              const Eigen::MatrixX3d& xyz, const Eigen::MatrixX3d& prior,
                              const TSplineFitOptions& options) {
   assert(spline.dimension() == 3 && uvw.rows() == xyz.rows());
@@ -439,7 +439,7 @@ TSplineFitReport fit_tspline(TSpline& spline, const Eigen::MatrixX3d& uvw,
   return fit_columns(spline, uvw, xyz, prior, ids, column_of, options);
 }
 
-TSplineFitReport fit_tspline_local(TSpline& spline, const Eigen::MatrixX3d& uvw,
+TSplineFitResult fit_tspline_local(TSpline& spline, const Eigen::MatrixX3d& uvw,
                                    const Eigen::MatrixX3d& xyz, const Eigen::MatrixX3d& prior,
                                    const std::vector<int>& free_functions,
                                    const TSplineFitOptions& options) {
@@ -453,7 +453,7 @@ TSplineFitReport fit_tspline_local(TSpline& spline, const Eigen::MatrixX3d& uvw,
   return fit_columns(spline, uvw, xyz, prior, free_functions, column_of, options);
 }
 
-TSplineFitReport fit_tspline_meshless(TSpline& spline, const Eigen::MatrixX3d& uvw,
+TSplineFitResult fit_tspline_meshless(TSpline& spline, const Eigen::MatrixX3d& uvw,
                                       const Eigen::MatrixX3d& xyz, const Eigen::MatrixX3d& prior,
                                       const TSplineFitOptions& options) {
   assert(spline.dimension() == 3 && uvw.rows() == xyz.rows());
@@ -470,7 +470,7 @@ TSplineFitReport fit_tspline_meshless(TSpline& spline, const Eigen::MatrixX3d& u
     }
   }
   // Step 1, Eq. 4.4/4.5: only boundary blending functions are non-zero on the surface samples.
-  TSplineFitReport report;
+  TSplineFitResult report;
   {
     RowBuilder builder{spline, boundary_column, {}, {}};
     std::vector<linalg::Triplet> triplets;
@@ -493,7 +493,7 @@ TSplineFitReport fit_tspline_meshless(TSpline& spline, const Eigen::MatrixX3d& u
     add_laplacian_rows(builder, options.laplacian_nodes, 1.0, triplets, known, rows);
     Eigen::MatrixXd rhs(rows, 3);
     for (int r = 0; r < rows; ++r) rhs.row(r) = -known[r];
-    const TSplineFitReport interior = solve_stacked(spline, interior_ids, triplets, rhs, rows, prior,
+    const TSplineFitResult interior = solve_stacked(spline, interior_ids, triplets, rhs, rows, prior,
                                                     options.regularization, options.tolerance, options.max_iterations);
     report.cg_iterations = std::max(report.cg_iterations, interior.cg_iterations);
     report.converged = report.converged && interior.converged;

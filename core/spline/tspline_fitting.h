@@ -31,7 +31,7 @@ struct TSplineFitOptions {
 };
 
 /// Outcome of a fit.
-struct TSplineFitReport {
+struct TSplineFitResult {
   int cg_iterations = 0;
   bool converged = false;
   int rows = 0;     ///< rows of the stacked least-squares system
@@ -44,7 +44,7 @@ struct TSplineFitReport {
 /// from the current control points. uvw: m×3 parameters inside the domain; xyz: m×3 targets;
 /// prior: n×3 (n = num_functions()). Replaces the spline's control points.
 /// Precondition: the spline has dimension 3.
-TSplineFitReport fit_tspline(TSpline& spline, const Eigen::MatrixX3d& uvw,
+TSplineFitResult fit_tspline(TSpline& spline, const Eigen::MatrixX3d& uvw,
                              const Eigen::MatrixX3d& xyz, const Eigen::MatrixX3d& prior,
                              const TSplineFitOptions& options = {});
 
@@ -54,7 +54,7 @@ TSplineFitReport fit_tspline(TSpline& spline, const Eigen::MatrixX3d& uvw,
 /// After a local refinement the refined spline equals the previous fit, so re-fitting only the
 /// functions near the split cells is a block step of the same least-squares problem (the rest
 /// already fits). Same inputs and preconditions as fit_tspline; asserts the indices are valid.
-TSplineFitReport fit_tspline_local(TSpline& spline, const Eigen::MatrixX3d& uvw,
+TSplineFitResult fit_tspline_local(TSpline& spline, const Eigen::MatrixX3d& uvw,
                                    const Eigen::MatrixX3d& xyz, const Eigen::MatrixX3d& prior,
                                    const std::vector<int>& free_functions,
                                    const TSplineFitOptions& options = {});
@@ -71,7 +71,7 @@ bool touches_exposed_face(const BlendingKnots& knots, const Eigen::Vector3d& lo,
 /// minimizing the discrete Laplacian of F on a uniform parameter grid (Eq. 4.6/4.7) with the
 /// boundary ones fixed. uvw: m×3 parameters on the boundary of the domain; xyz: m×3 surface
 /// points; prior as in fit_tspline. Replaces the spline's control points.
-TSplineFitReport fit_tspline_meshless(TSpline& spline, const Eigen::MatrixX3d& uvw,
+TSplineFitResult fit_tspline_meshless(TSpline& spline, const Eigen::MatrixX3d& uvw,
                                       const Eigen::MatrixX3d& xyz, const Eigen::MatrixX3d& prior,
                                       const TSplineFitOptions& options = {});
 

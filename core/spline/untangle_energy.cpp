@@ -205,7 +205,7 @@ int minimize_region_energy(const Region& region, const SampleTerms& samples, con
   untangle_options.max_steps = options.max_steps;
   untangle_options.max_inner = options.max_inner;
   untangle_options.stop_min_det = options.stop_margin;
-  untangle_options.keep_curvature = true;
+  untangle_options.keep_curvature = param::UntangleOptions::KeepCurvature::On;
   untangle_options.min_sigma = kMinSigma;
   return param::untangle(problem, x, untangle_options);
 }

@@ -42,7 +42,7 @@ class UntanglePass {
                static_cast<int>(nodes[2].t.size())},
         box_lo_{0, 0, 0}, box_hi_(sizes_) {}
 
-  SplineUntangleReport run(const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
+  SplineUntangleResult run(const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
                            const std::vector<Eigen::Vector3d>& points, PassSeeds seed_kind) {
     const bool from_scan = seed_kind == PassSeeds::ScanAndPoints;
     prepare_node_jacobians(from_scan);
@@ -398,7 +398,7 @@ class UntanglePass {
   // from points only) the box of the free functions' supports.
   std::array<int, 3> box_lo_, box_hi_;
   std::vector<int> column_of_, free_ids_;  // function → column (−1: fixed); column → function
-  SplineUntangleReport result_;
+  SplineUntangleResult result_;
 };
 
 }  // namespace
@@ -444,7 +444,7 @@ std::array<AxisNodes, 3> make_pass_nodes(const TSpline& spline, const SplineUnta
   return nodes;
 }
 
-SplineUntangleReport untangle_pass(TSpline& spline, const std::array<AxisNodes, 3>& nodes, const Eigen::MatrixX3d& uvw,
+SplineUntangleResult untangle_pass(TSpline& spline, const std::array<AxisNodes, 3>& nodes, const Eigen::MatrixX3d& uvw,
                                    const Eigen::MatrixX3d& xyz, const std::vector<Eigen::Vector3d>& points,
                                    const SplineUntangleOptions& options, PassSeeds seeds, NodeCache& cache) {
   return UntanglePass(spline, nodes, options, cache).run(uvw, xyz, points, seeds);

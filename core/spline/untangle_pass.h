@@ -73,7 +73,7 @@ enum class PassSeeds {
 /// untangle_spline); the moved control points are written to spline. points: parameter points
 /// that seed at their nearest node and are held by the hinge (the dense checks' bad points).
 /// cache: the node Jacobians carried from pass to pass. Precondition: as untangle_spline.
-SplineUntangleReport untangle_pass(TSpline& spline, const std::array<AxisNodes, 3>& nodes, const Eigen::MatrixX3d& uvw,
+SplineUntangleResult untangle_pass(TSpline& spline, const std::array<AxisNodes, 3>& nodes, const Eigen::MatrixX3d& uvw,
                                    const Eigen::MatrixX3d& xyz, const std::vector<Eigen::Vector3d>& points,
                                    const SplineUntangleOptions& options, PassSeeds seeds, NodeCache& cache);
 

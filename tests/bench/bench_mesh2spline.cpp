@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--no-untangle")
-      options.untangle = false;
+      options.untangle = pipeline::Mesh2SplineOptions::Untangle::Off;
     else if (a == "--no-compare")
       compare = false;
     else if (a == "--runs" && i + 1 < argc)
@@ -71,7 +71,7 @@ int main(int argc, char** argv) {
     pipeline::Mesh2SplineStats compared_stats;
     if (compare) {
       pipeline::Mesh2SplineOptions reference = options;
-      reference.compare_uniform = true;
+      reference.compare_uniform = pipeline::Mesh2SplineOptions::CompareUniform::On;
       compared_stats = pipeline::run_mesh2spline(io::read_mesh(path), path, reference).stats;
     }
     std::printf("{\n  \"bench\": \"mesh2spline\",\n  \"mesh\": \"%s\",\n  \"fit\": \"%s\",\n", path.c_str(),

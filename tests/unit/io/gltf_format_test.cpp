@@ -12,6 +12,7 @@
 
 #include "core/io/file_bytes.h"
 #include "core/io/mesh_io.h"
+#include "tests/unit/common/test_meshes.h"
 #include "tests/unit/io/io_test_util.h"
 
 using namespace volspline::io;
@@ -80,7 +81,7 @@ TEST_CASE("gltf: all instances with node transforms, points skipped, mirror keep
 }
 
 TEST_CASE("gltf: GLB round trip through tinygltf, with POSITION min/max") {
-  for (const auto& mesh : {volspline::io::test::tetrahedron(), volspline::io::test::cube(0.25, 2.0)}) {
+  for (const auto& mesh : {volspline::test::tetrahedron(), volspline::test::cube(0.25, 2.0)}) {
     const std::string glb = serialize_glb(mesh);
     CHECK(glb.compare(0, 4, "glTF") == 0);
     CHECK(glb.size() % 4 == 0);
@@ -96,7 +97,7 @@ TEST_CASE("gltf: GLB round trip through tinygltf, with POSITION min/max") {
     CHECK(j["accessors"][0]["max"][0] == mesh.positions.col(0).maxCoeff());
   }
   // Non-float values are rounded to float32: relative error at most 2^-24.
-  const auto cube = volspline::io::test::cube(0.1);
+  const auto cube = volspline::test::cube(0.1);
   const auto back = parse_gltf(serialize_glb(cube), "c.glb");
   CHECK((back.positions - cube.positions).cwiseAbs().maxCoeff() <= 1.2 * std::ldexp(1.0, -24));
 }
@@ -123,7 +124,7 @@ TEST_CASE("gltf: errors name the file and problem") {
   CHECK(has(error_of([&] { parse_gltf(j.dump(), "p.gltf"); }), "p.gltf: no faces"));
   CHECK(has(error_of([] { parse_gltf("{ not json", "b.gltf"); }), "b.gltf: invalid glTF"));
   CHECK(has(error_of([] { parse_gltf("", "e.gltf"); }), "e.gltf: empty file"));
-  const std::string glb = serialize_glb(volspline::io::test::tetrahedron());
+  const std::string glb = serialize_glb(volspline::test::tetrahedron());
   CHECK(has(error_of([&] { parse_gltf(glb.substr(0, glb.size() - 8), "t.glb"); }), "t.glb: invalid glTF"));
 }
 

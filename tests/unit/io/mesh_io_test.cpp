@@ -7,6 +7,7 @@
 #include <doctest/doctest.h>
 
 #include "core/io/file_bytes.h"
+#include "tests/unit/common/test_meshes.h"
 #include "tests/unit/io/io_test_util.h"
 
 using namespace volspline::io;
@@ -25,7 +26,7 @@ TEST_CASE("mesh_io: format from extension, case-insensitive") {
 }
 
 TEST_CASE("mesh_io: every writable format round-trips tetrahedron and cube through files") {
-  for (const auto& mesh : {volspline::io::test::tetrahedron(), volspline::io::test::cube(0.5, 0.25)}) {
+  for (const auto& mesh : {volspline::test::tetrahedron(), volspline::test::cube(0.5, 0.25)}) {
     for (const char* ext : {"obj", "off", "ply", "glb"}) {
       const std::string path = (std::filesystem::temp_directory_path() / (std::string("volspline_io_test.") + ext)).string();
       write_mesh(path, mesh);
@@ -40,7 +41,7 @@ TEST_CASE("mesh_io: every writable format round-trips tetrahedron and cube throu
 }
 
 TEST_CASE("mesh_io: unwritable formats and unreadable files are errors naming the path") {
-  const auto tet = volspline::io::test::tetrahedron();
+  const auto tet = volspline::test::tetrahedron();
   CHECK(has(error_of([&] { write_mesh("out.stl", tet); }), "out.stl: writing .stl is not supported"));
   CHECK(has(error_of([&] { write_mesh("out.gltf", tet); }), "out.gltf: writing .gltf is not supported"));
   CHECK(has(error_of([&] { serialize_mesh(tet, MeshFormat::Stl); }), "not supported"));

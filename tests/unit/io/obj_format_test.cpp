@@ -3,6 +3,7 @@
 
 #include <doctest/doctest.h>
 
+#include "tests/unit/common/test_meshes.h"
 #include "tests/unit/io/io_test_util.h"
 
 using namespace volspline::io;
@@ -37,7 +38,7 @@ TEST_CASE("obj: relative indices resolve against vertices read so far") {
 }
 
 TEST_CASE("obj: round trip keeps every double bit for bit") {
-  for (const auto& mesh : {volspline::io::test::tetrahedron(), volspline::io::test::cube()}) {
+  for (const auto& mesh : {volspline::test::tetrahedron(), volspline::test::cube()}) {
     const std::string text = serialize_obj(mesh);
     const auto back = parse_obj(text, "rt.obj");
     CHECK(back.positions == mesh.positions);  // exact: shortest round-trip text

@@ -3,6 +3,7 @@
 
 #include <doctest/doctest.h>
 
+#include "tests/unit/common/test_meshes.h"
 #include "tests/unit/io/io_test_util.h"
 
 using namespace volspline::io;
@@ -27,7 +28,7 @@ TEST_CASE("off: counts on the header line") {
 }
 
 TEST_CASE("off: round trip keeps every double bit for bit") {
-  for (const auto& mesh : {volspline::io::test::tetrahedron(), volspline::io::test::cube()}) {
+  for (const auto& mesh : {volspline::test::tetrahedron(), volspline::test::cube()}) {
     const std::string text = serialize_off(mesh);
     const auto back = parse_off(text, "rt.off");
     CHECK(back.positions == mesh.positions);

@@ -8,6 +8,7 @@
 
 #include <doctest/doctest.h>
 
+#include "tests/unit/common/test_meshes.h"
 #include "tests/unit/io/io_test_util.h"
 
 using namespace volspline::io;
@@ -88,7 +89,7 @@ TEST_CASE("ply: ascii with extra properties, CRLF header") {
 }
 
 TEST_CASE("ply: binary little-endian round trip is exact and deterministic") {
-  for (const auto& mesh : {volspline::io::test::tetrahedron(), volspline::io::test::cube()}) {
+  for (const auto& mesh : {volspline::test::tetrahedron(), volspline::test::cube()}) {
     const std::string bytes = serialize_ply(mesh);
     CHECK(has(bytes, "format binary_little_endian 1.0"));
     const auto back = parse_ply(bytes, "rt.ply");

@@ -7,6 +7,7 @@
 
 #include <doctest/doctest.h>
 
+#include "tests/unit/common/test_meshes.h"
 #include "tests/unit/io/io_test_util.h"
 
 using namespace volspline::io;
@@ -45,7 +46,7 @@ const char* kAsciiTriangle =
 }  // namespace
 
 TEST_CASE("stl: binary corners are merged exactly, numbered by first appearance") {
-  const auto tet = volspline::io::test::tetrahedron();
+  const auto tet = volspline::test::tetrahedron();
   const auto m = parse_stl(binary_stl(tet, 4), "t.stl");
   CHECK(m.num_vertices() == 4);
   REQUIRE(m.num_faces() == 4);
@@ -64,7 +65,7 @@ TEST_CASE("stl: ascii with shared corners") {
 }
 
 TEST_CASE("stl: errors name the file and problem") {
-  const auto tet = volspline::io::test::tetrahedron();
+  const auto tet = volspline::test::tetrahedron();
   const std::string good = binary_stl(tet, 4);
   CHECK(has(error_of([&] { parse_stl(good.substr(0, good.size() - 10), "b.stl"); }),
             "b.stl: binary STL size mismatch: header says 4 triangles (284 bytes) but the file has 274 bytes"));

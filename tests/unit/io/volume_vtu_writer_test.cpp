@@ -3,7 +3,7 @@
 
 #include <doctest/doctest.h>
 
-#include "appended_array.h"
+#include "tests/unit/io/appended_array.h"
 #include "core/io/vti_format.h"
 #include "core/io/volume_vti_writer.h"
 

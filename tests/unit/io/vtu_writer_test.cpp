@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "appended_array.h"
+#include "tests/unit/io/appended_array.h"
 
 #include "core/spline/bspline_volume.h"
 

@@ -10,4 +10,5 @@ set(TEST_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/rasterize_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/image_io_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/roi_translation_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/baseline_lens_test.cpp
 )

@@ -5,12 +5,12 @@
 
 #include "core/mesh/edge_weights.h"
 #include "core/mesh/halfedge_mesh.h"
-#include "tests/unit/mesh/test_meshes.h"
+#include "tests/unit/common/test_meshes.h"
 
 using volspline::mesh::HalfedgeMesh;
 using volspline::mesh::TriangleMesh;
 namespace mesh = volspline::mesh;
-namespace t = volspline::mesh::test;
+namespace t = volspline::test;
 
 namespace {
 

@@ -7,13 +7,13 @@
 #include "core/mesh/graph_distance.h"
 #include "core/mesh/halfedge_mesh.h"
 #include "core/mesh/mesh_geometry.h"
-#include "tests/unit/mesh/test_meshes.h"
+#include "tests/unit/common/test_meshes.h"
 
 using volspline::mesh::GraphDistances;
 using volspline::mesh::HalfedgeMesh;
 using volspline::mesh::no_id;
 namespace mesh = volspline::mesh;
-namespace t = volspline::mesh::test;
+namespace t = volspline::test;
 
 TEST_CASE("single source on a unit grid: diagonal steps then straight ones") {
   const int nx = 4, ny = 3;

@@ -8,13 +8,13 @@
 
 #include "core/common/error.h"
 #include "core/mesh/halfedge_mesh.h"
-#include "tests/unit/mesh/test_meshes.h"
+#include "tests/unit/common/test_meshes.h"
 
 using volspline::Error;
 using volspline::mesh::HalfedgeMesh;
 using volspline::mesh::no_id;
 using volspline::mesh::TriangleMesh;
-namespace t = volspline::mesh::test;
+namespace t = volspline::test;
 
 namespace {
 

@@ -7,14 +7,14 @@
 
 #include "core/mesh/halfedge_mesh.h"
 #include "core/mesh/laplacian.h"
-#include "tests/unit/mesh/test_meshes.h"
+#include "tests/unit/common/test_meshes.h"
 
 using volspline::mesh::HalfedgeMesh;
 using volspline::mesh::LaplacianWeights;
 using volspline::mesh::Triplet;
 using volspline::mesh::TriangleMesh;
 namespace mesh = volspline::mesh;
-namespace t = volspline::mesh::test;
+namespace t = volspline::test;
 
 namespace {
 

@@ -6,13 +6,13 @@
 
 #include "core/mesh/halfedge_mesh.h"
 #include "core/mesh/mesh_geometry.h"
-#include "tests/unit/mesh/test_meshes.h"
+#include "tests/unit/common/test_meshes.h"
 
 using volspline::mesh::HalfedgeMesh;
 using volspline::mesh::Positions;
 using volspline::mesh::TriangleMesh;
 namespace mesh = volspline::mesh;
-namespace t = volspline::mesh::test;
+namespace t = volspline::test;
 
 TEST_CASE("unit cube: face areas sum to 6, normals are outward axes") {
   const HalfedgeMesh cube = HalfedgeMesh::build(t::unit_cube());

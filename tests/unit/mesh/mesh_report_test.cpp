@@ -9,13 +9,13 @@
 #include "core/io/mesh_io.h"
 #include "core/mesh/halfedge_mesh.h"
 #include "core/mesh/mesh_report.h"
-#include "tests/unit/mesh/test_meshes.h"
+#include "tests/unit/common/test_meshes.h"
 
 using volspline::mesh::analyze_mesh;
 using volspline::mesh::HalfedgeMesh;
 using volspline::mesh::MeshReport;
 using volspline::mesh::TriangleMesh;
-namespace t = volspline::mesh::test;
+namespace t = volspline::test;
 
 namespace {
 

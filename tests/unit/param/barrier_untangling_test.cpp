@@ -109,7 +109,7 @@ TEST_CASE("untangle with kept curvature pairs and a faster ε decrease also unfo
   // Same problem as above; the options only change the pace, not the fold-free outcome.
   const param::UntangleProblem problem = corner_problem();
   param::UntangleOptions options;
-  options.keep_curvature = true;
+  options.keep_curvature = param::UntangleOptions::KeepCurvature::On;
   options.min_sigma = 0.75;
   options.max_inner = 5;
   options.stop_min_det = 0.0;
@@ -143,7 +143,7 @@ TEST_CASE("untangle along prepared lines (linear Jacobians) takes the same steps
     return e;
   };
   param::UntangleOptions options;
-  options.keep_curvature = true;
+  options.keep_curvature = param::UntangleOptions::KeepCurvature::On;
   options.max_inner = 5;
   Eigen::VectorXd x = Eigen::Vector3d(0.8, 0.8, 0.8), plain = x;
   const int iterations = param::untangle(problem, x, options);

@@ -8,7 +8,7 @@
 
 #include "core/common/error.h"
 #include "core/param/cuboid_surface_locator.h"
-#include "test_meshes.h"
+#include "tests/unit/common/test_meshes.h"
 
 using namespace volspline;
 

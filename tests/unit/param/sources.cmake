@@ -6,4 +6,5 @@ set(TEST_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/hex_grid_untangling_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/barrier_untangling_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/hex_padding_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/cuboid_surface_locator_test.cpp
 )

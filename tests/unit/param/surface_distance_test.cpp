@@ -6,7 +6,7 @@
 
 #include <doctest/doctest.h>
 
-#include "test_meshes.h"
+#include "tests/unit/common/test_meshes.h"
 
 using namespace volspline;
 

@@ -4,7 +4,7 @@
 #include <doctest/doctest.h>
 
 #include "core/common/error.h"
-#include "test_meshes.h"
+#include "tests/unit/common/test_meshes.h"
 
 using namespace volspline;
 

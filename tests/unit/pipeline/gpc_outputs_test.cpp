@@ -12,7 +12,7 @@
 #include "core/io/gpc_writers.h"
 #include "core/pipeline/gpc_outputs.h"
 #include "core/polycube/cuboid_layout.h"
-#include "../mesh/test_meshes.h"
+#include "tests/unit/common/test_meshes.h"
 
 using namespace volspline;
 
@@ -27,7 +27,7 @@ std::uint32_t u32_at(const std::string& s, std::size_t at) {
 }  // namespace
 
 TEST_CASE("gpc outputs: a torus's one cuboid has 8 corners on its surface joined by 12 poly-edges") {
-  const pipeline::GpcResult r = pipeline::run_gpc(mesh::test::torus(40, 16, 1.0, 0.35), "torus");
+  const pipeline::GpcResult r = pipeline::run_gpc(test::torus(40, 16, 1.0, 0.35), "torus");
   REQUIRE(r.stats.cuboids == 1);
   const pipeline::GpcSegmentation s = pipeline::gpc_segmentation(r);
   REQUIRE(s.corners.size() == 8);
@@ -49,7 +49,7 @@ TEST_CASE("gpc outputs: a torus's one cuboid has 8 corners on its surface joined
 }
 
 TEST_CASE("gpc outputs: the segmented GLB has one coloured point per face corner and the poly-edges") {
-  const pipeline::GpcResult r = pipeline::run_gpc(mesh::test::torus(40, 16, 1.0, 0.35), "torus");
+  const pipeline::GpcResult r = pipeline::run_gpc(test::torus(40, 16, 1.0, 0.35), "torus");
   const std::string glb = pipeline::gpc_segmentation_glb(r);
   REQUIRE(glb.size() > 20);
   CHECK(glb.compare(0, 4, "glTF") == 0);
@@ -67,7 +67,7 @@ TEST_CASE("gpc outputs: the segmented GLB has one coloured point per face corner
 }
 
 TEST_CASE("gpc outputs: the stats JSON names DESIGN.md's GPC measures") {
-  const pipeline::GpcResult r = pipeline::run_gpc(mesh::test::torus(40, 16, 1.0, 0.35), "torus");
+  const pipeline::GpcResult r = pipeline::run_gpc(test::torus(40, 16, 1.0, 0.35), "torus");
   const std::string text = pipeline::gpc_stats_json(r.stats, "torus.off");
   CHECK(text.back() == '\n');
   const nlohmann::json j = nlohmann::json::parse(text);

@@ -125,7 +125,7 @@ TEST_CASE("focus distortion is part of the whole-image distortion") {
     LensOptions o;
     o.grid = 40;
     o.method = m;
-    o.render = false;
+    o.render = pipeline::LensOptions::Render::Off;
     const LensStats s = run_lens(in, o).stats;
     CHECK(s.distortion_max_focus <= s.distortion_max);
     CHECK(s.distortion_sum_focus <= s.distortion_sum);
@@ -138,7 +138,7 @@ TEST_CASE("metric lens: lower whole-image distortion_max than fisheye and bifoca
   const LensInput in = input_with(checkerboard(200, 200, 8), {"circle:100,90,30"});
   LensOptions o;
   o.grid = 60;
-  o.render = false;
+  o.render = pipeline::LensOptions::Render::Off;
   const LensStats metric = run_lens(in, o).stats;
   REQUIRE(metric.flipped_triangles == 0);
   for (LensMethod m : {LensMethod::Fisheye, LensMethod::Bifocal}) {
@@ -159,7 +159,7 @@ TEST_CASE("metric lens: no exported triangle turned over against the texture at 
     LensOptions o;
     o.grid = 60;
     o.magnification = m;
-    o.render = false;
+    o.render = pipeline::LensOptions::Render::Off;
     const LensResult r = run_lens(in, o);
     INFO("magnification " << m << " reached " << r.stats.magnification_center);
     // Counted here as a viewer of the exported mesh sees it: every triangle, output area against

@@ -32,7 +32,7 @@ LensOptions small(double alpha = 0.0) {
   LensOptions o;
   o.grid = 28;  // small: the whole file stays fast under the sanitizers
   o.alpha = alpha;
-  o.render = false;
+  o.render = pipeline::LensOptions::Render::Off;
   return o;
 }
 
@@ -103,7 +103,7 @@ TEST_CASE("session: a repeated calibrated request reuses h0 and the mesh, identi
   CHECK(again.stats.ms_calibration == 0);
   // Rendering is not part of the cache key: the same request with an image.
   LensOptions rendered = o;
-  rendered.render = true;
+  rendered.render = pipeline::LensOptions::Render::On;
   check_identical(session.run(in, rendered), run_lens(in, rendered));
   CHECK(session.counters().mesh_builds == builds);
 }
@@ -211,7 +211,7 @@ TEST_CASE("session: live drags translate the last solved run; full runs stay ide
   // A live request rendered: far from the lens the image is the input (uncovered pixels too).
   in.rois[0].values = {46, 38, 14};
   LensOptions rendered = live;
-  rendered.render = true;
+  rendered.render = pipeline::LensOptions::Render::On;
   const LensResult image = session.run(in, rendered);
   CHECK(image.stats.translated);
   REQUIRE(image.image.pixels.size() == in.image.pixels.size());

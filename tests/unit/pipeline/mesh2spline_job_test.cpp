@@ -6,7 +6,7 @@
 #include <doctest/doctest.h>
 
 #include "core/common/error.h"
-#include "../param/test_meshes.h"
+#include "tests/unit/common/test_meshes.h"
 
 using namespace volspline;
 
@@ -81,7 +81,7 @@ TEST_CASE("mesh2spline refines until the surface samples meet the surface target
   options.measure_samples = 8;
   options.max_rms_rel = 0.5;  // met by any fit: only the surface target can ask for a level
   options.max_surface_error_rel = 0.5;
-  options.untangle = false;  // one coarse cell folds a lot; the untangling has its own tests
+  options.untangle = pipeline::Mesh2SplineOptions::Untangle::Off;  // one coarse cell folds a lot; the untangling has its own tests
   const auto loose = pipeline::run_mesh2spline(test::cube_sphere(6), "sphere", options);
   CHECK(loose.stats.levels == 0);
   options.max_surface_error_rel = 1e-4;

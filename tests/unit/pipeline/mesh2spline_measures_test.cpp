@@ -7,7 +7,7 @@
 
 #include "core/common/error.h"
 #include "core/spline/bspline_volume.h"
-#include "../param/test_meshes.h"
+#include "tests/unit/common/test_meshes.h"
 
 using namespace volspline;
 
@@ -74,7 +74,7 @@ TEST_CASE("measures of a spline that is exactly the meshed cube") {
   pipeline::Mesh2SplineMeasureOptions options;
   options.surface_samples = 9;
   options.semi_standard_samples = 2000;
-  const pipeline::Mesh2SplineMeasures m = pipeline::measure_mesh2spline(refined, hm, vertex_uvw, grid, std::sqrt(12.0), options);
+  const pipeline::Mesh2SplineMeasureResult m = pipeline::measure_mesh2spline(refined, hm, vertex_uvw, grid, std::sqrt(12.0), options);
   CHECK(m.hausdorff_rel < 1e-14);
   CHECK(m.rms_geo_rel < 1e-14);
   CHECK(m.min_scaled_jacobian == doctest::Approx(1.0).epsilon(1e-12));
@@ -83,7 +83,7 @@ TEST_CASE("measures of a spline that is exactly the meshed cube") {
 
   // The bulged spline misses the flat top by up to bulge at the top face's side edges.
   const spline::TSpline bulged = bulged_cube(0.1);
-  const pipeline::Mesh2SplineMeasures b = pipeline::measure_mesh2spline(bulged, hm, vertex_uvw,
+  const pipeline::Mesh2SplineMeasureResult b = pipeline::measure_mesh2spline(bulged, hm, vertex_uvw,
       spline::RefinementGrid(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), {3, 3, 3}), 1.0, options);
   CHECK(b.hausdorff_rel == doctest::Approx(0.1).epsilon(1e-12));
   CHECK(b.rms_geo_rel > 0.0);

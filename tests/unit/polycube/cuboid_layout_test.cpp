@@ -2,13 +2,15 @@
 #include "core/polycube/cuboid_layout.h"
 
 #include <algorithm>
+#include <array>
 #include <set>
+#include <string>
 
 #include <doctest/doctest.h>
 
 #include "core/common/error.h"
 #include "core/mesh/halfedge_mesh.h"
-#include "../param/test_meshes.h"
+#include "tests/unit/common/test_meshes.h"
 
 using namespace volspline;
 
@@ -100,4 +102,42 @@ TEST_CASE("user corners are checked") {
   std::swap(mirrored[4], mirrored[5]);
   std::swap(mirrored[6], mirrored[7]);
   CHECK(error_of(m, mirrored).find("mirrored") != std::string::npos);
+}
+
+TEST_CASE("on a subdivided cube every poly-edge is a straight cube edge: n + 1 vertices, length 2") {
+  const int n = 4;
+  const auto m = mesh::HalfedgeMesh::build(test::subdivided_cube(n), "cube");
+  const auto layout = polycube::compute_cuboid_layout(m);
+  for (int e = 0; e < polycube::num_cube_edges; ++e) {
+    const auto& path = layout.poly_edges[e];
+    REQUIRE(path.size() == static_cast<std::size_t>(n + 1));
+    CHECK(path.front() == layout.corners[polycube::cube_edge_corners(e)[0]]);
+    CHECK(path.back() == layout.corners[polycube::cube_edge_corners(e)[1]]);
+    double length = 0.0;
+    for (std::size_t i = 0; i + 1 < path.size(); ++i)
+      length += (m.vertex_position(path[i + 1]) - m.vertex_position(path[i])).norm();
+    CHECK(length == doctest::Approx(2.0).epsilon(1e-12));
+    // Corners of one cube edge differ in one coordinate of the geometric cube: the edge is straight.
+    const Eigen::Vector3d d = m.vertex_position(path.back()) - m.vertex_position(path.front());
+    CHECK(d.norm() == doctest::Approx(2.0).epsilon(1e-12));
+  }
+}
+
+TEST_CASE("complete_cuboid_layout: given corners give the shortest paths, prescribed paths are kept") {
+  const auto m = mesh::HalfedgeMesh::build(test::subdivided_cube(4), "cube");
+  const polycube::CuboidLayout automatic = polycube::compute_cuboid_layout(m);
+  for (int band_axis = 0; band_axis < 3; ++band_axis) {
+    polycube::CuboidLayout layout;
+    layout.corners = automatic.corners;
+    std::array<std::vector<int>, polycube::num_cube_edges> fixed;
+    fixed[0] = automatic.poly_edges[0];
+    std::string why;
+    REQUIRE(polycube::complete_cuboid_layout(m, band_axis, fixed, layout, &why));
+    CHECK(why.empty());
+    CHECK(layout.poly_edges[0] == automatic.poly_edges[0]);
+    std::vector<int> count(6, 0);
+    for (int r : layout.face_region) ++count[r];
+    for (int c : count) CHECK(c == 32);  // 2·4² triangles per cube face
+    for (const auto& path : layout.poly_edges) CHECK(path.size() == 5);
+  }
 }

@@ -19,7 +19,7 @@ TEST_CASE("the Jacobian repair unfolds an interior fold and keeps the boundary c
   spline::JacobianRepairOptions options;
   options.lattice = 16;
   options.max_iterations = 30;
-  const spline::JacobianRepairReport report = spline::repair_jacobian(ts, options);
+  const spline::JacobianRepairResult report = spline::repair_jacobian(ts, options);
   CHECK(report.points == 15 * 15 * 15);
   CHECK(report.initial_negative > 0);
   CHECK(report.final_negative == 0);
@@ -33,7 +33,7 @@ TEST_CASE("the Jacobian repair unfolds an interior fold and keeps the boundary c
 TEST_CASE("the Jacobian repair leaves a valid map alone") {
   spline::TSpline ts = test::identity_test_volume();
   const Eigen::MatrixXd before = ts.points();
-  const spline::JacobianRepairReport report = spline::repair_jacobian(ts, {});
+  const spline::JacobianRepairResult report = spline::repair_jacobian(ts, {});
   CHECK(report.initial_negative == 0);
   CHECK(report.final_negative == 0);
   CHECK(report.iterations == 0);

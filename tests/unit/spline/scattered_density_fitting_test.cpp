@@ -57,7 +57,7 @@ TEST_CASE("scattered fit on a refined T-spline reproduces a cubic and agrees wit
   spline::GridFitOptions options;
   options.tolerance = 1e-13;
   options.regularization = 1e-14;  // negligible ridge: the plain least-squares solution
-  const spline::ScatteredFitReport report = spline::fit_tspline_scattered(s, uvw, targets, {0}, options);
+  const spline::ScatteredFitResult report = spline::fit_tspline_scattered(s, uvw, targets, {0}, options);
   CHECK(report.converged);
   CHECK(report.unknowns == s.num_functions());
   double worst = 0.0;
@@ -125,7 +125,7 @@ TEST_CASE("the scattered fit gives the same bits for every thread count") {
     spline::TSpline s = scattered_refined_spline(grid, 1);
     spline::GridFitOptions options;
     options.threads = threads;
-    const spline::ScatteredFitReport report = spline::fit_tspline_scattered(s, uvw, targets, {0}, options);
+    const spline::ScatteredFitResult report = spline::fit_tspline_scattered(s, uvw, targets, {0}, options);
     CHECK(report.converged);
     if (threads == 1)
       first = s.points();

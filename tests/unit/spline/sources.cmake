@@ -17,4 +17,5 @@ set(TEST_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/jacobian_certificate_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/hierarchical_fitting_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/boundary_tessellation_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/component_solve_test.cpp
 )

@@ -44,7 +44,7 @@ TEST_CASE("spline untangling unfolds a near-boundary fold, keeps the boundary an
   options.energy_stride = 1;
   options.nodes_per_knot_interval = 0;  // the scan is then exactly the j/16 lattice checked below
   options.boundary_layers.clear();
-  const spline::SplineUntangleReport report = spline::untangle_spline(ts, uvw, uvw, options);
+  const spline::SplineUntangleResult report = spline::untangle_spline(ts, uvw, uvw, options);
   CHECK(report.initial_negative > 0);
   CHECK(report.final_negative == 0);
   CHECK(report.final_min_scaled > 0.0);
@@ -77,7 +77,7 @@ TEST_CASE("spline untangling on the cell-centre energy nodes unfolds the fold; t
   options.lattice = 16;  // seed_stride 2 and energy_stride 2: the 8³ cell centres of the 16 lattice
   options.nodes_per_knot_interval = 0;
   options.boundary_layers.clear();
-  const spline::SplineUntangleReport report = spline::untangle_spline(ts, uvw, uvw, options);
+  const spline::SplineUntangleResult report = spline::untangle_spline(ts, uvw, uvw, options);
   CHECK(report.scanned == 8 * 8 * 8);
   CHECK(report.initial_negative > 0);
   CHECK(report.final_negative == 0);
@@ -100,7 +100,7 @@ TEST_CASE("spline untangling on the cell-centre energy nodes unfolds the fold; t
 TEST_CASE("spline untangling leaves a valid map alone") {
   spline::TSpline ts = test::identity_test_volume();
   const Eigen::MatrixXd before = ts.points();
-  const spline::SplineUntangleReport report = spline::untangle_spline(ts, Eigen::MatrixX3d(0, 3), Eigen::MatrixX3d(0, 3));
+  const spline::SplineUntangleResult report = spline::untangle_spline(ts, Eigen::MatrixX3d(0, 3), Eigen::MatrixX3d(0, 3));
   // Per axis 6 nodes in each of the 4 knot intervals (one per 2/48) and 2 boundary layers per end.
   CHECK(report.scanned == 28 * 28 * 28);
   CHECK(report.seeds == 0);
@@ -163,7 +163,7 @@ TEST_CASE("spline untangling unfolds a fold at a face (normal derivative outward
     REQUIRE(options.check_per_interval == 3);  // the default
     options.passes = 3;                        // the check runs between passes
     options.polish_rounds = 0;
-    const spline::SplineUntangleReport report = spline::untangle_spline(ts, uvw, uvw, options);
+    const spline::SplineUntangleResult report = spline::untangle_spline(ts, uvw, uvw, options);
     CHECK(report.check_points > 0);  // the first check found bad points between the nodes
     CHECK(unseen_negative_points(ts) == 0);
     const Eigen::Vector3d lo = ts.domain_min(), hi = ts.domain_max();
@@ -189,7 +189,7 @@ TEST_CASE("spline untangling unfolds a fold at a face (normal derivative outward
     spline::untangle_spline(unpolished, uvw, uvw, options);
     CHECK(lattice_folded(unpolished) > 0);
     options.polish_rounds = 8;
-    const spline::SplineUntangleReport report = spline::untangle_spline(ts, uvw, uvw, options);
+    const spline::SplineUntangleResult report = spline::untangle_spline(ts, uvw, uvw, options);
     CHECK(report.polish_passes > 0);
     CHECK(report.polish_folded == 0);
     CHECK(lattice_folded(ts) == 0);
@@ -199,7 +199,7 @@ TEST_CASE("spline untangling unfolds a fold at a face (normal derivative outward
   }
   SUBCASE("with them it is gone everywhere the check looks") {
     REQUIRE(options.boundary_layers.size() == 2);  // the defaults: 1/4 and 1/2 of the first node's depth
-    const spline::SplineUntangleReport report = spline::untangle_spline(ts, uvw, uvw, options);
+    const spline::SplineUntangleResult report = spline::untangle_spline(ts, uvw, uvw, options);
     CHECK(report.initial_negative > 0);
     CHECK(report.final_negative == 0);
     CHECK(unseen_negative_points(ts) == 0);
@@ -218,7 +218,7 @@ TEST_CASE("spline untangling with a boundary layer on the faces themselves leave
   spline::SplineUntangleOptions options;
   options.lattice = 16;
   options.boundary_layers = {0.0, 0.5};
-  const spline::SplineUntangleReport report = spline::untangle_spline(ts, Eigen::MatrixX3d(0, 3), Eigen::MatrixX3d(0, 3), options);
+  const spline::SplineUntangleResult report = spline::untangle_spline(ts, Eigen::MatrixX3d(0, 3), Eigen::MatrixX3d(0, 3), options);
   // Per axis 2 nodes in each of the 4 knot intervals and 2 layers per end; the 3·2²·10 + 8
   // nodes on two or three faces (edges, where a smooth surface has det J = 0) are not scanned.
   CHECK(report.scanned == 12 * 12 * 12 - 3 * 4 * 10 - 8);

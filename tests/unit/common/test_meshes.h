@@ -1,0 +1,190 @@
+// SPDX-License-Identifier: MIT
+// Small synthetic meshes with known topology and geometry, shared by the tests of every module:
+// tetrahedron, cubes, torus (genus 1), flat grid, Möbius strip.
+#pragma once
+
+#include <cmath>
+#include <map>
+#include <tuple>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "core/mesh/triangle_mesh.h"
+
+namespace volspline::test {
+
+
+inline mesh::TriangleMesh make_mesh(const std::vector<double>& xyz, const std::vector<int>& faces) {
+  mesh::TriangleMesh mesh;
+  mesh.positions.resize(static_cast<int>(xyz.size()) / 3, 3);
+  for (int i = 0; i < static_cast<int>(xyz.size()); ++i) mesh.positions(i / 3, i % 3) = xyz[i];
+  mesh.triangles.resize(static_cast<int>(faces.size()) / 3, 3);
+  for (int i = 0; i < static_cast<int>(faces.size()); ++i) mesh.triangles(i / 3, i % 3) = faces[i];
+  return mesh;
+}
+
+/// Corner tetrahedron, outward normals: V 4, E 6, F 4.
+inline mesh::TriangleMesh tetrahedron() {
+  return make_mesh({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1}, {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3});
+}
+
+/// Unit cube [0,1]^3 as 12 outward triangles (the triangulation of shared/data/meshes/cube.off).
+inline mesh::TriangleMesh unit_cube() {
+  return make_mesh({0, 0, 0, 0, 0, 1, 0, 1, 0, 0, 1, 1, 1, 0, 0, 1, 0, 1, 1, 1, 0, 1, 1, 1},
+                   {2, 3, 7, 2, 0, 1, 3, 1, 5, 7, 5, 4, 1, 0, 4, 0, 2, 6,
+                    7, 6, 2, 1, 3, 2, 5, 7, 3, 4, 6, 7, 4, 5, 1, 6, 4, 0});
+}
+
+/// Axis-aligned cube [offset, offset + size]^3 (vertex v has corner bits x = v&1, y = v>>1&1,
+/// z = v>>2&1), 12 outward triangles. The default size 1/3 makes text output keep all 17 digits.
+inline mesh::TriangleMesh cube(double offset = 0.1, double size = 1.0 / 3.0) {
+  mesh::TriangleMesh m;
+  m.positions.resize(8, 3);
+  for (int v = 0; v < 8; ++v)
+    m.positions.row(v) << offset + (v & 1) * size, offset + ((v >> 1) & 1) * size, offset + ((v >> 2) & 1) * size;
+  m.triangles.resize(12, 3);
+  m.triangles << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5,
+      3, 7, 5;
+  return m;
+}
+
+/// Flat (nx+1)×(ny+1) vertex grid on [0,nx]×[0,ny] in z = 0, normals +z; vertex (i, j) has id
+/// j*(nx+1)+i; each cell split along its (i,j)-(i+1,j+1) diagonal. Interior vertices are moved
+/// by a deterministic jitter of up to `jitter` in x and y.
+inline mesh::TriangleMesh flat_grid(int nx, int ny, double jitter = 0.0) {
+  std::vector<double> xyz;
+  for (int j = 0; j <= ny; ++j) {
+    for (int i = 0; i <= nx; ++i) {
+      const bool interior = i > 0 && i < nx && j > 0 && j < ny;
+      const double dx = interior ? jitter * std::sin(1.7 * i + 2.3 * j) : 0.0;
+      const double dy = interior ? jitter * std::cos(2.9 * i - 1.3 * j) : 0.0;
+      xyz.insert(xyz.end(), {i + dx, j + dy, 0.0});
+    }
+  }
+  std::vector<int> faces;
+  for (int j = 0; j < ny; ++j) {
+    for (int i = 0; i < nx; ++i) {
+      const int a = j * (nx + 1) + i, b = a + 1, c = a + nx + 2, d = a + nx + 1;
+      faces.insert(faces.end(), {a, b, c, a, c, d});
+    }
+  }
+  return make_mesh(xyz, faces);
+}
+
+/// Torus (genus 1) of revolution around z (major radius R, minor r), nu×nv vertices, each quad
+/// (i, j)–(i+1, j+1) split into two triangles, outward normals.
+inline mesh::TriangleMesh torus(int nu, int nv, double major = 1.0, double minor = 0.3) {
+  const double pi = 3.14159265358979323846;
+  std::vector<double> xyz;
+  for (int i = 0; i < nu; ++i) {
+    for (int j = 0; j < nv; ++j) {
+      const double u = 2 * pi * i / nu, v = 2 * pi * j / nv;
+      xyz.insert(xyz.end(), {(major + minor * std::cos(v)) * std::cos(u),
+                             (major + minor * std::cos(v)) * std::sin(u), minor * std::sin(v)});
+    }
+  }
+  std::vector<int> faces;
+  for (int i = 0; i < nu; ++i) {
+    for (int j = 0; j < nv; ++j) {
+      const int a = i * nv + j, b = ((i + 1) % nu) * nv + j;
+      const int c = ((i + 1) % nu) * nv + (j + 1) % nv, d = i * nv + (j + 1) % nv;
+      faces.insert(faces.end(), {a, b, c, a, c, d});
+    }
+  }
+  return make_mesh(xyz, faces);
+}
+
+/// Two disjoint tetrahedra (the second shifted by 5 in x).
+inline mesh::TriangleMesh two_tetrahedra() {
+  mesh::TriangleMesh one = tetrahedron();
+  mesh::TriangleMesh both;
+  both.positions.resize(8, 3);
+  both.positions << one.positions, one.positions.rowwise() + Eigen::RowVector3d(5, 0, 0);
+  both.triangles.resize(8, 3);
+  both.triangles << one.triangles, one.triangles.array() + 4;
+  return both;
+}
+
+/// Möbius strip: n quads around a circle with a half twist, 2n vertices (non-orientable).
+inline mesh::TriangleMesh mobius_strip(int n) {
+  const double pi = 3.14159265358979323846;
+  std::vector<double> xyz;
+  for (int side = 0; side < 2; ++side) {
+    for (int i = 0; i < n; ++i) {
+      const double u = 2 * pi * i / n, s = side == 0 ? 0.3 : -0.3;
+      const double radius = 1.0 + s * std::cos(u / 2);
+      xyz.insert(xyz.end(), {radius * std::cos(u), radius * std::sin(u), s * std::sin(u / 2)});
+    }
+  }
+  std::vector<int> faces;
+  for (int i = 0; i < n; ++i) {
+    const int top = i, bottom = n + i;
+    const int next_top = i + 1 < n ? i + 1 : n;  // the twist swaps the two sides
+    const int next_bottom = i + 1 < n ? n + i + 1 : 0;
+    faces.insert(faces.end(), {top, bottom, next_bottom, top, next_bottom, next_top});
+  }
+  return make_mesh(xyz, faces);
+}
+
+
+/// Surface of the cube [-1,1]³ with n×n quads (2 triangles each) per face, outward oriented.
+inline mesh::TriangleMesh subdivided_cube(int n) {
+  std::map<std::tuple<int, int, int>, int> ids;
+  std::vector<Eigen::Vector3d> points;
+  auto vertex = [&](int i, int j, int k) {
+    const auto key = std::make_tuple(i, j, k);
+    const auto found = ids.find(key);
+    if (found != ids.end()) return found->second;
+    const int id = static_cast<int>(points.size());
+    ids.emplace(key, id);
+    points.emplace_back(2.0 * i / n - 1.0, 2.0 * j / n - 1.0, 2.0 * k / n - 1.0);
+    return id;
+  };
+  std::vector<Eigen::Vector3i> triangles;
+  for (int a = 0; a < 3; ++a)
+    for (int side = 0; side < 2; ++side) {
+      const int b1 = (a + 1) % 3, b2 = (a + 2) % 3;
+      auto at = [&](int s, int t) {
+        int c[3];
+        c[a] = side * n;
+        c[b1] = s;
+        c[b2] = t;
+        return vertex(c[0], c[1], c[2]);
+      };
+      for (int t = 0; t < n; ++t)
+        for (int s = 0; s < n; ++s) {
+          const int p00 = at(s, t), p10 = at(s + 1, t), p11 = at(s + 1, t + 1), p01 = at(s, t + 1);
+          if (side == 1) {
+            triangles.emplace_back(p00, p10, p11);
+            triangles.emplace_back(p00, p11, p01);
+          } else {
+            triangles.emplace_back(p00, p11, p10);
+            triangles.emplace_back(p00, p01, p11);
+          }
+        }
+    }
+  mesh::TriangleMesh mesh;
+  mesh.positions.resize(static_cast<int>(points.size()), 3);
+  for (int i = 0; i < static_cast<int>(points.size()); ++i) mesh.positions.row(i) = points[i].transpose();
+  mesh.triangles.resize(static_cast<int>(triangles.size()), 3);
+  for (int f = 0; f < static_cast<int>(triangles.size()); ++f) mesh.triangles.row(f) = triangles[f].transpose();
+  return mesh;
+}
+
+/// Unit sphere: the subdivided cube projected onto radius 1.
+inline mesh::TriangleMesh cube_sphere(int n) {
+  mesh::TriangleMesh mesh = subdivided_cube(n);
+  for (int i = 0; i < mesh.num_vertices(); ++i) mesh.positions.row(i).normalize();
+  return mesh;
+}
+
+/// A copy rotated by `angle_rad` about `axis` (through the origin).
+inline mesh::TriangleMesh rotated(const mesh::TriangleMesh& mesh, double angle_rad, const Eigen::Vector3d& axis) {
+  const Eigen::Matrix3d r = Eigen::AngleAxisd(angle_rad, axis.normalized()).toRotationMatrix();
+  mesh::TriangleMesh out = mesh;
+  for (int i = 0; i < out.num_vertices(); ++i) out.positions.row(i) = (r * mesh.positions.row(i).transpose()).transpose();
+  return out;
+}
+
+}  // namespace volspline::test
