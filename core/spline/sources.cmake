@@ -22,4 +22,6 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/node_jacobians_avx2.cpp
   ${CMAKE_CURRENT_LIST_DIR}/untangle_energy.cpp
   ${CMAKE_CURRENT_LIST_DIR}/untangle_pass.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/gpc_spline.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/gpc_spline_fitting.cpp
 )

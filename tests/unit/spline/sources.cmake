@@ -18,4 +18,6 @@ set(TEST_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/hierarchical_fitting_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/boundary_tessellation_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/component_solve_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/gpc_spline_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/gpc_spline_fitting_test.cpp
 )

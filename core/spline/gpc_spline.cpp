@@ -1,0 +1,609 @@
+// SPDX-License-Identifier: MIT
+#include "core/spline/gpc_spline.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <numeric>
+#include <string>
+#include <utility>
+
+#include "core/common/error.h"
+
+namespace volspline::spline {
+
+namespace {
+
+using polycube::GpcDomain;
+using polycube::GpcTransition;
+
+std::string str(int i) { return std::to_string(i); }
+
+// The neighbour across face f of cuboid c: its cuboid and face, and the transition from c's
+// local coordinates to its own (Eq. 3.4); cuboid −1 on the solid's surface.
+struct Link {
+  int cuboid = -1;
+  int face = -1;
+  int interface_id = -1;
+  GpcTransition to;
+};
+
+Link link_of(const GpcDomain& domain, int c, int f) {
+  Link out;
+  const int i = domain.cuboids[c].face_interface[f];
+  if (i < 0) return out;
+  const polycube::GpcInterface& in = domain.interfaces[i];
+  out.interface_id = i;
+  if (in.cuboid[0] == c && in.face[0] == f) {
+    out.cuboid = in.cuboid[1];
+    out.face = in.face[1];
+    out.to = in.transition;
+  } else {
+    out.cuboid = in.cuboid[0];
+    out.face = in.face[0];
+    out.to = in.transition.inverse();
+  }
+  return out;
+}
+
+bool same_transition(const GpcTransition& a, const GpcTransition& b, double tol) {
+  for (int i = 0; i < 3; ++i)
+    if (a.axis[i] != b.axis[i] || a.sign[i] != b.sign[i]) return false;
+  return (a.translation - b.translation).cwiseAbs().maxCoeff() <= tol;
+}
+
+// The face of the neighbour that a transition `to` maps face f of the source cuboid onto, for a
+// face f whose axis is tangent to the glued face: the tangent extents of two glued faces
+// coincide, so the low end maps to the low end iff the axis keeps its sign.
+int image_face(const GpcTransition& to, int f) {
+  const int a = f / 2, e = f % 2;
+  return 2 * to.axis[a] + (to.sign[a] > 0 ? e : 1 - e);
+}
+
+Eigen::Vector3d size_of(const GpcDomain& domain, int c) {
+  const auto& s = domain.cuboids[c].size;
+  return {s[0], s[1], s[2]};
+}
+
+void validate_domain(const GpcDomain& domain, double tol) {
+  const int nc = static_cast<int>(domain.cuboids.size());
+  const int ni = static_cast<int>(domain.interfaces.size());
+  if (nc == 0) throw Error("GpcSpline: the domain has no cuboid");
+  for (int c = 0; c < nc; ++c) {
+    for (int a = 0; a < 3; ++a) {
+      const double s = domain.cuboids[c].size[a];
+      if (!std::isfinite(s) || !(s > 0.0))
+        throw Error("GpcSpline: cuboid " + str(c) + " has size " + std::to_string(s) + " along axis " + str(a) +
+                    " (must be finite and positive)");
+    }
+    for (int f = 0; f < 6; ++f) {
+      const int i = domain.cuboids[c].face_interface[f];
+      if (i < -1 || i >= ni)
+        throw Error("GpcSpline: cuboid " + str(c) + " face " + str(f) + " names interface " + str(i) + " of " + str(ni));
+      if (i < 0) continue;
+      const auto& in = domain.interfaces[i];
+      if (!((in.cuboid[0] == c && in.face[0] == f) || (in.cuboid[1] == c && in.face[1] == f)))
+        throw Error("GpcSpline: cuboid " + str(c) + " face " + str(f) + " names interface " + str(i) +
+                    ", which does not hold that face");
+    }
+  }
+  for (int i = 0; i < ni; ++i) {
+    const auto& in = domain.interfaces[i];
+    for (int s = 0; s < 2; ++s) {
+      if (in.cuboid[s] < 0 || in.cuboid[s] >= nc || in.face[s] < 0 || in.face[s] > 5)
+        throw Error("GpcSpline: interface " + str(i) + " names cuboid " + str(in.cuboid[s]) + " face " +
+                    str(in.face[s]) + " (out of range)");
+      if (domain.cuboids[in.cuboid[s]].face_interface[in.face[s]] != i)
+        throw Error("GpcSpline: interface " + str(i) + " glues cuboid " + str(in.cuboid[s]) + " face " +
+                    str(in.face[s]) + ", whose face_interface is not " + str(i));
+    }
+    if (in.cuboid[0] == in.cuboid[1] && in.face[0] == in.face[1])
+      throw Error("GpcSpline: interface " + str(i) + " glues a face to itself");
+    // Eq. 3.4: the transition maps face 0 onto face 1, the first cuboid's interior outside the
+    // second (its inward normal onto the second's outward normal).
+    const int fa = in.face[0], fb = in.face[1];
+    const Eigen::Vector3d sa = size_of(domain, in.cuboid[0]), sb = size_of(domain, in.cuboid[1]);
+    const GpcTransition& t = in.transition;
+    bool ok = t.axis[fa / 2] == fb / 2 && t.sign[fa / 2] * (fa % 2 == 0 ? 1 : -1) == (fb % 2 == 0 ? -1 : 1);
+    std::array<int, 3> seen{0, 0, 0};
+    for (int k = 0; k < 3; ++k)
+      if (t.axis[k] >= 0 && t.axis[k] < 3 && std::abs(t.sign[k]) == 1) ++seen[t.axis[k]];
+    ok = ok && seen[0] == 1 && seen[1] == 1 && seen[2] == 1;
+    for (int corner = 0; ok && corner < 8; ++corner) {
+      Eigen::Vector3d p((corner & 1) * sa(0), ((corner >> 1) & 1) * sa(1), ((corner >> 2) & 1) * sa(2));
+      if (((corner >> (fa / 2)) & 1) != fa % 2) continue;
+      const Eigen::Vector3d q = t.apply(p);
+      for (int a = 0; a < 3; ++a) {
+        const double target = a == fb / 2 ? (fb % 2) * sb(a) : (std::abs(q(a)) <= tol ? 0.0 : sb(a));
+        if (std::abs(q(a) - target) > tol) ok = false;
+      }
+    }
+    if (!ok)
+      throw Error("GpcSpline: the transition of interface " + str(i) + " does not map cuboid " + str(in.cuboid[0]) +
+                  " face " + str(fa) + " onto cuboid " + str(in.cuboid[1]) + " face " + str(fb));
+  }
+}
+
+// The knot-line intervals of the two sides of every glued face must agree along its tangent
+// axes (§4.4.1 step 1: the two components share their knot intervals on the merged face).
+void check_intervals(const GpcDomain& domain, const std::vector<std::array<int, 3>>& intervals, double tol) {
+  const int nc = static_cast<int>(domain.cuboids.size());
+  if (static_cast<int>(intervals.size()) != nc)
+    throw Error("GpcSpline: intervals has " + str(static_cast<int>(intervals.size())) + " entries for " + str(nc) +
+                " cuboids");
+  for (int c = 0; c < nc; ++c)
+    for (int a = 0; a < 3; ++a)
+      if (intervals[c][a] < 1)
+        throw Error("GpcSpline: intervals of cuboid " + str(c) + " axis " + str(a) + " is " + str(intervals[c][a]) +
+                    " (must be >= 1)");
+  for (int i = 0; i < static_cast<int>(domain.interfaces.size()); ++i) {
+    const auto& in = domain.interfaces[i];
+    const int ca = in.cuboid[0], cb = in.cuboid[1];
+    for (int t = 0; t < 3; ++t) {
+      if (t == in.face[0] / 2) continue;
+      const int tb = in.transition.axis[t];
+      if (intervals[ca][t] != intervals[cb][tb] ||
+          std::abs(domain.cuboids[ca].size[t] - domain.cuboids[cb].size[tb]) > tol)
+        throw Error("GpcSpline: interface " + str(i) + " glues cuboid " + str(ca) + " axis " + str(t) + " (" +
+                    str(intervals[ca][t]) + " intervals) to cuboid " + str(cb) + " axis " + str(tb) + " (" +
+                    str(intervals[cb][tb]) + " intervals): the knot lines of the two sides differ");
+    }
+  }
+}
+
+// The continuity rule, with the join of every interface (Continued or Clamped).
+class JoinRule {
+ public:
+  JoinRule(const GpcDomain& domain, std::vector<GpcFaceJoin>& join, double tol)
+      : domain_(domain), join_(join), tol_(tol) {}
+
+  bool continued(int c, int f) const {
+    const int i = domain_.cuboids[c].face_interface[f];
+    return i >= 0 && join_[i] == GpcFaceJoin::Continued;
+  }
+
+  // Whether the two sides of glued face (c, f), T: c → d, see the same thing at end e of c's
+  // tangent axis t: both clamped (Surface or Clamped), or both continued into two cuboids glued
+  // to each other across the image of the face, with the four transitions around the edge
+  // closing up (a regular edge: 4 cuboids around it).
+  bool same_at_edge(int c, int f, const Link& across, int t, int e) const {
+    const GpcTransition& to = across.to;
+    const int fc = 2 * t + e, fd = image_face(to, fc);
+    const bool kc = continued(c, fc), kd = continued(across.cuboid, fd);
+    if (!kc && !kd) return true;
+    if (kc != kd) return false;
+    const Link nc = link_of(domain_, c, fc), nd = link_of(domain_, across.cuboid, fd);
+    const Link diagonal = link_of(domain_, nc.cuboid, image_face(nc.to, f));
+    if (diagonal.cuboid != nd.cuboid || diagonal.face != image_face(nd.to, across.face)) return false;
+    return same_transition(diagonal.to.after(nc.to), nd.to.after(to), tol_);
+  }
+
+  // One pass over the interfaces; returns true if some join changed.
+  bool pass() {
+    bool changed = false;
+    for (int i = 0; i < static_cast<int>(domain_.interfaces.size()); ++i) {
+      const auto& in = domain_.interfaces[i];
+      const int c = in.cuboid[0], f = in.face[0];
+      const Link across = link_of(domain_, c, f);
+      for (int t = 0; t < 3; ++t) {
+        if (t == f / 2) continue;
+        for (int e = 0; e < 2; ++e) {
+          if (same_at_edge(c, f, across, t, e)) continue;
+          if (join_[i] == GpcFaceJoin::Continued) {
+            join_[i] = GpcFaceJoin::Clamped;
+            changed = true;
+          }
+          // A clamped face needs the same face basis on both sides: its tangent knot vectors
+          // must agree, so a tangent face that continues on one side only is clamped too.
+          changed = clamp(c, 2 * t + e) || changed;
+          changed = clamp(across.cuboid, image_face(across.to, 2 * t + e)) || changed;
+        }
+      }
+    }
+    return changed;
+  }
+
+  bool clamp(int c, int f) {
+    if (!continued(c, f)) return false;
+    join_[domain_.cuboids[c].face_interface[f]] = GpcFaceJoin::Clamped;
+    return true;
+  }
+
+ private:
+  const GpcDomain& domain_;
+  std::vector<GpcFaceJoin>& join_;
+  double tol_;
+};
+
+struct UnionFind {
+  std::vector<int> parent;
+  explicit UnionFind(int n) : parent(static_cast<std::size_t>(n)) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void unite(int a, int b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+};
+
+// Knot vectors, local functions and their identification for one set of joins.
+class Assembly {
+ public:
+  Assembly(const GpcDomain& domain, const std::vector<std::array<int, 3>>& intervals,
+           const std::vector<GpcFaceJoin>& join, double tol)
+      : domain_(domain), intervals_(intervals), join_(join), tol_(tol) {
+    const int nc = static_cast<int>(domain.cuboids.size());
+    knots_.resize(nc);
+    offsets_.assign(nc + 1, 0);
+    for (int c = 0; c < nc; ++c) {
+      for (int a = 0; a < 3; ++a) knots_[c][a] = chain_knots(c, a);
+      offsets_[c + 1] = offsets_[c] + count(c);
+    }
+  }
+
+  int count(int c) const {
+    return static_cast<int>((knots_[c][0].size() - 4) * (knots_[c][1].size() - 4) * (knots_[c][2].size() - 4));
+  }
+  int total() const { return offsets_.back(); }
+  int offset(int c) const { return offsets_[c]; }
+  std::array<int, 3> index3(int c, int l) const {
+    const int m0 = static_cast<int>(knots_[c][0].size()) - 4, m1 = static_cast<int>(knots_[c][1].size()) - 4;
+    return {l % m0, (l / m0) % m1, l / (m0 * m1)};
+  }
+  int index1(int c, const std::array<int, 3>& j) const {
+    const int m0 = static_cast<int>(knots_[c][0].size()) - 4, m1 = static_cast<int>(knots_[c][1].size()) - 4;
+    return j[0] + m0 * (j[1] + m1 * j[2]);
+  }
+  BlendingKnots blending(int c, int l) const {
+    const std::array<int, 3> j = index3(c, l);
+    BlendingKnots out;
+    for (int a = 0; a < 3; ++a)
+      for (int q = 0; q < 5; ++q) out[a][q] = knots_[c][a][j[a] + q];
+    return out;
+  }
+
+  // Identifies copies of one function (across Continued faces) and the two sides' face functions
+  // (across Clamped faces). Returns −1 on success, else the interface whose functions did not
+  // match (a configuration the continuity rule did not foresee).
+  int identify(UnionFind& uf) const {
+    for (int i = 0; i < static_cast<int>(domain_.interfaces.size()); ++i)
+      for (int s = 0; s < 2; ++s) {
+        const int c = domain_.interfaces[i].cuboid[s], f = domain_.interfaces[i].face[s];
+        const Link across = link_of(domain_, c, f);
+        const int a = f / 2, d = across.cuboid, g = across.face;
+        const Eigen::Vector3d size = size_of(domain_, c);
+        for (int l = 0; l < count(c); ++l) {
+          const BlendingKnots k = blending(c, l);
+          const std::array<int, 3> j = index3(c, l);
+          std::array<int, 3> jd{};
+          if (join_[i] == GpcFaceJoin::Continued) {
+            const bool crosses = f % 2 == 0 ? k[a][0] < 0.0 : k[a][4] > size(a);
+            if (!crosses) continue;
+            for (int b = 0; b < 3; ++b)
+              if ((jd[across.to.axis[b]] = find_start(d, across.to, b, k[b])) < 0) return i;
+          } else {
+            const int m = static_cast<int>(knots_[c][a].size()) - 4;
+            if (j[a] != (f % 2 == 0 ? 0 : m - 1)) continue;  // zero on the face
+            for (int b = 0; b < 3; ++b) {
+              if (b == a) continue;
+              if ((jd[across.to.axis[b]] = find_start(d, across.to, b, k[b])) < 0) return i;
+            }
+            const int md = static_cast<int>(knots_[d][g / 2].size()) - 4;
+            jd[g / 2] = g % 2 == 0 ? 0 : md - 1;
+          }
+          uf.unite(offset(c) + l, offset(d) + index1(d, jd));
+        }
+      }
+    return -1;
+  }
+
+ private:
+  bool continued(int c, int f) const {
+    const int i = domain_.cuboids[c].face_interface[f];
+    return i >= 0 && join_[i] == GpcFaceJoin::Continued;
+  }
+
+  // The 3 knots beyond end e of cuboid c's axis a, outward, in c's coordinates: the knot lines of
+  // the cuboids met by walking through Continued faces (Eq. 3.4 composed along the way), the
+  // face's coordinate repeated where the walk ends on a Surface or Clamped face (4-fold end
+  // knots). A cuboid glued to itself is walked through again: a periodic knot vector.
+  std::array<double, 3> extension(int c, int a, int e) const {
+    std::array<double, 3> out{};
+    int filled = 0, x = c, ax = a, ee = e;
+    GpcTransition to_c;  // x's coordinates → c's
+    while (filled < 3) {
+      const int f = 2 * ax + ee;
+      if (!continued(x, f)) {
+        Eigen::Vector3d p = Eigen::Vector3d::Zero();
+        p(ax) = ee * domain_.cuboids[x].size[ax];
+        const double end = x == c ? p(ax) : to_c.apply(p)(a);
+        while (filled < 3) out[filled++] = end;
+        break;
+      }
+      const Link l = link_of(domain_, x, f);
+      const GpcTransition y_to_c = to_c.after(l.to.inverse());
+      const int ay = l.face / 2, ey = l.face % 2, n = intervals_[l.cuboid][ay];
+      assert(y_to_c.axis[ay] == a);
+      const double s = domain_.cuboids[l.cuboid].size[ay];
+      for (int k = 1; k <= n && filled < 3; ++k) {
+        Eigen::Vector3d p = Eigen::Vector3d::Zero();
+        p(ay) = ey == 0 ? line(s, n, k) : line(s, n, n - k);
+        out[filled++] = y_to_c.apply(p)(a);
+      }
+      x = l.cuboid;
+      ax = ay;
+      ee = 1 - ey;
+      to_c = y_to_c;
+    }
+    return out;
+  }
+
+  static double line(double size, int n, int k) { return k == n ? size : size * k / n; }
+
+  std::vector<double> chain_knots(int c, int a) const {
+    const int n = intervals_[c][a];
+    const double s = domain_.cuboids[c].size[a];
+    const std::array<double, 3> lo = extension(c, a, 0), hi = extension(c, a, 1);
+    std::vector<double> out;
+    out.reserve(static_cast<std::size_t>(n) + 7);
+    for (int q = 2; q >= 0; --q) out.push_back(lo[q]);
+    for (int k = 0; k <= n; ++k) out.push_back(line(s, n, k));
+    for (int q = 0; q < 3; ++q) out.push_back(hi[q]);
+    for (std::size_t q = 1; q < out.size(); ++q)
+      if (!(out[q] >= out[q - 1]))
+        throw Error("GpcSpline: the knots of cuboid " + str(c) + " axis " + str(a) +
+                    " decrease where they continue into a neighbour (inconsistent transitions)");
+    return out;
+  }
+
+  // Start index in cuboid d's knot vector (along the image of axis b) of the image of knot
+  // vector r of the source cuboid's axis b under `to`, −1 if it is not one of d's functions.
+  int find_start(int d, const GpcTransition& to, int b, const LocalKnots& r) const {
+    const int target = to.axis[b];
+    const double t = to.translation(target);
+    LocalKnots image;
+    for (int q = 0; q < 5; ++q) image[q] = to.sign[b] > 0 ? r[q] + t : -r[4 - q] + t;
+    const std::vector<double>& knots = knots_[d][target];
+    const int m = static_cast<int>(knots.size()) - 4;
+    int j = static_cast<int>(std::lower_bound(knots.begin(), knots.end(), image[0] - tol_) - knots.begin());
+    for (; j < m && knots[j] <= image[0] + tol_; ++j) {
+      bool same = true;
+      for (int q = 0; q < 5 && same; ++q) same = std::abs(knots[j + q] - image[q]) <= tol_;
+      if (same) return j;
+    }
+    return -1;
+  }
+
+  const GpcDomain& domain_;
+  const std::vector<std::array<int, 3>>& intervals_;
+  const std::vector<GpcFaceJoin>& join_;
+  double tol_;
+  std::vector<std::array<std::vector<double>, 3>> knots_;
+  std::vector<int> offsets_;
+};
+
+double length_tolerance(const GpcDomain& domain) {
+  double largest = 0.0;
+  for (const auto& c : domain.cuboids)
+    for (double s : c.size)
+      if (std::isfinite(s)) largest = std::max(largest, s);
+  return 1e-9 * largest;
+}
+
+}  // namespace
+
+GpcSpline::GpcSpline(const polycube::GpcDomain& domain, const GpcSplineOptions& options)
+    : domain_(domain), dimension_(options.dimension), intervals_(options.intervals) {
+  if (dimension_ < 1 || dimension_ > 4)
+    throw Error("GpcSpline: dimension is " + str(dimension_) + " (must be 1..4)");
+  const double tol = length_tolerance(domain_);
+  validate_domain(domain_, tol);
+  check_intervals(domain_, intervals_, tol);
+  const int ni = static_cast<int>(domain_.interfaces.size());
+  interface_join_.assign(ni, GpcFaceJoin::Continued);
+  for (int i : options.clamped_interfaces) {
+    if (i < 0 || i >= ni)
+      throw Error("GpcSpline: clamped_interfaces names interface " + str(i) + " of " + str(ni));
+    interface_join_[i] = GpcFaceJoin::Clamped;
+  }
+  // Continuity rule (§3.5, §4.4): every glued face starts Continued (C², the knot vectors run on
+  // through the transition, Eq. 3.4) and is turned Clamped (C⁰, the two-cube merging of §4.4.1
+  // with shared face control points) until the rule of JoinRule::same_at_edge holds on every face.
+  // At a Type-1 ill-point the thesis (§4.4.2) adds extra bd-control-points and re-weights them by
+  // knot insertion into an auxiliary grid (Table 4.2) but leaves open how the knot vectors of the
+  // functions around the concave edge continue; we clamp the faces touching it instead (C⁰ there,
+  // the continuity the thesis claims at ill-points), which keeps its measures exact: Σ w_i B_i ≡ 1
+  // (Eq. 4.3) and no function beyond the solid's boundary (§4.3.1). A configuration the rule does
+  // not foresee (functions that fail to match across a face) clamps that face too, and the rule
+  // runs again: joins only ever turn Clamped, so this ends.
+  JoinRule rule(domain_, interface_join_, tol);
+  for (;;) {
+    while (rule.pass()) {
+    }
+    const Assembly assembly(domain_, intervals_, interface_join_, tol);
+    UnionFind uf(assembly.total());
+    const int failed = assembly.identify(uf);
+    if (failed >= 0) {
+      bool changed = false;
+      if (interface_join_[failed] == GpcFaceJoin::Continued) {
+        interface_join_[failed] = GpcFaceJoin::Clamped;
+        changed = true;
+      } else {
+        for (int s = 0; s < 2; ++s)
+          for (int f = 0; f < 6; ++f)
+            if (f / 2 != domain_.interfaces[failed].face[s] / 2)
+              changed = rule.clamp(domain_.interfaces[failed].cuboid[s], f) || changed;
+      }
+      if (!changed)
+        throw Error("GpcSpline: the face functions of the two sides of interface " + str(failed) +
+                    " do not match (unsupported gluing)");
+      continue;
+    }
+    // Global ids in order of first appearance (cuboid, then local function).
+    const int nc = num_cuboids();
+    std::vector<int> id_of_root(static_cast<std::size_t>(assembly.total()), -1);
+    patch_ids_.assign(nc, {});
+    patches_.clear();
+    patches_.reserve(nc);
+    num_functions_ = 0;
+    std::vector<char> anchored;
+    for (int c = 0; c < nc; ++c) {
+      const int m = assembly.count(c);
+      std::vector<BlendingKnots> knots(static_cast<std::size_t>(m));
+      patch_ids_[c].resize(m);
+      const Eigen::Vector3d size = size_of(domain_, c);
+      for (int l = 0; l < m; ++l) {
+        knots[l] = assembly.blending(c, l);
+        int& id = id_of_root[uf.find(assembly.offset(c) + l)];
+        if (id < 0) {
+          id = num_functions_++;
+          anchors_.push_back({});
+          anchored.push_back(0);
+        }
+        patch_ids_[c][l] = id;
+        if (anchored[id]) continue;
+        Eigen::Vector3d greville;
+        for (int a = 0; a < 3; ++a) greville(a) = (knots[l][a][1] + knots[l][a][2] + knots[l][a][3]) / 3.0;
+        const bool inside = (greville.array() >= -tol).all() && (greville.array() <= size.array() + tol).all();
+        if (inside || anchors_[id].cuboid < 0) {
+          anchors_[id] = {c, greville.cwiseMax(Eigen::Vector3d::Zero()).cwiseMin(size)};
+          anchored[id] = inside;
+        }
+      }
+      patches_.emplace_back(std::move(knots), Eigen::VectorXd::Ones(m), Eigen::MatrixXd::Zero(m, dimension_));
+    }
+    points_ = Eigen::MatrixXd::Zero(num_functions_, dimension_);
+    break;
+  }
+}
+
+GpcFaceJoin GpcSpline::face_join(int cuboid, int face) const {
+  const int i = domain_.cuboids[cuboid].face_interface[face];
+  return i < 0 ? GpcFaceJoin::Surface : interface_join_[i];
+}
+
+int GpcSpline::num_continued_interfaces() const {
+  return static_cast<int>(std::count(interface_join_.begin(), interface_join_.end(), GpcFaceJoin::Continued));
+}
+
+polycube::CubeFaceSet GpcSpline::exposed_faces(int cuboid) const {
+  polycube::CubeFaceSet out;
+  for (int f = 0; f < 6; ++f)
+    if (face_join(cuboid, f) == GpcFaceJoin::Surface) out = out.with(f);
+  return out;
+}
+
+void GpcSpline::set_points(Eigen::MatrixXd points) {
+  if (points.rows() != num_functions_ || points.cols() != dimension_)
+    throw Error("GpcSpline::set_points: points are " + str(static_cast<int>(points.rows())) + "x" +
+                str(static_cast<int>(points.cols())) + ", expected " + str(num_functions_) + "x" + str(dimension_));
+  if (!points.allFinite()) throw Error("GpcSpline::set_points: a control point is not finite");
+  for (int c = 0; c < num_cuboids(); ++c) {
+    const std::vector<int>& ids = patch_ids_[c];
+    Eigen::MatrixXd local(static_cast<Eigen::Index>(ids.size()), dimension_);
+    for (std::size_t l = 0; l < ids.size(); ++l) local.row(static_cast<Eigen::Index>(l)) = points.row(ids[l]);
+    patches_[c].set_points(std::move(local));
+  }
+  points_ = std::move(points);
+}
+
+Eigen::Vector3d GpcSpline::checked(int cuboid, const Eigen::Vector3d& uvw) const {
+  assert(cuboid >= 0 && cuboid < num_cuboids());
+  const auto& size = domain_.cuboids[cuboid].size;
+  Eigen::Vector3d out;
+  for (int a = 0; a < 3; ++a) {
+    const double slack = 1e-9 * size[a];
+    if (!std::isfinite(uvw(a)) || uvw(a) < -slack || uvw(a) > size[a] + slack)
+      throw Error("GpcSpline: uvw (" + std::to_string(uvw(0)) + ", " + std::to_string(uvw(1)) + ", " +
+                  std::to_string(uvw(2)) + ") is outside cuboid " + str(cuboid));
+    out(a) = std::clamp(uvw(a), 0.0, size[a]);
+  }
+  return out;
+}
+
+void GpcSpline::evaluate_with_jacobian(int cuboid, const Eigen::Vector3d& uvw, double* value, double* jacobian) const {
+  patches_[cuboid].evaluate_with_jacobian(checked(cuboid, uvw), TSplineForm::SemiStandard, value, jacobian);
+}
+
+Eigen::VectorXd GpcSpline::evaluate(int cuboid, const Eigen::Vector3d& uvw) const {
+  return patches_[cuboid].evaluate(checked(cuboid, uvw));
+}
+
+Eigen::MatrixXd GpcSpline::jacobian(int cuboid, const Eigen::Vector3d& uvw) const {
+  return patches_[cuboid].jacobian(checked(cuboid, uvw));
+}
+
+Eigen::VectorXd GpcSpline::derivative(int cuboid, const Eigen::Vector3d& uvw, const std::array<int, 3>& order) const {
+  return patches_[cuboid].derivative(checked(cuboid, uvw), order);
+}
+
+double GpcSpline::weight_sum(int cuboid, const Eigen::Vector3d& uvw) const {
+  return patches_[cuboid].weight_sum(checked(cuboid, uvw));
+}
+
+int GpcSpline::cell_of(int cuboid, const Eigen::Vector3d& uvw) const {
+  return patches_[cuboid].cell_of(checked(cuboid, uvw));
+}
+
+void GpcSpline::basis_at(int cuboid, const Eigen::Vector3d& uvw, const std::array<int, 3>& order,
+                         std::vector<int>& function_ids, std::vector<double>& values) const {
+  const TSpline& patch = patches_[cuboid];
+  std::vector<int> local;
+  std::vector<double> local_values;
+  patch.basis_at(checked(cuboid, uvw), order, local, local_values);
+  std::vector<std::pair<int, double>> pairs(local.size());
+  for (std::size_t k = 0; k < local.size(); ++k)
+    pairs[k] = {patch_ids_[cuboid][local[k]], patch.weights()(local[k]) * local_values[k]};
+  // Sorted by id, then by local order (stable): sums of a repeated id in a fixed order.
+  std::stable_sort(pairs.begin(), pairs.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  function_ids.clear();
+  values.clear();
+  for (const auto& [id, v] : pairs) {
+    if (!function_ids.empty() && function_ids.back() == id) {
+      values.back() += v;
+    } else {
+      function_ids.push_back(id);
+      values.push_back(v);
+    }
+  }
+}
+
+std::vector<std::array<int, 3>> gpc_uniform_intervals(const polycube::GpcDomain& domain, double knot_spacing) {
+  if (!std::isfinite(knot_spacing) || !(knot_spacing > 0.0))
+    throw Error("gpc_uniform_intervals: knot_spacing is " + std::to_string(knot_spacing) + " (must be > 0)");
+  const int nc = static_cast<int>(domain.cuboids.size());
+  UnionFind uf(3 * nc);
+  for (int i = 0; i < static_cast<int>(domain.interfaces.size()); ++i) {
+    const auto& in = domain.interfaces[i];
+    if (in.cuboid[0] < 0 || in.cuboid[0] >= nc || in.cuboid[1] < 0 || in.cuboid[1] >= nc || in.face[0] < 0 ||
+        in.face[0] > 5)
+      throw Error("gpc_uniform_intervals: interface " + str(i) + " names a cuboid or face out of range");
+    for (int t = 0; t < 3; ++t) {
+      if (t == in.face[0] / 2) continue;
+      const int tb = in.transition.axis[t];
+      if (tb < 0 || tb > 2) throw Error("gpc_uniform_intervals: interface " + str(i) + " has an invalid transition");
+      const double sa = domain.cuboids[in.cuboid[0]].size[t], sb = domain.cuboids[in.cuboid[1]].size[tb];
+      if (!(std::abs(sa - sb) <= 1e-9 * std::max(std::abs(sa), std::abs(sb))))
+        throw Error("gpc_uniform_intervals: interface " + str(i) + " glues cuboid " + str(in.cuboid[0]) + " axis " +
+                    str(t) + " (size " + std::to_string(sa) + ") to cuboid " + str(in.cuboid[1]) + " axis " + str(tb) +
+                    " (size " + std::to_string(sb) + ")");
+      uf.unite(3 * in.cuboid[0] + t, 3 * in.cuboid[1] + tb);
+    }
+  }
+  std::vector<int> count(static_cast<std::size_t>(3 * nc), 1);
+  for (int c = 0; c < nc; ++c)
+    for (int a = 0; a < 3; ++a) {
+      const double n = std::ceil(domain.cuboids[c].size[a] / knot_spacing);
+      int& slot = count[uf.find(3 * c + a)];
+      slot = std::max(slot, n > 1.0 ? static_cast<int>(std::min(n, 1e6)) : 1);
+    }
+  std::vector<std::array<int, 3>> out(static_cast<std::size_t>(nc));
+  for (int c = 0; c < nc; ++c)
+    for (int a = 0; a < 3; ++a) out[c][a] = count[uf.find(3 * c + a)];
+  return out;
+}
+
+}  // namespace volspline::spline

@@ -1,0 +1,162 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/polycube/cube_faces.h"
+#include "core/polycube/gpc_domain.h"
+#include "core/spline/tspline.h"
+
+namespace volspline::spline {
+
+/// How the spline meets one face of a cuboid.
+enum class GpcFaceJoin {
+  Surface,    ///< on the solid's surface: clamped (4-fold end knots), no function reaches beyond (§4.3.1)
+  Continued,  ///< glued, C²: blending functions cross it, their knot vectors continue into the
+              ///< neighbour through the transition map (Eq. 3.4)
+  Clamped,    ///< glued, C⁰: both sides clamped (4-fold end knots); the face functions of the two
+              ///< sides are one global function, i.e. one shared control point (§4.4.1)
+};
+
+/// Options of GpcSpline.
+struct GpcSplineOptions {
+  /// Uniform knot intervals per cuboid axis (each ≥ 1), one triple per cuboid of the domain: the
+  /// knot lines of cuboid c along axis a are k·size[a]/intervals[c][a], k = 0 .. intervals[c][a].
+  /// Along the two tangent axes of every glued face both sides need the same count (the same
+  /// knot lines, §4.4.1 step 1); gpc_uniform_intervals gives such a set.
+  std::vector<std::array<int, 3>> intervals;
+  /// Interfaces (ids into domain.interfaces, any order, repeats allowed) made Clamped whatever
+  /// the continuity rule would allow; the rule then runs from there.
+  std::vector<int> clamped_interfaces;
+  int dimension = 3;  ///< components D of a control point, 1..4 (3 for geometry)
+};
+
+/// Where a global blending function is anchored: its Greville abscissa (the mean of its inner
+/// three knots per axis) in the local coordinates of a cuboid whose box holds it.
+struct GpcAnchor {
+  int cuboid = -1;
+  Eigen::Vector3d uvw = Eigen::Vector3d::Zero();
+};
+
+/// A cubic spline over a generalized poly-cube (GPC-spline, §3.5): global blending functions
+/// with global control points, weights 1 (a B-spline over the GPC; T-spline refinement comes
+/// later, so every cuboid keeps its functions as a TSpline with explicit BlendingKnots), evaluated
+/// in any cuboid's local coordinates through the transition maps of Eq. 3.4.
+///
+/// Domain: cuboid c has local coordinates [0, size[0]]×[0, size[1]]×[0, size[2]] (model units
+/// over the bbox diagonal, as polycube::GpcCuboid). Its knot lines are uniform (options.intervals).
+/// Every glued face is Continued (C²) or Clamped (C⁰), chosen by a fixpoint rule (see the .cpp):
+/// a face may be continued only if, at both ends of its two tangent axes, the two sides see the
+/// same thing (both clamped, or both continued into two cuboids glued to each other so that the
+/// four transitions around the edge close: a regular edge with 4 cuboids around it). At a Type-1
+/// ill-point (3 cuboids around a concave edge) this clamps the faces touching it, so the spline
+/// is C⁰ there and C² across every regular interface. A cuboid glued to itself (a closed tube)
+/// gives a periodic direction.
+///
+/// Functions: per cuboid and axis, a knot vector that runs over the cuboid's own knot lines and
+/// continues through every Continued face into the neighbours (clamped where the chain meets a
+/// Surface or Clamped face, closed up for a periodic direction); cuboid c's TSpline (patch(c))
+/// holds every tensor-product function of those vectors whose support meets its box, in c's
+/// coordinates (knots beyond [0, size] where a face is Continued). A function crossing a
+/// Continued face and its copy in the neighbour are one global function; on a Clamped face the
+/// face functions of the two sides (non-zero on the face) are one global function. So
+/// Σ_i B_i ≡ 1 on every cuboid (Eq. 4.3 with w_i = 1), F is single-valued on every glued face,
+/// and no function reaches outside the solid (§4.3.1).
+///
+/// Evaluation is const and thread-safe; construction is deterministic (global ids in the order
+/// of the first cuboid, then the first local function, that holds them).
+class GpcSpline {
+ public:
+  /// Builds the knot vectors, the face joins, the global functions and the patches; control
+  /// points all zero (num_functions()×D). The domain is copied.
+  /// Throws volspline::Error if the domain is inconsistent (a face_interface entry that does not
+  /// name an interface holding that face, an interface whose transition does not map its face
+  /// onto the other, a size not finite and positive), options.intervals does not have one triple
+  /// per cuboid or holds a count < 1, two sides of a glued face have different knot lines along
+  /// a tangent axis (naming the interface and the axes), a clamped_interfaces id is out of
+  /// range, or D is not in 1..4.
+  GpcSpline(const polycube::GpcDomain& domain, const GpcSplineOptions& options);
+
+  const polycube::GpcDomain& domain() const { return domain_; }
+  int num_cuboids() const { return static_cast<int>(domain_.cuboids.size()); }
+  /// Number n of global blending functions (= control points).
+  int num_functions() const { return num_functions_; }
+  /// Components D of F.
+  int dimension() const { return dimension_; }
+  /// Knot intervals of cuboid c along u, v, w.
+  const std::array<int, 3>& intervals(int cuboid) const { return intervals_[cuboid]; }
+  /// How face f (0..5, polycube/cube_faces.h numbering) of cuboid c is joined.
+  GpcFaceJoin face_join(int cuboid, int face) const;
+  /// Continued or Clamped for an interface of the domain.
+  GpcFaceJoin interface_join(int interface_id) const { return interface_join_[interface_id]; }
+  /// Number of Continued interfaces.
+  int num_continued_interfaces() const;
+  /// Faces of cuboid c on the solid's surface (GpcFaceJoin::Surface): what the single-patch fits
+  /// take as TSplineFitOptions::exposed_faces.
+  polycube::CubeFaceSet exposed_faces(int cuboid) const;
+
+  /// Cuboid c's functions in its local coordinates (weights 1, control points gathered from
+  /// points()). Its TSpline domain can exceed the cuboid box where a face is Continued; only the
+  /// box is the cuboid's part of the solid.
+  const TSpline& patch(int cuboid) const { return patches_[cuboid]; }
+  /// Global function id of each of patch(c)'s functions. Not injective only for a periodic
+  /// direction with fewer than 4 intervals, where one function meets the cuboid twice.
+  const std::vector<int>& patch_function_ids(int cuboid) const { return patch_ids_[cuboid]; }
+  /// Where global function i (0 <= i < n) is anchored (a cuboid holding its Greville abscissa).
+  const GpcAnchor& anchor(int function_id) const { return anchors_[function_id]; }
+
+  /// n×D global control points.
+  const Eigen::MatrixXd& points() const { return points_; }
+  /// Replaces the control points (n×D). Throws volspline::Error if the shape differs or an entry
+  /// is not finite.
+  void set_points(Eigen::MatrixXd points);
+
+  /// F(uvw) in cuboid c (0 <= c < num_cuboids()), D values, and its D×3 Jacobian with respect to
+  /// c's local coordinates, column-major (jacobian[d + D·a] = ∂F_d/∂uvw_a). No allocation.
+  /// uvw must lie in c's box; points up to 1e-9·size outside are clamped onto it (rounding of a
+  /// transition). Throws volspline::Error if uvw is outside or not finite.
+  void evaluate_with_jacobian(int cuboid, const Eigen::Vector3d& uvw, double* value, double* jacobian) const;
+  /// F(uvw) in cuboid c, D values. Throws like evaluate_with_jacobian.
+  Eigen::VectorXd evaluate(int cuboid, const Eigen::Vector3d& uvw) const;
+  /// D×3 Jacobian of F in cuboid c (3×3 for geometry). Throws like evaluate_with_jacobian.
+  Eigen::MatrixXd jacobian(int cuboid, const Eigen::Vector3d& uvw) const;
+  /// ∂^(o0+o1+o2) F / ∂u^o0 ∂v^o1 ∂w^o2 in cuboid c's coordinates, D values (right derivatives at
+  /// a knot line). Throws like evaluate_with_jacobian.
+  Eigen::VectorXd derivative(int cuboid, const Eigen::Vector3d& uvw, const std::array<int, 3>& order) const;
+  /// Σ_i w_i B_i(uvw) in cuboid c: 1 everywhere (Eq. 4.3). Throws like evaluate_with_jacobian.
+  double weight_sum(int cuboid, const Eigen::Vector3d& uvw) const;
+  /// Global functions non-zero in the knot cell of uvw in cuboid c: their ids (increasing) and the
+  /// partial derivative of the given order of w_i B_i at uvw (order (0,0,0): the value), for
+  /// least squares. Throws like evaluate_with_jacobian.
+  void basis_at(int cuboid, const Eigen::Vector3d& uvw, const std::array<int, 3>& order,
+                std::vector<int>& function_ids, std::vector<double>& values) const;
+  /// The knot cell of uvw in patch(c) (TSpline::cell_of): points of one cell share basis_at's
+  /// list. Throws like evaluate_with_jacobian.
+  int cell_of(int cuboid, const Eigen::Vector3d& uvw) const;
+
+ private:
+  Eigen::Vector3d checked(int cuboid, const Eigen::Vector3d& uvw) const;
+
+  polycube::GpcDomain domain_;
+  int dimension_ = 3;
+  int num_functions_ = 0;
+  std::vector<std::array<int, 3>> intervals_;
+  std::vector<GpcFaceJoin> interface_join_;
+  std::vector<TSpline> patches_;
+  std::vector<std::vector<int>> patch_ids_;
+  std::vector<GpcAnchor> anchors_;
+  Eigen::MatrixXd points_;
+};
+
+/// Knot intervals for GpcSplineOptions::intervals: per cuboid axis ceil(size/knot_spacing)
+/// (at least 1), raised to the largest over each class of axes glued together as tangent axes of
+/// some face (union–find over the interfaces), so the two sides of every glued face share their
+/// knot lines. knot_spacing in the units of the cuboid sizes, > 0.
+/// Throws volspline::Error if knot_spacing is not finite and positive, or two glued axes differ
+/// in size (by more than 1e-9 relative), naming the interface.
+std::vector<std::array<int, 3>> gpc_uniform_intervals(const polycube::GpcDomain& domain, double knot_spacing);
+
+}  // namespace volspline::spline

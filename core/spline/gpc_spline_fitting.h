@@ -1,0 +1,54 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/spline/gpc_spline.h"
+
+namespace volspline::spline {
+
+/// Samples of a map over a GPC: sample s lies in cuboid cuboid[s] at local coordinates
+/// uvw.row(s) (inside that cuboid's box) and has the target value values.row(s).
+struct GpcSamples {
+  std::vector<int> cuboid;  ///< m cuboid ids
+  Eigen::MatrixX3d uvw;     ///< m×3 local coordinates (units of the cuboid sizes)
+  Eigen::MatrixXd values;   ///< m×D targets (xyz in model units for geometry)
+};
+
+/// Options of fit_gpc_spline.
+struct GpcSplineFitOptions {
+  /// Tikhonov weight pulling every control point towards its current position, relative to the
+  /// mean diagonal of the normal matrix (unitless, ≥ 0): keeps the system SPD where functions are
+  /// sampled too sparsely. 0 gives the plain least-squares solution when it is unique.
+  double regularization = 1e-8;
+  double tolerance = 1e-12;    ///< relative CG residual (unitless, ≥ 0)
+  int max_iterations = 10000;  ///< CG iteration cap, ≥ 1
+};
+
+/// Outcome of fit_gpc_spline.
+struct GpcSplineFitReport {
+  bool converged = false;         ///< CG reached the tolerance
+  int cg_iterations = 0;
+  double cg_residual = 0.0;       ///< relative residual reached
+  int samples = 0;
+  int unknowns = 0;               ///< control points solved for
+  int unsampled_functions = 0;    ///< functions non-zero at no sample: kept where they were
+  double rms_error = 0.0;         ///< RMS of ‖F(uvw_s) − values_s‖ after the fit, units of values
+  double max_error = 0.0;         ///< largest ‖F(uvw_s) − values_s‖ after the fit
+};
+
+/// Least-squares fit of all global control points to samples over every cuboid at once
+/// (Eq. 3.5/3.6 over the GPC of §3.5): minimizes Σ_s ‖F_{c_s}(uvw_s) − values_s‖²
+/// + ε²‖p − p_current‖² (ε² = regularization · mean diagonal) by CG with IC(0) on the normal
+/// equations, warm-started from the current control points, then replaces them. Samples of one
+/// knot cell of one cuboid share their blending functions and are added as one dense Gram block.
+/// A function no sample reaches keeps its control point. Non-convergence is reported, not thrown.
+/// Throws volspline::Error if the shapes disagree (m entries in cuboid, m×3 uvw, m×D values with
+/// D = spline.dimension()), a cuboid id is out of range, a uvw is outside its cuboid or not
+/// finite, a value is not finite, or an option is out of range.
+GpcSplineFitReport fit_gpc_spline(GpcSpline& spline, const GpcSamples& samples,
+                                  const GpcSplineFitOptions& options = {});
+
+}  // namespace volspline::spline

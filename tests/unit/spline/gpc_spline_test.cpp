@@ -1,0 +1,407 @@
+// SPDX-License-Identifier: MIT
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "core/common/error.h"
+#include "core/io/gpc_json.h"
+#include "core/spline/gpc_spline.h"
+#include "tests/unit/spline/gpc_test_domains.h"
+
+using volspline::Error;
+using volspline::polycube::GpcDomain;
+using volspline::spline::gpc_uniform_intervals;
+using volspline::spline::GpcFaceJoin;
+using volspline::spline::GpcSpline;
+using volspline::spline::GpcSplineOptions;
+using namespace volspline::test;
+
+namespace {
+
+// A random point of cuboid c; one in four is pushed onto a face, one in sixteen onto an edge.
+Eigen::Vector3d random_uvw(const GpcDomain& d, int c, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::uniform_int_distribution<int> pick(0, 15), axis(0, 2), end(0, 1);
+  const Eigen::Vector3d s = cuboid_size(d, c);
+  Eigen::Vector3d h(unit(rng) * s(0), unit(rng) * s(1), unit(rng) * s(2));
+  const int kind = pick(rng);
+  if (kind < 4) {
+    const int a = axis(rng);
+    h(a) = end(rng) * s(a);
+  }
+  if (kind == 0) {
+    const int a = (axis(rng) + 1) % 3;
+    h(a) = end(rng) * s(a);
+  }
+  return h;
+}
+
+void random_points(GpcSpline& spline, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> coeff(-1.0, 1.0);
+  Eigen::MatrixXd p(spline.num_functions(), spline.dimension());
+  for (Eigen::Index i = 0; i < p.size(); ++i) p.data()[i] = coeff(rng);
+  spline.set_points(p);
+}
+
+// Largest |Σ w_i B_i − 1| at `count` random points spread over all cuboids (Eq. 4.3).
+double partition_error(const GpcSpline& spline, int count, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_int_distribution<int> cuboid(0, spline.num_cuboids() - 1);
+  double worst = 0.0;
+  std::vector<int> ids;
+  std::vector<double> values;
+  for (int s = 0; s < count; ++s) {
+    const int c = cuboid(rng);
+    const Eigen::Vector3d h = random_uvw(spline.domain(), c, rng);
+    worst = std::max(worst, std::abs(spline.weight_sum(c, h) - 1.0));
+    if (s % 64 == 0) {  // the merged global basis sums to one as well
+      spline.basis_at(c, h, {0, 0, 0}, ids, values);
+      double sum = 0.0;
+      for (double v : values) sum += v;
+      worst = std::max(worst, std::abs(sum - 1.0));
+      CHECK(std::is_sorted(ids.begin(), ids.end()));
+      CHECK(std::adjacent_find(ids.begin(), ids.end()) == ids.end());
+    }
+  }
+  return worst;
+}
+
+// Point (s, t) ∈ [0,1]² of face f of cuboid c in its local coordinates.
+Eigen::Vector3d face_point(const GpcDomain& d, int c, int f, double s, double t) {
+  const Eigen::Vector3d size = cuboid_size(d, c);
+  Eigen::Vector3d h;
+  h(f / 2) = (f % 2) * size(f / 2);
+  h((f / 2 + 1) % 3) = s * size((f / 2 + 1) % 3);
+  h((f / 2 + 2) % 3) = t * size((f / 2 + 2) % 3);
+  return h;
+}
+
+// Largest distance between the two sides' values on every glued face, at random face points and
+// on the face's edges.
+double interface_gap(const GpcSpline& spline, int per_face, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const GpcDomain& d = spline.domain();
+  double worst = 0.0;
+  for (const auto& in : d.interfaces)
+    for (int k = 0; k < per_face; ++k) {
+      double s = unit(rng), t = unit(rng);
+      if (k % 8 == 0) s = k % 16 == 0 ? 0.0 : 1.0;
+      const Eigen::Vector3d a = face_point(d, in.cuboid[0], in.face[0], s, t);
+      const Eigen::Vector3d b = in.transition.apply(a);
+      worst = std::max(worst, (spline.evaluate(in.cuboid[0], a) - spline.evaluate(in.cuboid[1], b)).norm());
+    }
+  return worst;
+}
+
+// One-sided derivatives across glued face `in` at point p of its face on side 0, along the
+// outward normal of side 0 (t < 0 in cuboid 0, t > 0 in cuboid 1), from values only: 4-point
+// one-sided stencils, exact for a cubic inside one knot cell. Returns the largest jump of the
+// normal first and second derivatives and of the mixed normal–tangent second derivatives
+// (5-point central in the tangent direction, exact for cubics too).
+struct Jumps {
+  double d1 = 0.0, d2 = 0.0, mixed = 0.0;
+};
+Jumps derivative_jumps(const GpcSpline& spline, const volspline::polycube::GpcInterface& in, const Eigen::Vector3d& p,
+                       double delta) {
+  const int a = in.face[0] / 2;
+  const double outward = in.face[0] % 2 == 0 ? -1.0 : 1.0;
+  // F at p + t·n + b·e_tangent, from the side that holds it.
+  auto value = [&](double t, int tangent, double b, int side) {
+    Eigen::Vector3d x = p;
+    x(a) += outward * t;
+    if (tangent >= 0) x(tangent) += b;
+    return side == 0 ? spline.evaluate(in.cuboid[0], x) : spline.evaluate(in.cuboid[1], in.transition.apply(x));
+  };
+  auto normal_derivatives = [&](auto&& g, int side) {
+    // side 0: t = 0, −δ, −2δ, −3δ; side 1: t = 0, δ, 2δ, 3δ.
+    const double step = side == 0 ? -delta : delta;
+    const Eigen::VectorXd f0 = g(0.0), f1 = g(step), f2 = g(2 * step), f3 = g(3 * step);
+    const Eigen::VectorXd first = (11 * f0 - 18 * f1 + 9 * f2 - 2 * f3) / (6 * step);
+    const Eigen::VectorXd second = (2 * f0 - 5 * f1 + 4 * f2 - f3) / (delta * delta);
+    return std::make_pair(first, second);
+  };
+  Jumps out;
+  const auto l = normal_derivatives([&](double t) { return value(t, -1, 0.0, 0); }, 0);
+  const auto r = normal_derivatives([&](double t) { return value(t, -1, 0.0, 1); }, 1);
+  out.d1 = (l.first - r.first).norm();
+  out.d2 = (l.second - r.second).norm();
+  for (int tangent = 0; tangent < 3; ++tangent) {
+    if (tangent == a) continue;
+    auto tangent_derivative = [&](int side) {
+      return [&, side](double t) {
+        return Eigen::VectorXd((-value(t, tangent, 2 * delta, side) + 8 * value(t, tangent, delta, side) -
+                                8 * value(t, tangent, -delta, side) + value(t, tangent, -2 * delta, side)) /
+                               (12 * delta));
+      };
+    };
+    const auto ml = normal_derivatives(tangent_derivative(0), 0);
+    const auto mr = normal_derivatives(tangent_derivative(1), 1);
+    out.mixed = std::max(out.mixed, (ml.first - mr.first).norm());
+  }
+  return out;
+}
+
+// Largest jumps over points of face `in` away from the knot lines (cell centres ± a quarter cell).
+Jumps max_jumps(const GpcSpline& spline, int interface_id, unsigned seed) {
+  const auto& in = spline.domain().interfaces[interface_id];
+  const int c = in.cuboid[0], a = in.face[0] / 2;
+  const Eigen::Vector3d size = cuboid_size(spline.domain(), c);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> offset(-0.25, 0.25);
+  Jumps worst;
+  for (int k = 0; k < 40; ++k) {
+    Eigen::Vector3d p;
+    p(a) = (in.face[0] % 2) * size(a);
+    for (int b = 0; b < 3; ++b) {
+      if (b == a) continue;
+      const int n = spline.intervals(c)[b];
+      const double h = size(b) / n;
+      p(b) = (std::uniform_int_distribution<int>(0, n - 1)(rng) + 0.5 + offset(rng)) * h;
+    }
+    const Jumps j = derivative_jumps(spline, in, p, 1e-2 * size.minCoeff() / 4);
+    worst.d1 = std::max(worst.d1, j.d1);
+    worst.d2 = std::max(worst.d2, j.d2);
+    worst.mixed = std::max(worst.mixed, j.mixed);
+  }
+  return worst;
+}
+
+std::vector<std::array<int, 3>> intervals_of(const GpcDomain& d, double spacing) { return gpc_uniform_intervals(d, spacing); }
+
+}  // namespace
+
+TEST_CASE("gpc spline: two cuboids glued with a quarter turn are one C² B-spline") {
+  const GpcDomain d = glue_boxes(two_cube_boxes());
+  REQUIRE(d.interfaces.size() == 1);
+  GpcSplineOptions o;
+  o.intervals = {{3, 4, 3}, {4, 3, 4}};  // A's v ↔ B's w (4), A's w ↔ B's v (3); normals 3 | 4
+  GpcSpline spline(d, o);
+  CHECK(spline.interface_join(0) == GpcFaceJoin::Continued);
+  CHECK(spline.face_join(0, 1) == GpcFaceJoin::Continued);
+  CHECK(spline.face_join(0, 0) == GpcFaceJoin::Surface);
+  CHECK(spline.exposed_faces(0) == volspline::polycube::CubeFaceSet::all().without(1));
+  // One knot vector of 3 + 4 intervals along the glued normal: 7 + 3 functions, times 7 × 6.
+  CHECK(spline.num_functions() == 10 * 7 * 6);
+  // A's patch reaches 3 knots into B (where B's first knots lie), and stops at its surface faces.
+  CHECK(spline.patch(0).domain_max()(0) == doctest::Approx(1.0 + 3 * 0.325).epsilon(1e-12));
+  CHECK(spline.patch(0).domain_min()(0) == 0.0);
+  CHECK(spline.patch(0).domain_max()(1) == 0.8);
+  random_points(spline, 7);
+  const double pu = partition_error(spline, 100000, 1);
+  MESSAGE("two cuboids: max |sum w B - 1| = " << pu);
+  CHECK(pu <= 1e-12);
+  CHECK(interface_gap(spline, 400, 2) <= 1e-12);
+  const auto j = max_jumps(spline, 0, 3);
+  MESSAGE("continued face: jumps d1 " << j.d1 << " d2 " << j.d2 << " mixed " << j.mixed);
+  CHECK(j.d1 <= 1e-9);
+  CHECK(j.d2 <= 1e-6);
+  CHECK(j.mixed <= 1e-6);
+
+  // The same face forced clamped: C⁰ with the face control points shared.
+  o.clamped_interfaces = {0};
+  GpcSpline clamped(d, o);
+  CHECK(clamped.interface_join(0) == GpcFaceJoin::Clamped);
+  // (3+3) + (4+3) functions along the normal, the face column shared: 12 per tangent pair.
+  CHECK(clamped.num_functions() == 12 * 7 * 6);
+  CHECK(clamped.patch(0).domain_max()(0) == 1.0);
+  random_points(clamped, 7);
+  CHECK(partition_error(clamped, 100000, 4) <= 1e-12);
+  CHECK(interface_gap(clamped, 400, 5) <= 1e-12);
+  const auto jc = max_jumps(clamped, 0, 6);
+  MESSAGE("clamped face: jumps d1 " << jc.d1 << " d2 " << jc.d2);
+  CHECK(jc.d1 >= 1e-2);  // random control points: the normal derivative jumps
+}
+
+TEST_CASE("gpc spline: blocks of randomly rotated cuboids around regular edges and vertices are C² everywhere") {
+  const GpcDomain d = glue_boxes(block_boxes({{{1.0, 0.7}, {0.8, 1.2}, {0.5, 0.9}}}, 11));
+  REQUIRE(d.cuboids.size() == 8);
+  REQUIRE(d.interfaces.size() == 12);
+  GpcSplineOptions o;
+  o.intervals = intervals_of(d, 0.29);
+  GpcSpline spline(d, o);
+  CHECK(spline.num_continued_interfaces() == 12);
+  // One tensor B-spline on the union: per global axis the two columns' intervals + 3.
+  // x: ceil(1/0.29) + ceil(0.7/0.29) = 4 + 3; y: 3 + 5; z: 2 + 4.
+  CHECK(spline.num_functions() == (7 + 3) * (8 + 3) * (6 + 3));
+  random_points(spline, 9);
+  CHECK(partition_error(spline, 100000, 10) <= 1e-12);
+  CHECK(interface_gap(spline, 200, 11) <= 1e-12);
+  for (int i = 0; i < 12; ++i) {
+    const auto j = max_jumps(spline, i, 12 + i);
+    CHECK(j.d1 <= 1e-9);
+    CHECK(j.d2 <= 1e-6);
+    CHECK(j.mixed <= 1e-6);
+  }
+}
+
+TEST_CASE("gpc spline: a cuboid glued to itself is periodic") {
+  for (bool twist : {false, true}) {
+    const GpcDomain d = torus_domain(twist);
+    for (int nu : {1, 2, 3, 5}) {
+      GpcSplineOptions o;
+      o.intervals = {{nu, 2, twist ? 2 : 1}};
+      GpcSpline spline(d, o);
+      CHECK(spline.interface_join(0) == GpcFaceJoin::Continued);
+      // A periodic knot vector has as many functions as intervals.
+      CHECK(spline.num_functions() == nu * (2 + 3) * ((twist ? 2 : 1) + 3));
+      random_points(spline, 20 + nu);
+      CHECK(partition_error(spline, nu == 5 ? 100000 : 20000, 21) <= 1e-12);
+      CHECK(interface_gap(spline, 400, 22) <= 1e-12);
+      if (nu >= 3) {
+        const auto j = max_jumps(spline, 0, 23);
+        CHECK(j.d1 <= 1e-9);
+        CHECK(j.d2 <= 1e-6);
+        CHECK(j.mixed <= 1e-6);
+      }
+    }
+  }
+}
+
+TEST_CASE("gpc spline: a T with Type-1 ill-points is C0 on the faces touching them, C2 elsewhere") {
+  const GpcDomain d = t_shape_domain();
+  REQUIRE(d.cuboids.size() == 5);
+  REQUIRE(d.interfaces.size() == 4);
+  GpcSplineOptions o;
+  o.intervals = intervals_of(d, 0.5);
+  GpcSpline spline(d, o);
+  // Centre Z = 0, arms L = 1 (with L2 = 2 beyond), R = 3, D = 4.
+  for (int i = 0; i < 4; ++i) {
+    const auto& in = d.interfaces[i];
+    const bool arm_to_arm = (in.cuboid[0] == 1 && in.cuboid[1] == 2) || (in.cuboid[0] == 2 && in.cuboid[1] == 1);
+    CHECK(spline.interface_join(i) == (arm_to_arm ? GpcFaceJoin::Continued : GpcFaceJoin::Clamped));
+  }
+  for (const auto& ill : d.ill_points)
+    for (int i = 0; i < 4; ++i) {
+      const auto& in = d.interfaces[i];
+      const auto& cs = ill.cuboids;
+      const bool touches = std::count(cs.begin(), cs.end(), in.cuboid[0]) && std::count(cs.begin(), cs.end(), in.cuboid[1]);
+      if (touches) CHECK(spline.interface_join(i) == GpcFaceJoin::Clamped);
+    }
+  random_points(spline, 30);
+  const double pu = partition_error(spline, 100000, 31);
+  MESSAGE("T-shape: max |sum w B - 1| = " << pu);
+  CHECK(pu <= 1e-12);
+  CHECK(interface_gap(spline, 400, 32) <= 1e-12);
+  for (int i = 0; i < 4; ++i)
+    if (spline.interface_join(i) == GpcFaceJoin::Continued) {
+      const auto j = max_jumps(spline, i, 33);
+      CHECK(j.d1 <= 1e-9);
+      CHECK(j.d2 <= 1e-6);
+    }
+}
+
+TEST_CASE("gpc spline: real GPC domains of the eight and the torus") {
+  const std::string dir = VOLSPLINE_SOURCE_DIR "/tests/data/gpc/";
+  for (const char* name : {"eight", "eight_no_merge", "torus"}) {
+    const GpcDomain d = volspline::io::read_gpc_domain(dir + name + ".gpc.json");
+    GpcSplineOptions o;
+    o.intervals = intervals_of(d, 0.04);
+    GpcSpline spline(d, o);
+    random_points(spline, 40);
+    const double pu = partition_error(spline, 100000, 41);
+    const double gap = interface_gap(spline, 400, 42);
+    MESSAGE(std::string(name) << ": " << d.cuboids.size() << " cuboids, " << d.interfaces.size() << " interfaces ("
+                 << spline.num_continued_interfaces() << " continued), " << spline.num_functions()
+                 << " functions; max |sum w B - 1| = " << pu << ", gap " << gap);
+    CHECK(pu <= 1e-12);
+    CHECK(gap <= 1e-12);
+    for (int i = 0; i < static_cast<int>(d.interfaces.size()); ++i)
+      if (spline.interface_join(i) == GpcFaceJoin::Continued) {
+        const auto j = max_jumps(spline, i, 43);
+        CHECK(j.d1 <= 1e-8);
+        CHECK(j.d2 <= 1e-5);
+      }
+    if (std::string(name) == "torus") CHECK(spline.num_continued_interfaces() == 1);
+    // The faces at the eight's Type-1 ill-points are clamped.
+    for (const auto& ill : d.ill_points)
+      for (int i = 0; i < static_cast<int>(d.interfaces.size()); ++i) {
+        const auto& in = d.interfaces[i];
+        const auto& cs = ill.cuboids;
+        if (std::count(cs.begin(), cs.end(), in.cuboid[0]) && std::count(cs.begin(), cs.end(), in.cuboid[1]) &&
+            in.cut < 0)
+          CHECK(spline.interface_join(i) == GpcFaceJoin::Clamped);
+      }
+  }
+}
+
+TEST_CASE("gpc spline: the anchors lie in their cuboids and reproduce a linear map") {
+  // Greville abscissae reproduce linear functions: control points = a linear map of the global
+  // coordinates at the anchors give that map exactly, across continued and clamped faces.
+  const std::vector<PlacedCuboid> boxes = t_shape_boxes();
+  const GpcDomain d = glue_boxes(boxes);
+  GpcSplineOptions o;
+  o.intervals = intervals_of(d, 0.4);
+  GpcSpline spline(d, o);
+  const Eigen::Matrix3d m = (Eigen::Matrix3d() << 1.0, 0.3, -0.2, 0.1, 2.0, 0.5, -0.4, 0.2, 1.5).finished();
+  Eigen::MatrixXd p(spline.num_functions(), 3);
+  for (int i = 0; i < spline.num_functions(); ++i) {
+    const auto& anchor = spline.anchor(i);
+    REQUIRE(anchor.cuboid >= 0);
+    const Eigen::Vector3d s = cuboid_size(d, anchor.cuboid);
+    CHECK((anchor.uvw.array() >= 0.0).all());
+    CHECK((anchor.uvw.array() <= s.array()).all());
+    p.row(i) = (m * boxes[anchor.cuboid].placement.apply(anchor.uvw)).transpose();
+  }
+  spline.set_points(p);
+  std::mt19937_64 rng(50);
+  double worst = 0.0, jac = 0.0;
+  for (int k = 0; k < 5000; ++k) {
+    const int c = k % spline.num_cuboids();
+    const Eigen::Vector3d h = random_uvw(d, c, rng);
+    worst = std::max(worst, (spline.evaluate(c, h) - m * boxes[c].placement.apply(h)).norm());
+    // ∂F/∂uvw = m · (the placement's rotation).
+    Eigen::Matrix3d r = Eigen::Matrix3d::Zero();
+    for (int a = 0; a < 3; ++a) r(boxes[c].placement.axis[a], a) = boxes[c].placement.sign[a];
+    jac = std::max(jac, (spline.jacobian(c, h) - m * r).cwiseAbs().maxCoeff());
+  }
+  CHECK(worst <= 1e-12);
+  CHECK(jac <= 1e-11);
+}
+
+TEST_CASE("gpc spline: bad input throws with a message") {
+  const GpcDomain d = glue_boxes(two_cube_boxes());
+  GpcSplineOptions o;
+  o.intervals = {{3, 4, 3}, {4, 4, 4}};
+  CHECK_THROWS_WITH_AS(GpcSpline(d, o), doctest::Contains("knot lines of the two sides differ"), Error);
+  o.intervals = {{3, 4, 3}};
+  CHECK_THROWS_WITH_AS(GpcSpline(d, o), doctest::Contains("intervals has 1 entries for 2 cuboids"), Error);
+  o.intervals = {{0, 4, 3}, {4, 3, 4}};
+  CHECK_THROWS_WITH_AS(GpcSpline(d, o), doctest::Contains("must be >= 1"), Error);
+  o.intervals = {{3, 4, 3}, {4, 3, 4}};
+  o.clamped_interfaces = {1};
+  CHECK_THROWS_WITH_AS(GpcSpline(d, o), doctest::Contains("clamped_interfaces names interface 1"), Error);
+  o.clamped_interfaces = {};
+  o.dimension = 5;
+  CHECK_THROWS_WITH_AS(GpcSpline(d, o), doctest::Contains("dimension"), Error);
+  o.dimension = 3;
+  GpcDomain broken = d;
+  broken.cuboids[1].face_interface[0] = -1;
+  CHECK_THROWS_WITH_AS(GpcSpline(broken, o), doctest::Contains("whose face_interface is not 0"), Error);
+  broken = d;
+  broken.interfaces[0].transition.translation(0) += 0.1;
+  CHECK_THROWS_WITH_AS(GpcSpline(broken, o), doctest::Contains("does not map cuboid 0 face 1"), Error);
+  broken = d;
+  broken.cuboids[0].size[2] = -1.0;
+  CHECK_THROWS_WITH_AS(GpcSpline(broken, o), doctest::Contains("cuboid 0 has size"), Error);
+
+  GpcSpline spline(d, o);
+  CHECK_THROWS_WITH_AS(spline.evaluate(0, Eigen::Vector3d(1.1, 0.0, 0.0)), doctest::Contains("outside cuboid 0"), Error);
+  CHECK_THROWS_AS(spline.weight_sum(1, Eigen::Vector3d(0.0, std::nan(""), 0.0)), Error);
+  CHECK_NOTHROW(spline.evaluate(0, Eigen::Vector3d(1.0 + 1e-12, 0.8, -1e-12)));  // rounding of a transition
+  CHECK_THROWS_WITH_AS(spline.set_points(Eigen::MatrixXd::Zero(3, 3)), doctest::Contains("expected"), Error);
+  Eigen::MatrixXd p = Eigen::MatrixXd::Zero(spline.num_functions(), 3);
+  p(0, 0) = std::nan("");
+  CHECK_THROWS_WITH_AS(spline.set_points(p), doctest::Contains("not finite"), Error);
+  CHECK_THROWS_WITH_AS(gpc_uniform_intervals(d, 0.0), doctest::Contains("knot_spacing"), Error);
+  broken = d;
+  broken.cuboids[1].size[1] = 0.7;
+  CHECK_THROWS_WITH_AS(gpc_uniform_intervals(broken, 0.1), doctest::Contains("interface 0 glues cuboid 0 axis 2"),
+                       Error);
+}
