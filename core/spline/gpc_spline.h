@@ -77,7 +77,9 @@ class GpcSpline {
   /// onto the other, a size not finite and positive), options.intervals does not have one triple
   /// per cuboid or holds a count < 1, two sides of a glued face have different knot lines along
   /// a tangent axis (naming the interface and the axes), a clamped_interfaces id is out of
-  /// range, or D is not in 1..4.
+  /// range, D is not in 1..4, the transitions make a continued knot vector decrease, or the face
+  /// functions of a clamped face cannot be matched even with its tangent faces clamped (a gluing
+  /// no GPC builder makes).
   GpcSpline(const polycube::GpcDomain& domain, const GpcSplineOptions& options);
 
   const polycube::GpcDomain& domain() const { return domain_; }

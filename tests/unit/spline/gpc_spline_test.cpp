@@ -319,6 +319,19 @@ TEST_CASE("gpc spline: real GPC domains of the eight and the torus") {
         CHECK(j.d2 <= 1e-5);
       }
     if (std::string(name) == "torus") CHECK(spline.num_continued_interfaces() == 1);
+    // §4.3.1: no function reaches beyond a face on the solid's surface.
+    for (int c = 0; c < spline.num_cuboids(); ++c)
+      for (int f = 0; f < 6; ++f)
+        if (spline.face_join(c, f) == GpcFaceJoin::Surface) {
+          const double bound = f % 2 == 0 ? spline.patch(c).domain_min()(f / 2) : spline.patch(c).domain_max()(f / 2);
+          CHECK(bound == (f % 2) * d.cuboids[c].size[f / 2]);
+        }
+    // Deterministic: the same domain and options give the same functions and ids.
+    const GpcSpline again(d, o);
+    for (int c = 0; c < spline.num_cuboids(); ++c) {
+      CHECK(again.patch_function_ids(c) == spline.patch_function_ids(c));
+      CHECK(again.patch(c).knots() == spline.patch(c).knots());
+    }
     // The faces at the eight's Type-1 ill-points are clamped.
     for (const auto& ill : d.ill_points)
       for (int i = 0; i < static_cast<int>(d.interfaces.size()); ++i) {
