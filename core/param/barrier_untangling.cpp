@@ -102,8 +102,8 @@ int lbfgs(const UntangleProblem& problem, Eigen::VectorXd& x, double eps, int ma
 
 }  // namespace
 
-// The same kernel for one element and for a batch (bit-identical lanes; the scalar libm cbrt
-// of earlier versions gave other bits on other machines).
+// The same kernel for one element and for a batch (bit-identical lanes; libm's cbrt would give
+// other bits on other machines).
 double foldover_free_energy(const Eigen::Matrix3d& j, double eps, double theta, Eigen::Matrix3d* gradient) {
   double energy;
   detail::foldover_kernel<1>(j.data(), eps, theta, &energy, gradient ? gradient->data() : nullptr);

@@ -13,9 +13,8 @@ namespace volspline::param::detail {
 
 // Internal linkage: every translation unit keeps its own copy, compiled with its own flags. As
 // inline functions of external linkage the -mavx2 copy of foldover_batch_avx2.cpp and the
-// baseline copy were one symbol, and the linker kept one of them for both: the "AVX2" kernel ran
-// the SSE2 code (or, had the linker picked the other, the baseline path would run AVX2 code on
-// CPUs without it).
+// baseline copy would be one symbol, and the linker would keep one of them for both: the "AVX2"
+// kernel running SSE2 code, or the baseline path running AVX2 code on CPUs without it.
 namespace {
 
 // cbrt(y) for normal y > 0 in IEEE operations only (libm's cbrt differs between machines and

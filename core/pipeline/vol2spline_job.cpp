@@ -56,6 +56,107 @@ double spline_min_scaled_jacobian(const spline::TSpline& s) {
   return worst;
 }
 
+// The frame stages (§5.2): local cubic fits, Hessian frames, classification, frame smoothing,
+// and with Vol2SplineParam::Aligned the field-aligned parameterization (§5.3).
+struct FrameStages {
+  volume::FrameField smoothed;
+  Eigen::MatrixX3d uvw;  // per voxel; empty unless aligned
+};
+
+FrameStages run_frame_stages(const volume::Volume& volume, const std::string& name, const Vol2SplineOptions& options,
+                             bool aligned, const Progress& progress, StageTimer& timer, Vol2SplineStats& stats) {
+  if (volume.nx < 5 || volume.ny < 5 || volume.nz < 5)
+    throw Error("vol2spline: volume '" + name + "' needs at least 5 voxels along every axis for the frame field");
+  FrameStages out;
+  progress.report("local cubic fit", 0.0);
+  volume::LocalCubicFitOptions cubic;
+  cubic.threads = options.threads;
+  const volume::LocalCubicFit fit = volume::fit_local_cubics(volume, cubic, progress);
+  timer.end_stage("local_cubic_fit");
+  progress.report("hessian frames", 0.0);
+  volume::FrameField initial{volume.nx, volume.ny, volume.nz, volume::hessian_frames(fit.hessian, options.threads)};
+  timer.end_stage("hessian_frames");
+  progress.report("classification", 0.0);
+  volume::ClassificationOptions classification;
+  classification.clusters = options.clusters;
+  classification.iso = options.iso;
+  const volume::MaterialClassification classes = volume::classify_materials(volume, fit, classification);
+  stats.clusters = classes.num_clusters;
+  stats.constraints = static_cast<int>(classes.constraints.size());
+  timer.end_stage("classification");
+  volume::FrameSmoothingOptions smoothing;
+  smoothing.active = volume::foreground_mask(classes, 2);
+  smoothing.threads = options.threads;
+  const volume::FrameSmoothingResult smooth = volume::smooth_frame_field(initial, classes.constraints, smoothing, progress);
+  stats.frames_computed = true;
+  stats.frame_smoothness_initial = smooth.initial_energy;
+  stats.frame_smoothness_final = smooth.final_energy;
+  stats.frame_iterations = smooth.iterations;
+  stats.constraint_angle_max_deg = smooth.max_constraint_angle_rad * 180.0 / kPi;
+  out.smoothed = smooth.field;
+  timer.end_stage("frame_smoothing");
+  if (!aligned) return out;
+  progress.report("parameterization", 0.0);
+  volume::FieldAlignedOptions param;
+  param.threads = options.threads;
+  if (!options.corners.empty()) {
+    for (std::size_t id : options.corners)
+      if (id >= volume.num_voxels())
+        throw Error("vol2spline: corner voxel " + std::to_string(id) + " is outside volume '" + name + "'");
+    param.corner_selection = volume::CornerSelection::Given;
+    param.corner_voxels = options.corners;
+  }
+  const volume::FieldAlignedParam map = volume::compute_field_aligned_param(volume, out.smoothed, classes, param, progress);
+  stats.corners = static_cast<int>(map.corner_voxels.size());
+  stats.param_min_jacobian = map.min_jacobian;
+  stats.param_inverted_cells = map.inverted_cells;
+  out.uvw = map.uvw;
+  timer.end_stage("parameterization");
+  return out;
+}
+
+// What the stats need of the adaptive fit besides the spline.
+struct DensityFit {
+  std::vector<double> reconstruction;
+  std::vector<spline::AdaptiveDensityLevel> curve;
+  spline::GridError error;
+  spline::FitStopReason stop = spline::FitStopReason::Target;
+};
+
+// Identity: the density over the voxel indices (X, Y, Z = index × spacing); aligned: Eq. 5.11,
+// (X, Y, Z, density) over the aligned parameters uvw.
+spline::TSpline fit_density(const volume::Volume& volume, const spline::GridSamples& samples,
+                            const spline::AdaptiveDensityOptions& fit, const Eigen::MatrixX3d* uvw,
+                            const Progress& progress, DensityFit& out) {
+  if (!uvw) {
+    spline::AdaptiveDensityResult r = spline::fit_density_adaptive(samples, fit, progress);
+    out.reconstruction = std::move(r.reconstruction);
+    out.curve = std::move(r.levels);
+    out.error = r.error;
+    out.stop = r.stop_reason;
+    Eigen::MatrixXd points = r.spline.points();
+    for (int a = 0; a < 3; ++a) points.col(a) *= volume.spacing(a);
+    r.spline.set_points(std::move(points));
+    return std::move(r.spline);
+  }
+  Eigen::MatrixXd targets(static_cast<Eigen::Index>(volume.num_voxels()), 4);
+  for (int z = 0; z < volume.nz; ++z)
+    for (int y = 0; y < volume.ny; ++y)
+      for (int x = 0; x < volume.nx; ++x) {
+        const auto v = static_cast<Eigen::Index>(volume.index(x, y, z));
+        targets(v, 0) = x * volume.spacing.x();
+        targets(v, 1) = y * volume.spacing.y();
+        targets(v, 2) = z * volume.spacing.z();
+        targets(v, 3) = volume.samples[static_cast<std::size_t>(v)];
+      }
+  spline::ScatteredDensityResult r = spline::fit_scattered_adaptive(*uvw, targets, samples.dims, fit, progress);
+  out.reconstruction = std::move(r.reconstruction);
+  out.curve = std::move(r.levels);
+  out.stop = r.stop_reason;
+  out.error = spline::grid_error(samples, out.reconstruction);
+  return std::move(r.spline);
+}
+
 }  // namespace
 
 Vol2SplineResult run_vol2spline(const volume::Volume& volume, const std::string& name,
@@ -71,58 +172,9 @@ Vol2SplineResult run_vol2spline(const volume::Volume& volume, const std::string&
   StageTimer timer(stats.times_s);
   const bool aligned = options.param == Vol2SplineParam::Aligned;
   const bool frames = aligned || options.compute_frames == Vol2SplineOptions::ComputeFrames::On;
-  volume::FrameField smoothed;
-  Eigen::MatrixX3d uvw;
-  if (frames) {
-    if (volume.nx < 5 || volume.ny < 5 || volume.nz < 5)
-      throw Error("vol2spline: volume '" + name + "' needs at least 5 voxels along every axis for the frame field");
-    progress.report("local cubic fit", 0.0);
-    volume::LocalCubicFitOptions cubic;
-    cubic.threads = options.threads;
-    const volume::LocalCubicFit fit = volume::fit_local_cubics(volume, cubic, progress);
-    timer.end_stage("local_cubic_fit");
-    progress.report("hessian frames", 0.0);
-    volume::FrameField initial{volume.nx, volume.ny, volume.nz, volume::hessian_frames(fit.hessian, options.threads)};
-    timer.end_stage("hessian_frames");
-    progress.report("classification", 0.0);
-    volume::ClassificationOptions classification;
-    classification.clusters = options.clusters;
-    classification.iso = options.iso;
-    const volume::MaterialClassification classes = volume::classify_materials(volume, fit, classification);
-    stats.clusters = classes.num_clusters;
-    stats.constraints = static_cast<int>(classes.constraints.size());
-    timer.end_stage("classification");
-    volume::FrameSmoothingOptions smoothing;
-    smoothing.active = volume::foreground_mask(classes, 2);
-    smoothing.threads = options.threads;
-    const volume::FrameSmoothingResult smooth =
-        volume::smooth_frame_field(initial, classes.constraints, smoothing, progress);
-    stats.frames_computed = true;
-    stats.frame_smoothness_initial = smooth.initial_energy;
-    stats.frame_smoothness_final = smooth.final_energy;
-    stats.frame_iterations = smooth.iterations;
-    stats.constraint_angle_max_deg = smooth.max_constraint_angle_rad * 180.0 / kPi;
-    smoothed = smooth.field;
-    timer.end_stage("frame_smoothing");
-    if (aligned) {
-      progress.report("parameterization", 0.0);
-      volume::FieldAlignedOptions param;
-      param.threads = options.threads;
-      if (!options.corners.empty()) {
-        for (std::size_t id : options.corners)
-          if (id >= volume.num_voxels())
-            throw Error("vol2spline: corner voxel " + std::to_string(id) + " is outside volume '" + name + "'");
-        param.corner_selection = volume::CornerSelection::Given;
-        param.corner_voxels = options.corners;
-      }
-      const volume::FieldAlignedParam map = volume::compute_field_aligned_param(volume, smoothed, classes, param, progress);
-      stats.corners = static_cast<int>(map.corner_voxels.size());
-      stats.param_min_jacobian = map.min_jacobian;
-      stats.param_inverted_cells = map.inverted_cells;
-      uvw = map.uvw;
-      timer.end_stage("parameterization");
-    }
-  }
+  FrameStages stages;
+  if (frames) stages = run_frame_stages(volume, name, options, aligned, progress, timer, stats);
+
   progress.report("fit", 0.0);
   spline::GridSamples samples;
   samples.dims = {volume.nx, volume.ny, volume.nz};
@@ -136,50 +188,15 @@ Vol2SplineResult run_vol2spline(const volume::Volume& volume, const std::string&
   fit.min_gain_rate = options.min_gain_rate;
   fit.initial_cells = options.initial_cells;
   fit.fit.threads = options.threads;
-  std::vector<double> reconstruction;
-  std::vector<spline::AdaptiveDensityLevel> curve;
-  spline::GridError error;
-  spline::FitStopReason stop = spline::FitStopReason::Target;
-  int levels = 0;
-  auto build = [&]() -> spline::TSpline {
-    if (!aligned) {
-      spline::AdaptiveDensityResult r = spline::fit_density_adaptive(samples, fit, progress);
-      reconstruction = std::move(r.reconstruction);
-      curve = std::move(r.levels);
-      error = r.error;
-      stop = r.stop_reason;
-      Eigen::MatrixXd points = r.spline.points();
-      for (int a = 0; a < 3; ++a) points.col(a) *= volume.spacing(a);
-      r.spline.set_points(std::move(points));
-      return std::move(r.spline);
-    }
-    // Eq. 5.11: (X, Y, Z, density) over the aligned parameters.
-    Eigen::MatrixXd targets(static_cast<Eigen::Index>(volume.num_voxels()), 4);
-    for (int z = 0; z < volume.nz; ++z)
-      for (int y = 0; y < volume.ny; ++y)
-        for (int x = 0; x < volume.nx; ++x) {
-          const auto v = static_cast<Eigen::Index>(volume.index(x, y, z));
-          targets(v, 0) = x * volume.spacing.x();
-          targets(v, 1) = y * volume.spacing.y();
-          targets(v, 2) = z * volume.spacing.z();
-          targets(v, 3) = volume.samples[static_cast<std::size_t>(v)];
-        }
-    spline::ScatteredDensityResult r = spline::fit_scattered_adaptive(uvw, targets, samples.dims, fit, progress);
-    reconstruction = std::move(r.reconstruction);
-    curve = std::move(r.levels);
-    stop = r.stop_reason;
-    error = spline::grid_error(samples, reconstruction);
-    return std::move(r.spline);
-  };
-  spline::TSpline result_spline = build();
-  levels = static_cast<int>(curve.size()) - 1;
+  DensityFit density;
+  spline::TSpline result_spline = fit_density(volume, samples, fit, aligned ? &stages.uvw : nullptr, progress, density);
   timer.end_stage("fit");
-  stats.density_rms_rel = error.rms_rel;
-  stats.density_max_rel = error.max_rel;
+  stats.density_rms_rel = density.error.rms_rel;
+  stats.density_max_rel = density.error.max_rel;
   stats.control_points = result_spline.num_functions();
-  stats.levels = levels;
-  stats.stop_reason = spline::fit_stop_reason_name(stop);
-  stats.curve = curve;
+  stats.levels = static_cast<int>(density.curve.size()) - 1;
+  stats.stop_reason = spline::fit_stop_reason_name(density.stop);
+  stats.curve = density.curve;
   stats.min_scaled_jacobian = spline_min_scaled_jacobian(result_spline);
   // Eq. 5.11's X, Y, Z in the file's world: an affine map of the control points is the same map of
   // the spline (its basis sums to 1). Applied after the measures: a mirrored frame (det < 0, as
@@ -192,7 +209,8 @@ Vol2SplineResult run_vol2spline(const volume::Volume& volume, const std::string&
   }
   timer.end_stage("measures");
   progress.report("fit", 1.0);
-  return {std::move(result_spline), std::move(stats), std::move(reconstruction), std::move(smoothed), std::move(uvw)};
+  return {std::move(result_spline), std::move(stats), std::move(density.reconstruction), std::move(stages.smoothed),
+          std::move(stages.uvw)};
 }
 
 }  // namespace volspline::pipeline

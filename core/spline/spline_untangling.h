@@ -34,9 +34,8 @@ struct SplineUntangleOptions {
   /// Boundary layers: nodes (all scanned) at these fractions of the first (last) node's
   /// distance from the face, at each end of each axis, each in [0, 1); 0 is the face itself
   /// (nodes on the cuboid edges, where det J = 0 by construction, are left out; holding the
-  /// faces costs bunny 4.0 against 2.4 s and leaves as many 64³ points folded). Folds next
-  /// to the faces are the normal derivative on the wrong side of the surface (bunny: 2,045 of
-  /// the 2,290 folded points on the faces), which the second layer of control points fixes.
+  /// faces is slower and unfolds no more points). Folds next to the faces are the normal
+  /// derivative on the wrong side of the surface, which the second layer of control points fixes.
   std::vector<double> boundary_layers = {0.25, 0.5};
   /// Faces of the domain box on the solid's surface: the control points of the functions
   /// touching them stay fixed, so the boundary and its surface fit stay as they are.
@@ -52,15 +51,12 @@ struct SplineUntangleOptions {
   int passes = 3;              ///< scan + untangle rounds while seeds remain, ≥ 1
   double data_weight = 10.0;   ///< weight of the sample term (unitless ≥ 0), see untangle_spline
   double volume_weight = 0.5;  ///< θ of param::foldover_free_energy, in [0, 1)
-  /// ε-continuation steps per pass, ≥ 1; more do not help (bunny, one node per knot interval:
-  /// of the 64³ points 270 folded after with 6, 308 with 12) and cost (0.9 against 2.0 s).
+  /// ε-continuation steps per pass, ≥ 1; more unfold no more points and cost time.
   int max_steps = 6;
   /// The continuation stops once every scanned node and every node not folded before has
-  /// det(J·S⁻¹) above this (S: the reference shape, see untangle_spline), in [0, 1). With the
-  /// dense checks and the polish, the folds between the nodes are theirs to find: 0 gave 853
-  /// points folded at 80³ + 96³ + 128³ over bunny and bimba in 3 rotations each, 0.2 gave 994,
-  /// and the passes stop as soon as the nodes are unfolded (untangling −9 %). 0.2 was the
-  /// default before the checks (a single pass then left the face-fold test's fold between nodes).
+  /// det(J·S⁻¹) above this (S: the reference shape, see untangle_spline), in [0, 1). The dense
+  /// checks and the polish find the folds between the nodes, so the passes may stop as soon as
+  /// the nodes are unfolded (bench_fold_ensemble: fewer folded points with 0 than with 0.2).
   double stop_margin = 0.0;
   int max_inner = 5;           ///< L-BFGS iterations per step, ≥ 1
   /// Dense check after each pass but the last: the scaled Jacobian at check_per_interval points
@@ -69,7 +65,7 @@ struct SplineUntangleOptions {
   /// seed every later pass and are held there by a hinge W·max(0, min_scaled_jacobian −
   /// det J/σ)² (σ: the column-norm product before the pass; the barrier would stall on those
   /// it cannot lift to its margin); the passes go on while it finds any. ≥ 0; 0: no check, the
-  /// passes end once the nodes unfold (bunny at 64³: 56 folded points with 0, 9 with 3).
+  /// passes end once the nodes unfold (and leave folds between them).
   int check_per_interval = 3;
   /// Polish rounds after the passes, ≥ 0: the points of the finest lattice (per axis the
   /// centres of equal parts of the domain as wide as the finest knot interval of any axis, at
@@ -78,9 +74,8 @@ struct SplineUntangleOptions {
   /// are that lattice (no rings, no scan seeds, J evaluated in the box of the free functions'
   /// supports), so the barrier holds every lattice point the free functions touch. Rounds stop
   /// when no lattice point is folded or their number stops falling. Points between the lattice
-  /// points are not held: the passes' dense checks are what keeps them few. One pass and the
-  /// polish also gave bunny and bimba 0 of 64³ (untangling 2.8 and 3.1 s), but bimba 23 of 80³
-  /// and 65 of 96³ against 3 and 2 with three passes: so the polish comes after them.
+  /// points are not held: the passes' dense checks are what keeps them few, so the polish comes
+  /// after the passes rather than instead of them (finer lattices than the polish's stay folded).
   int polish_rounds = 8;
   int polish_max_per_axis = 128;  ///< cap of the polish lattice per axis, ≥ 2
 };
@@ -103,30 +98,16 @@ struct SplineUntangleResult {
 
 /// Unfolds a geometric T-spline (D = 3) near its folds by moving only interior control points
 /// (blending functions that vanish on the domain boundary, §4.3.1), so the boundary surface
-/// and the surface fit stay exactly as they are.
+/// and the surface fit stay exactly as they are. Not in the thesis: the barrier energy of
+/// Garanzha et al. 2021 (param::untangle) on the spline's own Jacobians.
 ///
-/// Nodes (one tensor grid per pass): per axis, nodes_per_knot_interval (at least one per
-/// energy_stride/lattice of the domain) in every interval of the knot lines, plus the boundary
-/// layers between each face and the first node (folds next to the faces are the normal
-/// derivative on the wrong side; the second layer of control points is interior and fixes it).
-/// Seeds: nodes with scaled Jacobian < min_scaled_jacobian. Free: the interior functions
-/// non-zero within `rings` node steps of a seed (support limit: max_support_steps lattice steps).
-/// Energy: Σ over the nodes in the support of a free function of
-/// param::foldover_free_energy(J·S⁻¹), S = the node's initial J where its scaled Jacobian is
-/// ≥ 0.1, else diag of its column norms |∂F/∂u_a|, each at least the energy region's mean (the
-/// map's own local shape is the reference; a folded short column is not), plus
-/// data_weight·Σ_s ‖F(uvw_s) − xyz_s‖²/ℓ² over the samples where a free function is non-zero
-/// (ℓ: one lattice step in model units), so the interior stays near its samples. Minimized by
-/// param::untangle (L-BFGS with the barrier continuation of Garanzha et al. 2021) until every
-/// scanned node and every node not folded before has det(J·S⁻¹) > stop_margin, or max_steps.
-/// J·S⁻¹ at the nodes is a fixed linear map of the free control points (the knots do not move),
-/// so it is set up once per pass as per-node rows of (free function, S⁻ᵀw∇B) and each energy
-/// evaluation sums a node's row in registers and scatters its gradient back. Each pass writes
-/// its control points to spline. Between passes a denser check (check_per_interval) adds the bad
-/// points between the nodes as scattered nodes of the later passes (an active set); det J is
-/// held at those points only, so a still denser check can find folded points (bunny: 9 of the
-/// 64³ cell centres, without the check 56). After the passes the polish (polish_rounds) holds
-/// the finest lattice: bunny 8 → 0 folded of 64³.
+/// Each pass (untangle_pass.h): nodes per knot interval plus boundary layers; seeds = nodes with
+/// scaled Jacobian < min_scaled_jacobian; free = interior functions near the seeds; energy = Σ
+/// over the nodes in their supports of param::foldover_free_energy(J·S⁻¹) (S: the node's own J
+/// where it is good, else its column lengths) plus data_weight·Σ_s ‖F(uvw_s) − xyz_s‖²/ℓ² (ℓ: one
+/// lattice step in model units). Between passes a denser check (check_per_interval) adds the bad
+/// points between the nodes, held by a hinge in the later passes; the polish (polish_rounds)
+/// then holds the finest lattice.
 /// uvw, xyz: m×3 fitting samples (may be empty). Precondition: dimension() == 3.
 /// progress: "untangle pass K" / "untangle polish K" before each pass and polish round (fraction
 /// of the passes done); throws volspline::Cancelled there if the callback asks to stop (the

@@ -547,7 +547,15 @@ void TSpline::set_points(Eigen::MatrixXd points) {
 }
 
 void TSpline::build_grid() {
-  const int n = num_functions();
+  build_breaks();
+  std::array<std::vector<int>, 3> first_cell;   // per function: first grid interval of support
+  std::array<std::vector<int>, 3> first_piece;  // per function: piece id of that interval
+  build_pieces(first_cell, first_piece);
+  const std::vector<std::uint64_t> counts = build_cell_entries(first_cell);
+  build_cell_pieces(first_cell, first_piece, counts);
+}
+
+void TSpline::build_breaks() {
   long num_cells = 1;
   for (int a = 0; a < 3; ++a) {
     std::vector<double>& b = breaks_[a];
@@ -587,13 +595,13 @@ void TSpline::build_grid() {
       throw Error("T-spline: the knot-line grid has more than " + std::to_string(kMaxCells) + " cells");
     }
   }
-  const int nc[3] = {int(breaks_[0].size() - 1), int(breaks_[1].size() - 1), int(breaks_[2].size() - 1)};
+}
 
+void TSpline::build_pieces(std::array<std::vector<int>, 3>& first_cell, std::array<std::vector<int>, 3>& first_piece) {
+  const int n = num_functions();
   // Pieces: one power-form cubic per (univariate knot vector, grid interval), shared by all
   // blending functions with that knot vector. Coefficients are the Taylor expansion at the
   // interval start in s = (t - b_k) / (b_{k+1} - b_k).
-  std::array<std::vector<int>, 3> first_cell;   // per function: first grid interval of support
-  std::array<std::vector<int>, 3> first_piece;  // per function: piece id of that interval
   for (int a = 0; a < 3; ++a) {
     // Knot vector -> its first piece (the first grid interval follows from r0).
     std::unordered_map<LocalKnots, int, KnotsHash> piece_ids;
@@ -620,7 +628,11 @@ void TSpline::build_grid() {
       }
     }
   }
+}
 
+std::vector<std::uint64_t> TSpline::build_cell_entries(const std::array<std::vector<int>, 3>& first_cell) {
+  const int n = num_functions();
+  const int nc[3] = {int(breaks_[0].size() - 1), int(breaks_[1].size() - 1), int(breaks_[2].size() - 1)};
   // Cells in CSR form: count, then fill in function order (so entries are sorted by function).
   cells_.assign(size_t(nc[0]) * nc[1] * nc[2], Cell{});
   std::array<std::array<int, 2>, 3> range;
@@ -652,7 +664,13 @@ void TSpline::build_grid() {
           entries_[e].function = static_cast<std::uint32_t>(i);
         }
   }
+  return counts;
+}
 
+void TSpline::build_cell_pieces(const std::array<std::vector<int>, 3>& first_cell,
+                                const std::array<std::vector<int>, 3>& first_piece,
+                                const std::vector<std::uint64_t>& counts) {
+  const int nc[3] = {int(breaks_[0].size() - 1), int(breaks_[1].size() - 1), int(breaks_[2].size() - 1)};
   // Per cell: the distinct pieces per axis (first-appearance order) and local indices.
   cell_pieces_.clear();
   max_functions_per_cell_ = 0;

@@ -184,7 +184,15 @@ class TSpline {
   };
   const Cell& piece_values(const Eigen::Vector3d& uvw, const std::array<int, 3>& order, PieceValues& out) const;
 
+  // build_grid in its steps: the knot-line breaks and lookup bins per axis, the shared power-form
+  // pieces (per function: first interval and first piece per axis), the cells' function entries
+  // (returns the CSR offsets), and each cell's distinct pieces.
   void build_grid();
+  void build_breaks();
+  void build_pieces(std::array<std::vector<int>, 3>& first_cell, std::array<std::vector<int>, 3>& first_piece);
+  std::vector<std::uint64_t> build_cell_entries(const std::array<std::vector<int>, 3>& first_cell);
+  void build_cell_pieces(const std::array<std::vector<int>, 3>& first_cell,
+                         const std::array<std::vector<int>, 3>& first_piece, const std::vector<std::uint64_t>& counts);
   void build_cell_polynomials();
   int locate(const Eigen::Vector3d& uvw, double* local, int* k) const;
   template <int D, bool kRational, bool kJacobian>

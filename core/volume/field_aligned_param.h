@@ -29,7 +29,7 @@ struct FieldAlignedOptions {
   double background_weight = 1.0;  ///< weight of background voxels (label 0), whose target is the identity frame, in [0, 1] (0.1 let the background absorb the stretch, which cost density error on tooth)
   /// Frames are trusted near the iso-surface constraints, where they are pinned to a normal:
   /// reliability exp(-(d / R)^2) at Chebyshev distance d (voxels) from the nearest constrained
-  /// voxel. R >= 0; 0 = every foreground frame is trusted fully (the map of earlier sessions).
+  /// voxel. R >= 0; 0 = every foreground frame is trusted fully.
   double reliability_radius = 1.0;
   /// Weight of the pull towards the identity frame, times (1 - reliability), on foreground
   /// voxels (a regularisation the thesis leaves open), >= 0.

@@ -108,7 +108,7 @@ TEST_CASE("vol2spline keeps the volume's origin and mirrored direction in X, Y, 
   v.direction = Eigen::Vector3d(-1, -1, 1).asDiagonal();  // an LPS-style frame: det = +1 here
   v.direction.col(0).swap(v.direction.col(1));            // and a swap of two axes: det = −1
   const pipeline::Vol2SplineResult world = pipeline::run_vol2spline(v, "ellipsoid", options);
-  for (const Eigen::Vector3i voxel : {Eigen::Vector3i(0, 0, 0), Eigen::Vector3i(3, 7, 10), Eigen::Vector3i(11, 11, 11)}) {
+  for (const Eigen::Vector3i& voxel : {Eigen::Vector3i(0, 0, 0), Eigen::Vector3i(3, 7, 10), Eigen::Vector3i(11, 11, 11)}) {
     const Eigen::VectorXd f = world.spline.evaluate(voxel.cast<double>());
     const Eigen::Vector3d expected = v.voxel_position(voxel.x(), voxel.y(), voxel.z());
     CHECK((f.head<3>() - expected).norm() < 1e-8);
