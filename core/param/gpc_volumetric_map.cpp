@@ -92,8 +92,11 @@ int untangle_padded_mesh(const polycube::GpcConstruction& construction, const st
   SlidingNodes sliding;
   sliding.slides.resize(rows);
   for (int r = 0; r < rows; ++r) sliding.slides[r] = slides[r] > 0;
-  sliding.project = [&](int r, const Eigen::Vector3d& p, Eigen::Vector3d* normal) {
-    return patches[slides[r] - 1]->closest_point(p, normal);
+  sliding.project = [&](int r, const Eigen::Vector3d& p, Eigen::Matrix3d* tangent) {
+    Eigen::Vector3d normal;
+    const Eigen::Vector3d q = patches[slides[r] - 1]->closest_point(p, &normal);
+    if (tangent) *tangent = Eigen::Matrix3d::Identity() - normal * normal.transpose();
+    return q;
   };
   HexGridUntangleOptions held_options;
   held_options.rounds = 1;
@@ -106,8 +109,9 @@ int untangle_padded_mesh(const polycube::GpcConstruction& construction, const st
     untangled += untangle_hex_mesh(pm.hexes, fixed, pm.xyz, {}, slide_options, &sliding).free_nodes;
     if (hex_mesh_quality(pm).num_inverted > held_count) pm.xyz = held_result;
   }
-  if (options.quality_iterations > 0 && hex_mesh_quality(pm).num_inverted == 0) {
-    // Only around the poor hexes: nodes within 2 rings of a hex below scaled Jacobian 0.3.
+  const HexMeshQuality untangled_quality = hex_mesh_quality(pm);
+  if (options.quality_iterations > 0 && untangled_quality.num_inverted == 0) {
+    // Only around the poor hexes: nodes within 1 ring of a hex below scaled Jacobian 0.3.
     std::vector<char> region(rows, 0);
     for (const auto& hex : pm.hexes) {
       std::array<Eigen::Vector3d, 8> x;
@@ -115,19 +119,21 @@ int untangle_padded_mesh(const polycube::GpcConstruction& construction, const st
       if (mesh::hex_min_scaled_jacobian(x) < 0.3)
         for (int v : hex) region[v] = 1;
     }
-    for (int ring = 0; ring < 2; ++ring) {
-      std::vector<char> next = region;
-      for (const auto& hex : pm.hexes) {
-        bool any = false;
-        for (int v : hex) any = any || region[v];
-        if (any)
-          for (int v : hex) next[v] = 1;
-      }
-      region.swap(next);
+    std::vector<char> next = region;
+    for (const auto& hex : pm.hexes) {
+      bool any = false;
+      for (int v : hex) any = any || region[v];
+      if (any)
+        for (int v : hex) next[v] = 1;
     }
     std::vector<char> frozen(rows);
-    for (int r = 0; r < rows; ++r) frozen[r] = fixed[r] || !region[r];
+    for (int r = 0; r < rows; ++r) frozen[r] = fixed[r] || !next[r];
+    // The energy is a sum over corners: kept only if the worst corner did not get worse.
+    const mesh::Positions before = pm.xyz;
     improve_hex_mesh(pm.hexes, frozen, pm.xyz, options.quality_iterations, 0.5, &sliding);
+    const HexMeshQuality improved = hex_mesh_quality(pm);
+    if (improved.num_inverted > 0 || improved.min_scaled_jacobian < untangled_quality.min_scaled_jacobian)
+      pm.xyz = before;
   }
   return untangled;
 }

@@ -126,7 +126,7 @@ class Energy {
  public:
   // hex_nodes[h]: the 8 nodes of hex h (node q at offset (q&1, q>>1&1, q>>2&1)), h = Corner::hex.
   // sliding (or null): free nodes it flags sit at the projection of their variables onto a
-  // surface, and their gradient is taken in the tangent plane there.
+  // surface or curve, and their gradient is taken in the tangent space there.
   Energy(const std::vector<std::array<int, 8>>& hex_nodes, std::vector<Corner> corners, std::vector<int> free_nodes,
          mesh::Positions& xyz, double h, double theta, const SlidingNodes* sliding)
       : corners_(std::move(corners)), free_(std::move(free_nodes)), xyz_(xyz), inv_h_(1.0 / h), theta_(theta),
@@ -137,7 +137,7 @@ class Energy {
       for (std::size_t v = 0; v < free_.size(); ++v)
         if (sliding->slides[free_[v]]) {
           sliding_.push_back(static_cast<int>(v));
-          slide_normal_.push_back(Eigen::Vector3d::Zero());
+          slide_tangent_.push_back(Eigen::Matrix3d::Zero());
         }
     flat_.resize(3 * static_cast<std::size_t>(xyz.rows()));
     for (Eigen::Index v = 0; v < xyz.rows(); ++v)
@@ -173,7 +173,7 @@ class Energy {
     // Sliding nodes: the variables' projection onto the surface.
     for (std::size_t s = 0; s < sliding_.size(); ++s) {
       const int v = sliding_[s];
-      const Eigen::Vector3d p = sliding_nodes_->project(free_[v], x.segment<3>(3 * v), &slide_normal_[s]);
+      const Eigen::Vector3d p = sliding_nodes_->project(free_[v], x.segment<3>(3 * v), &slide_tangent_[s]);
       xyz_.row(free_[v]) = p.transpose();
       for (int d = 0; d < 3; ++d) flat_[3 * static_cast<std::size_t>(free_[v]) + d] = p(d);
     }
@@ -255,7 +255,7 @@ class Energy {
     if (g_out)
       for (std::size_t s = 0; s < sliding_.size(); ++s) {
         Eigen::Map<Eigen::Vector3d> g(g_out + 3 * static_cast<std::size_t>(sliding_[s]));
-        g -= slide_normal_[s] * slide_normal_[s].dot(g);
+        g = slide_tangent_[s] * Eigen::Vector3d(g);
       }
     return total;
   }
@@ -288,7 +288,7 @@ class Energy {
   std::vector<int> var_of_;
   const SlidingNodes* sliding_nodes_ = nullptr;
   std::vector<int> sliding_;                   // variables of sliding nodes
-  std::vector<Eigen::Vector3d> slide_normal_;  // the surface normal at each one's position
+  std::vector<Eigen::Matrix3d> slide_tangent_;  // projector onto each one's tangent space there
   std::vector<double> flat_;
   double inv_h_;
   double theta_;

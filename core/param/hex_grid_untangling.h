@@ -25,12 +25,13 @@ struct HexGridUntangleOptions {
   double volume_weight = 0.5;
 };
 
-/// Nodes of untangle_hex_mesh that slide on a surface: slides[v] flags node v; project(v, p,
-/// normal) returns the point of the surface (v's part of it) nearest to p and writes the unit
-/// normal there. Positions of flagged nodes must lie on the surface on entry.
+/// Nodes of untangle_hex_mesh that slide on a surface or a curve: slides[v] flags node v;
+/// project(v, p, tangent) returns the point of v's surface or curve nearest to p and writes the
+/// orthogonal projector onto the tangent space there (I − n nᵀ on a surface with unit normal n,
+/// t tᵀ on a curve with unit tangent t). Positions of flagged nodes must lie on them on entry.
 struct SlidingNodes {
   std::vector<char> slides;
-  std::function<Eigen::Vector3d(int node, const Eigen::Vector3d& p, Eigen::Vector3d* normal)> project;
+  std::function<Eigen::Vector3d(int node, const Eigen::Vector3d& p, Eigen::Matrix3d* tangent)> project;
 };
 
 /// Outcome of untangle_hex_grid. A corner is "movable" if one of its 4 nodes is not fixed;
@@ -62,8 +63,8 @@ HexGridUntangleReport untangle_hex_grid(const std::array<int, 3>& nodes, const s
 /// (q&1, q>>1&1, q>>2&1), into xyz (changed in place); fixed: one flag per node. The free region
 /// grows by rings of hexes through shared nodes. `near` (per node, or empty = everywhere): only
 /// folds within options.rings hexes of a flagged node are worked on (and counted in the report).
-/// sliding (or null): nodes that are not fixed and flagged there stay on a surface, at the
-/// projection of where the optimizer puts them, their gradient taken in the tangent plane.
+/// sliding (or null): nodes that are not fixed and flagged there stay on their surface or curve,
+/// at the projection of where the optimizer puts them, their gradient taken in the tangent space.
 HexGridUntangleReport untangle_hex_mesh(const std::vector<std::array<int, 8>>& hexes, const std::vector<char>& fixed,
                                         mesh::Positions& xyz, const std::vector<char>& near = {},
                                         const HexGridUntangleOptions& options = {},

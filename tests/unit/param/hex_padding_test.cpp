@@ -146,8 +146,8 @@ TEST_CASE("untangle_hex_mesh: sliding nodes unfold a folded surface quad and sta
   param::SlidingNodes sliding;
   sliding.slides.assign(18, 0);
   sliding.slides[centre] = 1;
-  sliding.project = [](int, const Eigen::Vector3d& p, Eigen::Vector3d* normal) {
-    if (normal) *normal = Eigen::Vector3d::UnitZ();
+  sliding.project = [](int, const Eigen::Vector3d& p, Eigen::Matrix3d* tangent) {
+    if (tangent) *tangent = Eigen::Vector3d(1.0, 1.0, 0.0).asDiagonal();
     return Eigen::Vector3d(p.x(), p.y(), 0.0);
   };
   param::untangle_hex_mesh(mesh.hexes, fixed, xyz, {}, {}, &sliding);
