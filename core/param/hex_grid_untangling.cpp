@@ -113,6 +113,25 @@ std::vector<Corner> all_corners(const std::array<int, 3>& n) {
   return corners;
 }
 
+// The 8 corners of every hex of a hex list (node q at offset (q&1, q>>1&1, q>>2&1)).
+std::vector<Corner> hex_mesh_corners(const std::vector<std::array<int, 8>>& hexes) {
+  std::vector<Corner> corners;
+  corners.reserve(8 * hexes.size());
+  for (std::size_t h = 0; h < hexes.size(); ++h)
+    for (int c = 0; c < 8; ++c) {
+      Corner corner;
+      corner.node[0] = hexes[h][c];
+      corner.hex = static_cast<int>(h);
+      corner.index = c;
+      for (int a = 0; a < 3; ++a) {
+        corner.node[a + 1] = hexes[h][c ^ (1 << a)];
+        corner.sign[a] = ((c >> a) & 1) ? -1.0 : 1.0;
+      }
+      corners.push_back(corner);
+    }
+  return corners;
+}
+
 Eigen::Matrix3d corner_edges(const Corner& c, const mesh::Positions& xyz) {
   Eigen::Matrix3d e;
   for (int a = 0; a < 3; ++a) e.col(a) = c.sign[a] * (xyz.row(c.node[a + 1]) - xyz.row(c.node[0])).transpose();
@@ -286,12 +305,12 @@ class Energy {
   std::vector<int> free_;
   mesh::Positions& xyz_;
   std::vector<int> var_of_;
-  const SlidingNodes* sliding_nodes_ = nullptr;
   std::vector<int> sliding_;                   // variables of sliding nodes
   std::vector<Eigen::Matrix3d> slide_tangent_;  // projector onto each one's tangent space there
   std::vector<double> flat_;
   double inv_h_;
   double theta_;
+  const SlidingNodes* sliding_nodes_ = nullptr;
 };
 
 // One round of the ε continuation of Garanzha et al. 2021 (§3) with untangle's update and stop
@@ -473,19 +492,7 @@ HexGridUntangleReport untangle_hex_mesh(const std::vector<std::array<int, 8>>& h
   assert(options.rings >= 1 && options.max_steps >= 1 && options.max_inner >= 1);
   HexGridUntangleReport report;
   const int total = static_cast<int>(xyz.rows());
-  std::vector<Corner> corners;
-  for (std::size_t h = 0; h < hexes.size(); ++h)
-    for (int c = 0; c < 8; ++c) {
-      Corner corner;
-      corner.node[0] = hexes[h][c];
-      corner.hex = static_cast<int>(h);
-      corner.index = c;
-      for (int a = 0; a < 3; ++a) {
-        corner.node[a + 1] = hexes[h][c ^ (1 << a)];
-        corner.sign[a] = ((c >> a) & 1) ? -1.0 : 1.0;
-      }
-      corners.push_back(corner);
-    }
+  const std::vector<Corner> corners = hex_mesh_corners(hexes);
   auto movable = [&](const Corner& c) {
     return !fixed[c.node[0]] || !fixed[c.node[1]] || !fixed[c.node[2]] || !fixed[c.node[3]];
   };
@@ -547,21 +554,10 @@ int improve_hex_mesh(const std::vector<std::array<int, 8>>& hexes, const std::ve
                      mesh::Positions& xyz, int iterations, double volume_weight, const SlidingNodes* sliding) {
   assert(static_cast<Eigen::Index>(fixed.size()) == xyz.rows() && iterations >= 1);
   const int total = static_cast<int>(xyz.rows());
-  std::vector<Corner> corners;
+  const std::vector<Corner> corners = hex_mesh_corners(hexes);
   std::vector<char> touched(total, 0);
-  for (std::size_t h = 0; h < hexes.size(); ++h)
-    for (int c = 0; c < 8; ++c) {
-      Corner corner;
-      corner.node[0] = hexes[h][c];
-      corner.hex = static_cast<int>(h);
-      corner.index = c;
-      for (int a = 0; a < 3; ++a) {
-        corner.node[a + 1] = hexes[h][c ^ (1 << a)];
-        corner.sign[a] = ((c >> a) & 1) ? -1.0 : 1.0;
-      }
-      corners.push_back(corner);
-      touched[hexes[h][c]] = 1;
-    }
+  for (const auto& hex : hexes)
+    for (int v : hex) touched[v] = 1;
   double mean_det = 0.0;
   for (const Corner& c : corners) mean_det += corner_edges(c, xyz).determinant() / corners.size();
   const double h = std::cbrt(std::max(mean_det, 1e-300));
