@@ -33,7 +33,8 @@ lens::RadialLens test_lens() {
 // Each pair: input radius → expected output radius (exact up to rounding).
 void check_radii(lens::BaselineKind kind, double m, const std::vector<std::pair<double, double>>& radii) {
   const lens::RadialLens l = test_lens();
-  for (const auto& [in, out] : radii) {
+  for (const auto& pair : radii) {  // no structured binding: CAPTURE's lambda cannot name one in C++17
+    const double in = pair.first, out = pair.second;
     CAPTURE(in);
     CHECK(output_radius(kind, l, in, m) == doctest::Approx(out).epsilon(1e-14));
   }
