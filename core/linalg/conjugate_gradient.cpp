@@ -2,6 +2,7 @@
 #include "core/linalg/conjugate_gradient.h"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <vector>
 
@@ -189,7 +190,14 @@ void spmv_block(const SymmetricMatrix& a, const double* const* p, double* const*
   } else {
     // Part 0 works in q itself; part t ≥ 1 in a private array over rows [part_rows[t], n)
     // (stored from index 0), added to q afterwards in part order.
-    std::vector<std::vector<double>> scratch(static_cast<std::size_t>(parts - 1) * K);
+    std::array<std::size_t, (kSpmvParts - 1) * K + 1> start{};
+    for (int t = 1; t < parts; ++t)
+      for (int c = 0; c < K; ++c) {
+        const std::size_t slot = static_cast<std::size_t>(t - 1) * K + c;
+        start[slot + 1] = start[slot] + static_cast<std::size_t>(n - a.part_rows[t]);
+      }
+    if (a.scratch.size() < start.back()) a.scratch.resize(start.back());
+    double* scratch = a.scratch.data();
     parallel_for(a.threads >= kMinSpmvThreads ? a.threads : 1, parts, [&](int t) {
       double* acc[K];
       const int first = t == 0 ? 0 : a.part_rows[t];
@@ -197,9 +205,9 @@ void spmv_block(const SymmetricMatrix& a, const double* const* p, double* const*
         if (t == 0) {
           acc[c] = q[c];
         } else {
-          std::vector<double>& buffer = scratch[static_cast<std::size_t>(t - 1) * K + c];
-          buffer.assign(static_cast<std::size_t>(n - first), 0.0);
-          acc[c] = buffer.data();
+          const std::size_t slot = static_cast<std::size_t>(t - 1) * K + c;
+          acc[c] = scratch + start[slot];
+          std::fill(acc[c], acc[c] + (start[slot + 1] - start[slot]), 0.0);
         }
       }
       spmv_part<K>(a, a.part_rows[t], a.part_rows[t + 1], first, p, acc);
@@ -207,7 +215,7 @@ void spmv_block(const SymmetricMatrix& a, const double* const* p, double* const*
     for (int t = 1; t < parts; ++t) {
       const int first = a.part_rows[t];
       for (int c = 0; c < K; ++c) {
-        const double* buffer = scratch[static_cast<std::size_t>(t - 1) * K + c].data();
+        const double* buffer = scratch + start[static_cast<std::size_t>(t - 1) * K + c];
         double* qc = q[c];
         for (int j = first; j < n; ++j) qc[j] += buffer[j - first];
       }

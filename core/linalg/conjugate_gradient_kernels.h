@@ -42,6 +42,9 @@ struct SymmetricMatrix {
   /// q in part order, so they run in parallel with the same bits as one after the other.
   std::vector<int> part_rows;
   int threads = 1;
+  /// Work space of the parts t ≥ 1, kept between products (a product of a large matrix would
+  /// otherwise allocate and fault in fresh pages every time). One product at a time.
+  mutable std::vector<double> scratch;
 };
 /// Diagonal and strict upper triangle of the square matrix a (the lower triangle is ignored);
 /// `threads` (≥ 1; from kMinSpmvThreads on) run the parts of the products concurrently.

@@ -72,27 +72,111 @@ double min_pair_distance(const mesh::HalfedgeMesh& mesh, const Corners& corners)
   return best;
 }
 
+// The used vertices in a uniform grid of cells, each with the bounding box of its vertices, so
+// that the vertex with the largest score visits only the cells whose bound reaches the best
+// score found. Exact: a cell's bound is evaluated with the same floating-point expression as the
+// scores on the box corner that maximizes it (rounding is monotone), so it is never below any of
+// its vertices' scores, and equal scores go to the lowest vertex id, as in a scan of all vertices.
+class VertexCells {
+ public:
+  explicit VertexCells(const mesh::HalfedgeMesh& mesh) : mesh_(mesh) {
+    std::vector<int> used;
+    for (int v = 0; v < mesh.num_vertices(); ++v)
+      if (mesh.vertex_halfedge(v) != mesh::no_id) used.push_back(v);
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (int v : used) {
+      lo = lo.cwiseMin(mesh.vertex_position(v));
+      hi = hi.cwiseMax(mesh.vertex_position(v));
+    }
+    // About 512 vertices per cell: the cells' bounds cost little next to the vertices scanned.
+    const int r = std::clamp(static_cast<int>(std::cbrt(used.size() / 512.0)), 1, 32);
+    std::vector<int> cell_of(used.size());
+    std::vector<int> count(static_cast<std::size_t>(r) * r * r + 1, 0);
+    for (std::size_t i = 0; i < used.size(); ++i) {
+      const Eigen::Vector3d p = mesh.vertex_position(used[i]);
+      int cell = 0;
+      for (int a = 2; a >= 0; --a) {
+        const double extent = hi(a) - lo(a);
+        const int k = extent > 0.0 ? std::clamp(static_cast<int>((p(a) - lo(a)) / extent * r), 0, r - 1) : 0;
+        cell = cell * r + k;
+      }
+      cell_of[i] = cell;
+      ++count[cell + 1];
+    }
+    for (std::size_t c = 1; c < count.size(); ++c) count[c] += count[c - 1];
+    first_ = count;
+    vertex_.resize(used.size());
+    for (std::size_t i = 0; i < used.size(); ++i) vertex_[count[cell_of[i]]++] = used[i];  // ascending ids per cell
+    const std::size_t cells = first_.size() - 1;
+    lo_.assign(cells, Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()));
+    hi_.assign(cells, -lo_[0]);
+    for (std::size_t c = 0; c < cells; ++c)
+      for (int k = first_[c]; k < first_[c + 1]; ++k) {
+        lo_[c] = lo_[c].cwiseMin(mesh.vertex_position(vertex_[k]));
+        hi_[c] = hi_[c].cwiseMax(mesh.vertex_position(vertex_[k]));
+      }
+  }
+
+  // The vertex maximizing (x − centre)·direction.
+  int max_along(const Eigen::Vector3d& centre, const Eigen::Vector3d& direction) const {
+    return best([&](const Eigen::Vector3d& x) { return (x - centre).dot(direction); },
+                [&](int c) {
+                  Eigen::Vector3d corner;
+                  for (int a = 0; a < 3; ++a) corner(a) = direction(a) >= 0.0 ? hi_[c](a) : lo_[c](a);
+                  return (corner - centre).dot(direction);
+                });
+  }
+
+  // The vertex nearest to target.
+  int nearest_to(const Eigen::Vector3d& target) const {
+    return best([&](const Eigen::Vector3d& x) { return -(x - target).squaredNorm(); },
+                [&](int c) { return -(target.cwiseMax(lo_[c]).cwiseMin(hi_[c]) - target).squaredNorm(); });
+  }
+
+ private:
+  template <class Score, class Bound>
+  int best(const Score& score, const Bound& bound) const {
+    const int cells = static_cast<int>(first_.size()) - 1;
+    std::vector<double> bounds(cells, -std::numeric_limits<double>::infinity());
+    int top = -1;
+    for (int c = 0; c < cells; ++c) {
+      if (first_[c] == first_[c + 1]) continue;
+      bounds[c] = bound(c);
+      if (top < 0 || bounds[c] > bounds[top]) top = c;
+    }
+    double best_score = -std::numeric_limits<double>::infinity();
+    int best_id = -1;
+    auto scan = [&](int c) {
+      for (int k = first_[c]; k < first_[c + 1]; ++k) {
+        const int v = vertex_[k];
+        const double s = score(mesh_.vertex_position(v));
+        if (best_id < 0 || s > best_score || (s == best_score && v < best_id)) {
+          best_score = s;
+          best_id = v;
+        }
+      }
+    };
+    if (top < 0) return -1;
+    scan(top);
+    for (int c = 0; c < cells; ++c)
+      if (c != top && first_[c] < first_[c + 1] && bounds[c] >= best_score) scan(c);
+    return best_id;
+  }
+
+  const mesh::HalfedgeMesh& mesh_;
+  std::vector<int> first_;   // per cell, its range of vertex_ (cells + 1 offsets)
+  std::vector<int> vertex_;  // used vertex ids, by cell, ascending within a cell
+  std::vector<Eigen::Vector3d> lo_, hi_;  // per cell, the bounding box of its vertices
+};
+
 // Vertices extremal along the 8 box diagonals of `frame` (columns = axes) scaled by `extent`
 // (nearest: the vertices nearest to the corners of the box of half-sides 2·extent instead);
 // false if two diagonals pick the same vertex.
-bool extremal_corners(const mesh::HalfedgeMesh& mesh, const Eigen::Vector3d& centre,
-                      const Eigen::Matrix3d& frame, const Eigen::Vector3d& extent, bool nearest,
-                      Corners& corners) {
+bool extremal_corners(const VertexCells& cells, const Eigen::Vector3d& centre, const Eigen::Matrix3d& frame,
+                      const Eigen::Vector3d& extent, bool nearest, Corners& corners) {
   for (int c = 0; c < num_cube_corners; ++c) {
     const Eigen::Vector3d direction = frame * corner_signs(c).cwiseProduct(extent);
-    double best = -std::numeric_limits<double>::infinity();
-    int best_id = -1;
-    const Eigen::Vector3d target = centre + 2.0 * direction;
-    for (int v = 0; v < mesh.num_vertices(); ++v) {
-      if (mesh.vertex_halfedge(v) == mesh::no_id) continue;
-      const double score = nearest ? -(mesh.vertex_position(v) - target).squaredNorm()
-                                   : (mesh.vertex_position(v) - centre).dot(direction);
-      if (score > best) {
-        best = score;
-        best_id = v;
-      }
-    }
-    corners[c] = best_id;
+    corners[c] = nearest ? cells.nearest_to(centre + 2.0 * direction) : cells.max_along(centre, direction);
   }
   std::set<int> distinct(corners.begin(), corners.end());
   return static_cast<int>(distinct.size()) == num_cube_corners;
@@ -143,11 +227,12 @@ Corners automatic_corners(const mesh::HalfedgeMesh& mesh, bool nearest) {
     for (double angle : {25.0, 50.0})
       frames.push_back(pca * Eigen::AngleAxisd(angle * degree, axis).toRotationMatrix());
   }
+  const VertexCells cells(mesh);
   Corners best{};
   double best_score = -1.0;
   for (const Eigen::Matrix3d& start : frames) {
     Corners current;
-    if (!extremal_corners(mesh, centre, start, extent, nearest, current)) continue;
+    if (!extremal_corners(cells, centre, start, extent, nearest, current)) continue;
     double score = min_pair_distance(mesh, current);
     for (int iteration = 0; iteration < 8; ++iteration) {
       Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
@@ -158,7 +243,7 @@ Corners automatic_corners(const mesh::HalfedgeMesh& mesh, bool nearest) {
       fix(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
       const Eigen::Matrix3d frame = svd.matrixV() * fix * svd.matrixU().transpose();
       Corners next;
-      if (!extremal_corners(mesh, centre, frame, extent, nearest, next)) break;
+      if (!extremal_corners(cells, centre, frame, extent, nearest, next)) break;
       const double next_score = min_pair_distance(mesh, next);
       if (next == current || next_score <= score) break;
       current = next;
