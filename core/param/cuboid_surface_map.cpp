@@ -18,6 +18,11 @@ namespace volspline::param {
 CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
                                             const polycube::CuboidLayout& layout,
                                             const CuboidSurfaceMapOptions& options) {
+  if (!(options.tolerance > 0.0 && options.tolerance < 1.0) ||
+      !(options.balance_tolerance >= options.tolerance && options.balance_tolerance < 1.0))
+    throw Error("cuboid surface map: `tolerance` must be in (0, 1) and `balance_tolerance` in [`tolerance`, 1)");
+  if (options.area_balance_iterations < 0 || options.area_balance_iterations > 20)
+    throw Error("cuboid surface map: `area_balance_iterations` must be in [0, 20]");
   const int n = mesh.num_vertices();
   CuboidSurfaceMap map;
   map.uvw = mesh::Positions::Zero(n, 3);
@@ -108,7 +113,7 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
     system.a = linalg::CsrMatrix::from_arrays(m, m, std::move(offsets), std::move(cols), std::move(values));
   }
 
-  auto solve = [&](const std::vector<double>& weight) {
+  auto solve = [&](const std::vector<double>& weight, double tolerance) {
     for (int face = 0; face < polycube::num_cube_faces; ++face) {
       const std::vector<int>& interior = face_interior[face];
       const int m = static_cast<int>(interior.size());
@@ -137,7 +142,7 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
       linalg::SolverInfo info = linalg::SolverInfo::Success;
       int iterations = 0;
       auto run = [&](auto& cg) {
-        cg.set_tolerance(options.tolerance);
+        cg.set_tolerance(tolerance);
         cg.compute(system.a);
         st = cg.solve(rhs, x0);
         info = cg.info();
@@ -161,7 +166,11 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
   // Warm start at the square's centre: the solution lies inside the square.
   for (int v = 0; v < n; ++v)
     if (vertex_face[v] >= 0) map.uvw.row(v) = cube_face_point(vertex_face[v], 0.5, 0.5).transpose();
-  solve(weight);
+  // The maps before the last only set the area-balancing weights: a looser solve is enough.
+  auto round_tolerance = [&](int round) {
+    return round < options.area_balance_iterations ? options.balance_tolerance : options.tolerance;
+  };
+  solve(weight, round_tolerance(0));
 
   // Area balancing (after Yoshizawa, Belyaev & Seidel 2004, stretch minimization): a Tutte map
   // squeezes protrusions (ears, limbs) into tiny parameter areas that no spline cell can
@@ -199,7 +208,7 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
       const int i = mesh.halfedge_vertex(mesh.halfedge_twin(h)), j = mesh.halfedge_vertex(h);
       weight[h] /= 0.5 * (stretch[i] + stretch[j]);
     }
-    solve(weight);
+    solve(weight, round_tolerance(iteration + 1));
   }
 
   int first_flipped = -1;

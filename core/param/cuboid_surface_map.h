@@ -24,7 +24,12 @@ enum class SurfaceSolver {
 /// Options of compute_cuboid_surface_map.
 struct CuboidSurfaceMapOptions {
   SurfaceWeights weights = SurfaceWeights::MeanValue;
-  double tolerance = 1e-10;  ///< relative CG residual of each solve (unitless)
+  double tolerance = 1e-10;  ///< relative CG residual of the final solves (unitless), in (0, 1)
+  /// Relative CG residual of the solves of the area-balancing rounds before the last, in
+  /// [tolerance, 1): their maps only set the next round's weights (1e-8 leaves the harmonic gpc
+  /// grids of the shared meshes with the same inverted hexes, minimum scaled Jacobians within
+  /// 1e-5).
+  double balance_tolerance = 1e-8;
   /// Stretch-reweighting rounds that give squeezed parts more parameter area (0 = the plain
   /// Tutte/Floater map), in [0, 20]; every round is still a convex-combination map.
   int area_balance_iterations = 0;
@@ -50,8 +55,9 @@ using polycube::cube_face_point;
 /// the poly-edges fixed by arc length and a discrete harmonic interior; with positive weights
 /// this is Tutte/Floater's convex-combination map, which is provably bijective, and shared
 /// poly-edges get the same parameters from both sides, so the 6 maps glue continuously.
-/// Throws volspline::Error naming the mesh, the cube face and the first bad triangle if the
-/// map is not bijective (flipped or degenerate triangles, e.g. cotan weights on a bad mesh).
+/// Throws volspline::Error on options out of range, and naming the mesh, the cube face and the
+/// first bad triangle if the map is not bijective (flipped or degenerate triangles, e.g. cotan
+/// weights on a bad mesh).
 CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
                                             const polycube::CuboidLayout& layout,
                                             const CuboidSurfaceMapOptions& options = {});

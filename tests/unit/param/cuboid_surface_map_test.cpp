@@ -144,6 +144,7 @@ TEST_CASE("the multigrid and IC(0) solvers give the same area-balanced map") {
   const auto layout = polycube::compute_cuboid_layout(m);
   param::CuboidSurfaceMapOptions options;
   options.area_balance_iterations = 4;
+  options.balance_tolerance = options.tolerance;
   const auto multigrid = param::compute_cuboid_surface_map(m, layout, options);
   options.solver = param::SurfaceSolver::IncompleteCholesky;
   const auto ic = param::compute_cuboid_surface_map(m, layout, options);
@@ -152,4 +153,26 @@ TEST_CASE("the multigrid and IC(0) solvers give the same area-balanced map") {
   // Both stop at relative residual 1e-10; the rounds amplify the difference a little.
   CHECK((multigrid.uvw - ic.uvw).cwiseAbs().maxCoeff() <= 1e-7);
   CHECK(multigrid.cg_iterations < ic.cg_iterations);
+}
+
+TEST_CASE("looser area-balancing rounds change the final map little; bad tolerances are refused") {
+  mesh::TriangleMesh bumpy = test::cube_sphere(16);
+  for (int v = 0; v < bumpy.num_vertices(); ++v)
+    if (bumpy.positions(v, 2) > 0.5) bumpy.positions(v, 2) = 0.5 + 4.0 * (bumpy.positions(v, 2) - 0.5);
+  const auto m = mesh::HalfedgeMesh::build(bumpy, "bumpy");
+  const auto layout = polycube::compute_cuboid_layout(m);
+  param::CuboidSurfaceMapOptions options;
+  options.area_balance_iterations = 4;
+  const auto loose = param::compute_cuboid_surface_map(m, layout, options);
+  options.balance_tolerance = options.tolerance;
+  const auto tight = param::compute_cuboid_surface_map(m, layout, options);
+  CHECK(loose.num_flipped == 0);
+  // The weights differ by the rounds' residuals (1e-8 relative), the maps by about as much.
+  CHECK((loose.uvw - tight.uvw).cwiseAbs().maxCoeff() <= 1e-7);
+  CHECK((loose.uvw - tight.uvw).cwiseAbs().maxCoeff() > 0.0);
+  for (double bad : {0.0, 1.0, 1e-12}) {
+    options.balance_tolerance = bad;
+    CHECK_THROWS_WITH_AS(param::compute_cuboid_surface_map(m, layout, options),
+                         doctest::Contains("`balance_tolerance`"), Error);
+  }
 }
