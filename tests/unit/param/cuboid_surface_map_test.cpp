@@ -12,6 +12,18 @@
 
 using namespace volspline;
 
+namespace {
+
+// A cube sphere stretched 4× above z = 0.5: a map that needs area balancing.
+mesh::TriangleMesh bumpy_cube_sphere(int n) {
+  mesh::TriangleMesh bumpy = test::cube_sphere(n);
+  for (int v = 0; v < bumpy.num_vertices(); ++v)
+    if (bumpy.positions(v, 2) > 0.5) bumpy.positions(v, 2) = 0.5 + 4.0 * (bumpy.positions(v, 2) - 0.5);
+  return bumpy;
+}
+
+}  // namespace
+
 TEST_CASE("cube face coordinates round-trip") {
   for (int f = 0; f < 6; ++f) {
     const Eigen::Vector3d p = polycube::cube_face_point(f, 0.25, 0.75);
@@ -98,9 +110,7 @@ double area_distortion(const mesh::HalfedgeMesh& m, const param::CuboidSurfaceMa
 }  // namespace
 
 TEST_CASE("area balancing keeps the map bijective and gives a protrusion more parameter area") {
-  mesh::TriangleMesh bumpy = test::cube_sphere(10);
-  for (int v = 0; v < bumpy.num_vertices(); ++v)
-    if (bumpy.positions(v, 2) > 0.5) bumpy.positions(v, 2) = 0.5 + 4.0 * (bumpy.positions(v, 2) - 0.5);
+  const mesh::TriangleMesh bumpy = bumpy_cube_sphere(10);
   const auto m = mesh::HalfedgeMesh::build(bumpy, "bumpy");
   const auto layout = polycube::compute_cuboid_layout(m);
   const auto plain = param::compute_cuboid_surface_map(m, layout);
@@ -137,9 +147,7 @@ TEST_CASE("cotan weights on a mesh with very obtuse triangles are reported, not 
 }
 
 TEST_CASE("the multigrid and IC(0) solvers give the same area-balanced map") {
-  mesh::TriangleMesh bumpy = test::cube_sphere(24);
-  for (int v = 0; v < bumpy.num_vertices(); ++v)
-    if (bumpy.positions(v, 2) > 0.5) bumpy.positions(v, 2) = 0.5 + 4.0 * (bumpy.positions(v, 2) - 0.5);
+  const mesh::TriangleMesh bumpy = bumpy_cube_sphere(24);
   const auto m = mesh::HalfedgeMesh::build(bumpy, "bumpy");
   const auto layout = polycube::compute_cuboid_layout(m);
   param::CuboidSurfaceMapOptions options;
@@ -156,9 +164,7 @@ TEST_CASE("the multigrid and IC(0) solvers give the same area-balanced map") {
 }
 
 TEST_CASE("looser area-balancing rounds change the final map little; bad tolerances are refused") {
-  mesh::TriangleMesh bumpy = test::cube_sphere(16);
-  for (int v = 0; v < bumpy.num_vertices(); ++v)
-    if (bumpy.positions(v, 2) > 0.5) bumpy.positions(v, 2) = 0.5 + 4.0 * (bumpy.positions(v, 2) - 0.5);
+  const mesh::TriangleMesh bumpy = bumpy_cube_sphere(16);
   const auto m = mesh::HalfedgeMesh::build(bumpy, "bumpy");
   const auto layout = polycube::compute_cuboid_layout(m);
   param::CuboidSurfaceMapOptions options;
