@@ -67,8 +67,10 @@ int run_gpc(const std::vector<std::string>& argv) {
     if (args.has(flag)) files.output(std::string("--") + flag, args.get(flag));
   if (args.has("corners")) options.corners = read_corner_ids(args.get("corners"));
 
-  const mesh::TriangleMesh input = io::read_mesh(path);
+  // The bar starts before the read: a large mesh takes a second to parse.
   ProgressBar bar(!args.has("quiet"));
+  bar.progress().report("read", 0.0);
+  const mesh::TriangleMesh input = io::read_mesh(path);
   const pipeline::GpcResult result = pipeline::run_gpc(input, path, options, bar.progress());
   bar.finish();
 

@@ -41,6 +41,7 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
   const auto t_start = Clock::now();
   GpcResult result;
   GpcStats& stats = result.stats;
+  // Fractions of the whole job at each stage's start (the volumetric map takes most of it).
   progress.report("validate", 0.0);
 
   // Unit box inside the core: centre and diagonal of the input's bounding box.
@@ -60,7 +61,7 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
   stats.times_s["validate"] = seconds_since(t_start);
 
   auto t0 = Clock::now();
-  progress.report("decompose", 0.0);
+  progress.report("decompose", 0.02);
   // Decomposition, T-to-cube and meridian certificate with the given limb persistence (0: two
   // poles). A genus-0 solid without limbs is not cut: the blob is one cuboid on the unrefined
   // surface, as mesh2spline maps it.
@@ -83,7 +84,7 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
     }
     stats.num_saddles = decomposition.num_saddles;
     stats.times_s["decompose"] = seconds_since(t0);
-    progress.report("T-to-cube", 0.0);
+    progress.report("T-to-cube", 0.05);
     // A piece too coarse for its layout's disjoint paths is refined (at most twice) and retried.
     const bool cut = !decomposition.loops.empty();
     for (int attempt = 0;; ++attempt) {
@@ -128,7 +129,7 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
   stats.times_s["t_to_cube"] = seconds_since(t0);
 
   t0 = Clock::now();
-  progress.report("volumetric map", 0.0);
+  progress.report("volumetric map", 0.15);
   result.map = param::compute_gpc_volumetric_map(result.construction, 1.0, options.grid);
   stats.times_s["volumetric_map"] = seconds_since(t0);
 
