@@ -266,6 +266,8 @@ bool trace_layout(const mesh::HalfedgeMesh& mesh, const std::vector<double>& len
                   const std::array<std::vector<int>, num_cube_edges>& fixed, CuboidLayout& layout,
                   std::string* why) {
   const int n = mesh.num_vertices();
+  const double length_bound = straight_line_bound(mesh, length);
+  const double band_bound = &band_length == &length ? length_bound : straight_line_bound(mesh, band_length);
   std::vector<char> blocked(n, 0);
   for (int c : layout.corners) blocked[c] = 1;
   for (const auto& path : fixed)
@@ -279,8 +281,8 @@ bool trace_layout(const mesh::HalfedgeMesh& mesh, const std::vector<double>& len
       const int e = cube_edge_between(ca, cb);
       const auto ends = cube_edge_corners(e);
       std::vector<int> path = !fixed[e].empty() ? fixed[e]
-                                                : restricted_path(mesh, length, layout.corners[ends[0]],
-                                                                  layout.corners[ends[1]], blocked, nullptr);
+                                                : guided_path(mesh, length, length_bound, layout.corners[ends[0]],
+                                                              layout.corners[ends[1]], blocked, nullptr);
       if (path.empty()) {
         *why = "no free path for cuboid edge " + std::to_string(e);
         return false;
@@ -330,8 +332,8 @@ bool trace_layout(const mesh::HalfedgeMesh& mesh, const std::vector<double>& len
     const int e = 4 * long_axis + k;
     const auto ends = cube_edge_corners(e);
     std::vector<int> path = !fixed[e].empty() ? fixed[e]
-                                              : restricted_path(mesh, band_length, layout.corners[ends[0]],
-                                                                layout.corners[ends[1]], blocked, in_annulus);
+                                              : guided_path(mesh, band_length, band_bound, layout.corners[ends[0]],
+                                                            layout.corners[ends[1]], blocked, in_annulus);
     if (path.empty()) {
       *why = "no free path across the band for cuboid edge " + std::to_string(e);
       return false;

@@ -18,6 +18,20 @@ std::vector<int> restricted_path(const mesh::HalfedgeMesh& mesh, const std::vect
                                  int source, int target, const std::vector<char>& blocked,
                                  const std::function<bool(int)>& edge_ok);
 
+/// The largest c ≤ 1 with c·|x_a − x_b| ≤ length[e] on every edge e = (a, b) (0 if some edge has
+/// zero length but its ends differ): c times the straight-line distance never overestimates a
+/// path's length, the bound guided_path needs.
+double straight_line_bound(const mesh::HalfedgeMesh& mesh, const std::vector<double>& length);
+
+/// A shortest path as restricted_path finds (same rules for blocked vertices and edge_ok, same
+/// length), searched by A* with the estimate bound·|x_v − x_target| (bound from
+/// straight_line_bound for this `length`): it explores about the ellipse around the two ends
+/// instead of the disc around the source. Among paths of equal length it may pick another one
+/// than restricted_path. Empty if there is no such path.
+std::vector<int> guided_path(const mesh::HalfedgeMesh& mesh, const std::vector<double>& length, double bound,
+                             int source, int target, const std::vector<char>& blocked,
+                             const std::function<bool(int)>& edge_ok);
+
 /// Dijkstra from source to the nearest vertex with is_target set (the source itself does not
 /// count), entering only unblocked or target vertices through halfedges accepted by edge_ok
 /// (null: all). Same order and ties as restricted_path. Empty if no target is reached.

@@ -5,7 +5,9 @@
 // stage: the surface maps (§3.4.1, with their largest CG iteration count) and their inverse
 // lookups (locator build and one lookup per boundary grid node), medians of N repetitions.
 // --parts-only runs the job once without untangling or padding (to get the cuboids) and times
-// only the parts. The default mesh is the shared kitten.
+// only the parts. The default mesh is the shared kitten. The CLI tunes glibc's heap
+// (cli/heap_tuning); for the same allocation costs run with
+// GLIBC_TUNABLES=glibc.malloc.mmap_threshold=33554432:glibc.malloc.trim_threshold=1073741824.
 // usage: bench_gpc [MESH] [--runs N] [--grid-nodes N] [--limbs P] [--parts-only]
 #include <algorithm>
 #include <chrono>
@@ -129,7 +131,8 @@ int main(int argc, char** argv) {
                 stats.flipped_triangles, stats.grid_inverted_hexes, stats.grid_min_scaled_jacobian);
     std::printf("  \"stage_cpu_s\": {\"read\": %.4f", median(read_seconds));
     for (const std::string& stage : stage_order) std::printf(", \"%s\": %.4f", stage.c_str(), median(stage_cpu[stage]));
-    std::printf("},\n  \"volumetric_map_parts_cpu_s\": {\"surface_maps\": %.4f, \"locators\": %.4f, \"lookups\": %.4f},\n",
+    std::printf("},\n  \"volumetric_map_parts_cpu_s\": {\"surface_maps\": %.4f, \"locators\": %.4f, "
+                "\"lookups\": %.4f},\n",
                 median(surface_map_s), median(locator_s), median(lookup_s));
     std::printf("  \"surface_map_cg_iterations\": %d\n}\n", cg_iterations);
   } catch (const std::exception& e) {
