@@ -17,6 +17,8 @@ struct HexMeshView {
   const std::vector<std::array<int, 8>>* hexes = nullptr;  ///< node ids into xyz
   const std::vector<int>* cuboid = nullptr;                ///< per hex
   const std::vector<char>* padding = nullptr;              ///< per hex, 1 in a padding layer; or null
+  /// per hex, the cell data `scaled_jacobian`; null = the least corner scaled Jacobian of the hex
+  const std::vector<double>* scaled_jacobian = nullptr;
 };
 
 /// The hexes as one VTK XML UnstructuredGrid (.vtu, VtkXmlWriter's appended binary, zlib where

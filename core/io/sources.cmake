@@ -31,4 +31,5 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/metaimage_format.cpp
   ${CMAKE_CURRENT_LIST_DIR}/vti_format.cpp
   ${CMAKE_CURRENT_LIST_DIR}/nifti_format.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/gpc_spline_io.cpp
 )

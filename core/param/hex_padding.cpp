@@ -38,9 +38,11 @@ HexMesh pad_hex_mesh(const mesh::Positions& xyz, const std::vector<std::array<in
   out.xyz.resize(n + copies, 3);
   out.xyz.topRows(n) = xyz;
   out.on_surface.assign(n + copies, 0);
+  out.copy_of.assign(n + copies, -1);
   for (int v = 0; v < n; ++v)
     if (copy[v] >= 0) {
       out.on_surface[v] = 1;
+      out.copy_of[copy[v]] = v;
       out.xyz.row(copy[v]) = xyz.row(v) + depth * (centroid.row(v) / count[v] - xyz.row(v));
     }
   out.hexes.reserve(hexes.size() * 5 / 4);

@@ -17,6 +17,7 @@ struct HexMesh {
   std::vector<int> hex_group;             ///< per hex, e.g. its cuboid
   std::vector<char> padding;              ///< per hex: 1 if it belongs to the padding layer
   std::vector<char> on_surface;           ///< per node: 1 if it lies on the solid's surface
+  std::vector<int> copy_of;               ///< per node: the surface node it copies (pad_hex_mesh), or −1; empty = none
 };
 
 /// Inserts one layer of hexes under the surface (the padding of polycube hex meshing, Gregson et

@@ -70,6 +70,17 @@ struct Mesh2SplineStats {
   long jacobian_samples = 0;       ///< number of those points
   double semi_standard_max_error = 0;  ///< max |Σ w_i B_i − 1| at 10⁵ random parameters
   int cuboids = 1;
+  // GPC splines (run_gpc_mesh2spline); one cuboid: genus 0, no interfaces.
+  int genus = 0;
+  int t_shapes = 0;
+  int ill_points = 0;
+  int interfaces = 0;                  ///< glued face pairs
+  int continued_interfaces = 0;        ///< of those, C² (regular); the others are C⁰ (ill-points)
+  double interface_gap_rel = 0;        ///< largest |F_a − F_b| at dense samples of glued faces / diagonal
+  double interface_normal_jump_deg = 0;  ///< largest angle between the two sides' ∂F/∂n, regular interfaces
+  /// Fraction of the measure_lattice³ cell centres of every cuboid with scaled Jacobian ≤ 0.
+  double lattice_negative_fraction = 0;
+  long lattice_samples = 0;
   int flipped_triangles = 0;           ///< of the surface map (0: bijective)
   int grid_inverted_hexes = 0;         ///< of the volumetric grid map (grid fit)
   double grid_min_scaled_jacobian = 1; ///< of the volumetric grid map (grid fit)

@@ -93,6 +93,27 @@ double surface_projection_distance(const spline::TSpline& spline, Eigen::Vector3
   return best;
 }
 
+std::vector<double> gauss_legendre_nodes(int n) {
+  // Roots of P_n by Newton from the Chebyshev guesses, mapped to [0, 1].
+  std::vector<double> nodes(n);
+  for (int i = 0; i < n; ++i) {
+    double x = std::cos(M_PI * (i + 0.75) / (n + 0.5));
+    for (int it = 0; it < 50; ++it) {
+      double p0 = 1.0, p1 = x;
+      for (int k = 2; k <= n; ++k) {
+        const double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
+        p0 = p1, p1 = p2;
+      }
+      const double derivative = n * (x * p1 - p0) / (x * x - 1.0);
+      const double step = p1 / derivative;
+      x -= step;
+      if (std::abs(step) < 1e-16) break;
+    }
+    nodes[n - 1 - i] = 0.5 * (1.0 + x);
+  }
+  return nodes;
+}
+
 Mesh2SplineMeasureResult measure_mesh2spline(const spline::TSpline& spline, const mesh::HalfedgeMesh& mesh,
                                         const mesh::Positions& vertex_uvw,
                                         const spline::RefinementGrid& refinement, double diagonal,
@@ -148,26 +169,9 @@ Mesh2SplineMeasureResult measure_mesh2spline(const spline::TSpline& spline, cons
   measures.hausdorff_rel = max_d / diagonal;
   measures.rms_geo_rel = std::sqrt(sum2 / count) / diagonal;
 
-  // Gauss–Legendre nodes on [0, 1] (roots of P_n by Newton from the Chebyshev guesses), placed in
-  // every knot interval per axis; one tensor-product pass per knot-line cell (the count and the
-  // minimum do not depend on the visiting order).
-  const int ng = options.jacobian_gauss_points;
-  std::vector<double> nodes(ng);
-  for (int i = 0; i < ng; ++i) {
-    double x = std::cos(M_PI * (i + 0.75) / (ng + 0.5));
-    for (int it = 0; it < 50; ++it) {
-      double p0 = 1.0, p1 = x;
-      for (int k = 2; k <= ng; ++k) {
-        const double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
-        p0 = p1, p1 = p2;
-      }
-      const double derivative = ng * (x * p1 - p0) / (x * x - 1.0);
-      const double step = p1 / derivative;
-      x -= step;
-      if (std::abs(step) < 1e-16) break;
-    }
-    nodes[ng - 1 - i] = 0.5 * (1.0 + x);
-  }
+  // The Gauss points of every knot interval per axis; one tensor-product pass per knot-line cell
+  // (the count and the minimum do not depend on the visiting order).
+  const std::vector<double> nodes = gauss_legendre_nodes(options.jacobian_gauss_points);
   std::array<std::vector<double>, 3> gauss;
   for (int a = 0; a < 3; ++a) {
     const std::vector<double>& b = spline.knot_lines(a);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -18,6 +19,9 @@ namespace volspline::pipeline {
 /// Precondition: spline has D = 3 and domain [0,1]³; some coordinate of uvw is 0 or 1 (the last
 /// such axis selects the face). Throws like TSpline::evaluate_to if uvw is outside [0,1]³.
 double surface_projection_distance(const spline::TSpline& spline, Eigen::Vector3d uvw, const Eigen::Vector3d& x);
+
+/// The n Gauss–Legendre nodes on [0, 1], increasing (n ≥ 1).
+std::vector<double> gauss_legendre_nodes(int n);
 
 /// Options of measure_mesh2spline; every field is checked on entry (volspline::Error).
 struct Mesh2SplineMeasureOptions {

@@ -1,0 +1,233 @@
+// SPDX-License-Identifier: MIT
+#include "core/pipeline/gpc_mesh2spline.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "core/common/error.h"
+#include "core/pipeline/gpc_spline_measures.h"
+#include "core/pipeline/stage_timer.h"
+#include "core/spline/gpc_spline_fitting.h"
+
+namespace volspline::pipeline {
+
+namespace {
+
+void check_options(const GpcMesh2SplineOptions& o) {
+  auto fail = [](const std::string& what) { throw Error("mesh2spline: " + what); };
+  if (!(o.max_rms_rel > 0.0) || !std::isfinite(o.max_rms_rel)) fail("`max_rms_rel` must be a positive number");
+  if (o.max_control_points < 64) fail("`max_control_points` must be ≥ 64");
+  if (o.max_levels < 0 || o.max_levels > 10) fail("`max_levels` must be in [0, 10]");
+  if (o.initial_cells < 1 || o.initial_cells > 64) fail("`initial_cells` must be in [1, 64]");
+  if (!(o.refinement_ratio > 1.0 && o.refinement_ratio <= 4.0)) fail("`refinement_ratio` must be in (1, 4]");
+  if (o.measure_samples < 8 || o.measure_samples > 512) fail("`measure_samples` must be in [8, 512]");
+  if (o.measure_lattice < 4 || o.measure_lattice > 256) fail("`measure_lattice` must be in [4, 256]");
+}
+
+// Fitting samples in the unit-box frame: every (cuboid, node) of the volumetric map's hex mesh
+// at its grid parameter, and every surface vertex of every cuboid at its surface-map parameter.
+struct FitData {
+  spline::GpcSamples samples;
+  std::vector<GpcSurfacePoint> surface;  // model units (for the measures)
+};
+
+// The padding layer (param::pad_hex_mesh) puts an inner copy of every surface node `depth` of the
+// way to the mean centroid of its hexes, i.e. half a grid step inwards along each exposed face's
+// normal in the cuboid's parameters; the copy's parameter moves by depth/2 of a step the same way.
+// A shared node appears once per cuboid it belongs to, at the parameters of that cuboid (the
+// transition maps them onto each other).
+FitData fit_data(const GpcResult& gpc, double padding_depth, const Eigen::RowVector3d& centre, double diagonal) {
+  const polycube::GpcDomain& domain = gpc.construction.domain;
+  const param::HexMesh& hm = gpc.map.hex_mesh;
+  std::vector<int> cuboid;
+  std::vector<Eigen::Vector3d> uvw, xyz;
+  auto add = [&](int c, const Eigen::Vector3d& p, const Eigen::RowVector3d& x) {
+    cuboid.push_back(c);
+    uvw.push_back(p);
+    xyz.push_back(((x - centre) / diagonal).transpose());
+  };
+  const int rows = static_cast<int>(hm.xyz.rows());
+  std::vector<int> seen(rows, -1);  // last cuboid that added the node
+  std::size_t h = 0;
+  for (int c = 0; c < static_cast<int>(domain.cuboids.size()); ++c) {
+    const polycube::GpcCuboid& cu = domain.cuboids[c];
+    const auto& n = cu.nodes;
+    Eigen::Vector3d step;
+    for (int a = 0; a < 3; ++a) step(a) = cu.size[a] / (n[a] - 1);
+    for (int k = 0; k + 1 < n[2]; ++k)
+      for (int j = 0; j + 1 < n[1]; ++j)
+        for (int i = 0; i + 1 < n[0]; ++i, ++h) {
+          for (int q = 0; q < 8; ++q) {
+            const int id = hm.hexes[h][q];
+            if (seen[id] == c) continue;
+            seen[id] = c;
+            const std::array<int, 3> g = {i + (q & 1), j + ((q >> 1) & 1), k + ((q >> 2) & 1)};
+            Eigen::Vector3d p;
+            for (int a = 0; a < 3; ++a) p(a) = step(a) * g[a];
+            const int original = hm.copy_of.empty() ? -1 : hm.copy_of[id];
+            if (original < 0) {
+              add(c, p, hm.xyz.row(id));
+              continue;
+            }
+            Eigen::Vector3d inner = p;
+            for (int a = 0; a < 3; ++a) {
+              if (g[a] == 0 && cu.face_interface[2 * a] < 0) inner(a) += 0.5 * padding_depth * step(a);
+              if (g[a] == n[a] - 1 && cu.face_interface[2 * a + 1] < 0) inner(a) -= 0.5 * padding_depth * step(a);
+            }
+            add(c, inner, hm.xyz.row(id));
+            if (seen[original] != c) {
+              seen[original] = c;
+              add(c, p, hm.xyz.row(original));
+            }
+          }
+        }
+  }
+  FitData data;
+  for (int c = 0; c < static_cast<int>(domain.cuboids.size()); ++c) {
+    const polycube::CuboidSurface& surface = gpc.construction.surfaces[c];
+    const mesh::Positions& map_uvw = gpc.map.surface_maps[c].uvw;
+    const Eigen::Vector3d size(domain.cuboids[c].size[0], domain.cuboids[c].size[1], domain.cuboids[c].size[2]);
+    for (int v = 0; v < surface.mesh.num_vertices(); ++v) {
+      if (surface.surface_vertex[v] < 0) continue;
+      const Eigen::Vector3d p = map_uvw.row(v).transpose().cwiseProduct(size);
+      add(c, p, surface.mesh.positions.row(v));
+      data.surface.push_back({c, p, surface.mesh.positions.row(v).transpose()});
+    }
+  }
+  data.samples.cuboid = std::move(cuboid);
+  data.samples.uvw.resize(uvw.size(), 3);
+  data.samples.values.resize(xyz.size(), 3);
+  for (std::size_t s = 0; s < uvw.size(); ++s) {
+    data.samples.uvw.row(s) = uvw[s].transpose();
+    data.samples.values.row(s) = xyz[s].transpose();
+  }
+  return data;
+}
+
+// Control points before a fit (unit-box frame): the previous level's spline at each function's
+// anchor, or at level 0 the trilinear blend of the anchor cuboid's corners. Functions the samples
+// do not reach keep these.
+Eigen::MatrixXd prior_points(const spline::GpcSpline& spline, const spline::GpcSpline* previous,
+                             const Eigen::RowVector3d& centre, double diagonal) {
+  Eigen::MatrixXd p(spline.num_functions(), 3);
+  const polycube::GpcDomain& domain = spline.domain();
+  for (int i = 0; i < spline.num_functions(); ++i) {
+    const spline::GpcAnchor& anchor = spline.anchor(i);
+    const polycube::GpcCuboid& c = domain.cuboids[anchor.cuboid];
+    Eigen::Vector3d t;
+    for (int a = 0; a < 3; ++a) t(a) = std::clamp(anchor.uvw(a) / c.size[a], 0.0, 1.0);
+    if (previous) {
+      Eigen::Vector3d uvw;
+      for (int a = 0; a < 3; ++a) uvw(a) = t(a) * c.size[a];
+      p.row(i) = previous->evaluate(anchor.cuboid, uvw).transpose();
+      continue;
+    }
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    for (int corner = 0; corner < 8; ++corner) {
+      double w = 1.0;
+      for (int a = 0; a < 3; ++a) w *= (corner >> a & 1) ? t(a) : 1.0 - t(a);
+      x += w * c.corner_xyz[corner];
+    }
+    p.row(i) = ((x.transpose() - centre) / diagonal);
+  }
+  return p;
+}
+
+double longest_size(const polycube::GpcDomain& domain) {
+  double longest = 0.0;
+  for (const polycube::GpcCuboid& c : domain.cuboids)
+    for (double s : c.size) longest = std::max(longest, s);
+  return longest;
+}
+
+}  // namespace
+
+GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const std::string& name,
+                                         const GpcMesh2SplineOptions& options, const Progress& progress) {
+  check_options(options);
+  Mesh2SplineStats stats;
+  StageTimer timer(stats.times_s);
+  // The GPC construction is the first 60 % of the job.
+  const Progress gpc_progress([&](const std::string& stage, double fraction) {
+    progress.report(stage, 0.6 * fraction);
+    return true;
+  });
+  const GpcResult gpc = run_gpc(mesh, name, options.gpc, gpc_progress);
+  timer.end_stage("gpc");
+  const polycube::GpcDomain& domain = gpc.construction.domain;
+  stats.genus = gpc.stats.genus;
+  stats.t_shapes = gpc.stats.t_shapes;
+  stats.cuboids = gpc.stats.cuboids;
+  stats.ill_points = gpc.stats.ill_points;
+  stats.interfaces = gpc.stats.interfaces;
+  stats.flipped_triangles = gpc.stats.flipped_triangles;
+  stats.grid_inverted_hexes = gpc.stats.grid_inverted_hexes;
+  stats.grid_min_scaled_jacobian = gpc.stats.grid_min_scaled_jacobian;
+
+  // Unit-box frame of the input (results do not depend on where the model sits or its units).
+  const Eigen::RowVector3d lo = mesh.positions.colwise().minCoeff(), hi = mesh.positions.colwise().maxCoeff();
+  const Eigen::RowVector3d centre = 0.5 * (lo + hi);
+  const double diagonal = (hi - lo).norm();
+  const FitData data = fit_data(gpc, options.gpc.grid.padding == param::GpcGridOptions::Padding::On
+                                         ? options.gpc.grid.padding_depth
+                                         : 0.0,
+                                centre, diagonal);
+  stats.samples = static_cast<int>(data.samples.cuboid.size());
+
+  // Uniform knot refinement (§4.3 with a uniform marking): the spacing shrinks by
+  // refinement_ratio per level until rms_rel ≤ max_rms_rel, the levels or the budget run out.
+  std::optional<spline::GpcSpline> best;
+  double spacing = longest_size(domain) / options.initial_cells;
+  for (int level = 0; level <= options.max_levels; ++level, spacing /= options.refinement_ratio) {
+    progress.report("fit level " + std::to_string(level), 0.6 + 0.3 * level / (options.max_levels + 1));
+    spline::GpcSplineOptions so;
+    so.intervals = spline::gpc_uniform_intervals(domain, spacing);
+    spline::GpcSpline candidate(domain, so);
+    if (best && candidate.num_functions() > options.max_control_points) break;
+    candidate.set_points(prior_points(candidate, best ? &*best : nullptr, centre, diagonal));
+    const spline::GpcSplineFitReport report = spline::fit_gpc_spline(candidate, data.samples);
+    timer.end_stage("fit_level_" + std::to_string(level));
+    stats.levels = level;
+    stats.rms_rel = report.rms_error;  // unit diagonal: already relative
+    stats.max_rel = report.max_error;
+    stats.control_points = candidate.num_functions();
+    best = std::move(candidate);
+    if (stats.rms_rel <= options.max_rms_rel) break;
+  }
+  spline::GpcSpline& fitted = *best;
+  stats.continued_interfaces = fitted.num_continued_interfaces();
+
+  // Measures in the unit-box frame, against the normalized input surface.
+  progress.report("measure", 0.92);
+  mesh::TriangleMesh unit_surface = gpc.surface;
+  unit_surface.positions = (unit_surface.positions.rowwise() - centre) / diagonal;
+  std::vector<GpcSurfacePoint> surface = data.surface;
+  for (GpcSurfacePoint& p : surface) p.xyz = ((p.xyz.transpose() - centre) / diagonal).transpose();
+  GpcSplineMeasureOptions mo;
+  mo.surface_samples = options.measure_samples;
+  mo.lattice = options.measure_lattice;
+  mo.seed = options.seed;
+  const GpcSplineMeasures m = measure_gpc_spline(fitted, unit_surface, surface, 1.0, mo);
+  stats.hausdorff_rel = m.hausdorff_rel;
+  stats.rms_geo_rel = m.rms_geo_rel;
+  stats.min_scaled_jacobian = m.min_scaled_jacobian;
+  stats.negative_jacobian_fraction = m.negative_jacobian_fraction;
+  stats.negative_jacobian_fraction_fit = m.negative_jacobian_fraction;
+  stats.jacobian_samples = m.jacobian_samples;
+  stats.lattice_negative_fraction = m.lattice_negative_fraction;
+  stats.lattice_samples = m.lattice_samples;
+  stats.semi_standard_max_error = m.semi_standard_max_error;
+  stats.interface_gap_rel = m.interface_gap_rel;
+  stats.interface_normal_jump_deg = m.interface_normal_jump_deg;
+  timer.end_stage("measure");
+
+  // Back to model units: Σ B_i ≡ 1, so mapping the control points maps F.
+  Eigen::MatrixXd points = fitted.points();
+  points = (points * diagonal).rowwise() + centre;
+  fitted.set_points(std::move(points));
+  progress.report("done", 1.0);
+  return {std::move(fitted), std::move(stats)};
+}
+
+}  // namespace volspline::pipeline

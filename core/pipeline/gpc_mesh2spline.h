@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/common/progress.h"
+#include "core/mesh/triangle_mesh.h"
+#include "core/pipeline/gpc_job.h"
+#include "core/pipeline/mesh2spline_job.h"
+#include "core/spline/gpc_spline.h"
+
+namespace volspline::pipeline {
+
+/// Options of the multi-cuboid mesh2spline job (the Mesh2SplineOptions fields it uses, plus the
+/// GPC construction's).
+struct GpcMesh2SplineOptions {
+  double max_rms_rel = 0.002;      ///< stop at rms_rel ≤ this (fraction of the bbox diagonal), > 0
+  int max_control_points = 50000;  ///< no level beyond this many control points, ≥ 64
+  int max_levels = 4;              ///< knot refinements after level 0, in [0, 10]
+  /// Knot intervals along the longest cuboid axis at level 0, in [1, 64]; every further level
+  /// divides the knot spacing by refinement_ratio.
+  int initial_cells = 4;
+  double refinement_ratio = 1.5;  ///< in (1, 4]
+  GpcOptions gpc;                 ///< the domain and its volumetric map (run_gpc)
+  int measure_samples = 48;       ///< per axis per surface face for hausdorff_rel, [8, 512]
+  /// Cell centres per axis per cuboid at which lattice_negative_fraction is counted, [4, 256].
+  int measure_lattice = 64;
+  std::uint64_t seed = 1;  ///< seeds the random parameters of semi_standard_max_error
+};
+
+/// Result of run_gpc_mesh2spline.
+struct GpcMesh2SplineResult {
+  spline::GpcSpline spline;  ///< over the GPC domain (sizes in bbox diagonals), points in model units
+  Mesh2SplineStats stats;    ///< rms/hausdorff/jacobian/semi-standard measures and the GPC ones
+};
+
+/// mesh2spline over a generalized poly-cube (thesis §3.5, ch. 4): run_gpc (decomposition,
+/// T-to-cube, surface and volumetric maps of every cuboid), then one cubic spline over all
+/// cuboids (spline::GpcSpline: C² across regular interfaces, C⁰ at ill-points) fitted by least
+/// squares to the volumetric map's hex mesh nodes and the surface vertices (fit_gpc_spline),
+/// its knot spacing refined uniformly until rms_rel ≤ max_rms_rel, then measured.
+/// Works on a centred copy scaled to a unit diagonal; the spline's points are in model units.
+/// Throws like run_gpc, volspline::Error on bad options.
+GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const std::string& name,
+                                         const GpcMesh2SplineOptions& options, const Progress& progress = {});
+
+}  // namespace volspline::pipeline
