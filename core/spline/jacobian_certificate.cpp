@@ -54,30 +54,37 @@ struct Search {
   int leaves = 0;
   bool negative = false;
   bool undecided = false;
+  double lowest_corner = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d lowest_corner_s = Eigen::Vector3d::Zero();
 };
 
-void certify_box(const double* c, int depth, Search& search) {
+// The box [lo, lo + size] of the cell's local coordinates holds det J's coefficients c.
+void certify_box(const double* c, int depth, const Eigen::Vector3d& lo, const Eigen::Vector3d& size, Search& search) {
   const double lowest = *std::min_element(c, c + kJacobianCoefficients);
-  if (lowest >= -search.tau || search.negative) {
-    search.min_coefficient = std::min(search.min_coefficient, lowest);
-    ++search.leaves;
-    return;
-  }
   // The corner coefficients are det J's values at the box corners.
   for (int corner = 0; corner < 8; ++corner) {
     const double value = c[det_index(corner & 1 ? 8 : 0, corner & 2 ? 8 : 0, corner & 4 ? 8 : 0)];
+    if (value < search.lowest_corner) {
+      search.lowest_corner = value;
+      search.lowest_corner_s = lo + Eigen::Vector3d(corner & 1, corner >> 1 & 1, corner >> 2 & 1).cwiseProduct(size);
+    }
     if (value < -search.tau) search.negative = true;
   }
-  if (search.negative || depth >= search.max_depth) {
-    search.undecided = search.undecided || !search.negative;
+  if (lowest >= -search.tau || search.negative || depth >= search.max_depth) {
+    search.undecided = search.undecided || (lowest < -search.tau && !search.negative);
     search.min_coefficient = std::min(search.min_coefficient, lowest);
     ++search.leaves;
     return;
   }
   Box lower, upper;
-  split_half(c, depth % 3, lower.c, upper.c);
-  certify_box(lower.c, depth + 1, search);
-  certify_box(upper.c, depth + 1, search);
+  const int axis = depth % 3;
+  split_half(c, axis, lower.c, upper.c);
+  Eigen::Vector3d half = size;
+  half(axis) *= 0.5;
+  Eigen::Vector3d upper_lo = lo;
+  upper_lo(axis) += half(axis);
+  certify_box(lower.c, depth + 1, lo, half, search);
+  certify_box(upper.c, depth + 1, upper_lo, half, search);
 }
 
 }  // namespace
@@ -155,7 +162,7 @@ JacobianCellBound certify_bezier_cell(const BezierCell& cell, const JacobianCert
   Search search;
   search.tau = options.rounding_rel * column_bound;
   search.max_depth = options.max_depth;
-  certify_box(box.c, 0, search);
+  certify_box(box.c, 0, Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), search);
   JacobianCellBound out;
   out.status = search.negative    ? JacobianCellStatus::Negative
                : search.undecided ? JacobianCellStatus::Undecided
@@ -165,6 +172,8 @@ JacobianCellBound certify_bezier_cell(const BezierCell& cell, const JacobianCert
   out.det_j_lower_bound_rel = column_bound > 0 ? search.min_coefficient / column_bound : -1.0;
   if (out.status == JacobianCellStatus::Certified) out.det_j_lower_bound_rel = std::max(0.0, out.det_j_lower_bound_rel);
   out.leaves = search.leaves;
+  out.lowest_corner_s = search.lowest_corner_s;
+  out.lowest_corner_rel = column_bound > 0 ? search.lowest_corner / column_bound : -1.0;
   return out;
 }
 

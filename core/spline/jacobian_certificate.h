@@ -51,6 +51,11 @@ struct JacobianCellBound {
   /// For a Certified cell a lower bound of det J / (|J_u||J_v||J_w|) over the cell, in [0, 1].
   double det_j_lower_bound_rel = 0;
   int leaves = 1;  ///< leaf boxes of the subdivision
+  /// Local coordinates s ∈ [0, 1]³ of the lowest det J found at a corner of a box the search
+  /// visited (exact values: a box's corner coefficients are det J there), and that value scaled
+  /// like det_j_lower_bound_rel. Where a cell is not Certified this is where to unfold it.
+  Eigen::Vector3d lowest_corner_s = Eigen::Vector3d::Zero();
+  double lowest_corner_rel = 0;
 };
 
 /// Certifies det J ≥ 0 on one geometric Bézier cell (DESIGN §6; thesis Eq. 4.3 makes every cell

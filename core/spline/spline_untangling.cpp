@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "core/mesh/hex_quality.h"
+#include "core/spline/bezier_extraction.h"
+#include "core/spline/jacobian_certificate.h"
 #include "core/spline/tspline_fitting.h"
 #include "core/spline/untangle_pass.h"
 
@@ -96,6 +98,112 @@ std::vector<Eigen::Vector3d> bad_lattice_points(const TSpline& spline, const std
   return bad;
 }
 
+// Where one uncertified cell folds: its certificate's lowest corner and the points of a 3×3×3
+// grid on the closed cell with det J < 0, in uvw.
+std::vector<Eigen::Vector3d> uncertified_points(const TSpline& spline, const UncertifiedCell& u) {
+  auto to_uvw = [&](const Eigen::Vector3d& s) {
+    Eigen::Vector3d p = u.uvw_min + s.cwiseProduct(u.uvw_max - u.uvw_min);
+    for (int a = 0; a < 3; ++a)  // the cell's own ends exactly: a point on a face stays on it
+      if (s(a) == 1.0) p(a) = u.uvw_max(a);
+    return p;
+  };
+  std::vector<Eigen::Vector3d> points = {to_uvw(u.bound.lowest_corner_s)};
+  const BezierCell cell = extract_bezier_cell(spline, u.cell);
+  for (int k = 0; k < 3; ++k)
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) {
+        const Eigen::Vector3d s(0.5 * i, 0.5 * j, 0.5 * k);
+        double value[3];
+        Eigen::Matrix3d jacobian;
+        evaluate_bezier_cell(cell, s, value, jacobian.data());
+        if (jacobian.determinant() < 0.0) points.push_back(to_uvw(s));
+      }
+  return points;
+}
+
+// Adds the points `more` to the sorted held points, without repeats.
+void merge_points(std::vector<Eigen::Vector3d>& held, std::vector<Eigen::Vector3d> more) {
+  std::sort(more.begin(), more.end(), lexicographic_less);
+  const std::size_t before = held.size();
+  held.insert(held.end(), more.begin(), more.end());
+  std::inplace_merge(held.begin(), held.begin() + before, held.end(), lexicographic_less);
+  held.erase(std::unique(held.begin(), held.end()), held.end());
+}
+
+// Rounds without fewer uncertified cells before the certificate rounds give up.
+constexpr int kCertificatePatience = 2;
+
+// DESIGN §6: the untangler works toward the certificate. Each round certifies every cell and
+// holds the folded points of the uncertified ones (those of earlier rounds too) in passes on the
+// polish lattice: an exact, small active set where the lattices above see only their own
+// points. Interior functions first, as everywhere in the untangler; the boundary functions near
+// a point move too (kept on the surface by the data term) where the interior ones carry under
+// kMinMovableShare of |w∇B| (det J on a cuboid edge depends on the boundary control points
+// alone) or where its cell stayed uncertified from the round before (a face whose own
+// parameterization folds). A round may unfold some cells and fold others between the lattice
+// points; the rounds keep the spline of the round with the fewest uncertified cells.
+void certificate_rounds(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
+                        const SplineUntangleOptions& options, const Progress& progress, double steps,
+                        detail::NodeCache& cache, SplineUntangleResult& total) {
+  const std::array<AxisNodes, 3> fine = finest_nodes(spline, options.lattice, options.polish_max_per_axis);
+  SplineUntangleOptions inner_options = options;
+  inner_options.rings = 0;
+  SplineUntangleOptions boundary_options = inner_options;
+  boundary_options.exposed_faces = polycube::CubeFaceSet();
+  const Eigen::Vector3d lo = spline.domain_min(), hi = spline.domain_max();
+  auto interior = [&](int f) { return !touches_exposed_face(spline.knots()[f], lo, hi, options.exposed_faces); };
+  detail::PointGradients gradients;
+  auto needs_boundary = [&](const Eigen::Vector3d& p) {
+    gradients.at(spline, p);
+    double all = 0.0;
+    return gradients.movable_share(spline, interior, &all) < detail::kMinMovableShare * all;
+  };
+  std::vector<Eigen::Vector3d> held_inner, held_boundary;
+  std::vector<int> previous_cells;  // uncertified in the round before, increasing
+  int best = std::numeric_limits<int>::max(), stalled = 0;
+  Eigen::MatrixXd best_points;
+  for (int round = 0;; ++round) {
+    const JacobianCertificate certificate = certify_jacobian(spline);
+    const int uncertified = static_cast<int>(certificate.uncertified.size());
+    if (round == 0) total.initial_uncertified = uncertified;
+    if (uncertified < best) {
+      best = uncertified;
+      best_points = spline.points();
+      stalled = 0;
+    } else {
+      ++stalled;
+    }
+    if (uncertified == 0 || round == options.certificate_rounds || stalled > kCertificatePatience) {
+      if (uncertified > best) spline.set_points(std::move(best_points));
+      total.final_uncertified = best;
+      return;
+    }
+    progress.report("untangle certificate " + std::to_string(round + 1),
+                    (options.passes + options.polish_rounds + round) / steps);
+    std::vector<Eigen::Vector3d> inner, boundary;
+    std::vector<int> cells;
+    for (const UncertifiedCell& u : certificate.uncertified) {
+      cells.push_back(u.cell);
+      const bool again = std::binary_search(previous_cells.begin(), previous_cells.end(), u.cell);
+      for (const Eigen::Vector3d& p : uncertified_points(spline, u))
+        (again || needs_boundary(p) ? boundary : inner).push_back(p);
+    }
+    previous_cells = std::move(cells);
+    merge_points(held_inner, std::move(inner));
+    merge_points(held_boundary, std::move(boundary));
+    for (int side = 0; side < 2; ++side) {
+      const std::vector<Eigen::Vector3d>& seeds = side == 0 ? held_inner : held_boundary;
+      if (seeds.empty()) continue;
+      const SplineUntangleResult r =
+          detail::untangle_pass(spline, fine, uvw, xyz, seeds, side == 0 ? inner_options : boundary_options,
+                                detail::PassSeeds::PointsOnly, cache, side == 0 ? held_boundary : held_inner);
+      ++total.certificate_passes;
+      total.free_functions += r.free_functions;
+      total.iterations += r.iterations;
+    }
+  }
+}
+
 }  // namespace
 
 SplineUntangleResult untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
@@ -107,13 +215,14 @@ SplineUntangleResult untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uv
   assert(options.nodes_per_knot_interval >= 0 && options.stop_margin >= 0.0 && options.stop_margin < 1.0);
   assert(options.check_per_interval >= 0);
   assert(options.polish_rounds >= 0 && options.polish_max_per_axis >= 2);
+  assert(options.certificate_rounds >= 0);
   assert(std::all_of(options.boundary_layers.begin(), options.boundary_layers.end(),
                      [](double d) { return d >= 0.0 && d < 1.0; }));
   SplineUntangleResult total;
   detail::NodeCache cache;  // node Jacobians from one pass to the next
   SplineUntangleOptions pass_options = options;
   std::vector<Eigen::Vector3d> extra;
-  const double steps = options.passes + options.polish_rounds;
+  const double steps = options.passes + options.polish_rounds + options.certificate_rounds;
   for (int pass = 0; pass < options.passes; ++pass) {
     progress.report("untangle pass " + std::to_string(pass + 1), pass / steps);
     const SplineUntangleResult r =
@@ -175,6 +284,7 @@ SplineUntangleResult untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uv
         total.polish_folded = static_cast<int>(bad_lattice_points(spline, fine, 0.0).size());
     }
   }
+  if (options.certificate_rounds > 0) certificate_rounds(spline, uvw, xyz, options, progress, steps, cache, total);
   return total;
 }
 

@@ -78,6 +78,15 @@ struct SplineUntangleOptions {
   /// after the passes rather than instead of them (finer lattices than the polish's stay folded).
   int polish_rounds = 8;
   int polish_max_per_axis = 128;  ///< cap of the polish lattice per axis, ≥ 2
+  /// Certificate rounds after the polish, ≥ 0: the det J certificate (certify_jacobian) of
+  /// every cell, whose uncertified cells seed passes like the polish's, held at the points where
+  /// each such cell's det J is lowest (its certificate's lowest corner and the negative points of
+  /// a 3×3×3 grid on the closed cell, kept from round to round). Interior functions move first;
+  /// boundary ones too (kept on the surface by the data term) at points the interior ones
+  /// cannot reach (det J on a cuboid edge depends on the boundary alone) and in cells still
+  /// uncertified a round later. Rounds stop when every cell is certified or the uncertified
+  /// count has not fallen for 3 rounds; the spline of the round with the fewest is kept.
+  int certificate_rounds = 8;
 };
 
 /// Outcome of untangle_spline.
@@ -94,6 +103,9 @@ struct SplineUntangleResult {
   int check_points = 0;       ///< bad points of the dense checks, held in later passes
   int polish_passes = 0;      ///< polish passes run
   int polish_folded = 0;      ///< folded points of the polish lattice at its last scan (0: none)
+  int certificate_passes = 0;      ///< passes run by the certificate rounds
+  int initial_uncertified = 0;     ///< uncertified cells before the certificate rounds
+  int final_uncertified = 0;       ///< and after (certify_jacobian's count)
 };
 
 /// Unfolds a geometric T-spline (D = 3) near its folds by moving only interior control points

@@ -43,7 +43,8 @@ class UntanglePass {
         box_lo_{0, 0, 0}, box_hi_(sizes_) {}
 
   SplineUntangleResult run(const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
-                           const std::vector<Eigen::Vector3d>& points, PassSeeds seed_kind) {
+                           const std::vector<Eigen::Vector3d>& points, PassSeeds seed_kind,
+                           const std::vector<Eigen::Vector3d>& held) {
     const bool from_scan = seed_kind == PassSeeds::ScanAndPoints;
     prepare_node_jacobians(from_scan);
     std::vector<NodeId> seeds;
@@ -66,7 +67,9 @@ class UntanglePass {
     Eigen::MatrixXd current = spline_.points();
     Eigen::VectorXd x(3 * free_ids_.size());
     for (std::size_t c = 0; c < free_ids_.size(); ++c) x.segment<3>(3 * c) = current.row(free_ids_[c]).transpose();
-    const Region region = make_region(x, points);
+    std::vector<Eigen::Vector3d> hinged = points;
+    hinged.insert(hinged.end(), held.begin(), held.end());
+    const Region region = make_region(x, hinged);
     // One lattice step in model units: the length unit of the data term.
     const double step = (region.mean_scale.array() * (hi_ - lo_).array()).mean() / options_.lattice;
     const SampleTerms samples = make_samples(uvw, xyz, current);
@@ -446,8 +449,9 @@ std::array<AxisNodes, 3> make_pass_nodes(const TSpline& spline, const SplineUnta
 
 SplineUntangleResult untangle_pass(TSpline& spline, const std::array<AxisNodes, 3>& nodes, const Eigen::MatrixX3d& uvw,
                                    const Eigen::MatrixX3d& xyz, const std::vector<Eigen::Vector3d>& points,
-                                   const SplineUntangleOptions& options, PassSeeds seeds, NodeCache& cache) {
-  return UntanglePass(spline, nodes, options, cache).run(uvw, xyz, points, seeds);
+                                   const SplineUntangleOptions& options, PassSeeds seeds, NodeCache& cache,
+                                   const std::vector<Eigen::Vector3d>& held) {
+  return UntanglePass(spline, nodes, options, cache).run(uvw, xyz, points, seeds, held);
 }
 
 }  // namespace volspline::spline::detail
