@@ -11,6 +11,7 @@
 #include "wasm/lens_binding.h"
 #include "wasm/mesh2spline_binding.h"
 #include "wasm/mesh_info_binding.h"
+#include "wasm/spline_quality_binding.h"
 #include "wasm/vol2spline_binding.h"
 #include "wasm/volume_binding.h"
 
@@ -29,6 +30,7 @@ EMSCRIPTEN_BINDINGS(volspline) {
   emscripten::function("mesh2spline", &volspline::wasm::mesh2spline);
   emscripten::function("gpc", &volspline::wasm::gpc);
   emscripten::function("splineCut", &volspline::wasm::spline_cut);
+  emscripten::function("splineQuality", &volspline::wasm::spline_quality);
   emscripten::function("loadVolume", &volspline::wasm::load_volume);
   emscripten::function("vol2spline", &volspline::wasm::vol2spline);
   emscripten::class_<volspline::wasm::LensSessionBinding>("LensSession")

@@ -1,13 +1,19 @@
 // SPDX-License-Identifier: MIT
 // WebGL2 view of the mesh tab with orbit controls: drag to rotate, wheel to zoom, shift-drag or
 // right-drag to pan, double-click to reset. Layers, each shown or hidden by name:
-//   input     the input mesh (lit triangles) and its wireframe ('wireframe')
+//   input     the input mesh (lit triangles, translucent over a result) and its wireframe ('wireframe')
 //   boundary  the spline's boundary surface and its iso-parameter lines ('lines')
-//   control   the control points (drawn over everything)
+//   control   the control points, and the control lattice joining them ('lattice', off by default)
 //   cut       the cut through the volume, coloured by scaled Jacobian
+//   folds     points of the spline volume where det J ≤ 0 (setQuality)
 //   cuboids   a GPC domain: the surface coloured by cuboid, its poly-edges and corners ('poly_edges')
 // The boundary and its lines are cut away on the far side of the cut (uvw[axis] > position), so
-// the cut is visible inside the solid. Flat shading from screen-space derivatives.
+// the cut is visible inside the solid; so are the control points when their anchors' uvw are
+// given. Flat shading from screen-space derivatives.
+// Frames are drawn only when something changed (camera, layers, visibility, size): showing the
+// tab again costs no frame. While the camera moves, big layers are drawn from coarse copies
+// (vertex clustering) at a fraction of the resolution: software GL's cost follows the triangles
+// and pixels, and a frame must stay under ~30 ms for the drag to follow the pointer.
 import { VERTEX, FRAGMENT } from './shaders/mesh_shaders.js';
 import { createProgram, mat4 } from './gl_util.js';
 
@@ -16,8 +22,17 @@ const WIREFRAME_MAX_TRIANGLES = 20000;
 // While the camera moves, frames render at this fraction of the canvas resolution (level of
 // detail for software GL, whose cost follows the pixels); the frame after the motion is full size.
 const MOTION_SCALE = 0.5;
+// While the camera moves, a triangle layer above MOTION_TRIANGLES is drawn from a coarse copy of
+// about that many triangles, a point layer above MOTION_POINTS from every k-th point, and a line
+// layer above MOTION_SEGMENTS not at all. SwiftShader draws ~2 µs per triangle: 4000 keep a
+// frame near 10 ms.
+const MOTION_TRIANGLES = 4000;
+const MOTION_POINTS = 4000;
+const MOTION_SEGMENTS = 12000;
+// A wheel step counts as motion for this long (ms), so zooming draws coarse frames too.
+const WHEEL_SETTLE_MS = 250;
 // The layers of a mesh2spline result and of a gpc result: showing one drops the other.
-const SPLINE_LAYERS = ['boundary', 'lines', 'control', 'cut'];
+const SPLINE_LAYERS = ['boundary', 'lines', 'control', 'lattice', 'cut', 'folds'];
 const GPC_LAYERS = ['cuboids', 'poly_edges', 'corners'];
 
 /// Legend colours of the scaled Jacobian (CSS), matching the shader.
@@ -27,15 +42,15 @@ export class MeshView {
   /// `canvas`: the element to draw into. Throws an Error if WebGL2 is unavailable.
   constructor(canvas) {
     this.canvas = canvas;
-    const gl = canvas.getContext('webgl2', { antialias: true, preserveDrawingBuffer: true });
+    const gl = canvas.getContext('webgl2', { antialias: false, preserveDrawingBuffer: true });
     if (!gl) throw new Error('WebGL2 is not available in this browser');
     this.gl = gl;
     this.program = createProgram(gl, VERTEX, FRAGMENT);
-    this.uniforms = Object.fromEntries(['view_projection', 'view', 'colour', 'lit', 'use_scalar', 'use_vertex_colour', 'cut_axis', 'cut_position', 'point_size']
+    this.uniforms = Object.fromEntries(['view_projection', 'view', 'colour', 'lit', 'use_scalar', 'scalar_map', 'use_vertex_colour', 'cut_axis', 'cut_position', 'point_size']
       .map((n) => [n, gl.getUniformLocation(this.program, n)]));
     this.attributes = Object.fromEntries(['position', 'uvw', 'scalar', 'vertex_colour'].map((n) => [n, gl.getAttribLocation(this.program, n)]));
     this.layers = {};   // name -> {vao, buffers, count, mode, indexed}
-    this.visible = { input: true, wireframe: true, boundary: true, lines: true, control: true, cut: true, cuboids: true, poly_edges: true };
+    this.visible = { input: true, wireframe: true, boundary: true, lines: true, control: true, lattice: false, cut: true, folds: true, cuboids: true, poly_edges: true };
     this.cut = null;    // {axis, position} while a cut is shown
     this.resetCamera([0, 0, 0], 1);
     this.installControls();
@@ -45,16 +60,30 @@ export class MeshView {
   /// Replaces layer `name`: positions Float32Array (3 per vertex); optional uvw Float32Array
   /// (3 per vertex, fractions of the domain), scalar Float32Array (1 per vertex), colours
   /// Float32Array (RGB in [0, 1], 3 per vertex), indices Uint32Array; mode 'triangles' | 'lines' |
-  /// 'points'. Null positions remove the layer.
+  /// 'points'. Null positions remove the layer. A big layer also gets its coarse motion copy.
   setLayer(name, { positions, uvw = null, scalar = null, colours = null, indices = null, mode = 'triangles' } = {}) {
-    const gl = this.gl;
     const old = this.layers[name];
     if (old) {
-      gl.deleteVertexArray(old.vao);
-      for (const b of old.buffers) gl.deleteBuffer(b);
+      for (const record of [old, old.motion]) if (record && record !== 'hide') this.freeRecord(record);
       delete this.layers[name];
     }
+    this.layersVersion = (this.layersVersion || 0) + 1;
     if (!positions) { this.requestDraw(); return; }
+    const data = { positions, uvw, scalar, colours, indices, mode };
+    const layer = this.upload(data);
+    layer.data = data;  // kept for pick()
+    layer.bbox = boundingBox(positions);
+    const count = indices ? indices.length : positions.length / 3;
+    if (mode === 'triangles' && count / 3 > MOTION_TRIANGLES) layer.motion = this.upload(coarseTriangles(data, MOTION_TRIANGLES));
+    else if (mode === 'points' && count > MOTION_POINTS) layer.motion = this.upload(everyKthPoint(data, Math.ceil(count / MOTION_POINTS)));
+    else if (mode === 'lines' && count / 2 > MOTION_SEGMENTS) layer.motion = 'hide';
+    this.layers[name] = layer;
+    this.requestDraw();
+  }
+
+  /// The GL objects of one layer's data: {vao, buffers, count, mode, indexed, hasUvw, hasScalar, hasColours}.
+  upload({ positions, uvw, scalar, colours, indices, mode }) {
+    const gl = this.gl;
     const vao = gl.createVertexArray();
     const buffers = [];
     gl.bindVertexArray(vao);
@@ -84,8 +113,12 @@ export class MeshView {
     }
     gl.bindVertexArray(null);
     const glMode = { triangles: gl.TRIANGLES, lines: gl.LINES, points: gl.POINTS }[mode];
-    this.layers[name] = { vao, buffers, count: indices ? indices.length : positions.length / 3, mode: glMode, indexed: !!indices, hasUvw: !!uvw, hasScalar: !!scalar, hasColours: !!colours };
-    this.requestDraw();
+    return { vao, buffers, count: indices ? indices.length : positions.length / 3, mode: glMode, indexed: !!indices, hasUvw: !!uvw, hasScalar: !!scalar, hasColours: !!colours };
+  }
+
+  freeRecord(record) {
+    this.gl.deleteVertexArray(record.vao);
+    for (const b of record.buffers) this.gl.deleteBuffer(b);
   }
 
   /// Shows an input mesh (positions Float32Array, triangles Uint32Array) and its wireframe, drops
@@ -118,15 +151,27 @@ export class MeshView {
   }
 
   /// Shows a mesh2spline result: r.boundary {positions, uvw, triangles}, r.lines {positions, uvw},
-  /// r.control_points, and r.cut (see setCut). The input mesh stays as a faint wireframe.
-  setSpline(r) {
+  /// r.control_points, and r.cut (see setCut); lattice (optional, splineLattice's {uvw, edges}:
+  /// the control points' anchors and lattice edges) lets the cut clip the control points and
+  /// draws the lattice. The input mesh stays as faint context.
+  setSpline(r, lattice = null) {
     for (const name of GPC_LAYERS) this.setLayer(name, {});
     this.boundarySamples = { positions: r.boundary.positions, uvw: r.boundary.uvw };
     this.cut = null;  // the first cut turns the camera towards it
     this.setLayer('boundary', { positions: r.boundary.positions, uvw: r.boundary.uvw, indices: r.boundary.triangles });
     this.setLayer('lines', { positions: r.lines.positions, uvw: r.lines.uvw, mode: 'lines' });
-    this.setLayer('control', { positions: r.control_points, mode: 'points' });
+    this.setLayer('control', { positions: r.control_points, uvw: lattice?.uvw ?? null, mode: 'points' });
+    this.setLayer('lattice', lattice ? { positions: r.control_points, uvw: lattice.uvw, indices: lattice.edges, mode: 'lines' } : {});
     this.setCut(r.cut);
+  }
+
+  /// Shows a spline's quality views: folded (Float32Array xyz, points with det J ≤ 0) and
+  /// boundaryDistance (per boundary vertex, as a fraction of its target, or null: the boundary
+  /// stays grey). Call after setSpline.
+  setQuality({ folded = null, boundaryDistance = null } = {}) {
+    this.setLayer('folds', folded && folded.length ? { positions: folded, mode: 'points' } : {});
+    const b = this.layers.boundary?.data;
+    if (b) this.setLayer('boundary', { ...b, scalar: boundaryDistance });
   }
 
   /// Shows a cut {axis, position, positions, triangles, scaled_jacobian}, or none for null.
@@ -184,6 +229,72 @@ export class MeshView {
     this.requestDraw();
   }
 
+  /// Frames what is shown (the bounding box of the visible layers) from the current direction.
+  fitView() {
+    const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+    for (const [name, layer] of Object.entries(this.layers)) {
+      if (!this.layerShown(name)) continue;
+      for (let k = 0; k < 3; k++) { lo[k] = Math.min(lo[k], layer.bbox.min[k]); hi[k] = Math.max(hi[k], layer.bbox.max[k]); }
+    }
+    if (!(lo[0] <= hi[0])) return;
+    const radius = 0.5 * Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) || this.home.radius;
+    Object.assign(this.camera, { target: [0, 1, 2].map((k) => 0.5 * (lo[k] + hi[k])), radius, distance: 2.8 * radius });
+    this.requestDraw();
+  }
+
+  /// Looks along an axis: view is '+x' (from +x towards the centre), '-x', '+y', '-y', '+z' or '-z'.
+  viewFrom(view) {
+    const angles = { '+x': [Math.PI / 2, 0], '-x': [-Math.PI / 2, 0], '+z': [0, 0], '-z': [Math.PI, 0],
+                     '+y': [0, 1.55], '-y': [0, -1.55] }[view];  // ±1.55 rad: straight down has no 'up'
+    if (!angles) throw new Error(`unknown view '${view}'`);
+    [this.camera.yaw, this.camera.pitch] = angles;
+    this.requestDraw();
+  }
+
+  /// The view as a PNG Blob at full resolution.
+  screenshot() {
+    this.moving = false;
+    this.draw({ force: true });
+    return new Promise((resolve, reject) => this.canvas.toBlob((b) => (b ? resolve(b) : reject(new Error('the view could not be encoded'))), 'image/png'));
+  }
+
+  /// What is under the canvas point (clientX, clientY): the nearest hit of the cut or the spline
+  /// boundary (the part the cut leaves), or the input mesh when no result is shown, as
+  /// {layer, xyz, scalar} (scalar interpolated at the hit, null if the layer has none), or null.
+  pick(clientX, clientY) {
+    const r = this.canvas.getBoundingClientRect();
+    if (!r.width || !r.height) return null;
+    const x = (2 * (clientX - r.left)) / r.width - 1, y = 1 - (2 * (clientY - r.top)) / r.height;
+    const eye = this.eye(), [right, up] = this.screenAxes();
+    const t = Math.tan(0.8 / 2);  // the projection's vertical field of view is 0.8 rad
+    const forward = [0, 1, 2].map((k) => this.camera.target[k] - eye[k]);
+    const f = Math.hypot(...forward);
+    const dir = [0, 1, 2].map((k) => forward[k] / f + x * t * (r.width / r.height) * right[k] + y * t * up[k]);
+    let best = null;
+    const candidates = this.hasResult ? ['cut', 'boundary', 'cuboids'] : ['input'];
+    for (const name of candidates) {
+      const layer = this.layers[name];
+      if (!layer || !this.layerShown(name) || layer.data.mode !== 'triangles') continue;
+      const cutAway = name === 'boundary' && this.cut && this.visible.cut ? this.cut : null;
+      const hit = rayHit(layer.data, eye, dir, cutAway);
+      if (hit && (!best || hit.distance < best.distance)) best = { ...hit, layer: name };
+    }
+    return best && { layer: best.layer, xyz: best.xyz, scalar: best.scalar };
+  }
+
+  /// Whether layer `name` is drawn with the current visibility settings.
+  layerShown(name) {
+    const v = this.visible, result = this.hasResult;
+    switch (name) {
+      case 'input': return v.input;
+      case 'wireframe': return v.input && v.wireframe;
+      case 'lines': return v.boundary && v.lines;
+      case 'lattice': return v.control && v.lattice;
+      case 'corners': return v.poly_edges;
+      default: return v[name] !== false;
+    }
+  }
+
   installControls() {
     const c = this.canvas;
     let drag = null;
@@ -191,6 +302,7 @@ export class MeshView {
     c.addEventListener('pointerdown', (e) => {
       c.setPointerCapture(e.pointerId);
       drag = { x: e.clientX, y: e.clientY, pan: e.shiftKey || e.button === 2 };
+      clearTimeout(this.settleTimer);
       this.moving = true;
     });
     c.addEventListener('pointermove', (e) => {
@@ -217,6 +329,11 @@ export class MeshView {
     c.addEventListener('wheel', (e) => {
       e.preventDefault();
       this.camera.distance *= Math.exp(0.001 * e.deltaY);
+      if (!drag) {
+        this.moving = true;
+        clearTimeout(this.settleTimer);
+        this.settleTimer = setTimeout(end, WHEEL_SETTLE_MS);
+      }
       this.requestDraw();
     }, { passive: false });
     c.addEventListener('dblclick', () => this.resetCamera(this.home.target, this.home.radius));
@@ -242,13 +359,15 @@ export class MeshView {
     this.pending = requestAnimationFrame(() => { this.pending = 0; this.draw(); });
   }
 
-  drawLayer(name, { colour, lit = false, cutAway = false, pointSize = 1 }) {
-    const layer = this.layers[name];
-    if (!layer || !layer.count) return;
+  drawLayer(name, { colour, lit = false, cutAway = false, pointSize = 1, scalarMap = 0 }) {
+    const base = this.layers[name];
+    const layer = this.moving && base?.motion ? base.motion : base;
+    if (!layer || layer === 'hide' || !layer.count) return;
     const gl = this.gl, u = this.uniforms;
     gl.uniform4f(u.colour, ...colour);
     gl.uniform1i(u.lit, lit ? 1 : 0);
     gl.uniform1i(u.use_scalar, layer.hasScalar ? 1 : 0);
+    gl.uniform1i(u.scalar_map, scalarMap);
     gl.uniform1i(u.use_vertex_colour, layer.hasColours ? 1 : 0);
     gl.uniform1i(u.cut_axis, cutAway && this.cut && layer.hasUvw && this.visible.cut ? this.cut.axis : -1);
     gl.uniform1f(u.cut_position, this.cut ? this.cut.position : 0);
@@ -258,18 +377,62 @@ export class MeshView {
     else gl.drawArrays(layer.mode, 0, layer.count);
   }
 
-  draw() {
+  /// Draws a frame if anything shown changed since the last one (force: draw anyway). A hidden
+  /// canvas (its tab not shown) keeps its last frame.
+  draw({ force = false } = {}) {
     const gl = this.gl, c = this.canvas;
-    const t0 = performance.now();
-    this.draws = (this.draws || 0) + 1;
+    if (!c.clientWidth || !c.clientHeight) return;
     const dpr = (window.devicePixelRatio || 1) * (this.moving ? MOTION_SCALE : 1);
     const w = Math.max(1, Math.round(c.clientWidth * dpr)), h = Math.max(1, Math.round(c.clientHeight * dpr));
+    const state = JSON.stringify([this.camera, this.visible, this.cut, this.layersVersion, w, h, !!this.moving]);
+    if (!force && state === this.drawnState) return;
+    this.drawnState = state;
+    const t0 = performance.now();
+    this.draws = (this.draws || 0) + 1;
     if (c.width !== w || c.height !== h) { c.width = w; c.height = h; }
+    // Still frames are drawn multisampled into their own framebuffer and resolved onto the canvas;
+    // moving frames straight onto the canvas (its context has no multisampling: in SwiftShader
+    // 4× MSAA makes every frame about 4× slower, vertices included).
+    const msaa = !this.moving && this.multisampleTarget(w, h);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, msaa || null);
     gl.viewport(0, 0, w, h);
     gl.clearColor(0.96, 0.97, 0.98, 1);
     gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
-    if (!Object.keys(this.layers).length) return;
-    const cam = this.camera;
+    if (Object.keys(this.layers).length) this.drawScene(w, h, dpr);
+    if (msaa) {
+      gl.bindFramebuffer(gl.READ_FRAMEBUFFER, msaa);
+      gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, null);
+      gl.blitFramebuffer(0, 0, w, h, 0, 0, w, h, gl.COLOR_BUFFER_BIT, gl.NEAREST);
+      gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    }
+    this.lastDrawMs = performance.now() - t0;
+  }
+
+  /// A 4× multisampled framebuffer of w × h (colour and depth), kept between frames; null where
+  /// the context offers no multisampling.
+  multisampleTarget(w, h) {
+    const gl = this.gl;
+    const samples = Math.min(4, gl.getParameter(gl.MAX_SAMPLES) || 0);
+    if (samples < 2) return null;
+    const t = this.msaa;
+    if (t && t.w === w && t.h === h) return t.framebuffer;
+    if (t) { gl.deleteFramebuffer(t.framebuffer); gl.deleteRenderbuffer(t.colour); gl.deleteRenderbuffer(t.depth); }
+    const framebuffer = gl.createFramebuffer(), colour = gl.createRenderbuffer(), depth = gl.createRenderbuffer();
+    gl.bindRenderbuffer(gl.RENDERBUFFER, colour);
+    gl.renderbufferStorageMultisample(gl.RENDERBUFFER, samples, gl.RGBA8, w, h);
+    gl.bindRenderbuffer(gl.RENDERBUFFER, depth);
+    gl.renderbufferStorageMultisample(gl.RENDERBUFFER, samples, gl.DEPTH_COMPONENT24, w, h);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, framebuffer);
+    gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.RENDERBUFFER, colour);
+    gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.DEPTH_ATTACHMENT, gl.RENDERBUFFER, depth);
+    const complete = gl.checkFramebufferStatus(gl.FRAMEBUFFER) === gl.FRAMEBUFFER_COMPLETE;
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    this.msaa = complete ? { w, h, framebuffer, colour, depth } : null;
+    return complete ? framebuffer : null;
+  }
+
+  drawScene(w, h, dpr) {
+    const gl = this.gl, cam = this.camera;
     const view = mat4.lookAt(this.eye(), cam.target);
     const near = Math.max(cam.distance - 2 * cam.radius, cam.distance * 0.01), far = cam.distance + 2 * cam.radius;
     const projection = mat4.perspective(0.8, w / h, near, far);
@@ -280,9 +443,8 @@ export class MeshView {
     const v = this.visible, spline = this.hasResult;
     gl.enable(gl.POLYGON_OFFSET_FILL);
     gl.polygonOffset(1, 1);
-    // With a spline shown, the input mesh is context only: its wireframe, no surface.
     if (v.input && !spline) this.drawLayer('input', { colour: [0.42, 0.62, 0.85, 1], lit: true });
-    if (v.boundary) this.drawLayer('boundary', { colour: [0.8, 0.8, 0.82, 1], lit: true, cutAway: true });
+    if (v.boundary) this.drawLayer('boundary', { colour: [0.8, 0.8, 0.82, 1], lit: true, cutAway: true, scalarMap: 1 });
     if (v.cut) this.drawLayer('cut', { colour: [1, 1, 1, 1], lit: true });
     if (v.cuboids) this.drawLayer('cuboids', { colour: [1, 1, 1, 1], lit: true });
     gl.disable(gl.POLYGON_OFFSET_FILL);
@@ -291,15 +453,130 @@ export class MeshView {
       this.drawLayer('poly_edges', { colour: [0.05, 0.05, 0.1, 1] });
       this.drawLayer('corners', { colour: [1, 1, 1, 1], pointSize: Math.max(5, 7 * dpr) });  // white: visible on every cuboid colour
     }
-    if (v.control) this.drawLayer('control', { colour: [0.85, 0.1, 0.45, 1], pointSize: Math.max(2, 3 * dpr) });
-    if (v.input && v.wireframe && !(this.moving && spline)) {
-      // Over a spline the input mesh is faint context: blended, and not hiding what is behind.
-      if (spline) { gl.enable(gl.BLEND); gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA); gl.depthMask(false); }
-      this.drawLayer('wireframe', { colour: spline ? [0.3, 0.45, 0.7, 0.35] : [0.1, 0.18, 0.3, 1] });
+    if (v.control && v.lattice) this.drawLayer('lattice', { colour: [0.75, 0.2, 0.5, 1], cutAway: true });
+    if (v.control) this.drawLayer('control', { colour: [0.85, 0.1, 0.45, 1], pointSize: Math.max(2, 3 * dpr), cutAway: true });
+    if (v.folds) {
+      // Folded points over everything: they are inside the solid.
+      gl.disable(gl.DEPTH_TEST);
+      this.drawLayer('folds', { colour: [0.9, 0.05, 0.05, 1], pointSize: Math.max(4, 6 * dpr) });
+      gl.enable(gl.DEPTH_TEST);
+    }
+    if (v.input && spline) {
+      // Over a result the input mesh is context: a translucent surface (and its faint wireframe)
+      // that hides nothing behind it.
+      gl.enable(gl.BLEND);
+      gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA);
+      gl.depthMask(false);
+      this.drawLayer('input', { colour: [0.42, 0.62, 0.85, 0.25], lit: true });
+      if (v.wireframe && !this.moving) this.drawLayer('wireframe', { colour: [0.3, 0.45, 0.7, 0.35] });
       gl.disable(gl.BLEND);
       gl.depthMask(true);
+    } else if (v.input && v.wireframe) {
+      this.drawLayer('wireframe', { colour: [0.1, 0.18, 0.3, 1] });
     }
     gl.bindVertexArray(null);
-    this.lastDrawMs = performance.now() - t0;
   }
+}
+
+function boundingBox(positions) {
+  const min = [Infinity, Infinity, Infinity], max = [-Infinity, -Infinity, -Infinity];
+  for (let i = 0; i < positions.length; i += 3)
+    for (let k = 0; k < 3; k++) {
+      const x = positions[i + k];
+      if (x < min[k]) min[k] = x;
+      if (x > max[k]) max[k] = x;
+    }
+  return { min, max };
+}
+
+/// A coarse copy of a triangle layer with about `target` triangles, by vertex clustering: the
+/// vertices in each cell of a cubic grid over the bounding box merge at their mean (attributes
+/// averaged too), triangles with two corners in one cell vanish. The grid is refined or coarsened
+/// until the count is within 60–100 % of target. Non-indexed layers cluster the same way.
+export function coarseTriangles({ positions, uvw, scalar, colours, indices }, target) {
+  const n = positions.length / 3;
+  const tri = indices ?? Uint32Array.from({ length: n }, (_, i) => i);
+  const { min, max } = boundingBox(positions);
+  const extent = Math.max(max[0] - min[0], max[1] - min[1], max[2] - min[2]) || 1;
+  const cellOf = new Int32Array(n);
+  let cells = Math.max(4, Math.round(Math.sqrt(target)));
+  let best = null;
+  for (let attempt = 0; attempt < 6; attempt++) {
+    const ids = new Map();
+    const h = extent / cells;
+    for (let i = 0; i < n; i++) {
+      const key = ((Math.min(cells - 1, Math.floor((positions[3 * i] - min[0]) / h)) * cells +
+                    Math.min(cells - 1, Math.floor((positions[3 * i + 1] - min[1]) / h))) * cells +
+                   Math.min(cells - 1, Math.floor((positions[3 * i + 2] - min[2]) / h)));
+      let id = ids.get(key);
+      if (id === undefined) { id = ids.size; ids.set(key, id); }
+      cellOf[i] = id;
+    }
+    let kept = 0;
+    for (let f = 0; f < tri.length; f += 3) {
+      const a = cellOf[tri[f]], b = cellOf[tri[f + 1]], c = cellOf[tri[f + 2]];
+      if (a !== b && b !== c && a !== c) kept++;
+    }
+    best = { clusters: ids.size, kept, cellOf: cellOf.slice() };
+    if (kept <= target && kept >= 0.6 * target) break;
+    cells = Math.max(2, Math.round(cells * Math.sqrt(target / Math.max(kept, 1)) * (kept > target ? 0.95 : 1)));
+    if (kept <= target && attempt >= 3) break;
+  }
+  const { clusters, kept, cellOf: cluster } = best;
+  const mean = (data, size) => {
+    if (!data) return null;
+    const out = new Float32Array(clusters * size), count = new Uint32Array(clusters);
+    for (let i = 0; i < n; i++) {
+      count[cluster[i]]++;
+      for (let k = 0; k < size; k++) out[size * cluster[i] + k] += data[size * i + k];
+    }
+    for (let c = 0; c < clusters; c++) for (let k = 0; k < size; k++) out[size * c + k] /= count[c];
+    return out;
+  };
+  const out = new Uint32Array(3 * kept);
+  let m = 0;
+  for (let f = 0; f < tri.length; f += 3) {
+    const a = cluster[tri[f]], b = cluster[tri[f + 1]], c = cluster[tri[f + 2]];
+    if (a !== b && b !== c && a !== c) { out[m++] = a; out[m++] = b; out[m++] = c; }
+  }
+  return { positions: mean(positions, 3), uvw: mean(uvw, 3), scalar: mean(scalar, 1), colours: mean(colours, 3), indices: out, mode: 'triangles' };
+}
+
+/// Every k-th point of a point layer, with its attributes.
+function everyKthPoint({ positions, uvw, scalar, colours }, k) {
+  const pick = (data, size) => {
+    if (!data) return null;
+    const n = Math.ceil(data.length / size / k), out = new Float32Array(n * size);
+    for (let i = 0; i < n; i++) for (let s = 0; s < size; s++) out[size * i + s] = data[size * i * k + s];
+    return out;
+  };
+  return { positions: pick(positions, 3), uvw: pick(uvw, 3), scalar: pick(scalar, 1), colours: pick(colours, 3), indices: null, mode: 'points' };
+}
+
+/// The nearest triangle of a layer hit by the ray eye + s·dir (s > 0), Möller–Trumbore, skipping
+/// triangles whose corners all lie beyond cutAway {axis, position} in uvw: {distance, xyz, scalar}.
+function rayHit({ positions, uvw, scalar, indices }, eye, dir, cutAway) {
+  const n = indices ? indices.length : positions.length / 3;
+  let best = null;
+  const p = (i, k) => positions[3 * i + k];
+  for (let f = 0; f < n; f += 3) {
+    const a = indices ? indices[f] : f, b = indices ? indices[f + 1] : f + 1, c = indices ? indices[f + 2] : f + 2;
+    if (cutAway && uvw && [a, b, c].every((i) => uvw[3 * i + cutAway.axis] > cutAway.position + 1e-4)) continue;
+    const e1 = [p(b, 0) - p(a, 0), p(b, 1) - p(a, 1), p(b, 2) - p(a, 2)];
+    const e2 = [p(c, 0) - p(a, 0), p(c, 1) - p(a, 1), p(c, 2) - p(a, 2)];
+    const h = [dir[1] * e2[2] - dir[2] * e2[1], dir[2] * e2[0] - dir[0] * e2[2], dir[0] * e2[1] - dir[1] * e2[0]];
+    const det = e1[0] * h[0] + e1[1] * h[1] + e1[2] * h[2];
+    if (Math.abs(det) < 1e-20) continue;
+    const s = [eye[0] - p(a, 0), eye[1] - p(a, 1), eye[2] - p(a, 2)];
+    const u = (s[0] * h[0] + s[1] * h[1] + s[2] * h[2]) / det;
+    if (u < 0 || u > 1) continue;
+    const q = [s[1] * e1[2] - s[2] * e1[1], s[2] * e1[0] - s[0] * e1[2], s[0] * e1[1] - s[1] * e1[0]];
+    const v = (dir[0] * q[0] + dir[1] * q[1] + dir[2] * q[2]) / det;
+    if (v < 0 || u + v > 1) continue;
+    const d = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det;
+    if (d <= 0 || (best && d >= best.distance)) continue;
+    best = { distance: d, xyz: [0, 1, 2].map((k) => p(a, k) + u * e1[k] + v * e2[k]),
+             scalar: scalar ? (1 - u - v) * scalar[a] + u * scalar[b] + v * scalar[c] : null };
+  }
+  return best;
 }

@@ -5,7 +5,7 @@
 
 /**
  * A job the worker runs on the core.
- * @typedef {'meshInfo'|'mesh2spline'|'gpc'|'splineCut'|'loadVolume'|'vol2spline'|'setImage'|'lens'|'lensPng'} JobName
+ * @typedef {'meshInfo'|'mesh2spline'|'gpc'|'splineCut'|'splineQuality'|'loadVolume'|'vol2spline'|'setImage'|'lens'|'lensPng'} JobName
  */
 
 /**

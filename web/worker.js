@@ -31,6 +31,7 @@ const jobs = {
   mesh2spline: ({ bytes, name, options }, progress) => core.mesh2spline(bytes, name, options, progress),
   gpc: ({ bytes, name, options }, progress) => core.gpc(bytes, name, options, progress),
   splineCut: ({ json, axis, position, samples }) => core.splineCut(json, axis, position, samples),
+  splineQuality: ({ json, bytes, name, options }) => core.splineQuality(json, bytes ?? null, name ?? '', options),
   loadVolume: ({ bytes, name, layout }) => core.loadVolume(bytes, name, layout ?? null),
   vol2spline: ({ volume, name, options }, progress) => core.vol2spline(volume, name, options, progress),
   // Decodes once and keeps the image under `key`; returns it for the page's texture.
@@ -62,7 +63,7 @@ const jobs = {
 };
 
 // Jobs that need a binding which older builds of the core may lack.
-const bindingOf = { mesh2spline: 'mesh2spline', gpc: 'gpc', splineCut: 'splineCut', loadVolume: 'loadVolume', vol2spline: 'vol2spline' };
+const bindingOf = { mesh2spline: 'mesh2spline', gpc: 'gpc', splineCut: 'splineCut', splineQuality: 'splineQuality', loadVolume: 'loadVolume', vol2spline: 'vol2spline' };
 
 /** @param {import('./messages.js').RunMessage} message @returns {import('./messages.js').JobResult} */
 function run({ id, job, args }) {

@@ -137,6 +137,85 @@ async function meshToSpline(page) {
         `spline view is not blank (${(100 * pixels.differ).toFixed(1)} % drawn, ${pixels.colours} colours, ${(100 * colourful).toFixed(1)} % saturated cut colours)`);
   await page.screenshot({ path: path.join(artifacts, 'mesh-sphere-spline.png') });
 
+  // Quality at a glance: the verdict line, the scaled-Jacobian histogram, the boundary's distance
+  // colours, the values under the cursor (the splineQuality job runs after mesh2spline).
+  await page.waitForFunction(() => window.volspline.meshTab.result?.quality || !document.getElementById('error').hidden, null, { timeout: 60000 }).catch(() => {});
+  const quality = await page.evaluate(() => {
+    const { meshTab } = window.volspline;
+    const q = meshTab.result.quality;
+    const v = document.getElementById('mesh-verdict');
+    return q ? {
+      verdict: v.hidden ? null : v.dataset.verdict, text: v.textContent, samples: q.samples,
+      total: Array.from(q.counts).reduce((a, b) => a + b, 0), bars: document.querySelectorAll('#mesh-histogram-svg rect').length,
+      histogramShown: !document.getElementById('mesh-histogram').hidden, folded: q.folded.length / 3,
+      distances: q.boundary_distance_rel ? q.boundary_distance_rel.length : 0, boundaryVertices: meshTab.result.boundary.positions.length / 3,
+      maxDistance: q.max_distance_rel, boundaryColoured: !!meshTab.view.layers.boundary.hasScalar,
+    } : null;
+  });
+  check(quality !== null, `the quality job runs after mesh2spline ${quality ? '' : await errorText(page)}`);
+  if (quality) {
+    check(quality.verdict === 'good' && /^Fit within target/.test(quality.text) && /no folds/.test(quality.text),
+          `verdict line for the sphere (rms ${(100 * stats.rms_rel).toFixed(3)} % ≤ 0.2 %, no folds): "${quality.text}"`);
+    check(quality.samples === 24 ** 3 && quality.total === quality.samples && quality.bars === 20 && quality.histogramShown && quality.folded === 0,
+          `scaled-Jacobian histogram: ${quality.bars} bars over ${quality.total} lattice points, ${quality.folded} folded`);
+    check(quality.distances === quality.boundaryVertices && quality.maxDistance < 0.05 && quality.boundaryColoured,
+          `the boundary is coloured by its distance to the mesh (max ${(100 * quality.maxDistance).toFixed(3)} % of the diagonal)`);
+  }
+  const probeBox = await page.locator('#mesh-canvas').boundingBox();
+  await page.mouse.move(probeBox.x + probeBox.width / 2, probeBox.y + probeBox.height / 2);
+  await page.waitForFunction(() => document.getElementById('mesh-probe').textContent !== '', null, { timeout: 5000 }).catch(() => {});
+  const probe = await page.textContent('#mesh-probe');
+  check(/^(cut: scaled Jacobian [-\d.]+|boundary: [\d.]+ % of the diagonal from the mesh) at \(/.test(probe), `the value under the cursor is shown: "${probe}"`);
+
+  // Controls clipped by the cut: the control points carry their anchors' uvw (the shader drops
+  // those beyond the cut), and the control lattice joins them.
+  await page.check('#mesh-show-lattice');
+  await page.waitForTimeout(300);
+  const controls = await page.evaluate(() => {
+    const { view, result } = window.volspline.meshTab;
+    const c = view.layers.control, uvw = c.data.uvw;
+    let beyond = 0;
+    for (let i = 2; i < uvw.length; i += 3) if (uvw[i] > result.cut.position) beyond++;
+    return { hasUvw: c.hasUvw, points: uvw.length / 3, beyond, edges: view.layers.lattice ? view.layers.lattice.count / 2 : 0 };
+  });
+  check(controls.hasUvw && controls.beyond > 0 && controls.beyond < controls.points && controls.edges >= controls.points,
+        `control points are clipped by the cut: ${controls.beyond} of ${controls.points} beyond w = 0.5; control lattice of ${controls.edges} edges`);
+  await page.screenshot({ path: path.join(artifacts, 'mesh-sphere-lattice.png') });
+  await page.uncheck('#mesh-show-lattice');
+
+  // The view's level of detail and draw-on-change: while the camera moves the boundary draws a
+  // coarse copy; switching tabs and back draws no frame.
+  const lod = await page.evaluate(async () => {
+    const { view } = window.volspline.meshTab;
+    const frames = () => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r)));
+    await frames();
+    const b = view.layers.boundary;
+    const draws0 = view.draws;
+    document.getElementById('tab-lens').click();
+    await frames();
+    document.getElementById('tab-mesh').click();
+    await frames();
+    return { full: b.count / 3, motion: b.motion ? b.motion.count / 3 : null, tabDraws: view.draws - draws0 };
+  });
+  check(lod.motion !== null && lod.motion <= 4000 && lod.motion < lod.full, `while the camera moves the boundary draws ${lod.motion} of its ${lod.full} triangles`);
+  check(lod.tabDraws === 0, `switching to the Lens tab and back draws no frame (${lod.tabDraws} drawn)`);
+
+  // View buttons: axis views, fit, screenshot.
+  await page.selectOption('#mesh-view-axis', '+x');
+  const yaw = await page.evaluate(() => window.volspline.meshTab.view.camera.yaw);
+  check(Math.abs(yaw - Math.PI / 2) < 1e-9, `'from +x' looks along −x (yaw ${yaw.toFixed(3)})`);
+  await page.evaluate(() => { window.volspline.meshTab.view.camera.distance *= 5; });
+  await page.click('#mesh-fit-view');
+  const fitted = await page.evaluate(() => { const c = window.volspline.meshTab.view.camera; return c.distance / c.radius; });
+  check(Math.abs(fitted - 2.8) < 1e-9, `fit frames what is shown again (distance ${fitted.toFixed(2)} radii)`);
+  {
+    const [d] = await Promise.all([page.waitForEvent('download', { timeout: 20000 }), page.click('#mesh-screenshot')]);
+    const target = path.join(artifacts, 'sphere.view.png');
+    await d.saveAs(target);
+    const png = fs.readFileSync(target);
+    check(png.length > 1000 && png.slice(1, 4).toString() === 'PNG' && d.suggestedFilename() === 'sphere.view.png', `screenshot downloads the view as a PNG (${png.length} bytes)`);
+  }
+
   // The cut slider recomputes the cut.
   await page.locator('#mesh-cut-position').fill('0.8');
   await page.waitForFunction(() => window.volspline.meshTab.result?.cut.position === 0.8 && !window.volspline.meshTab.cutRunning, null, { timeout: 20000 }).catch(() => {});

@@ -23,8 +23,9 @@ void main() {
   gl_Position = view_projection * vec4(position, 1.0);
 }`;
 
-// Colour from the scaled Jacobian (use_scalar: ≤ 0, folded, red; 0 → 1 from orange through
-// yellow and green to blue), else per vertex (use_vertex_colour: the cuboids of a GPC), else the
+// Colour from the scalar (use_scalar): with scalar_map 0 the scaled Jacobian (≤ 0, folded, red;
+// 0 → 1 from orange through yellow and green to blue), with scalar_map 1 a distance as a fraction
+// of its target (0 pale, 0.5 amber, ≥ 1 red); else per vertex (use_vertex_colour: the cuboids of a GPC), else the
 // layer's colour.
 export const FRAGMENT = `#version 300 es
 precision highp float;
@@ -35,6 +36,7 @@ in vec3 v_colour;
 uniform vec4 colour;
 uniform bool lit;
 uniform bool use_scalar;
+uniform int scalar_map;
 uniform bool use_vertex_colour;
 uniform int cut_axis;      // -1: no cut-away
 uniform float cut_position;
@@ -46,9 +48,14 @@ vec3 quality(float q) {
   if (q < 0.67) return mix(c1, c2, (q - 0.33) / 0.34);
   return mix(c2, c3, (q - 0.67) / 0.33);
 }
+vec3 distance_colour(float d) {
+  vec3 c0 = vec3(0.88, 0.9, 0.95), c1 = vec3(0.98, 0.72, 0.25), c2 = vec3(0.8, 0.1, 0.1);
+  d = clamp(d, 0.0, 1.0);
+  return d < 0.5 ? mix(c0, c1, d / 0.5) : mix(c1, c2, (d - 0.5) / 0.5);
+}
 void main() {
   if (cut_axis >= 0 && v_uvw[cut_axis] > cut_position + 1e-4) discard;
-  vec3 base = use_scalar ? quality(v_scalar) : use_vertex_colour ? v_colour : colour.rgb;
+  vec3 base = use_scalar ? (scalar_map == 1 ? distance_colour(v_scalar) : quality(v_scalar)) : use_vertex_colour ? v_colour : colour.rgb;
   if (!lit) { out_colour = vec4(base, colour.a); return; }
   vec3 n = normalize(cross(dFdx(view_position), dFdy(view_position)));
   vec3 l = normalize(vec3(0.4, 0.6, 1.0));

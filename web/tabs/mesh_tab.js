@@ -8,6 +8,20 @@
 // refuses (it maps a solid to one cuboid).
 import { $, jobs, runJob, showError, clearError, download, acceptFiles, fillStats, fmt, baseName } from '../ui.js';
 import { MeshView, QUALITY_GRADIENT } from '../mesh_view.js';
+import { splineLattice } from '../spline_json.js';
+
+// The splineQuality lattice (points per axis) of the histogram and the folded points.
+const QUALITY_LATTICE = 24;
+const DISTANCE_GRADIENT = 'linear-gradient(to right, rgb(224,230,242) 0%, rgb(250,184,64) 50%, rgb(204,26,26) 100%)';
+// The cut's colours (mesh_shaders.js quality()) for q in (0, 1], as CSS.
+function qualityColour(q) {
+  const stops = [[0, [0.95, 0.45, 0.1]], [0.33, [0.98, 0.85, 0.2]], [0.67, [0.3, 0.75, 0.35]], [1, [0.2, 0.4, 0.85]]];
+  let k = 0;
+  while (k < stops.length - 2 && q > stops[k + 1][0]) k++;
+  const [t0, c0] = stops[k], [t1, c1] = stops[k + 1];
+  const f = Math.max(0, Math.min(1, (q - t0) / (t1 - t0)));
+  return `rgb(${c0.map((c, i) => Math.round(255 * (c + f * (c1[i] - c)))).join(',')})`;
+}
 
 export const meshTab = {
   view: null,
@@ -56,6 +70,9 @@ export const meshTab = {
   clearResults() {
     this.result = null;
     this.lastRun = null;
+    $('mesh-verdict').hidden = true;
+    for (const id of ['mesh-histogram', 'mesh-distance-legend']) $(id).hidden = true;
+    $('mesh-probe').textContent = '';
     for (const k of ['json', 'glb', 'vtu']) $('mesh-download-' + k).disabled = true;
     $('mesh-legend').hidden = true;
     for (const run of this.runs) run.reset?.();
@@ -77,6 +94,8 @@ export const meshTab = {
   options() {
     return {
       max_levels: Number($('mesh-levels').value), fit: $('mesh-fit').value,
+      // The CLI's targets, sent explicitly: the verdict line compares the result with them.
+      max_rms_rel: 0.002, max_surface_error_rel: 0.005,
       cut_axis: Number($('mesh-cut-axis').value), cut_position: Number($('mesh-cut-position').value),
     };
   },
@@ -97,7 +116,9 @@ export const meshTab = {
     if (!r.ok) { if (r.message !== 'cancelled') showError(r.message); return; }
     this.clearResults();
     this.result = { ...r, options };
-    this.view?.setSpline(r);
+    this.view?.setSpline(r, r.spline_json ? splineLattice(r.spline_json) : null);
+    this.showVerdict();
+    await this.runQuality();
     // The input mesh would hide the cut: shown again by its checkbox.
     $('mesh-show-input').checked = false;
     if (this.view) this.view.visible.input = false;
@@ -107,6 +128,110 @@ export const meshTab = {
     // The cut controls may have moved while the job ran.
     const o = this.options();
     if (o.cut_axis !== options.cut_axis || o.cut_position !== options.cut_position) this.updateCut();
+  },
+
+  /// The quality views of the shown spline (the splineQuality job): the scaled-Jacobian histogram,
+  /// the folded points and the boundary's distance to the mesh.
+  async runQuality() {
+    const result = this.result;
+    if (!result?.spline_json || !jobs.available?.includes('splineQuality')) return;
+    const r = await runJob('splineQuality', { json: result.spline_json.slice(), bytes: this.bytes.slice(), name: this.name, options: { lattice: QUALITY_LATTICE } });
+    if (this.cutPending) this.updateCut();  // a cut asked for while this ran
+    if (this.result !== result) return;  // another run or mesh replaced it meanwhile
+    if (!r.ok) { if (r.message !== 'cancelled') showError(r.message); return; }
+    const target = result.options.max_surface_error_rel;
+    result.quality = { ...r, target };
+    this.applyQuality();
+    this.showHistogram();
+    this.showVerdict();
+    const pct = (x) => `${fmt(100 * x, 2)}`;
+    $('mesh-distance-bar').style.background = DISTANCE_GRADIENT;
+    $('mesh-distance-mid').textContent = pct(target / 2);
+    $('mesh-distance-max').textContent = '≥ ' + pct(target);
+    $('mesh-distance-legend').hidden = !$('mesh-show-distance').checked;
+  },
+
+  /// Hands the quality views to the 3D view, the distance colours as the checkbox says.
+  applyQuality() {
+    const q = this.result?.quality;
+    if (!q || !this.view) return;
+    const colour = $('mesh-show-distance').checked && q.boundary_distance_rel;
+    this.view.setQuality({ folded: q.folded, boundaryDistance: colour ? q.boundary_distance_rel.map((d) => d / q.target) : null });
+    $('mesh-distance-legend').hidden = !colour;
+  },
+
+  /// The histogram of the scaled Jacobian over the lattice: one bar per bin over [−1, 1], bars
+  /// at or below 0 red, the others in the cut's colours; heights on a square-root scale so a few
+  /// folded points still show.
+  showHistogram() {
+    const q = this.result.quality;
+    const svg = $('mesh-histogram-svg');
+    const ns = 'http://www.w3.org/2000/svg';
+    const max = Math.max(...q.counts, 1);
+    const w = 200 / q.bins;
+    const bars = Array.from(q.counts, (count, i) => {
+      const centre = -1 + (2 * (i + 0.5)) / q.bins;
+      const h = count ? Math.max(1.5, 66 * Math.sqrt(count / max)) : 0;
+      const rect = document.createElementNS(ns, 'rect');
+      rect.setAttribute('x', String(i * w + 0.5)); rect.setAttribute('width', String(w - 1));
+      rect.setAttribute('y', String(68 - h)); rect.setAttribute('height', String(h));
+      rect.setAttribute('fill', centre <= 0 ? 'rgb(217,26,26)' : qualityColour(centre));
+      const title = document.createElementNS(ns, 'title');
+      title.textContent = `${fmt(-1 + (2 * i) / q.bins, 2)} to ${fmt(-1 + (2 * (i + 1)) / q.bins, 2)}: ${count} points`;
+      rect.append(title);
+      return rect;
+    });
+    const zero = document.createElementNS(ns, 'line');
+    for (const [k, v] of [['x1', 100], ['x2', 100], ['y1', 0], ['y2', 70]]) zero.setAttribute(k, String(v));
+    zero.setAttribute('stroke', '#475569'); zero.setAttribute('stroke-dasharray', '2 2');
+    svg.replaceChildren(...bars, zero);
+    const folded = q.folded.length / 3;
+    $('mesh-histogram-caption').textContent = `scaled Jacobian at ${QUALITY_LATTICE}³ points: ${folded ? `${folded} folded (≤ 0)` : 'none folded'}, min ${fmt(q.min_scaled_jacobian, 3)}`;
+    $('mesh-histogram').hidden = false;
+  },
+
+  /// Shows what is under the pointer in the 3D view: the cut's scaled Jacobian, the boundary's
+  /// distance to the mesh, or the position.
+  probe(clientX, clientY) {
+    const hit = this.view?.pick(clientX, clientY);
+    const xyz = hit ? hit.xyz.map((x) => fmt(x, 4)).join(', ') : '';
+    let text = '';
+    if (hit?.layer === 'cut' && hit.scalar !== null) text = `cut: scaled Jacobian ${fmt(hit.scalar, 3)} at (${xyz})`;
+    else if (hit?.layer === 'boundary' && hit.scalar !== null && this.result?.quality) text = `boundary: ${fmt(100 * hit.scalar * this.result.quality.target, 3)} % of the diagonal from the mesh at (${xyz})`;
+    else if (hit) text = `${hit.layer === 'input' ? 'mesh' : hit.layer} at (${xyz})`;
+    $('mesh-probe').textContent = text;
+  },
+
+  /// The result at a glance: folds (det J ≤ 0 somewhere), a poor fit (beyond the RMS or surface
+  /// error target), or a fit within target.
+  showVerdict() {
+    const s = this.result.stats, o = this.result.options, q = this.result.quality, cut = this.result.cut;
+    const pct = (x) => `${fmt(100 * x, 2)} %`;
+    const fit = `RMS distance ${pct(s.rms_rel)} of the diagonal (target ${pct(o.max_rms_rel)}), Hausdorff ${pct(s.hausdorff_rel)} (target ${pct(o.max_surface_error_rel)})`;
+    const poor = s.rms_rel > o.max_rms_rel || s.hausdorff_rel > o.max_surface_error_rel;
+    // Folds seen anywhere: the job's Gauss points, the quality lattice, or the cut shown.
+    const where = [];
+    if (s.negative_jacobian_fraction > 0 || s.min_scaled_jacobian <= 0) where.push(`${pct(s.negative_jacobian_fraction)} of the Gauss points`);
+    if (q && q.folded.length) where.push(`${q.folded.length / 3} of ${q.samples} lattice points`);
+    if (cut && cut.min_scaled_jacobian <= 0) where.push(`the cut (min scaled Jacobian ${fmt(cut.min_scaled_jacobian, 3)})`);
+    const minQ = Math.min(s.min_scaled_jacobian, q ? q.min_scaled_jacobian : 1);
+    const certified = Number.isFinite(s.jacobian_certified_fraction) ? `; ${pct(s.jacobian_certified_fraction)} of the cells certified fold-free` : '';
+    let kind, text;
+    if (where.length) {
+      kind = 'folds';
+      text = `Folds: det J ≤ 0 at ${where.join(', ')}${certified}. ${poor ? 'Poor fit too' : 'Fit within target'}: ${fit}.`;
+    } else if (poor) {
+      kind = 'poor';
+      text = `Poor fit: ${fit}; no folds (min scaled Jacobian ${fmt(minQ, 3)})${certified}. More levels may reach the target.`;
+    } else {
+      kind = 'good';
+      text = `Fit within target: ${fit}; no folds (min scaled Jacobian ${fmt(minQ, 3)})${certified}.`;
+    }
+    const v = $('mesh-verdict');
+    v.className = 'verdict ' + kind;
+    v.dataset.verdict = kind;
+    v.textContent = text;
+    v.hidden = false;
   },
 
   showStats() {
@@ -140,6 +265,7 @@ export const meshTab = {
       this.view?.setCut(r);
       const td = document.querySelector('#mesh-stats td[data-key="cut_min_scaled_jacobian"]');
       if (td) td.textContent = fmt(r.min_scaled_jacobian, 3);
+      this.showVerdict();
     } finally {
       this.cutRunning = false;
       if (this.cutPending) this.updateCut();
@@ -186,7 +312,7 @@ try {
   showError(e.message);
 }
 acceptFiles($('panel-mesh'), $('mesh-file'), (b, n) => meshTab.open(b, n));
-for (const layer of ['input', 'wireframe', 'boundary', 'lines', 'control', 'cut', 'cuboids', 'poly_edges']) {
+for (const layer of ['input', 'wireframe', 'boundary', 'lines', 'control', 'lattice', 'cut', 'folds', 'cuboids', 'poly_edges']) {
   $('mesh-show-' + layer).addEventListener('change', (e) => {
     if (!meshTab.view) return;
     meshTab.view.visible[layer] = e.target.checked;
@@ -194,6 +320,30 @@ for (const layer of ['input', 'wireframe', 'boundary', 'lines', 'control', 'cut'
   });
 }
 $('mesh-run').addEventListener('click', () => meshTab.run());
+$('mesh-show-distance').addEventListener('change', () => meshTab.applyQuality());
+// Values under the cursor, once per animation frame while the pointer moves without a button.
+{
+  let pending = 0, last = null;
+  $('mesh-canvas').addEventListener('pointermove', (e) => {
+    if (e.buttons) return;
+    last = e;
+    if (!pending) pending = requestAnimationFrame(() => { pending = 0; meshTab.probe(last.clientX, last.clientY); });
+  });
+  $('mesh-canvas').addEventListener('pointerleave', () => { $('mesh-probe').textContent = ''; });
+}
+$('mesh-fit-view').addEventListener('click', () => meshTab.view?.fitView());
+$('mesh-view-axis').addEventListener('change', (e) => {
+  if (e.target.value) meshTab.view?.viewFrom(e.target.value);
+  e.target.value = '';
+});
+$('mesh-screenshot').addEventListener('click', async () => {
+  if (!meshTab.view) return;
+  try {
+    download(await meshTab.view.screenshot(), (meshTab.name ? baseName(meshTab.name) : 'volspline') + '.view.png', 'image/png');
+  } catch (e) {
+    showError(e.message);
+  }
+});
 $('mesh-cut-axis').addEventListener('change', () => meshTab.updateCut());
 $('mesh-cut-position').addEventListener('input', () => { $('mesh-cut-value').textContent = $('mesh-cut-position').value; meshTab.updateCut(); });
 $('mesh-download-json').addEventListener('click', () => download(meshTab.result.spline_json, baseName(meshTab.name) + '.spline.json', 'application/json'));
