@@ -39,7 +39,30 @@ jobs.onState((state) => {
 });
 $('job-cancel').addEventListener('click', () => jobs.cancel());
 
+// The core's stage names in plain words (a name not listed is shown as it is).
+const STAGE_WORDS = {
+  validate: 'checking the input', 'cuboid layout': 'placing the cuboid corners', 'surface map': 'mapping the surface onto the cuboid',
+  'volumetric map': 'mapping the volume', fit: 'fitting the spline', untangle: 'unfolding the spline',
+  'untangle pass': 'unfolding the spline', 'untangle polish': 'polishing the unfolded spline', 'untangle certificate': 'unfolding the uncertified cells',
+  'Jacobian repair': 'repairing the Jacobian', measures: 'measuring the fit', certificate: 'certifying det J > 0 cell by cell',
+  'uniform comparison': 'fitting a uniform spline to compare', 'local cubic fit': 'fitting local cubics to the voxels',
+  'hessian frames': 'frames from the Hessians', classification: 'classifying the materials', parameterization: 'aligning the parameters with the frames',
+  'smooth frames': 'smoothing the frames', decompose: 'cutting the solid into pieces', 'T-to-cube': 'laying the pieces out as cuboids',
+  read: 'reading the file', flatten: 'flattening the lens', done: 'done',
+};
+const JOB_WORDS = { meshInfo: 'reading the mesh', mesh2spline: 'mesh2spline', gpc: 'GPC domain', loadVolume: 'reading the volume',
+  vol2spline: 'vol2spline', splineQuality: 'quality views', splineCut: 'cut', setImage: 'reading the image', lens: 'lens', lensPng: 'lens PNG' };
+/** @param {string} stage @returns {string} the core's stage name in plain words */
+export const stageWords = (stage) => {
+  const trimmed = String(stage).trim();
+  const level = /^fit level (\d+)$/.exec(trimmed);
+  if (level) return `fitting the spline, level ${level[1]}`;
+  return STAGE_WORDS[trimmed] ?? STAGE_WORDS[trimmed.replace(/ \d.*$/, '')] ?? trimmed;
+};
+
 /// Runs a job with the job bar; long-running or not, the UI stays responsive (the worker computes).
+/// The bar names the stage in plain words with its share of the job and the seconds spent in it,
+/// updated twice a second also while the core reports nothing.
 /**
  * @param {import('./messages.js').JobName} job
  * @param {object} args
@@ -47,11 +70,32 @@ $('job-cancel').addEventListener('click', () => jobs.cancel());
  * @returns {Promise<import('./messages.js').JobResult>}
  */
 export async function runJob(job, args, { quiet = false, transfer = [] } = {}) {
-  if (!quiet) setProgress(job + '…', 0);
+  const name = JOB_WORDS[job] ?? job;
+  let stage = '', fraction = 0, since = performance.now();
+  const show = () => {
+    const seconds = (performance.now() - since) / 1000;
+    setProgress(stage ? `${name}: ${stageWords(stage)} · ${Math.round(100 * fraction)} %${seconds >= 1 ? ` (${seconds.toFixed(0)} s)` : ''}` : name + '…', fraction);
+  };
+  if (!quiet) show();
+  const ticker = quiet ? 0 : setInterval(show, 500);
   // Quiet jobs (the lens's live runs) leave the bar alone: its text would re-lay out the page every frame.
-  const result = await jobs.run(job, args, { transfer, onProgress: quiet ? null : (stage, f) => setProgress(stage, f) });
-  if (!quiet || !result.ok) setProgress(result.ok ? `${job}: done (${result.ms_worker.toFixed(0)} ms)` : `${job}: ${result.message === 'cancelled' ? 'cancelled' : 'failed'}`, result.ok ? 1 : 0);
+  const onProgress = quiet ? null : (s, f) => {
+    if (s !== stage) { stage = s; since = performance.now(); }
+    fraction = f;
+    show();
+  };
+  const result = await jobs.run(job, args, { transfer, onProgress });
+  clearInterval(ticker);
+  if (!quiet || !result.ok) setProgress(result.ok ? `${name}: done (${result.ms_worker.toFixed(0)} ms)` : `${name}: ${result.message === 'cancelled' ? 'cancelled' : 'failed'}`, result.ok ? 1 : 0);
   return result;
+}
+
+/// Marks what a tab shows as stale (a run was cancelled or failed; the view and stats are the
+/// previous run's): dims `elements` and shows `text` in `notice`; an empty text clears it.
+export function markStale(elements, notice, text) {
+  for (const e of elements) e.classList.toggle('stale', !!text);
+  notice.textContent = text;
+  notice.hidden = !text;
 }
 
 export function download(bytes, name, type) {

@@ -248,8 +248,13 @@ async function meshToSpline(page) {
   await page.selectOption('#mesh-samples', meshSamples.find((v) => v.endsWith('bimba.off')));
   await waitStat(page, 'mesh-stats', 'file', (v) => v === 'bimba.off');
   await page.waitForFunction(() => !document.getElementById('mesh-run').disabled, null, { timeout: 10000 }).catch(() => {});
+  await page.selectOption('#mesh-levels', '0');
+  await page.click('#mesh-run');
+  await page.waitForFunction(() => window.volspline.meshTab.result?.quality || !document.getElementById('error').hidden, null, { timeout: 60000 }).catch(() => {});
   const cancelled = await page.evaluate(async () => {
     const { jobs } = window.volspline;
+    const stages = new Set();
+    const watch = setInterval(() => stages.add(document.getElementById('job-stage').textContent), 20);
     document.getElementById('mesh-levels').value = '4';
     document.getElementById('mesh-run').click();
     await new Promise((r) => setTimeout(r, 300));
@@ -261,9 +266,17 @@ async function meshToSpline(page) {
     const t = performance.now();
     while (jobs.busy && performance.now() - t < 10000) await new Promise((r) => setTimeout(r, 10));
     document.getElementById('mesh-levels').value = '2';
-    return { busy, stage: document.getElementById('job-stage').textContent, ms: performance.now() - t, error: document.getElementById('error').hidden ? '' : document.getElementById('error-text').textContent };
+    clearInterval(watch);
+    const notice = document.getElementById('mesh-stale');
+    return { busy, stage: document.getElementById('job-stage').textContent, ms: performance.now() - t, error: document.getElementById('error').hidden ? '' : document.getElementById('error-text').textContent,
+             stale: notice.hidden ? '' : notice.textContent, dimmed: document.getElementById('mesh-stats').classList.contains('stale'), stages: [...stages] };
   });
   check(cancelled.busy && /cancelled/.test(cancelled.stage) && cancelled.error === '', `Cancel stops mesh2spline (${cancelled.stage}, ${cancelled.ms.toFixed(0)} ms)`);
+  check(/levels 4 was cancelled/.test(cancelled.stale) && /previous result \(mesh2spline, levels 0\)/.test(cancelled.stale) && cancelled.dimmed,
+        `the cancelled run marks the shown result stale: "${cancelled.stale}"`);
+  const plain = cancelled.stages.filter((t) => /^mesh2spline: [a-z].* · \d+ %/.test(t));
+  check(plain.length > 0 && plain.every((t) => !/: (validate|cuboid layout|surface map) ·/.test(t)),
+        `the job bar names the stage in plain words with its share: ${JSON.stringify(plain.slice(0, 3))}`);
 }
 
 // Mesh tab, GPC domain: torus.off (genus 1) uploaded → the tab says mesh2spline needs genus 0 →
@@ -374,6 +387,42 @@ async function volumeSlices(page) {
       await d.saveAs(target);
       check(/"volspline-tspline"/.test(fs.readFileSync(target, 'utf8').slice(0, 200)), 'Download JSON gives the density spline');
       await page.screenshot({ path: path.join(artifacts, 'volume-ball-spline.png') });
+
+      // Window/level: a narrow window at the top of the range leaves the rim at the darkest colour.
+      const pixelAt = (id, x, y) => page.evaluate(([id, x, y]) => {
+        const c = document.getElementById(id);
+        return Array.from(c.getContext('2d').getImageData(x, c.height - 1 - y, 1, 1).data.slice(0, 3));
+      }, [id, x, y]);
+      const before = await pixelAt('volume-canvas', 10, 16);  // r² ≈ 0.25: density 0.75
+      await page.locator('#volume-window-lo').fill('0.8');
+      const after = await pixelAt('volume-canvas', 10, 16);
+      const windowText = await page.textContent('#volume-window-value');
+      check(after.join() === '0,0,4' && before.join() !== after.join() && /0\.8 … 1/.test(windowText),
+            `the window 0.8 … 1 paints density 0.75 at the darkest colour (${before} → ${after}, "${windowText}")`);
+      await page.locator('#volume-window-lo').fill('0');
+      // The difference slice: |input − spline|, its range in the caption.
+      await page.selectOption('#volume-fit-mode', 'difference');
+      const diff = await page.evaluate(() => ({ max: window.volspline.volumeTab.fit.differenceMax, caption: document.getElementById('volume-fit-caption').textContent }));
+      const diffPixels = await canvasContent(page, '#volume-fit-canvas');
+      check(diff.max > 0 && diff.max < 0.5 && /% of the range/.test(diff.caption) && diffPixels.colours > 2,
+            `the |input − spline| slice is shown (max ${diff.max.toExponential(2)}: "${diff.caption}", ${diffPixels.colours} colours)`);
+      await page.screenshot({ path: path.join(artifacts, 'volume-ball-difference.png') });
+      await page.selectOption('#volume-fit-mode', 'spline');
+
+      // A cancelled run marks the spline shown as the previous run's.
+      await page.selectOption('#volume-levels', '10');
+      await page.selectOption('#volume-max-rms', '0.002');
+      const stale = await page.evaluate(async () => {
+        const { jobs } = window.volspline;
+        document.getElementById('volume-run').click();
+        await new Promise((r) => setTimeout(r, 50));
+        jobs.cancel();
+        while (jobs.busy) await new Promise((r) => setTimeout(r, 10));
+        const notice = document.getElementById('volume-stale');
+        return { text: notice.hidden ? '' : notice.textContent, dimmed: document.getElementById('volume-stats').classList.contains('stale') };
+      });
+      check(/was cancelled/.test(stale.text) && /previous run/.test(stale.text) && stale.dimmed, `a cancelled vol2spline marks the shown spline stale: "${stale.text}"`);
+      await page.selectOption('#volume-max-rms', '0.005');
     }
   }
   await page.selectOption('#volume-axis', '0');

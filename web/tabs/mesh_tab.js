@@ -6,7 +6,7 @@
 // or result replaces it; the tab handles busy state, errors and cancellation. A run marked
 // anyGenus (gpc) is what "Run mesh2spline" starts on a solid of genus ≥ 1, which mesh2spline
 // refuses (it maps a solid to one cuboid).
-import { $, jobs, runJob, showError, clearError, download, acceptFiles, fillStats, fmt, baseName } from '../ui.js';
+import { $, jobs, runJob, showError, clearError, download, acceptFiles, fillStats, fmt, baseName, markStale } from '../ui.js';
 import { MeshView, QUALITY_GRADIENT } from '../mesh_view.js';
 import { splineLattice } from '../spline_json.js';
 
@@ -66,8 +66,19 @@ export const meshTab = {
     $('mesh-notice').hidden = !text;
   },
 
+  /// After a cancelled or failed run of `job` with `options`: if a result is shown, it is marked
+  /// as the previous run's.
+  markStale(job, options, why) {
+    const shown = this.lastRun ?? (this.result && { job: 'mesh2spline', options: this.result.options });
+    if (!shown) return;
+    const levels = (o) => ('max_levels' in o ? `, levels ${o.max_levels}` : '');
+    markStale([$('mesh-canvas').parentElement, $('mesh-stats'), $('mesh-verdict')], $('mesh-stale'),
+              `${job}${levels(options)} ${why}: the view and stats show the previous result (${shown.job}${levels(shown.options)})`);
+  },
+
   /// Forgets the shown results of every job (the view's layers are replaced by the caller).
   clearResults() {
+    markStale([$('mesh-canvas').parentElement, $('mesh-stats'), $('mesh-verdict')], $('mesh-stale'), '');
     this.result = null;
     this.lastRun = null;
     $('mesh-verdict').hidden = true;
@@ -113,7 +124,11 @@ export const meshTab = {
     const options = this.options();
     const r = await runJob('mesh2spline', { bytes: this.bytes.slice(), name: this.name, options });
     $('mesh-run').disabled = false;
-    if (!r.ok) { if (r.message !== 'cancelled') showError(r.message); return; }
+    if (!r.ok) {
+      if (r.message !== 'cancelled') showError(r.message);
+      this.markStale('mesh2spline', options, r.message === 'cancelled' ? 'was cancelled' : 'failed');
+      return;
+    }
     this.clearResults();
     this.result = { ...r, options };
     this.view?.setSpline(r, r.spline_json ? splineLattice(r.spline_json) : null);
@@ -285,7 +300,11 @@ export const meshTab = {
       const opts = options();
       const r = await runJob(job, { bytes: this.bytes.slice(), name: this.name, options: opts });
       button.disabled = false;
-      if (!r.ok) { if (r.message !== 'cancelled') showError(r.message); return; }
+      if (!r.ok) {
+        if (r.message !== 'cancelled') showError(r.message);
+        this.markStale(job, opts, r.message === 'cancelled' ? 'was cancelled' : 'failed');
+        return;
+      }
       this.clearResults();
       this.lastRun = { job, options: opts, result: r };
       // The input mesh would hide the result: shown again by its checkbox.

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
-// The Volume tab: open a volume, slices along x, y or z coloured by density, vol2spline's
-// density on the same slice beside it, the stats and the spline download.
-import { $, jobs, runJob, showError, clearError, download, acceptFiles, fillStats, fmt, baseName } from '../ui.js';
+// The Volume tab: open a volume, slices along x, y or z coloured by density within a window
+// (window/level as fractions of the volume's range), vol2spline's density or its difference
+// |input − spline| on the same slice beside it, the stats and the spline download.
+import { $, jobs, runJob, showError, clearError, download, acceptFiles, fillStats, fmt, baseName, markStale } from '../ui.js';
 
 // Density colours (dark blue → magenta → orange → pale yellow) as a 256-entry RGB table.
 const DENSITY_STOPS = [[0, [0, 0, 4]], [0.25, [60, 15, 110]], [0.5, [170, 50, 110]], [0.75, [245, 125, 35]], [1, [252, 255, 164]]];
@@ -35,6 +36,7 @@ export const volumeTab = {
     if (!r.ok) { if (r.message !== 'cancelled') showError(r.message); return; }
     this.volume = { name, ...r };
     this.fit = null;
+    markStale([$('volume-fit-figure'), $('volume-stats')], $('volume-stale'), '');
     $('volume-hint').hidden = true;
     $('volume-fit-figure').hidden = true;
     $('volume-run').disabled = !jobs.available?.includes('vol2spline');
@@ -53,8 +55,16 @@ export const volumeTab = {
     const volume = { nx: v.nx, ny: v.ny, nz: v.nz, spacing: v.spacing, origin: v.origin, direction: v.direction, samples: v.samples.slice() };
     const r = await runJob('vol2spline', { volume, name: v.name, options }, { transfer: [volume.samples.buffer] });
     $('volume-run').disabled = false;
-    if (!r.ok) { if (r.message !== 'cancelled') showError(r.message); return; }
+    const staleParts = [$('volume-fit-figure'), $('volume-stats')];
+    if (!r.ok) {
+      if (r.message !== 'cancelled') showError(r.message);
+      if (this.fit && this.volume === v)
+        markStale(staleParts, $('volume-stale'), `vol2spline (levels ${options.max_levels}, rms ${options.max_rms_rel}) ${r.message === 'cancelled' ? 'was cancelled' : 'failed'}: ` +
+                  `the spline shown is the previous run's (levels ${this.fit.options.max_levels}, rms ${this.fit.options.max_rms_rel})`);
+      return;
+    }
     if (this.volume !== v) return;  // another volume was opened meanwhile
+    markStale(staleParts, $('volume-stale'), '');
     this.fit = { density: r.reconstruction, stats: r.stats, spline_json: r.spline_json, options };
     $('volume-fit-figure').hidden = false;
     $('volume-download-json').disabled = false;
@@ -98,13 +108,42 @@ export const volumeTab = {
     ctx.putImageData(image, 0, 0);
   },
 
+  /// The density window [lo, hi] of the sliders (fractions of min … max, kept in order).
+  window() {
+    const v = this.volume;
+    let a = Number($('volume-window-lo').value), b = Number($('volume-window-hi').value);
+    if (a > b) [a, b] = [b, a];
+    if (b - a < 0.01) b = Math.min(1, a + 0.01), a = b - 0.01;
+    return [v.min + a * (v.max - v.min), v.min + b * (v.max - v.min)];
+  },
+
   draw() {
     const v = this.volume;
     if (!v) return;
     const axis = Number($('volume-axis').value), index = Number($('volume-slice').value);
     $('volume-slice-value').textContent = `${'xyz'[axis]} = ${index}`;
-    this.paint($('volume-canvas'), v.samples, axis, index, v.min, v.max);
-    if (this.fit) this.paint($('volume-fit-canvas'), this.fit.density, axis, index, v.min, v.max);
+    const [lo, hi] = this.window();
+    const full = lo === v.min && hi === v.max;
+    $('volume-window-value').textContent = full ? 'full range' : `${fmt(lo, 3)} … ${fmt(hi, 3)}`;
+    $('volume-legend-min').textContent = fmt(lo, 3);
+    $('volume-legend-max').textContent = fmt(hi, 3);
+    this.paint($('volume-canvas'), v.samples, axis, index, lo, hi);
+    if (!this.fit) return;
+    if ($('volume-fit-mode').value === 'difference') {
+      // |input − spline| over the whole volume, coloured from 0 to its largest value.
+      const f = this.fit;
+      if (!f.difference) {
+        f.difference = new Float32Array(v.samples.length);
+        let max = 0;
+        for (let i = 0; i < v.samples.length; i++) max = Math.max(max, (f.difference[i] = Math.abs(v.samples[i] - f.density[i])));
+        f.differenceMax = max;
+      }
+      this.paint($('volume-fit-canvas'), f.difference, axis, index, 0, f.differenceMax || 1);
+      $('volume-fit-caption').textContent = `0 … ${fmt(f.differenceMax, 3)} (${fmt(100 * f.differenceMax / (v.max - v.min || 1), 3)} % of the range)`;
+    } else {
+      this.paint($('volume-fit-canvas'), this.fit.density, axis, index, lo, hi);
+      $('volume-fit-caption').textContent = '';
+    }
   },
 
   showStats() {
@@ -121,14 +160,14 @@ export const volumeTab = {
       if (f.frames_computed) rows.push(['frame_smoothness_initial', fmt(f.frame_smoothness_initial, 3)], ['frame_smoothness_final', fmt(f.frame_smoothness_final, 3)]);
     }
     fillStats($('volume-stats'), rows);
-    $('volume-legend-min').textContent = fmt(v.min, 3);
-    $('volume-legend-max').textContent = fmt(v.max, 3);
   },
 };
 $('volume-legend-bar').style.background = `linear-gradient(to right, ${DENSITY_STOPS.map(([t, c]) => `rgb(${c.join(',')}) ${100 * t}%`).join(', ')})`;
 acceptFiles($('panel-volume'), $('volume-file'), (b, n) => volumeTab.open(b, n));
 $('volume-axis').addEventListener('change', () => volumeTab.setAxis());
 $('volume-slice').addEventListener('input', () => volumeTab.draw());
+for (const id of ['volume-window-lo', 'volume-window-hi']) $(id).addEventListener('input', () => volumeTab.draw());
+$('volume-fit-mode').addEventListener('change', () => volumeTab.draw());
 $('volume-run').addEventListener('click', () => volumeTab.run());
 $('volume-download-json').addEventListener('click', () => {
   const f = volumeTab.fit;
