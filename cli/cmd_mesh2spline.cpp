@@ -31,7 +31,8 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
   pipeline::GpcMesh2SplineOptions options;
   options.max_rms_rel = m.max_rms_rel;
   options.max_control_points = m.max_control_points;
-  options.max_levels = m.max_levels;
+  if (args.has("max-levels")) options.max_levels = m.max_levels;
+  if (m.untangle == pipeline::Mesh2SplineOptions::Untangle::Off) options.untangle = pipeline::GpcMesh2SplineOptions::Untangle::Off;
   options.initial_cells = m.initial_cells;
   options.measure_samples = m.measure_samples;
   options.seed = m.seed;
@@ -117,7 +118,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
       {"max-rms", "R", "stop refining at rms_rel <= R (fraction of the bbox diagonal; default 0.002)"},
       {"max-surface-error", "R", "also refine until every surface sample is within R of the mesh (fraction of the bbox diagonal; default 0.005)"},
       {"max-control-points", "N", "no refinement beyond N control points (default 50000)"},
-      {"max-levels", "L", "refinement levels after level 0 (default 4)"},
+      {"max-levels", "L", "refinement levels after level 0 (default 4; genus > 0: uniform knot refinements, default 8)"},
       {"fit", "grid|meshless", "grid: volumetric grid map + fit (§3.4.2); meshless: §4.3.2 (default grid)"},
       {"corners", "FILE", "8 corner vertex ids (cube corner c at (c&1, c>>1&1, c>>2&1)); default automatic"},
       {"weights", "meanvalue|cotan", "surface map weights (default meanvalue)"},

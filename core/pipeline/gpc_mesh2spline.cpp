@@ -9,6 +9,7 @@
 #include "core/pipeline/gpc_spline_measures.h"
 #include "core/pipeline/stage_timer.h"
 #include "core/spline/gpc_spline_fitting.h"
+#include "core/spline/spline_untangling.h"
 
 namespace volspline::pipeline {
 
@@ -141,6 +142,41 @@ double longest_size(const polycube::GpcDomain& domain) {
   return longest;
 }
 
+// spline::untangle_spline on every cuboid whose patch is its box (no Continued face): only the
+// functions inside the box move (each belongs to this cuboid alone), those on its faces stay, so
+// the surface fit and both sides of every glued face stay as they are. Returns the functions
+// that were free to move.
+int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& samples) {
+  Eigen::MatrixXd points = spline.points();
+  const double longest_side = longest_size(spline.domain());
+  int free = 0;
+  for (int c = 0; c < spline.num_cuboids(); ++c) {
+    bool continued = false;
+    for (int f = 0; f < 6; ++f) continued = continued || spline.face_join(c, f) == spline::GpcFaceJoin::Continued;
+    if (continued) continue;
+    std::vector<Eigen::Index> rows;
+    for (std::size_t s = 0; s < samples.cuboid.size(); ++s)
+      if (samples.cuboid[s] == c) rows.push_back(static_cast<Eigen::Index>(s));
+    Eigen::MatrixX3d uvw(rows.size(), 3), xyz(rows.size(), 3);
+    for (std::size_t r = 0; r < rows.size(); ++r) {
+      uvw.row(r) = samples.uvw.row(rows[r]);
+      xyz.row(r) = samples.values.row(rows[r]);
+    }
+    // The same node density in every cuboid: the default lattice over the longest cuboid side.
+    spline::SplineUntangleOptions uo;
+    const auto& size = spline.domain().cuboids[c].size;
+    const double longest = *std::max_element(size.begin(), size.end());
+    uo.lattice = std::clamp(static_cast<int>(std::lround(uo.lattice * longest / longest_side)), 8, uo.lattice);
+    spline::TSpline patch = spline.patch(c);
+    free += spline::untangle_spline(patch, uvw, xyz, uo).free_functions;
+    const std::vector<int>& ids = spline.patch_function_ids(c);
+    for (std::size_t j = 0; j < ids.size(); ++j) points.row(ids[j]) = patch.points().row(static_cast<Eigen::Index>(j));
+  }
+  spline.set_points(std::move(points));
+  return free;
+}
+
+
 }  // namespace
 
 GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const std::string& name,
@@ -184,7 +220,11 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
     spline::GpcSplineOptions so;
     so.intervals = spline::gpc_uniform_intervals(domain, spacing);
     spline::GpcSpline candidate(domain, so);
-    if (best && candidate.num_functions() > options.max_control_points) break;
+    // More functions than a quarter of the samples: the least squares would be fixed mostly by the
+    // regularization, not by data (and CG slows down by orders of magnitude).
+    if (best && (candidate.num_functions() > options.max_control_points ||
+                 4 * candidate.num_functions() > stats.samples))
+      break;
     candidate.set_points(prior_points(candidate, best ? &*best : nullptr, centre, diagonal));
     const spline::GpcSplineFitReport report = spline::fit_gpc_spline(candidate, data.samples);
     timer.end_stage("fit_level_" + std::to_string(level));
@@ -197,6 +237,12 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
   }
   spline::GpcSpline& fitted = *best;
   stats.continued_interfaces = fitted.num_continued_interfaces();
+  stats.negative_jacobian_fraction_fit = -1.0;
+  if (options.untangle == GpcMesh2SplineOptions::Untangle::On) {
+    progress.report("untangle", 0.9);
+    stats.untangled_control_points = untangle_cuboids(fitted, data.samples);
+    timer.end_stage("untangle");
+  }
 
   // Measures in the unit-box frame, against the normalized input surface.
   progress.report("measure", 0.92);
@@ -213,7 +259,6 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
   stats.rms_geo_rel = m.rms_geo_rel;
   stats.min_scaled_jacobian = m.min_scaled_jacobian;
   stats.negative_jacobian_fraction = m.negative_jacobian_fraction;
-  stats.negative_jacobian_fraction_fit = m.negative_jacobian_fraction;
   stats.jacobian_samples = m.jacobian_samples;
   stats.lattice_negative_fraction = m.lattice_negative_fraction;
   stats.lattice_samples = m.lattice_samples;

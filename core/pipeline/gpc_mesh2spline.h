@@ -17,12 +17,15 @@ namespace volspline::pipeline {
 struct GpcMesh2SplineOptions {
   double max_rms_rel = 0.002;      ///< stop at rms_rel ≤ this (fraction of the bbox diagonal), > 0
   int max_control_points = 50000;  ///< no level beyond this many control points, ≥ 64
-  int max_levels = 4;              ///< knot refinements after level 0, in [0, 10]
+  int max_levels = 8;              ///< knot refinements after level 0, in [0, 10]
   /// Knot intervals along the longest cuboid axis at level 0, in [1, 64]; every further level
   /// divides the knot spacing by refinement_ratio.
   int initial_cells = 4;
   double refinement_ratio = 1.5;  ///< in (1, 4]
   GpcOptions gpc;                 ///< the domain and its volumetric map (run_gpc)
+  /// Unfold the fitted spline with the control points inside each cuboid whose faces are all
+  /// surface or C⁰ (spline::untangle_spline on its patch); faces and surface stay as they are.
+  enum class Untangle { Off, On } untangle = Untangle::On;
   int measure_samples = 48;       ///< per axis per surface face for hausdorff_rel, [8, 512]
   /// Cell centres per axis per cuboid at which lattice_negative_fraction is counted, [4, 256].
   int measure_lattice = 64;

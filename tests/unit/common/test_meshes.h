@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
 // Small synthetic meshes with known topology and geometry, shared by the tests of every module:
-// tetrahedron, cubes, torus (genus 1), flat grid, Möbius strip.
+// tetrahedron, cubes, torus (genus 1), flat grid, Möbius strip, voxel solids (two-hole slab, genus 2).
 #pragma once
 
+#include <array>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <tuple>
 #include <vector>
@@ -185,6 +187,63 @@ inline mesh::TriangleMesh rotated(const mesh::TriangleMesh& mesh, double angle_r
   mesh::TriangleMesh out = mesh;
   for (int i = 0; i < out.num_vertices(); ++i) out.positions.row(i) = (r * mesh.positions.row(i).transpose()).transpose();
   return out;
+}
+
+/// The boundary of the voxels (x, y, z) in [0, nx)×[0, ny)×[0, nz) where cell(x, y, z) holds, each
+/// voxel face split into k × k quads, two triangles each; outward oriented; voxel size 1.
+inline mesh::TriangleMesh voxel_solid(int nx, int ny, int nz, int k, const std::function<bool(int, int, int)>& cell) {
+  auto filled = [&](int x, int y, int z) {
+    if (x < 0 || y < 0 || z < 0 || x >= nx || y >= ny || z >= nz) return false;
+    return cell(x, y, z);
+  };
+  std::map<std::array<long, 3>, int> ids;
+  std::vector<Eigen::Vector3d> pts;
+  std::vector<std::array<int, 3>> tris;
+  auto vertex = [&](const std::array<long, 3>& q) {
+    auto it = ids.find(q);
+    if (it != ids.end()) return it->second;
+    pts.emplace_back(double(q[0]) / k, double(q[1]) / k, double(q[2]) / k);
+    return ids[q] = static_cast<int>(pts.size()) - 1;
+  };
+  for (int x = 0; x < nx; ++x)
+    for (int y = 0; y < ny; ++y)
+      for (int z = 0; z < nz; ++z) {
+        if (!filled(x, y, z)) continue;
+        for (int axis = 0; axis < 3; ++axis)
+          for (int dir : {-1, 1}) {
+            std::array<int, 3> nb = {x, y, z};
+            nb[axis] += dir;
+            if (filled(nb[0], nb[1], nb[2])) continue;
+            const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+            for (int a = 0; a < k; ++a)
+              for (int b = 0; b < k; ++b) {
+                std::array<std::array<long, 3>, 4> c;
+                for (int q = 0; q < 4; ++q) {
+                  std::array<long, 3> p = {long(x) * k, long(y) * k, long(z) * k};
+                  p[axis] += dir > 0 ? k : 0;
+                  p[u] += a + ((q == 1 || q == 2) ? 1 : 0);
+                  p[v] += b + ((q >= 2) ? 1 : 0);
+                  c[q] = p;
+                }
+                int i0 = vertex(c[0]), i1 = vertex(c[1]), i2 = vertex(c[2]), i3 = vertex(c[3]);
+                if (dir < 0) std::swap(i1, i3);
+                tris.push_back({i0, i1, i2});
+                tris.push_back({i0, i2, i3});
+              }
+          }
+      }
+  mesh::TriangleMesh m;
+  m.positions.resize(static_cast<int>(pts.size()), 3);
+  for (std::size_t i = 0; i < pts.size(); ++i) m.positions.row(static_cast<int>(i)) = pts[i].transpose();
+  m.triangles.resize(static_cast<int>(tris.size()), 3);
+  for (std::size_t i = 0; i < tris.size(); ++i)
+    m.triangles.row(static_cast<int>(i)) << tris[i][0], tris[i][1], tris[i][2];
+  return m;
+}
+
+/// The two-hole slab: 7×3×2 voxels with the cells (1, 1, z) and (5, 1, z) removed (genus 2).
+inline mesh::TriangleMesh two_hole_slab(int k) {
+  return voxel_solid(7, 3, 2, k, [](int x, int y, int) { return !(y == 1 && (x == 1 || x == 5)); });
 }
 
 }  // namespace volspline::test

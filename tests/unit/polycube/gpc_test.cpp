@@ -20,6 +20,7 @@
 #include "core/polycube/level_set_split.h"
 #include "core/polycube/morse_function.h"
 #include "core/polycube/solid_decomposition.h"
+#include "tests/unit/common/test_meshes.h"
 
 using namespace volspline;
 
@@ -47,66 +48,10 @@ mesh::TriangleMesh make_torus(int nu, int nv, double r = 0.35) {
   return m;
 }
 
-// A slab of voxels with two square through-holes (genus 2), each voxel face split into k × k
-// quads, two triangles each; outward oriented.
-mesh::TriangleMesh make_voxel_solid(int nx, int ny, int nz, int k, const std::function<bool(int, int, int)>& cell) {
-  auto filled = [&](int x, int y, int z) {
-    if (x < 0 || y < 0 || z < 0 || x >= nx || y >= ny || z >= nz) return false;
-    return cell(x, y, z);
-  };
-  std::map<std::array<long, 3>, int> ids;
-  std::vector<Eigen::Vector3d> pts;
-  std::vector<std::array<int, 3>> tris;
-  auto vertex = [&](const std::array<long, 3>& q) {
-    auto it = ids.find(q);
-    if (it != ids.end()) return it->second;
-    pts.emplace_back(double(q[0]) / k, double(q[1]) / k, double(q[2]) / k);
-    return ids[q] = static_cast<int>(pts.size()) - 1;
-  };
-  for (int x = 0; x < nx; ++x)
-    for (int y = 0; y < ny; ++y)
-      for (int z = 0; z < nz; ++z) {
-        if (!filled(x, y, z)) continue;
-        for (int axis = 0; axis < 3; ++axis)
-          for (int dir : {-1, 1}) {
-            std::array<int, 3> nb = {x, y, z};
-            nb[axis] += dir;
-            if (filled(nb[0], nb[1], nb[2])) continue;
-            const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-            for (int a = 0; a < k; ++a)
-              for (int b = 0; b < k; ++b) {
-                std::array<std::array<long, 3>, 4> c;
-                for (int q = 0; q < 4; ++q) {
-                  std::array<long, 3> p = {long(x) * k, long(y) * k, long(z) * k};
-                  p[axis] += dir > 0 ? k : 0;
-                  p[u] += a + ((q == 1 || q == 2) ? 1 : 0);
-                  p[v] += b + ((q >= 2) ? 1 : 0);
-                  c[q] = p;
-                }
-                int i0 = vertex(c[0]), i1 = vertex(c[1]), i2 = vertex(c[2]), i3 = vertex(c[3]);
-                if (dir < 0) std::swap(i1, i3);
-                tris.push_back({i0, i1, i2});
-                tris.push_back({i0, i2, i3});
-              }
-          }
-      }
-  mesh::TriangleMesh m;
-  m.positions.resize(static_cast<int>(pts.size()), 3);
-  for (std::size_t i = 0; i < pts.size(); ++i) m.positions.row(static_cast<int>(i)) = pts[i].transpose();
-  m.triangles.resize(static_cast<int>(tris.size()), 3);
-  for (std::size_t i = 0; i < tris.size(); ++i)
-    m.triangles.row(static_cast<int>(i)) << tris[i][0], tris[i][1], tris[i][2];
-  return m;
-}
-
-mesh::TriangleMesh make_two_hole_slab(int k) {
-  return make_voxel_solid(7, 3, 2, k, [](int x, int y, int) { return !(y == 1 && (x == 1 || x == 5)); });
-}
-
 // A "T" of voxels (a bar of 7 cells and a stem of 4 under its middle, one cell thick): genus 0
 // with three limbs.
 mesh::TriangleMesh make_t_solid(int k) {
-  return make_voxel_solid(7, 5, 1, k, [](int x, int y, int) { return y == 4 || x == 3; });
+  return test::voxel_solid(7, 5, 1, k, [](int x, int y, int) { return y == 4 || x == 3; });
 }
 
 // The boundary of {sdf < 0} on an n³ grid over [−half, half]³ by marching tetrahedra (6 per
@@ -273,7 +218,7 @@ TEST_CASE("Morse decomposition: a torus is one tube closed on itself, a two-hole
   REQUIRE(d.loops.size() == 1);
   CHECK(d.loops[0].piece[0] == d.loops[0].piece[1]);
 
-  const mesh::HalfedgeMesh slab = outward(make_two_hole_slab(3));
+  const mesh::HalfedgeMesh slab = outward(test::two_hole_slab(3));
   REQUIRE(mesh::analyze_mesh(slab).genus == 2);
   const polycube::SolidDecomposition e = polycube::decompose_solid(slab, 2);
   CHECK(e.num_saddles == 4);
@@ -603,7 +548,7 @@ int twisted_cycles(const polycube::GpcDomain& domain) {
 }
 
 TEST_CASE("gpc job: a two-hole solid is two T-shapes with Type-1 ill-points only, glued exactly") {
-  const pipeline::GpcResult r = pipeline::run_gpc(make_two_hole_slab(3), "slab", small_grid());
+  const pipeline::GpcResult r = pipeline::run_gpc(test::two_hole_slab(3), "slab", small_grid());
   const pipeline::GpcStats& s = r.stats;
   CHECK(s.genus == 2);
   CHECK(s.t_shapes == 2);
@@ -611,7 +556,7 @@ TEST_CASE("gpc job: a two-hole solid is two T-shapes with Type-1 ill-points only
   // 4 cuboids per T-shape; merging across cuts removes one cuboid and one interface per merge.
   pipeline::GpcOptions separate = small_grid();
   separate.merge_cuboids = false;
-  const pipeline::GpcResult u = pipeline::run_gpc(make_two_hole_slab(3), "slab", separate);
+  const pipeline::GpcResult u = pipeline::run_gpc(test::two_hole_slab(3), "slab", separate);
   CHECK(u.stats.cuboids == 8);
   CHECK(u.stats.ill_points == 4);
   CHECK(s.cuboids < 8);

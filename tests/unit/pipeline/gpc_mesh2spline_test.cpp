@@ -1,0 +1,95 @@
+// SPDX-License-Identifier: MIT
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "core/common/error.h"
+#include "core/io/gpc_spline_io.h"
+#include "core/pipeline/gpc_mesh2spline.h"
+#include "tests/unit/common/test_meshes.h"
+
+using namespace volspline;
+
+namespace {
+
+pipeline::GpcMesh2SplineOptions small_options() {
+  pipeline::GpcMesh2SplineOptions o;
+  o.gpc.grid.target_nodes = 3000;
+  o.measure_lattice = 32;
+  o.measure_samples = 16;
+  return o;
+}
+
+}  // namespace
+
+TEST_CASE("gpc mesh2spline: a torus is one cuboid glued to itself, C² across the glued face") {
+  const pipeline::GpcMesh2SplineResult r =
+      pipeline::run_gpc_mesh2spline(test::torus(64, 24, 1.0, 0.35), "torus", small_options());
+  const pipeline::Mesh2SplineStats& s = r.stats;
+  CHECK(s.genus == 1);
+  CHECK(s.cuboids == 1);
+  CHECK(s.ill_points == 0);
+  CHECK(s.interfaces == 1);
+  CHECK(s.continued_interfaces == 1);
+  CHECK(s.rms_rel <= 0.002);
+  CHECK(s.hausdorff_rel <= 0.01);
+  CHECK(s.semi_standard_max_error <= 1e-12);
+  CHECK(s.interface_gap_rel <= 1e-9);
+  CHECK(s.interface_normal_jump_deg <= 1e-6);
+  CHECK(s.negative_jacobian_fraction == 0.0);
+  CHECK(s.lattice_negative_fraction == 0.0);
+  // The spline's points are in model units: the torus's outer radius is 1.35.
+  const polycube::GpcCuboid& c = r.spline.domain().cuboids[0];
+  double far = 0.0;
+  for (int i = 0; i <= 20; ++i)
+    for (int f = 0; f < 6; ++f) {
+      if (c.face_interface[f] >= 0) continue;
+      Eigen::Vector3d uvw(c.size[0] * 0.5, c.size[1] * 0.5, c.size[2] * 0.5);
+      uvw(f / 2) = f % 2 ? c.size[f / 2] : 0.0;
+      uvw((f / 2 + 1) % 3) = c.size[(f / 2 + 1) % 3] * i / 20.0;
+      const Eigen::VectorXd x = r.spline.evaluate(0, uvw);
+      far = std::max(far, std::hypot(x(0), x(1)));
+    }
+  CHECK(far == doctest::Approx(1.35).epsilon(0.01));
+}
+
+TEST_CASE("gpc mesh2spline: a two-hole slab (genus 2) converts without folds, one spline over its cuboids") {
+  const pipeline::GpcMesh2SplineResult r =
+      pipeline::run_gpc_mesh2spline(test::two_hole_slab(3), "slab", small_options());
+  const pipeline::Mesh2SplineStats& s = r.stats;
+  for (const auto& [k, v] : s.times_s) MESSAGE(k << " " << v);
+  MESSAGE("cp " << s.control_points << " rms " << s.rms_rel << " lev " << s.levels << " grid inv " << s.grid_inverted_hexes << " min " << s.min_scaled_jacobian);
+  CHECK(s.genus == 2);
+  CHECK(s.cuboids > 1);
+  CHECK(s.ill_points == 4);
+  CHECK(s.semi_standard_max_error <= 1e-12);
+  CHECK(s.interface_gap_rel <= 1e-9);
+  CHECK(s.interface_normal_jump_deg <= 1e-6);
+  CHECK(s.negative_jacobian_fraction == 0.0);
+  CHECK(s.rms_rel <= 0.01);
+}
+
+TEST_CASE("gpc spline JSON: write, read, write is byte-identical and evaluates the same") {
+  const pipeline::GpcMesh2SplineResult r =
+      pipeline::run_gpc_mesh2spline(test::two_hole_slab(2), "slab", small_options());
+  const std::string text = io::serialize_gpc_spline_json(r.spline);
+  CHECK(io::is_gpc_spline_json(text));
+  const spline::GpcSpline back = io::parse_gpc_spline_json(text, "slab.json");
+  CHECK(io::serialize_gpc_spline_json(back) == text);
+  REQUIRE(back.num_functions() == r.spline.num_functions());
+  for (int c = 0; c < back.num_cuboids(); ++c) {
+    const auto& size = back.domain().cuboids[c].size;
+    const Eigen::Vector3d uvw(0.3 * size[0], 0.6 * size[1], 0.9 * size[2]);
+    CHECK((back.evaluate(c, uvw) - r.spline.evaluate(c, uvw)).norm() == 0.0);
+  }
+  // Bad files are refused naming the file and the problem.
+  std::string wrong = text;
+  wrong.replace(wrong.find("\"points\""), 8, "\"pointz\"");
+  CHECK_THROWS_WITH_AS(io::parse_gpc_spline_json(wrong, "w.json"), doctest::Contains("w.json"), Error);
+  CHECK_THROWS_WITH_AS(io::parse_gpc_spline_json(wrong, "w.json"), doctest::Contains("\"points\""), Error);
+  std::string huge = text;
+  const std::size_t at = huge.find("\"intervals\"");
+  huge.replace(huge.find('[', at + 13) + 1, 1, "4000");
+  CHECK_THROWS_AS(io::parse_gpc_spline_json(huge, "h.json"), Error);
+  CHECK_FALSE(io::is_gpc_spline_json("{\"format\": \"volspline-spline\"}"));
+}
