@@ -409,6 +409,30 @@ async function volumeSlices(page) {
       await page.screenshot({ path: path.join(artifacts, 'volume-ball-difference.png') });
       await page.selectOption('#volume-fit-mode', 'spline');
 
+      // Iso-surface view: the ball's surface at density 0.5 is the ellipsoid r² = 0.5 (r in half
+      // sizes), within the linear interpolation's error; the spline's surface is shown too.
+      await page.check('#volume-show-iso');
+      await page.waitForFunction(() => /triangles/.test(document.getElementById('volume-iso-caption').textContent), null, { timeout: 10000 }).catch(() => {});
+      const iso = await page.evaluate(([nx, ny, nz]) => {
+        const p = window.volspline.volumeTab.isoView.layers.input.data.positions;
+        let worst = 0;
+        for (let i = 0; i < p.length; i += 3) {
+          const r2 = ((p[i] - nx / 2) / (nx / 2)) ** 2 + ((p[i + 1] - ny / 2) / (ny / 2)) ** 2 + ((p[i + 2] - nz / 2) / (nz / 2)) ** 2;
+          worst = Math.max(worst, Math.abs(r2 - 0.5));
+        }
+        return { triangles: p.length / 9, worst, caption: document.getElementById('volume-iso-caption').textContent };
+      }, [nx, ny, nz]);
+      await page.waitForTimeout(300);
+      const isoPixels = await canvasContent(page, '#volume-iso-canvas');
+      check(iso.triangles > 500 && iso.worst < 0.02 && isoPixels.differ > 0.05,
+            `the iso-surface at 0.5 is the ball's r² = 0.5 (${iso.triangles} triangles, |r² − 0.5| ≤ ${iso.worst.toFixed(4)}, ${(100 * isoPixels.differ).toFixed(0)} % drawn)`);
+      await page.screenshot({ path: path.join(artifacts, 'volume-ball-iso.png') });
+      await page.selectOption('#volume-iso-source', 'spline');
+      const splineIso = await page.textContent('#volume-iso-caption');
+      check(/^spline density = 0\.5: [1-9]\d* triangles/.test(splineIso), `the spline's iso-surface is shown: "${splineIso}"`);
+      await page.selectOption('#volume-iso-source', 'input');
+      await page.uncheck('#volume-show-iso');
+
       // A cancelled run marks the spline shown as the previous run's.
       await page.selectOption('#volume-levels', '10');
       await page.selectOption('#volume-max-rms', '0.002');

@@ -2,6 +2,8 @@
 // The Volume tab: open a volume, slices along x, y or z coloured by density within a window
 // (window/level as fractions of the volume's range), vol2spline's density or its difference
 // |input − spline| on the same slice beside it, the stats and the spline download.
+import { MeshView } from '../mesh_view.js';
+import { isoSurface } from '../iso_surface.js';
 import { $, jobs, runJob, showError, clearError, download, acceptFiles, fillStats, fmt, baseName, markStale } from '../ui.js';
 
 // Density colours (dark blue → magenta → orange → pale yellow) as a 256-entry RGB table.
@@ -43,6 +45,8 @@ export const volumeTab = {
     $('volume-download-json').disabled = true;
     this.setAxis();
     this.showStats();
+    this.isoKey = null;
+    this.drawIso();
   },
 
   /// Runs vol2spline on the loaded volume and shows the spline's density beside the input.
@@ -70,6 +74,7 @@ export const volumeTab = {
     $('volume-download-json').disabled = false;
     this.draw();
     this.showStats();
+    if ($('volume-iso-source').value === 'spline') this.drawIso();
   },
 
   dims(axis) {  // slice width, height and count along the axis
@@ -146,6 +151,37 @@ export const volumeTab = {
     }
   },
 
+  /// The iso-surface view: the surface at the slider's level of the input or the spline density,
+  /// in voxel units times spacing, sampled every `step` voxels so that at most ~96 cells lie along
+  /// an axis (the view stays interactive on big volumes).
+  drawIso() {
+    const v = this.volume;
+    const show = !!v && $('volume-show-iso').checked;
+    $('volume-iso-figure').hidden = !show;
+    if (!show) return;
+    if (!this.isoView) {
+      try {
+        this.isoView = new MeshView($('volume-iso-canvas'));
+        this.isoView.visible.wireframe = false;
+      } catch (e) { showError(e.message); return; }
+    }
+    const fraction = Number($('volume-iso-level').value);
+    const fromSpline = $('volume-iso-source').value === 'spline' && this.fit;
+    const level = v.min + fraction * (v.max - v.min);
+    const step = Math.max(1, Math.ceil(Math.max(v.nx, v.ny, v.nz) / 96));
+    const spacing = v.spacing ?? [1, 1, 1];
+    const t0 = performance.now();
+    const { positions, triangles } = isoSurface(fromSpline ? this.fit.density : v.samples, v.nx, v.ny, v.nz, level, { spacing, step });
+    const ms = performance.now() - t0;
+    const lo = [0, 0, 0], hi = [0, 1, 2].map((k) => spacing[k] * ([v.nx, v.ny, v.nz][k] - 1));
+    const key = `${v.name}|${v.nx}|${v.ny}|${v.nz}`;
+    if (this.isoKey !== key) { this.isoView.setMesh(positions, triangles, lo, hi); this.isoView.fitView(); this.isoKey = key; }
+    else this.isoView.setLayer('input', { positions, indices: triangles });
+    $('volume-iso-value').textContent = fmt(level, 3);
+    $('volume-iso-caption').textContent = `${fromSpline ? 'spline' : 'input'} density = ${fmt(level, 3)}: ${triangles.length / 3} triangles` +
+      `${step > 1 ? `, every ${step} voxels` : ''} (${ms.toFixed(0)} ms)`;
+  },
+
   showStats() {
     const v = this.volume;
     const rows = [
@@ -168,6 +204,12 @@ $('volume-axis').addEventListener('change', () => volumeTab.setAxis());
 $('volume-slice').addEventListener('input', () => volumeTab.draw());
 for (const id of ['volume-window-lo', 'volume-window-hi']) $(id).addEventListener('input', () => volumeTab.draw());
 $('volume-fit-mode').addEventListener('change', () => volumeTab.draw());
+for (const id of ['volume-show-iso', 'volume-iso-source']) $(id).addEventListener('change', () => volumeTab.drawIso());
+$('volume-iso-level').addEventListener('change', () => volumeTab.drawIso());
+$('volume-iso-level').addEventListener('input', () => {
+  const v = volumeTab.volume;
+  if (v) $('volume-iso-value').textContent = fmt(v.min + Number($('volume-iso-level').value) * (v.max - v.min), 3);
+});
 $('volume-run').addEventListener('click', () => volumeTab.run());
 $('volume-download-json').addEventListener('click', () => {
   const f = volumeTab.fit;
