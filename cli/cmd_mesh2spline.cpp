@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -73,6 +74,7 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
     j["grid_inverted_hexes"] = s.grid_inverted_hexes;
     j["grid_min_scaled_jacobian"] = s.grid_min_scaled_jacobian;
     j["samples"] = s.samples;
+    j["untangled_control_points"] = s.untangled_control_points;
     nlohmann::ordered_json times;
     double total = 0.0;
     for (const auto& [stage, seconds] : s.times_s) {

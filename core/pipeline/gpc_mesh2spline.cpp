@@ -23,6 +23,7 @@ void check_options(const GpcMesh2SplineOptions& o) {
   if (o.initial_cells < 1 || o.initial_cells > 64) fail("`initial_cells` must be in [1, 64]");
   if (!(o.refinement_ratio > 1.0 && o.refinement_ratio <= 4.0)) fail("`refinement_ratio` must be in (1, 4]");
   if (o.measure_samples < 8 || o.measure_samples > 512) fail("`measure_samples` must be in [8, 512]");
+  if (!(o.surface_weight > 0.0) || !std::isfinite(o.surface_weight)) fail("`surface_weight` must be a positive number");
   if (o.measure_lattice < 4 || o.measure_lattice > 256) fail("`measure_lattice` must be in [4, 256]");
 }
 
@@ -38,7 +39,8 @@ struct FitData {
 // normal in the cuboid's parameters; the copy's parameter moves by depth/2 of a step the same way.
 // A shared node appears once per cuboid it belongs to, at the parameters of that cuboid (the
 // transition maps them onto each other).
-FitData fit_data(const GpcResult& gpc, double padding_depth, const Eigen::RowVector3d& centre, double diagonal) {
+FitData fit_data(const GpcResult& gpc, double padding_depth, double surface_weight, const Eigen::RowVector3d& centre,
+                 double diagonal) {
   const polycube::GpcDomain& domain = gpc.construction.domain;
   const param::HexMesh& hm = gpc.map.hex_mesh;
   std::vector<int> cuboid;
@@ -96,6 +98,9 @@ FitData fit_data(const GpcResult& gpc, double padding_depth, const Eigen::RowVec
       data.surface.push_back({c, p, surface.mesh.positions.row(v).transpose()});
     }
   }
+  // The surface is data, the interior nodes a harmonic guess (Eq. 3.1): surface rows weigh more.
+  data.samples.weight.assign(cuboid.size(), 1.0);
+  for (std::size_t s = cuboid.size() - data.surface.size(); s < cuboid.size(); ++s) data.samples.weight[s] = surface_weight;
   data.samples.cuboid = std::move(cuboid);
   data.samples.uvw.resize(uvw.size(), 3);
   data.samples.values.resize(xyz.size(), 3);
@@ -208,7 +213,7 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
   const FitData data = fit_data(gpc, options.gpc.grid.padding == param::GpcGridOptions::Padding::On
                                          ? options.gpc.grid.padding_depth
                                          : 0.0,
-                                centre, diagonal);
+                                options.surface_weight, centre, diagonal);
   stats.samples = static_cast<int>(data.samples.cuboid.size());
 
   // Uniform knot refinement (§4.3 with a uniform marking): the spacing shrinks by

@@ -22,6 +22,8 @@ struct GpcMesh2SplineOptions {
   /// divides the knot spacing by refinement_ratio.
   int initial_cells = 4;
   double refinement_ratio = 1.5;  ///< in (1, 4]
+  /// Least-squares weight of a surface vertex relative to a volumetric grid node (> 0).
+  double surface_weight = 1.0;
   GpcOptions gpc;                 ///< the domain and its volumetric map (run_gpc)
   /// Unfold the fitted spline with the control points inside each cuboid whose faces are all
   /// surface or C⁰ (spline::untangle_spline on its patch); faces and surface stay as they are.

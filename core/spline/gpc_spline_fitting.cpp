@@ -26,6 +26,11 @@ GpcSplineFitReport fit_gpc_spline(GpcSpline& spline, const GpcSamples& samples, 
   if (!(options.tolerance >= 0.0)) throw Error("fit_gpc_spline: tolerance must be >= 0");
   if (options.max_iterations < 1) throw Error("fit_gpc_spline: max_iterations must be >= 1");
   if (!samples.values.allFinite()) throw Error("fit_gpc_spline: a sample value is not finite");
+  if (!samples.weight.empty() && static_cast<Eigen::Index>(samples.weight.size()) != m)
+    throw Error("fit_gpc_spline: " + std::to_string(samples.weight.size()) + " weights for " + std::to_string(m) +
+                " samples");
+  for (double w : samples.weight)
+    if (!(w > 0.0) || !std::isfinite(w)) throw Error("fit_gpc_spline: a sample weight is not finite and positive");
 
   // Eq. 3.5 rows grouped by (cuboid, knot cell): one dense Gram update per cell.
   std::vector<std::pair<std::int64_t, int>> order(static_cast<std::size_t>(m));
@@ -63,8 +68,9 @@ GpcSplineFitReport fit_gpc_spline(GpcSpline& spline, const GpcSamples& samples, 
       const int s = order[static_cast<std::size_t>(group_begin[g] + r)].second;
       spline.basis_at(samples.cuboid[s], samples.uvw.row(s).transpose(), {0, 0, 0}, row_ids, row_values);
       // Every point of one cell has the cell's list (TSpline::cell_functions), so the same ids.
-      for (int c = 0; c < k; ++c) block(r, c) = row_values[c];
-      rhs.row(r) = samples.values.row(s);
+      const double root = samples.weight.empty() ? 1.0 : std::sqrt(samples.weight[s]);
+      for (int c = 0; c < k; ++c) block(r, c) = root * row_values[c];
+      rhs.row(r) = root * samples.values.row(s);
     }
   });
   Eigen::MatrixXd atb = gram.rhs();

@@ -15,6 +15,8 @@ struct GpcSamples {
   std::vector<int> cuboid;  ///< m cuboid ids
   Eigen::MatrixX3d uvw;     ///< m×3 local coordinates (units of the cuboid sizes)
   Eigen::MatrixXd values;   ///< m×D targets (xyz in model units for geometry)
+  /// m least-squares weights (each finite and > 0), or empty for all 1.
+  std::vector<double> weight;
 };
 
 /// Options of fit_gpc_spline.
@@ -40,13 +42,14 @@ struct GpcSplineFitReport {
 };
 
 /// Least-squares fit of all global control points to samples over every cuboid at once
-/// (Eq. 3.5/3.6 over the GPC of §3.5): minimizes Σ_s ‖F_{c_s}(uvw_s) − values_s‖²
+/// (Eq. 3.5/3.6 over the GPC of §3.5): minimizes Σ_s weight_s ‖F_{c_s}(uvw_s) − values_s‖²
 /// + ε²‖p − p_current‖² (ε² = regularization · mean diagonal) by CG with IC(0) on the normal
 /// equations, warm-started from the current control points, then replaces them. Samples of one
 /// knot cell of one cuboid share their blending functions and are added as one dense Gram block.
 /// A function no sample reaches keeps its control point. Non-convergence is reported, not thrown.
+/// The reported errors are unweighted.
 /// Throws volspline::Error if the shapes disagree (m entries in cuboid, m×3 uvw, m×D values with
-/// D = spline.dimension()), a cuboid id is out of range, a uvw is outside its cuboid or not
+/// D = spline.dimension(), 0 or m weights), a weight is not finite and positive, a cuboid id is out of range, a uvw is outside its cuboid or not
 /// finite, a value is not finite, or an option is out of range.
 GpcSplineFitReport fit_gpc_spline(GpcSpline& spline, const GpcSamples& samples,
                                   const GpcSplineFitOptions& options = {});

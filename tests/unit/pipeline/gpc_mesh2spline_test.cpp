@@ -57,8 +57,6 @@ TEST_CASE("gpc mesh2spline: a two-hole slab (genus 2) converts without folds, on
   const pipeline::GpcMesh2SplineResult r =
       pipeline::run_gpc_mesh2spline(test::two_hole_slab(3), "slab", small_options());
   const pipeline::Mesh2SplineStats& s = r.stats;
-  for (const auto& [k, v] : s.times_s) MESSAGE(k << " " << v);
-  MESSAGE("cp " << s.control_points << " rms " << s.rms_rel << " lev " << s.levels << " grid inv " << s.grid_inverted_hexes << " min " << s.min_scaled_jacobian);
   CHECK(s.genus == 2);
   CHECK(s.cuboids > 1);
   CHECK(s.ill_points == 4);

@@ -219,3 +219,36 @@ TEST_CASE("gpc fit: unsampled functions keep their control points; bad samples t
   wrong.max_iterations = 0;
   CHECK_THROWS_WITH_AS(fit_gpc_spline(spline, s, wrong), doctest::Contains("max_iterations"), Error);
 }
+
+TEST_CASE("gpc fit: sample weights give the weighted least-squares solution") {
+  // Every sample twice, with values a and b and weights 1 and 3: the fit of a constant map is the
+  // weighted mean (a + 3b)/4 everywhere; the reported errors are unweighted.
+  const GpcDomain d = glue_boxes(two_cube_boxes());
+  GpcSplineOptions o;
+  o.intervals = {{2, 2, 2}, {2, 2, 2}};
+  GpcSpline spline(d, o);
+  const Eigen::Vector3d a(1.0, 2.0, 3.0), b(2.0, 2.0, -1.0);
+  GpcSamples one = lattice_samples(spline, [&](int, const Eigen::Vector3d&) { return a; });
+  const Eigen::Index m = one.uvw.rows();
+  GpcSamples s;
+  s.cuboid = one.cuboid;
+  s.cuboid.insert(s.cuboid.end(), one.cuboid.begin(), one.cuboid.end());
+  s.uvw.resize(2 * m, 3);
+  s.uvw << one.uvw, one.uvw;
+  s.values.resize(2 * m, 3);
+  s.values << one.values, one.values.rowwise() + (b - a).transpose();
+  s.weight.assign(static_cast<std::size_t>(m), 1.0);
+  s.weight.resize(static_cast<std::size_t>(2 * m), 3.0);
+  GpcSplineFitOptions fit;
+  fit.regularization = 0.0;
+  const auto report = fit_gpc_spline(spline, s, fit);
+  CHECK(report.converged);
+  const Eigen::Vector3d mean = (a + 3.0 * b) / 4.0;
+  CHECK((spline.evaluate(1, Eigen::Vector3d(0.3, 0.2, 0.1)) - mean).norm() <= 1e-10);
+  CHECK(report.max_error == doctest::Approx(0.75 * (b - a).norm()).epsilon(1e-9));
+  GpcSamples bad = s;
+  bad.weight[4] = 0.0;
+  CHECK_THROWS_WITH_AS(fit_gpc_spline(spline, bad), doctest::Contains("weight"), Error);
+  bad.weight.pop_back();
+  CHECK_THROWS_WITH_AS(fit_gpc_spline(spline, bad), doctest::Contains("weights for"), Error);
+}

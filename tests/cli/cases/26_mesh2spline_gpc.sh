@@ -1,0 +1,34 @@
+# mesh2spline on a solid of genus > 0: one spline over the GPC; JSON, eval --cuboid, VTU, GLB, stats.
+expect 0 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gt.json" --vtk "$TMP/gt.vtu" --glb "$TMP/gt.glb" --stats-json "$TMP/gt_stats.json" --quiet
+contains "$TMP/gt.json" "\"format\": \"volspline-gpc-spline\""
+for key in rms_rel hausdorff_rel control_points min_scaled_jacobian negative_jacobian_fraction lattice_negative_fraction semi_standard_max_error genus t_shapes cuboids ill_points interface_gap_rel interface_normal_jump_deg times_s; do
+  contains "$TMP/gt_stats.json" "\"$key\""
+done
+contains "$TMP/gt_stats.json" "\"genus\": 1"
+contains "$TMP/gt_stats.json" "\"cuboids\": 1"
+contains "$TMP/gt_stats.json" "\"negative_jacobian_fraction\": 0.0"
+if [ "$(head -c 4 "$TMP/gt.glb")" = "glTF" ]; then ok; else bad "gt.glb is not a GLB file"; fi
+# Same input, same bytes.
+expect 0 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gt2.json" --quiet
+if cmp -s "$TMP/gt.json" "$TMP/gt2.json"; then ok; else bad "GPC spline JSON differs between two runs"; fi
+# eval in cuboid 0's local coordinates; the glued face: u = 0 and u = size meet (torus: a self-glued tube).
+expect 0 "$BIN" eval "$TMP/gt.json" --cuboid 0 --uvw 0.01,0.01,0.01 --jacobian
+if [ "$(wc -l < "$TMP/out")" = 4 ]; then ok; else bad "eval --jacobian prints 4 lines: $(cat "$TMP/out")"; fi
+expect 2 "$BIN" eval "$TMP/gt.json" --cuboid 3 --uvw 0.01,0.01,0.01
+contains "$TMP/err" "--cuboid must be in 0..0"
+expect 2 "$BIN" eval "$TMP/gt.json" --cuboid 0 --uvw 5,0.01,0.01
+sed 's/"points"/"pointz"/' "$TMP/gt.json" > "$TMP/gt_bad.json"
+expect 2 "$BIN" eval "$TMP/gt_bad.json" --uvw 0.01,0.01,0.01
+contains "$TMP/err" "gt_bad.json"
+# The VTU read by VTK: hexahedra with cell data cuboid and scaled_jacobian, points on the spline.
+cat > "$TMP/read_gpc_vtu.py" <<'PY'
+import sys, vtk
+r = vtk.vtkXMLUnstructuredGridReader(); r.SetFileName(sys.argv[1]); r.Update()
+g = r.GetOutput(); cd = g.GetCellData()
+assert g.GetNumberOfCells() > 0 and g.GetCellType(0) == 12, "not hexahedra"
+assert cd.GetArray("cuboid") is not None and cd.GetArray("scaled_jacobian") is not None, "cell data missing"
+lo = min(cd.GetArray("scaled_jacobian").GetValue(i) for i in range(g.GetNumberOfCells()))
+assert lo > 0, f"folded cell {lo}"
+print(g.GetNumberOfCells())
+PY
+expect 0 /usr/bin/python3 "$TMP/read_gpc_vtu.py" "$TMP/gt.vtu"
