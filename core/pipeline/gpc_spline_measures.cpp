@@ -52,41 +52,43 @@ double angle_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI;
 }
 
-// Distance from a surface point to the spline's boundary near its own parameter: Gauss–Newton on
-// the two in-face parameters of its Surface face (clamped to the face), at most 6 steps, each kept
-// only if it brings F closer. An upper bound of the distance to the boundary surface.
+// Distance from a surface point to the spline's boundary near its own parameter: per Surface face
+// holding the parameter (two on a cube edge, three at a corner), Gauss–Newton on the face's two
+// parameters (clamped to it), at most 8 steps, each kept only if it brings F closer; the least
+// over those faces. An upper bound of the distance to the boundary surface.
 double projection_distance(const spline::GpcSpline& spline, const GpcSurfacePoint& p) {
   const polycube::GpcCuboid& cu = spline.domain().cuboids[p.cuboid];
-  int face = -1;
-  for (int f = 0; f < 6 && face < 0; ++f) {
+  double value[3], jac0[9];
+  spline.evaluate_with_jacobian(p.cuboid, p.uvw, value, jac0);
+  const Eigen::Vector3d r0 = Eigen::Map<Eigen::Vector3d>(value) - p.xyz;
+  double least = r0.norm();
+  for (int f = 0; f < 6; ++f) {
     const double at = f % 2 ? cu.size[f / 2] : 0.0;
-    if (cu.face_interface[f] < 0 && std::abs(p.uvw(f / 2) - at) <= 1e-12 * (1.0 + cu.size[f / 2])) face = f;
+    if (cu.face_interface[f] >= 0 || std::abs(p.uvw(f / 2) - at) > 1e-12 * (1.0 + cu.size[f / 2])) continue;
+    const int b = (f / 2 + 1) % 3, e = (f / 2 + 2) % 3;
+    Eigen::Vector3d uvw = p.uvw, r = r0;
+    double best = r0.norm(), jac[9];
+    std::copy(jac0, jac0 + 9, jac);
+    for (int step = 0; step < 8 && best > 0.0; ++step) {
+      const Eigen::Map<Eigen::Matrix3d> j(jac);
+      Eigen::Matrix<double, 3, 2> t;
+      t << j.col(b), j.col(e);
+      const Eigen::Matrix2d normal = t.transpose() * t;
+      if (!(normal.determinant() > 0.0)) break;
+      const Eigen::Vector2d delta = -normal.ldlt().solve(t.transpose() * r);
+      Eigen::Vector3d next = uvw;
+      next(b) = std::clamp(next(b) + delta(0), 0.0, cu.size[b]);
+      next(e) = std::clamp(next(e) + delta(1), 0.0, cu.size[e]);
+      spline.evaluate_with_jacobian(p.cuboid, next, value, jac);
+      const Eigen::Vector3d rn = Eigen::Map<Eigen::Vector3d>(value) - p.xyz;
+      if (!(rn.norm() < best)) break;
+      best = rn.norm();
+      r = rn;
+      uvw = next;
+    }
+    least = std::min(least, best);
   }
-  double value[3], jac[9];
-  spline.evaluate_with_jacobian(p.cuboid, p.uvw, value, jac);
-  Eigen::Vector3d r = Eigen::Map<Eigen::Vector3d>(value) - p.xyz;
-  double best = r.norm();
-  if (face < 0) return best;
-  const int b = (face / 2 + 1) % 3, e = (face / 2 + 2) % 3;
-  Eigen::Vector3d uvw = p.uvw;
-  for (int step = 0; step < 6 && best > 0.0; ++step) {
-    const Eigen::Map<Eigen::Matrix3d> j(jac);
-    Eigen::Matrix<double, 3, 2> t;
-    t << j.col(b), j.col(e);
-    const Eigen::Matrix2d normal = t.transpose() * t;
-    if (!(normal.determinant() > 0.0)) break;
-    const Eigen::Vector2d delta = -normal.ldlt().solve(t.transpose() * r);
-    Eigen::Vector3d next = uvw;
-    next(b) = std::clamp(next(b) + delta(0), 0.0, cu.size[b]);
-    next(e) = std::clamp(next(e) + delta(1), 0.0, cu.size[e]);
-    spline.evaluate_with_jacobian(p.cuboid, next, value, jac);
-    const Eigen::Vector3d rn = Eigen::Map<Eigen::Vector3d>(value) - p.xyz;
-    if (!(rn.norm() < best)) break;
-    best = rn.norm();
-    r = rn;
-    uvw = next;
-  }
-  return best;
+  return least;
 }
 
 }  // namespace

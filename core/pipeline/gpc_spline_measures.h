@@ -45,9 +45,9 @@ struct GpcSplineMeasures {
 /// Measures of `spline` against the closed `mesh` it was fitted to, `diagonal` its bbox
 /// diagonal (model units, > 0).
 /// - Spline → mesh: F at a surface_samples² lattice of cell centres on every Surface face of
-///   every cuboid, each to the nearest mesh triangle. Mesh → spline: per surface point, |F − x|
-///   after Gauss–Newton on the in-face parameters of its Surface face from its own parameter (at
-///   most 6 steps, clamped to the face): an upper bound of its distance to the spline's boundary.
+///   every cuboid, each to the nearest mesh triangle. Mesh → spline: per surface point, the least |F − x|
+///   after Gauss–Newton from its own parameter on each Surface face holding it (two on a cube
+///   edge; at most 8 steps, clamped to the face): an upper bound of its distance to the boundary.
 ///   hausdorff_rel is the largest of these, rms_geo_rel their RMS, over `diagonal`.
 /// - Scaled Jacobian det J / (|J_u||J_v||J_w|) at the Gauss points of every knot cell and at the
 ///   lattice cell centres; neither set is one the fit or an untangler holds.
