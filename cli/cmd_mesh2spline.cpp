@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -38,6 +37,7 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
   options.measure_samples = m.measure_samples;
   options.seed = m.seed;
   options.gpc.grid.area_balance_iterations = m.area_balance_iterations;
+  if (args.has("no-padding")) options.gpc.grid.padding = param::GpcGridOptions::Padding::Off;
   ProgressBar bar(!args.has("quiet"));
   const pipeline::GpcMesh2SplineResult result = pipeline::run_gpc_mesh2spline(input, path, options, bar.progress());
   bar.finish();
@@ -129,6 +129,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
       {"initial-cells", "N", "spline cells along the longest cuboid axis at level 0 (default 4)"},
       {"compare-uniform", "", "also fit uniform B-splines to the same rms_rel (stats: uniform_control_points)"},
       {"no-untangle", "", "skip the untangling of folded interior control points after the fit (the thesis's plain fit)"},
+      {"no-padding", "", "genus > 0: fit the cuboid grids without the padding layer under the surface (see volspline gpc)"},
   };
   for (auto common : common_job_options()) {
     if (common.name == "threads") common.help = "accepted for scripts; the job runs on one thread (same output for any N)";
@@ -137,9 +138,11 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
   const Args args = parse_args(argv, specs);
   if (args.has("help")) {
     std::fputs(format_help("volspline mesh2spline MESH -o OUT.json [options]",
-                           "Maps a closed genus-0 triangle mesh (OBJ, OFF, PLY, STL, glTF/GLB) to one cuboid and\n"
-                           "fits a trivariate T-spline to the solid (thesis ch. 3 and 4). Exit 2 on bad input\n"
-                           "(open, non-manifold, genus != 0, NaN) with a message naming the problem.",
+                           "Maps a closed triangle mesh (OBJ, OFF, PLY, STL, glTF/GLB) of a solid to a trivariate\n"
+                           "spline (thesis ch. 3 and 4): genus 0 to one cuboid and a T-spline; genus > 0 to a\n"
+                           "generalized poly-cube (as volspline gpc) and one spline over all its cuboids (JSON\n"
+                           "format volspline-gpc-spline; eval --cuboid K). Exit 2 on bad input (open,\n"
+                           "non-manifold, NaN) with a message naming the problem.",
                            specs)
                    .c_str(),
                stdout);

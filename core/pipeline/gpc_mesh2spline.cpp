@@ -147,18 +147,15 @@ double longest_size(const polycube::GpcDomain& domain) {
   return longest;
 }
 
-// spline::untangle_spline on every cuboid whose patch is its box (no Continued face): only the
-// functions inside the box move (each belongs to this cuboid alone), those on its faces stay, so
-// the surface fit and both sides of every glued face stay as they are. Returns the functions
+// spline::untangle_spline on every cuboid's patch restricted to its box: only the functions whose
+// support lies inside the box and vanishes on its faces move (each belongs to this cuboid alone),
+// so the surface fit and both sides of every glued face stay as they are. Returns the functions
 // that were free to move.
 int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& samples) {
   Eigen::MatrixXd points = spline.points();
   const double longest_side = longest_size(spline.domain());
   int free = 0;
   for (int c = 0; c < spline.num_cuboids(); ++c) {
-    bool continued = false;
-    for (int f = 0; f < 6; ++f) continued = continued || spline.face_join(c, f) == spline::GpcFaceJoin::Continued;
-    if (continued) continue;
     std::vector<Eigen::Index> rows;
     for (std::size_t s = 0; s < samples.cuboid.size(); ++s)
       if (samples.cuboid[s] == c) rows.push_back(static_cast<Eigen::Index>(s));
@@ -172,7 +169,13 @@ int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& sample
     const auto& size = spline.domain().cuboids[c].size;
     const double longest = *std::max_element(size.begin(), size.end());
     uo.lattice = std::clamp(static_cast<int>(std::lround(uo.lattice * longest / longest_side)), 8, uo.lattice);
+    // Where a face is continued the patch reaches past the box: only the box is this cuboid's.
     spline::TSpline patch = spline.patch(c);
+    // (Clamped to the patch's domain: its end knots are the box's up to rounding.)
+    for (Eigen::Index r = 0; r < uvw.rows(); ++r)
+      uvw.row(r) = uvw.row(r).cwiseMax(patch.domain_min().transpose()).cwiseMin(patch.domain_max().transpose());
+    uo.region = {{Eigen::Vector3d::Zero().cwiseMax(patch.domain_min()),
+                  Eigen::Vector3d(size[0], size[1], size[2]).cwiseMin(patch.domain_max())}};
     free += spline::untangle_spline(patch, uvw, xyz, uo).free_functions;
     const std::vector<int>& ids = spline.patch_function_ids(c);
     for (std::size_t j = 0; j < ids.size(); ++j) points.row(ids[j]) = patch.points().row(static_cast<Eigen::Index>(j));

@@ -25,8 +25,8 @@ struct GpcMesh2SplineOptions {
   /// Least-squares weight of a surface vertex relative to a volumetric grid node (> 0).
   double surface_weight = 1.0;
   GpcOptions gpc;                 ///< the domain and its volumetric map (run_gpc)
-  /// Unfold the fitted spline with the control points inside each cuboid whose faces are all
-  /// surface or C⁰ (spline::untangle_spline on its patch); faces and surface stay as they are.
+  /// Unfold the fitted spline with the control points inside each cuboid (spline::untangle_spline
+  /// on its patch, restricted to its box); faces, surface and glued faces stay as they are.
   enum class Untangle { Off, On } untangle = Untangle::On;
   int measure_samples = 48;       ///< per axis per surface face for hausdorff_rel, [8, 512]
   /// Cell centres per axis per cuboid at which lattice_negative_fraction is counted, [4, 256].

@@ -29,11 +29,11 @@ bool lexicographic_less(const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
 // knot interval plus the boundary layers (as make_pass_nodes); its points with scaled Jacobian below
 // min_scaled_jacobian that the interior functions can move, in lexicographic order.
 std::vector<Eigen::Vector3d> folded_points(const TSpline& spline, const SplineUntangleOptions& options) {
-  const Eigen::Vector3d lo = spline.domain_min(), hi = spline.domain_max();
+  const Eigen::Vector3d lo = detail::region_min(spline, options), hi = detail::region_max(spline, options);
   std::array<std::vector<double>, 3> coords;
   for (int a = 0; a < 3; ++a) {
     std::vector<double>& t = coords[a];
-    const std::vector<double>& lines = spline.knot_lines(a);
+    const std::vector<double> lines = detail::region_knot_lines(spline, options, a);
     const int per = options.check_per_interval;
     for (std::size_t i = 0; i + 1 < lines.size(); ++i)
       for (int q = 0; q < per; ++q) t.push_back(lines[i] + (lines[i + 1] - lines[i]) * (q + 0.5) / per);
@@ -53,7 +53,7 @@ std::vector<Eigen::Vector3d> folded_points(const TSpline& spline, const SplineUn
   // Points where the interior functions carry under kMinMovableShare of |w∇B| (next to the
   // cuboid's edges, or the fitted surface itself flipped) are beyond their reach: left out.
   detail::PointGradients gradients;
-  auto interior = [&](int f) { return !touches_exposed_face(spline.knots()[f], lo, hi, options.exposed_faces); };
+  auto interior = [&](int f) { return !detail::held_function(spline.knots()[f], lo, hi, options); };
   auto out_of_reach = [&](const Eigen::Vector3d& p) {
     gradients.at(spline, p);
     double total = 0.0;
@@ -67,11 +67,12 @@ std::vector<Eigen::Vector3d> folded_points(const TSpline& spline, const SplineUn
 // knot interval of any axis (bunny: 1/64, the 64³ cell centres), at least min_per_axis and at
 // most max_per_axis of them, all scanned. No boundary layers: 1/512 from the faces det J is at
 // its most fragile, and holding them cost bunny 12 s for 175 such points.
-std::array<AxisNodes, 3> finest_nodes(const TSpline& spline, int min_per_axis, int max_per_axis) {
-  const Eigen::Vector3d lo = spline.domain_min(), hi = spline.domain_max();
-  double finest = 1.0;  // a fraction of the domain's extent
+std::array<AxisNodes, 3> finest_nodes(const TSpline& spline, const SplineUntangleOptions& options, int min_per_axis,
+                                     int max_per_axis) {
+  const Eigen::Vector3d lo = detail::region_min(spline, options), hi = detail::region_max(spline, options);
+  double finest = 1.0;  // a fraction of the region's extent
   for (int a = 0; a < 3; ++a) {
-    const std::vector<double>& lines = spline.knot_lines(a);
+    const std::vector<double> lines = detail::region_knot_lines(spline, options, a);
     for (std::size_t i = 0; i + 1 < lines.size(); ++i)
       finest = std::min(finest, (lines[i + 1] - lines[i]) / (hi(a) - lo(a)));
   }
@@ -145,7 +146,7 @@ constexpr int kCertificatePatience = 2;
 void certificate_rounds(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
                         const SplineUntangleOptions& options, const Progress& progress, double steps,
                         detail::NodeCache& cache, SplineUntangleResult& total) {
-  const std::array<AxisNodes, 3> fine = finest_nodes(spline, options.lattice, options.polish_max_per_axis);
+  const std::array<AxisNodes, 3> fine = finest_nodes(spline, options, options.lattice, options.polish_max_per_axis);
   SplineUntangleOptions inner_options = options;
   inner_options.rings = 0;
   SplineUntangleOptions boundary_options = inner_options;
@@ -216,13 +217,16 @@ SplineUntangleResult untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uv
   assert(options.check_per_interval >= 0);
   assert(options.polish_rounds >= 0 && options.polish_max_per_axis >= 2);
   assert(options.certificate_rounds >= 0);
+  assert(!options.region || (((*options.region)[0].array() < (*options.region)[1].array()).all() &&
+                             ((*options.region)[0].array() >= spline.domain_min().array()).all() &&
+                             ((*options.region)[1].array() <= spline.domain_max().array()).all()));
   assert(std::all_of(options.boundary_layers.begin(), options.boundary_layers.end(),
                      [](double d) { return d >= 0.0 && d < 1.0; }));
   SplineUntangleResult total;
   detail::NodeCache cache;  // node Jacobians from one pass to the next
   SplineUntangleOptions pass_options = options;
   std::vector<Eigen::Vector3d> extra;
-  const double steps = options.passes + options.polish_rounds + options.certificate_rounds;
+  const double steps = options.passes + options.polish_rounds + (options.region ? 0 : options.certificate_rounds);
   for (int pass = 0; pass < options.passes; ++pass) {
     progress.report("untangle pass " + std::to_string(pass + 1), pass / steps);
     const SplineUntangleResult r =
@@ -264,7 +268,7 @@ SplineUntangleResult untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uv
   // touch; the passes above hold their nodes only, and folds between them remain (bunny: 8 of
   // the 64³ cell centres after 3 passes with dense checks).
   if (options.polish_rounds > 0) {
-    const std::array<AxisNodes, 3> fine = finest_nodes(spline, options.lattice, options.polish_max_per_axis);
+    const std::array<AxisNodes, 3> fine = finest_nodes(spline, options, options.lattice, options.polish_max_per_axis);
     SplineUntangleOptions polish_options = options;
     polish_options.rings = 0;
     std::size_t previous = std::numeric_limits<std::size_t>::max();
@@ -284,7 +288,7 @@ SplineUntangleResult untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uv
         total.polish_folded = static_cast<int>(bad_lattice_points(spline, fine, 0.0).size());
     }
   }
-  if (options.certificate_rounds > 0) certificate_rounds(spline, uvw, xyz, options, progress, steps, cache, total);
+  if (options.certificate_rounds > 0 && !options.region) certificate_rounds(spline, uvw, xyz, options, progress, steps, cache, total);
   return total;
 }
 

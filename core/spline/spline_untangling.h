@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <array>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -40,6 +42,12 @@ struct SplineUntangleOptions {
   /// Faces of the domain box on the solid's surface: the control points of the functions
   /// touching them stay fixed, so the boundary and its surface fit stay as they are.
   polycube::CubeFaceSet exposed_faces = polycube::CubeFaceSet::all();
+  /// The box the untangler works on, {min, max} inside the domain, or empty for the whole domain
+  /// box. Nodes, checks and the polish lattice lie in it, its faces are the ones exposed_faces
+  /// names, and a function whose support is not inside it stays (a GPC cuboid's patch reaches past
+  /// its box where a face is continued: those functions belong to the neighbour too). With a
+  /// region the certificate rounds are skipped (the certificate covers the whole domain).
+  std::optional<std::array<Eigen::Vector3d, 2>> region;
   /// Node steps around a seed whose interior functions move, [0, 4]; 0 in the passes after a
   /// dense check (check_per_interval), whose bad points are held themselves.
   int rings = 1;

@@ -36,8 +36,8 @@ class UntanglePass {
  public:
   UntanglePass(TSpline& spline, const std::array<AxisNodes, 3>& nodes, const SplineUntangleOptions& options,
                NodeCache& cache)
-      : spline_(spline), nodes_(nodes), options_(options), cache_(cache), lo_(spline.domain_min()),
-        hi_(spline.domain_max()),
+      : spline_(spline), nodes_(nodes), options_(options), cache_(cache), lo_(region_min(spline, options)),
+        hi_(region_max(spline, options)),
         sizes_{static_cast<int>(nodes[0].t.size()), static_cast<int>(nodes[1].t.size()),
                static_cast<int>(nodes[2].t.size())},
         box_lo_{0, 0, 0}, box_hi_(sizes_) {}
@@ -112,7 +112,7 @@ class UntanglePass {
   }
   const Eigen::Matrix3d& jacobian_at(int i, int j, int k) const { return cache_.jacobians[index(i, j, k)]; }
   bool touches_exposed_face(int f) const {
-    return spline::touches_exposed_face(spline_.knots()[f], lo_, hi_, options_.exposed_faces);
+    return held_function(spline_.knots()[f], lo_, hi_, options_);
   }
   // Support of function f in lattice steps: the widest over the axes.
   double support_steps(int f) const {
@@ -414,15 +414,42 @@ void PointGradients::at(const TSpline& spline, const Eigen::Vector3d& p) {
   }
 }
 
+Eigen::Vector3d region_min(const TSpline& spline, const SplineUntangleOptions& options) {
+  return options.region ? (*options.region)[0] : spline.domain_min();
+}
+
+Eigen::Vector3d region_max(const TSpline& spline, const SplineUntangleOptions& options) {
+  return options.region ? (*options.region)[1] : spline.domain_max();
+}
+
+std::vector<double> region_knot_lines(const TSpline& spline, const SplineUntangleOptions& options, int a) {
+  if (!options.region) return spline.knot_lines(a);
+  const double lo = (*options.region)[0](a), hi = (*options.region)[1](a);
+  std::vector<double> lines{lo};
+  for (double t : spline.knot_lines(a))
+    if (t > lo && t < hi) lines.push_back(t);
+  lines.push_back(hi);
+  return lines;
+}
+
+bool held_function(const BlendingKnots& knots, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                   const SplineUntangleOptions& options) {
+  if (touches_exposed_face(knots, lo, hi, options.exposed_faces)) return true;
+  if (!options.region) return false;
+  for (int a = 0; a < 3; ++a)
+    if (knots[a][0] < lo(a) || knots[a][4] > hi(a)) return true;
+  return false;
+}
+
 std::array<AxisNodes, 3> make_pass_nodes(const TSpline& spline, const SplineUntangleOptions& options) {
-  const Eigen::Vector3d lo = spline.domain_min(), hi = spline.domain_max();
+  const Eigen::Vector3d lo = region_min(spline, options), hi = region_max(spline, options);
   const int lattice = options.lattice;
   std::array<AxisNodes, 3> nodes;
   for (int a = 0; a < 3; ++a) {
     std::vector<std::pair<double, char>> t;
     if (options.nodes_per_knot_interval > 0) {
       const double spacing = (hi(a) - lo(a)) * options.energy_stride / lattice;
-      const std::vector<double>& lines = spline.knot_lines(a);
+      const std::vector<double> lines = region_knot_lines(spline, options, a);
       for (std::size_t i = 0; i + 1 < lines.size(); ++i) {
         const double width = lines[i + 1] - lines[i];
         const int per = std::max(options.nodes_per_knot_interval, static_cast<int>(std::ceil(width / spacing - 1e-9)));

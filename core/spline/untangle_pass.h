@@ -39,6 +39,16 @@ struct NodeCache {
 /// (last) node's distance from the face.
 std::array<AxisNodes, 3> make_pass_nodes(const TSpline& spline, const SplineUntangleOptions& options);
 
+/// The box the untangler works on: SplineUntangleOptions::region, or the spline's domain box.
+Eigen::Vector3d region_min(const TSpline& spline, const SplineUntangleOptions& options);
+Eigen::Vector3d region_max(const TSpline& spline, const SplineUntangleOptions& options);
+/// The knot lines of axis a strictly inside the region, with the region's two ends.
+std::vector<double> region_knot_lines(const TSpline& spline, const SplineUntangleOptions& options, int a);
+/// True if a function must stay where it is: non-zero on an exposed face of the region (lo, hi),
+/// or, with a region, its support not inside it.
+bool held_function(const BlendingKnots& knots, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                   const SplineUntangleOptions& options);
+
 /// The functions' w·∂B/∂u_a at one parameter point (TSpline::basis_at with derivative order 1 per
 /// axis); the three lists hold the same functions in the same order.
 struct PointGradients {
