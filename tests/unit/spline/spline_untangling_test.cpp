@@ -227,3 +227,38 @@ TEST_CASE("spline untangling with a boundary layer on the faces themselves leave
   CHECK(report.final_negative == 0);
   CHECK(unseen_negative_points(ts) == 0);
 }
+
+TEST_CASE("spline untangling on a region: folds outside it stay, functions reaching out of it stay") {
+  spline::TSpline folded = test::identity_test_volume();
+  Eigen::MatrixXd points = folded.points();
+  points(1 + 7 * (3 + 7 * 3), 0) += 1.5;  // the fold of the first test, near u = 0
+  folded.set_points(points);
+  Eigen::MatrixX3d uvw(5 * 5 * 5, 3);
+  for (int s = 0; s < 125; ++s) uvw.row(s) = Eigen::RowVector3d(s % 5 + 0.5, s / 5 % 5 + 0.5, s / 25 + 0.5) / 5.0;
+  spline::SplineUntangleOptions options;
+  options.lattice = 16;
+  options.seed_stride = 1;
+  options.energy_stride = 1;
+  options.nodes_per_knot_interval = 0;
+  options.boundary_layers.clear();
+  // A region away from the fold: nothing to see, nothing moves.
+  spline::TSpline far = folded;
+  options.region = {{Eigen::Vector3d(0.5, 0.0, 0.0), Eigen::Vector3d(1.0, 1.0, 1.0)}};
+  const spline::SplineUntangleResult untouched = spline::untangle_spline(far, uvw, uvw, options);
+  CHECK(untouched.initial_negative == 0);
+  CHECK(far.points() == points);
+  // A region holding it: unfolded inside; functions whose support leaves [0, 0.75] in u stay.
+  spline::TSpline near = folded;
+  options.region = {{Eigen::Vector3d(0.0, 0.0, 0.0), Eigen::Vector3d(0.75, 1.0, 1.0)}};
+  const spline::SplineUntangleResult fixed = spline::untangle_spline(near, uvw, uvw, options);
+  CHECK(fixed.initial_negative > 0);
+  CHECK(fixed.final_negative == 0);
+  int negative = 0;
+  for (int k = 1; k < 16; ++k)
+    for (int j = 1; j < 16; ++j)
+      for (int i = 1; i < 12; ++i)
+        negative += near.jacobian(Eigen::Vector3d(i, j, k) / 16).determinant() <= 0.0;
+  CHECK(negative == 0);
+  for (int f = 0; f < near.num_functions(); ++f)
+    if (near.knots()[f][0][4] > 0.75) CHECK(near.points().row(f) == points.row(f));
+}
