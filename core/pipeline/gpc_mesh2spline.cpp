@@ -169,13 +169,17 @@ int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& sample
     const auto& size = spline.domain().cuboids[c].size;
     const double longest = *std::max_element(size.begin(), size.end());
     uo.lattice = std::clamp(static_cast<int>(std::lround(uo.lattice * longest / longest_side)), 8, uo.lattice);
-    // Where a face is continued the patch reaches past the box: only the box is this cuboid's.
     spline::TSpline patch = spline.patch(c);
-    // (Clamped to the patch's domain: its end knots are the box's up to rounding.)
+    // Where a face is continued the patch reaches past the box: only the box is this cuboid's
+    // (clamped to the patch's domain: its end knots are the box's up to rounding). Elsewhere the
+    // patch is the box, and the whole-domain untangling includes its certificate rounds.
     for (Eigen::Index r = 0; r < uvw.rows(); ++r)
       uvw.row(r) = uvw.row(r).cwiseMax(patch.domain_min().transpose()).cwiseMin(patch.domain_max().transpose());
-    uo.region = {{Eigen::Vector3d::Zero().cwiseMax(patch.domain_min()),
-                  Eigen::Vector3d(size[0], size[1], size[2]).cwiseMin(patch.domain_max())}};
+    bool continued = false;
+    for (int f = 0; f < 6; ++f) continued = continued || spline.face_join(c, f) == spline::GpcFaceJoin::Continued;
+    if (continued)
+      uo.region = {{Eigen::Vector3d::Zero().cwiseMax(patch.domain_min()),
+                    Eigen::Vector3d(size[0], size[1], size[2]).cwiseMin(patch.domain_max())}};
     free += spline::untangle_spline(patch, uvw, xyz, uo).free_functions;
     const std::vector<int>& ids = spline.patch_function_ids(c);
     for (std::size_t j = 0; j < ids.size(); ++j) points.row(ids[j]) = patch.points().row(static_cast<Eigen::Index>(j));
