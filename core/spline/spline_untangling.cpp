@@ -142,7 +142,9 @@ constexpr int kCertificatePatience = 2;
 // kMinMovableShare of |w∇B| (det J on a cuboid edge depends on the boundary control points
 // alone) or where its cell stayed uncertified from the round before (a face whose own
 // parameterization folds). A round may unfold some cells and fold others between the lattice
-// points; the rounds keep the spline of the round with the fewest uncertified cells.
+// points; the rounds keep the spline of the round with the fewest uncertified cells. After a
+// round without progress, surface samples may slide along the surface (boundary_tangent_weight):
+// a folded face parameterization cannot unfold while every sample pins its own parameter.
 void certificate_rounds(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
                         const SplineUntangleOptions& options, const Progress& progress, double steps,
                         detail::NodeCache& cache, SplineUntangleResult& total) {
@@ -197,7 +199,8 @@ void certificate_rounds(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eige
       if (seeds.empty()) continue;
       const SplineUntangleResult r =
           detail::untangle_pass(spline, fine, uvw, xyz, seeds, side == 0 ? inner_options : boundary_options,
-                                detail::PassSeeds::PointsOnly, cache, side == 0 ? held_boundary : held_inner);
+                                detail::PassSeeds::PointsOnly, cache, side == 0 ? held_boundary : held_inner,
+                                side == 0 || stalled == 0 ? 1.0 : options.boundary_tangent_weight);
       ++total.certificate_passes;
       total.free_functions += r.free_functions;
       total.iterations += r.iterations;
@@ -220,6 +223,7 @@ SplineUntangleResult untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uv
   assert(!options.region || (((*options.region)[0].array() < (*options.region)[1].array()).all() &&
                              ((*options.region)[0].array() >= spline.domain_min().array()).all() &&
                              ((*options.region)[1].array() <= spline.domain_max().array()).all()));
+  assert(options.boundary_tangent_weight >= 0.0 && options.boundary_tangent_weight <= 1.0);
   assert(std::all_of(options.boundary_layers.begin(), options.boundary_layers.end(),
                      [](double d) { return d >= 0.0 && d < 1.0; }));
   SplineUntangleResult total;

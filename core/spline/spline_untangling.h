@@ -95,6 +95,11 @@ struct SplineUntangleOptions {
   /// uncertified a round later. Rounds stop when every cell is certified or the uncertified
   /// count has not fallen for 3 rounds; the spline of the round with the fewest is kept.
   int certificate_rounds = 8;
+  /// In the certificate rounds after one that left no fewer uncertified cells, the factor on
+  /// the part of a surface sample's misfit along the surface (normal: the cross product of the
+  /// spline's tangents there) in the passes that move boundary functions, in [0, 1]: a face whose
+  /// own parameterization folds unfolds by sliding along the surface, which keeps its shape.
+  double boundary_tangent_weight = 0.3;
 };
 
 /// Outcome of untangle_spline.

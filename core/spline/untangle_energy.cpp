@@ -161,17 +161,28 @@ class RegionEnergy {
     }
   }
 
-  // The samples' term data_scale·‖F(uvw_s) − xyz_s‖².
+  // The samples' term data_scale·‖F(uvw_s) − xyz_s‖²; with a normal n, (n·r)² + t·(‖r‖² − (n·r)²)
+  // (t: tangent_weight), so a surface sample may slide along the surface.
   void add_data(const Eigen::VectorXd& y, double& total, Eigen::VectorXd* gradient) const {
     const double data_scale = options_.data_scale;
+    const double t_weight = options_.tangent_weight;
+    const bool normals = !samples_.normal.empty();
     for (int t = 0; t < samples_.size(); ++t) {
       Eigen::Vector3d res = samples_.offset[t];
       for (int k = samples_.start[t]; k < samples_.start[t + 1]; ++k)
         res += samples_.b[k] * y.segment<3>(3 * samples_.column[k]);
-      total += data_scale * res.squaredNorm();
+      Eigen::Vector3d pull = res;  // half the gradient of the term with respect to F
+      if (normals && samples_.normal[t] != Eigen::Vector3d::Zero()) {
+        const Eigen::Vector3d& n = samples_.normal[t];
+        const double along = n.dot(res);
+        total += data_scale * (along * along + t_weight * (res.squaredNorm() - along * along));
+        pull = t_weight * res + (1.0 - t_weight) * along * n;
+      } else {
+        total += data_scale * res.squaredNorm();
+      }
       if (!gradient) continue;
       for (int k = samples_.start[t]; k < samples_.start[t + 1]; ++k)
-        gradient->segment<3>(3 * samples_.column[k]) += 2.0 * data_scale * samples_.b[k] * res;
+        gradient->segment<3>(3 * samples_.column[k]) += 2.0 * data_scale * samples_.b[k] * pull;
     }
   }
 

@@ -13,10 +13,13 @@ namespace volspline::spline::detail {
 
 /// The samples' terms, one array each: F(x) − xyz_s = offset_s + Σ_e x_{column_e} b_e over
 /// e in start_s .. start_{s+1} − 1 (offset: the fixed functions' part minus the target).
+/// normal: empty, or per sample a unit normal of the surface at a sample on it (zero elsewhere):
+/// there the misfit's part along the surface is weighted by RegionEnergyOptions::tangent_weight.
 struct SampleTerms {
   std::vector<Eigen::Vector3d> offset;
   std::vector<int> start{0}, column;
   std::vector<double> b;
+  std::vector<Eigen::Vector3d> normal;
   int size() const { return static_cast<int>(offset.size()); }
 };
 
@@ -47,6 +50,7 @@ struct Region {
 /// Weights and stopping rule of minimize_region_energy.
 struct RegionEnergyOptions {
   double data_scale = 0.0;     ///< weight of ‖F(uvw_s) − xyz_s‖² (1 / model units²)
+  double tangent_weight = 1.0; ///< factor on the along-surface misfit of samples with a normal, [0, 1]
   double theta = 0.5;          ///< θ of param::foldover_free_energy, in [0, 1)
   double hinge_target = 0.02;  ///< τ of the scattered nodes' hinge (scaled Jacobian)
   int max_steps = 6;           ///< ε-continuation steps, ≥ 1

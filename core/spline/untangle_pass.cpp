@@ -44,7 +44,7 @@ class UntanglePass {
 
   SplineUntangleResult run(const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,
                            const std::vector<Eigen::Vector3d>& points, PassSeeds seed_kind,
-                           const std::vector<Eigen::Vector3d>& held) {
+                           const std::vector<Eigen::Vector3d>& held, double tangent_weight) {
     const bool from_scan = seed_kind == PassSeeds::ScanAndPoints;
     prepare_node_jacobians(from_scan);
     std::vector<NodeId> seeds;
@@ -72,7 +72,8 @@ class UntanglePass {
     const Region region = make_region(x, hinged);
     // One lattice step in model units: the length unit of the data term.
     const double step = (region.mean_scale.array() * (hi_ - lo_).array()).mean() / options_.lattice;
-    const SampleTerms samples = make_samples(uvw, xyz, current);
+    SampleTerms samples = make_samples(uvw, xyz, current);
+    if (tangent_weight < 1.0) add_surface_normals(uvw, samples);
     result_.samples = samples.size();
 
     RegionEnergyOptions energy_options;
@@ -82,6 +83,7 @@ class UntanglePass {
     energy_options.max_steps = options_.max_steps;
     energy_options.max_inner = options_.max_inner;
     energy_options.stop_margin = options_.stop_margin;
+    energy_options.tangent_weight = tangent_weight;
     result_.points = static_cast<int>(region.fixed.size());
     result_.iterations = minimize_region_energy(region, samples, energy_options, x);
 
@@ -358,7 +360,7 @@ class UntanglePass {
 
   // The samples' terms over the free functions; samples in a cell without free functions have
   // none (known per cell, without the basis).
-  SampleTerms make_samples(const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz, const Eigen::MatrixXd& current) const {
+  SampleTerms make_samples(const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz, const Eigen::MatrixXd& current) {
     const Eigen::VectorXd& w = spline_.weights();
     SampleTerms samples;
     std::vector<int> ids;
@@ -386,9 +388,35 @@ class UntanglePass {
       }
       if (samples.column.size() == first) continue;
       samples.offset.push_back(fixed - xyz.row(s).transpose());
+      sample_rows_.push_back(static_cast<int>(s));
       samples.start.push_back(static_cast<int>(samples.column.size()));
     }
     return samples;
+  }
+
+  // Unit normals of the samples on a domain face: the cross product of the spline's two tangents
+  // there; where they are within kMinTangentSine of parallel (a folded face parameterization),
+  // the normal derivative's direction instead, which still crosses the surface.
+  void add_surface_normals(const Eigen::MatrixX3d& uvw, SampleTerms& samples) const {
+    constexpr double kMinTangentSine = 0.1;
+    samples.normal.assign(samples.size(), Eigen::Vector3d::Zero());
+    for (std::size_t t = 0; t < sample_rows_.size(); ++t) {
+      const Eigen::Vector3d p = uvw.row(sample_rows_[t]).transpose();
+      int face_axis = -1;
+      for (int a = 0; a < 3; ++a)
+        if (p(a) == lo_(a) || p(a) == hi_(a)) face_axis = a;
+      if (face_axis < 0) continue;
+      Eigen::Matrix3d jac;
+      double value[3];
+      spline_.evaluate_with_jacobian(p, TSplineForm::SemiStandard, value, jac.data());
+      const Eigen::Vector3d t1 = jac.col((face_axis + 1) % 3), t2 = jac.col((face_axis + 2) % 3);
+      const Eigen::Vector3d n = t1.cross(t2);
+      const Eigen::Vector3d across = jac.col(face_axis);
+      if (n.norm() >= kMinTangentSine * t1.norm() * t2.norm() && n.norm() > 0.0)
+        samples.normal[t] = n.normalized();
+      else if (across.norm() > 0.0)
+        samples.normal[t] = across.normalized();
+    }
   }
 
   TSpline& spline_;
@@ -401,6 +429,7 @@ class UntanglePass {
   // from points only) the box of the free functions' supports.
   std::array<int, 3> box_lo_, box_hi_;
   std::vector<int> column_of_, free_ids_;  // function → column (−1: fixed); column → function
+  std::vector<int> sample_rows_;             // the uvw row of each sample term
   SplineUntangleResult result_;
 };
 
@@ -477,8 +506,8 @@ std::array<AxisNodes, 3> make_pass_nodes(const TSpline& spline, const SplineUnta
 SplineUntangleResult untangle_pass(TSpline& spline, const std::array<AxisNodes, 3>& nodes, const Eigen::MatrixX3d& uvw,
                                    const Eigen::MatrixX3d& xyz, const std::vector<Eigen::Vector3d>& points,
                                    const SplineUntangleOptions& options, PassSeeds seeds, NodeCache& cache,
-                                   const std::vector<Eigen::Vector3d>& held) {
-  return UntanglePass(spline, nodes, options, cache).run(uvw, xyz, points, seeds, held);
+                                   const std::vector<Eigen::Vector3d>& held, double tangent_weight) {
+  return UntanglePass(spline, nodes, options, cache).run(uvw, xyz, points, seeds, held, tangent_weight);
 }
 
 }  // namespace volspline::spline::detail

@@ -83,10 +83,12 @@ enum class PassSeeds {
 /// untangle_spline); the moved control points are written to spline. points: parameter points
 /// that seed at their nearest node and are held by the hinge (the dense checks' bad points);
 /// held: more points held by the hinge where the free functions reach them, seeding nothing.
+/// tangent_weight < 1: samples on a domain face weigh their misfit along the surface (normal:
+/// the cross product of the spline's tangents there) by it (RegionEnergyOptions).
 /// cache: the node Jacobians carried from pass to pass. Precondition: as untangle_spline.
 SplineUntangleResult untangle_pass(TSpline& spline, const std::array<AxisNodes, 3>& nodes, const Eigen::MatrixX3d& uvw,
                                    const Eigen::MatrixX3d& xyz, const std::vector<Eigen::Vector3d>& points,
                                    const SplineUntangleOptions& options, PassSeeds seeds, NodeCache& cache,
-                                   const std::vector<Eigen::Vector3d>& held = {});
+                                   const std::vector<Eigen::Vector3d>& held = {}, double tangent_weight = 1.0);
 
 }  // namespace volspline::spline::detail
