@@ -157,7 +157,11 @@ ImageHeader read_image_header(const std::string& bytes, const std::string& name)
 std::string checked_png(const std::string& bytes, const std::string& name) {
   std::string out;
   std::size_t at = 8, copied = 0;
-  while (at + 12 <= bytes.size()) {
+  while (at < bytes.size()) {
+    // stb reads a chunk from its 8-byte header on, so a chunk cut short anywhere (even in its
+    // CRC) is refused here rather than handed on.
+    if (bytes.size() - at < 12)
+      throw Error("'" + name + "': truncated PNG (the file ends inside a chunk's header or CRC)");
     const std::uint32_t length = big_endian32(bytes, at);
     if (length > bytes.size() - at - 12)
       throw Error("'" + name + "': truncated PNG (a chunk of " + std::to_string(length) +

@@ -117,6 +117,9 @@ TEST_CASE("truncated, corrupt, oversize and unknown images get messages of their
   CHECK(image_error(jpeg, small) == "'x.img': JPEG of 16 x 8 pixels is above the limit `max_pixels` = 100");
   CHECK(image_error(png_header(20000, 20000).substr(0, 20)) == "'x.img': truncated PNG (the file ends inside its IHDR header)");
   CHECK(image_error(png_header(4, 4)).find("cannot decode the PNG data") != std::string::npos);
+  // An empty IDAT whose CRC is cut short (stb would copy it from a null buffer).
+  CHECK(image_error(png_header(8, 6) + std::string("\0\0\0\0IDAT\x42\x60\x82", 11)) ==
+        "'x.img': truncated PNG (the file ends inside a chunk's header or CRC)");
   CHECK(image_error("GIF89a......") == "'x.img': not a PNG or JPEG image (no PNG signature or JPEG start marker)");
   CHECK(image_error("") == "'x.img': empty file, expected a PNG or JPEG image");
 }
