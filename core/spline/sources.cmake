@@ -24,4 +24,6 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/untangle_pass.cpp
   ${CMAKE_CURRENT_LIST_DIR}/gpc_spline.cpp
   ${CMAKE_CURRENT_LIST_DIR}/gpc_spline_fitting.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/gpc_boundary_tessellation.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/gpc_spline_cut.cpp
 )

@@ -20,4 +20,6 @@ set(TEST_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/component_solve_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/gpc_spline_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/gpc_spline_fitting_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/gpc_boundary_tessellation_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/gpc_spline_cut_test.cpp
 )
