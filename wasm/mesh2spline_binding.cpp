@@ -6,10 +6,17 @@
 
 #include "core/common/error.h"
 #include "core/io/glb_lines_writer.h"
+#include "core/io/gpc_spline_io.h"
+#include "core/io/gpc_writers.h"
 #include "core/io/mesh_io.h"
 #include "core/io/spline_json.h"
 #include "core/io/vtu_writer.h"
+#include "core/mesh/halfedge_mesh.h"
+#include "core/mesh/mesh_report.h"
+#include "core/pipeline/gpc_mesh2spline.h"
 #include "core/pipeline/mesh2spline_job.h"
+#include "core/spline/gpc_boundary_tessellation.h"
+#include "core/spline/gpc_spline_cut.h"
 #include "wasm/guarded.h"
 #include "wasm/js_values.h"
 #include "wasm/spline_preview.h"
@@ -132,6 +139,145 @@ val vector3(const Eigen::Vector3d& v) {
   return out;
 }
 
+val input_to_js(const mesh::TriangleMesh& input) {
+  val in = val::object();
+  const std::vector<float> positions(input.positions.data(), input.positions.data() + input.positions.size());
+  in.set("positions", float32_array(positions.data(), positions.size()));
+  const std::vector<std::uint32_t> triangles(input.triangles.data(), input.triangles.data() + input.triangles.size());
+  in.set("triangles", uint32_array(triangles.data(), triangles.size()));
+  in.set("bbox_min", vector3(input.positions.colwise().minCoeff().transpose()));
+  in.set("bbox_max", vector3(input.positions.colwise().maxCoeff().transpose()));
+  return in;
+}
+
+// The genus of a closed surface, 0 if it is not one (run_mesh2spline then names the problem).
+int surface_genus(const mesh::TriangleMesh& input, const std::string& name) {
+  try {
+    return mesh::analyze_mesh(mesh::HalfedgeMesh::build(input, name)).genus;
+  } catch (const Error&) {
+    return 0;
+  }
+}
+
+// The multi-cuboid job's options from the same keys, as the CLI maps its flags; max_levels only
+// when given (its default differs: uniform refinements, not hierarchical levels).
+pipeline::GpcMesh2SplineOptions gpc_job_options_from_js(const val& o, const pipeline::Mesh2SplineOptions& m) {
+  if (m.fit != pipeline::Mesh2SplineFit::Grid)
+    throw Error("option 'fit': a solid of genus > 0 is fitted over its GPC grid map; 'meshless' needs genus 0");
+  pipeline::GpcMesh2SplineOptions options;
+  options.max_rms_rel = m.max_rms_rel;
+  options.max_control_points = m.max_control_points;
+  if (!o.isUndefined() && !o.isNull() && !o["max_levels"].isUndefined()) options.max_levels = m.max_levels;
+  if (m.untangle == pipeline::Mesh2SplineOptions::Untangle::Off)
+    options.untangle = pipeline::GpcMesh2SplineOptions::Untangle::Off;
+  options.initial_cells = m.initial_cells;
+  options.measure_samples = m.measure_samples;
+  options.seed = m.seed;
+  options.gpc.grid.area_balance_iterations = m.area_balance_iterations;
+  options.gpc.grid.target_nodes = integer_option(o, "gpc_grid_nodes", options.gpc.grid.target_nodes, 64, 20000000);
+  if (!bool_option(o, "padding", true)) options.gpc.grid.padding = param::GpcGridOptions::Padding::Off;
+  return options;  // ranges are checked by run_gpc_mesh2spline
+}
+
+val gpc_stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name) {
+  val out = val::object();
+  out.set("input", name);
+  out.set("fit", std::string("grid"));
+  out.set("rms_rel", s.rms_rel);
+  out.set("max_rel", s.max_rel);
+  out.set("hausdorff_rel", s.hausdorff_rel);
+  out.set("rms_geo_rel", s.rms_geo_rel);
+  out.set("control_points", s.control_points);
+  out.set("levels", s.levels);
+  out.set("min_scaled_jacobian", s.min_scaled_jacobian);
+  out.set("negative_jacobian_fraction", s.negative_jacobian_fraction);
+  out.set("jacobian_samples", double(s.jacobian_samples));
+  out.set("lattice_negative_fraction", s.lattice_negative_fraction);
+  out.set("lattice_samples", double(s.lattice_samples));
+  out.set("semi_standard_max_error", s.semi_standard_max_error);
+  out.set("genus", s.genus);
+  out.set("t_shapes", s.t_shapes);
+  out.set("cuboids", s.cuboids);
+  out.set("ill_points", s.ill_points);
+  out.set("interfaces", s.interfaces);
+  out.set("continued_interfaces", s.continued_interfaces);
+  out.set("interface_gap_rel", s.interface_gap_rel);
+  out.set("interface_normal_jump_deg", s.interface_normal_jump_deg);
+  out.set("flipped_triangles", s.flipped_triangles);
+  out.set("grid_inverted_hexes", s.grid_inverted_hexes);
+  out.set("grid_min_scaled_jacobian", s.grid_min_scaled_jacobian);
+  out.set("samples", s.samples);
+  out.set("untangled_control_points", s.untangled_control_points);
+  out.set("times_s", stage_times_object(s.times_s));
+  return out;
+}
+
+val gpc_cut_to_js(const spline::GpcSplineCut& cut, int axis, double position) {
+  val out = val::object();
+  out.set("axis", axis);
+  out.set("position", position);
+  out.set("positions", float32_array(cut.xyz.data(), cut.xyz.size()));
+  out.set("triangles", uint32_array(cut.triangles.data(), cut.triangles.size()));
+  out.set("scaled_jacobian", float32_array(cut.scaled_jacobian.data(), cut.scaled_jacobian.size()));
+  out.set("cuboid", uint32_array(cut.cuboid.data(), cut.cuboid.size()));
+  out.set("min_scaled_jacobian", cut.min_scaled_jacobian);
+  return out;
+}
+
+// mesh2spline of a solid of genus > 0 (run_gpc_mesh2spline), in the genus-0 result's shape; the
+// boundary and lines also name each point's cuboid and carry its colour (io::segment_colour).
+val gpc_mesh2spline(const mesh::TriangleMesh& input, const std::string& name, const val& options,
+                    const pipeline::Mesh2SplineOptions& m, const val& progress) {
+  const pipeline::GpcMesh2SplineOptions job = gpc_job_options_from_js(options, m);
+  const int preview_samples = integer_option(options, "preview_samples", 25, 2, 129);
+  const int preview_lines = integer_option(options, "preview_lines", 9, 2, 65);
+  const int cut_axis = integer_option(options, "cut_axis", 2, 0, 2);
+  const double cut_position = number_option(options, "cut_position", 0.5);
+  const int cut_samples = integer_option(options, "cut_samples", 41, 2, 257);
+  const int vtu_cells = integer_option(options, "vtu_cells", 24, 1, 64);
+  const bool outputs = bool_option(options, "outputs", true);
+  const pipeline::GpcMesh2SplineResult result =
+      pipeline::run_gpc_mesh2spline(input, name, job, progress_from_js(progress));
+
+  val out = val::object();
+  out.set("ok", true);
+  out.set("domain", std::string("gpc"));
+  out.set("stats", gpc_stats_to_js(result.stats, name));
+  out.set("input", input_to_js(input));
+
+  const spline::GpcBoundaryTessellation b = spline::tessellate_gpc_boundary(result.spline, preview_samples, preview_lines);
+  std::vector<float> colours;
+  colours.reserve(3 * b.surface_cuboid.size());
+  for (std::uint32_t c : b.surface_cuboid)
+    for (float x : io::segment_colour(static_cast<int>(c))) colours.push_back(x);
+  val boundary = val::object();
+  boundary.set("positions", float32_array(b.surface_xyz.data(), b.surface_xyz.size()));
+  boundary.set("uvw", float32_array(b.surface_uvw.data(), b.surface_uvw.size()));
+  boundary.set("triangles", uint32_array(b.surface_triangles.data(), b.surface_triangles.size()));
+  boundary.set("cuboid", uint32_array(b.surface_cuboid.data(), b.surface_cuboid.size()));
+  boundary.set("colours", float32_array(colours.data(), colours.size()));
+  out.set("boundary", boundary);
+  val lines = val::object();
+  lines.set("positions", float32_array(b.line_xyz.data(), b.line_xyz.size()));
+  lines.set("uvw", float32_array(b.line_uvw.data(), b.line_uvw.size()));
+  lines.set("cuboid", uint32_array(b.line_cuboid.data(), b.line_cuboid.size()));
+  out.set("lines", lines);
+  const Eigen::MatrixXd& points = result.spline.points();
+  std::vector<float> control;
+  control.reserve(points.rows() * 3);
+  for (Eigen::Index i = 0; i < points.rows(); ++i)
+    for (int d = 0; d < 3; ++d) control.push_back(static_cast<float>(points(i, d)));
+  out.set("control_points", float32_array(control.data(), control.size()));
+  out.set("cut", gpc_cut_to_js(spline::gpc_spline_cut(result.spline, cut_axis, cut_position, cut_samples), cut_axis,
+                               cut_position));
+  if (outputs) {
+    out.set("spline_json", bytes_to_js(io::serialize_gpc_spline_json(result.spline)));
+    out.set("glb", bytes_to_js(io::serialize_gpc_spline_glb(result.spline)));
+    out.set("vtu", bytes_to_js(io::serialize_gpc_spline_vtu(result.spline, vtu_cells)));
+  }
+  return out;
+}
+
 }  // namespace
 
 val mesh2spline(const val& bytes, const std::string& name, const val& options, const val& progress) {
@@ -148,20 +294,14 @@ val mesh2spline(const val& bytes, const std::string& name, const val& options, c
 
     const mesh::TriangleMesh input =
         io::parse_mesh(bytes_from_js(bytes, "mesh '" + name + "'"), io::mesh_format_from_path(name), name);
+    if (surface_genus(input, name) > 0) return gpc_mesh2spline(input, name, options, job, progress);
     const pipeline::Mesh2SplineResult result = pipeline::run_mesh2spline(input, name, job, progress_from_js(progress));
 
     val out = val::object();
     out.set("ok", true);
+    out.set("domain", std::string("cuboid"));
     out.set("stats", stats_to_js(result.stats, name, job.fit == pipeline::Mesh2SplineFit::Grid ? "grid" : "meshless"));
-
-    val in = val::object();
-    const std::vector<float> positions(input.positions.data(), input.positions.data() + input.positions.size());
-    in.set("positions", float32_array(positions.data(), positions.size()));
-    const std::vector<std::uint32_t> triangles(input.triangles.data(), input.triangles.data() + input.triangles.size());
-    in.set("triangles", uint32_array(triangles.data(), triangles.size()));
-    in.set("bbox_min", vector3(input.positions.colwise().minCoeff().transpose()));
-    in.set("bbox_max", vector3(input.positions.colwise().maxCoeff().transpose()));
-    out.set("input", in);
+    out.set("input", input_to_js(input));
 
     const SplinePreview preview = spline_preview(result.spline, preview_samples, preview_lines);
     val boundary = val::object();
@@ -188,7 +328,17 @@ val mesh2spline(const val& bytes, const std::string& name, const val& options, c
 val spline_cut(const val& spline_json, int axis, double position, int samples) {
   return guarded([&] {
     check_cut(axis, position, samples);
-    const spline::TSpline spline = io::parse_spline_json(bytes_from_js(spline_json, "spline JSON"), "spline JSON");
+    const std::string text = bytes_from_js(spline_json, "spline JSON");
+    if (io::is_gpc_spline_json(text)) {
+      const spline::GpcSpline gpc = io::parse_gpc_spline_json(text, "spline JSON");
+      if (gpc.dimension() != 3)
+        throw Error("spline JSON: a cut needs a geometric spline (dimension 3), got dimension " +
+                    std::to_string(gpc.dimension()));
+      val out = gpc_cut_to_js(spline::gpc_spline_cut(gpc, axis, position, samples), axis, position);
+      out.set("ok", true);
+      return out;
+    }
+    const spline::TSpline spline = io::parse_spline_json(text, "spline JSON");
     if (spline.dimension() != 3)
       throw Error("spline JSON: a cut needs a geometric spline (dimension 3), got dimension " +
                   std::to_string(spline.dimension()));

@@ -26,14 +26,27 @@ namespace volspline::wasm {
 /// Float32Array, triangles Uint32Array, bbox_min, bbox_max}, boundary {positions, uvw, triangles},
 /// lines {positions, uvw} (segments), control_points Float32Array, cut {axis, position, positions,
 /// triangles, scaled_jacobian Float32Array, min_scaled_jacobian}, and with outputs:
-/// spline_json, glb, vtu as Uint8Array (the bytes the CLI writes for -o, --glb, --vtk).
+/// spline_json, glb, vtu as Uint8Array (the bytes the CLI writes for -o, --glb, --vtk); domain
+/// 'cuboid'.
+/// A solid of genus > 0 runs pipeline::run_gpc_mesh2spline instead (as the CLI does), domain
+/// 'gpc': the keys max_rms_rel, max_control_points, max_levels (only if given: uniform
+/// refinements, default 8), initial_cells, measure_samples, seed, area_balance_iterations,
+/// untangle reach it, plus gpc_grid_nodes (grid nodes over all cuboids, default 24000) and
+/// padding (boolean, default true); fit 'meshless' is refused. Stats are the CLI's GPC stats keys
+/// (cuboids, ill_points, t_shapes, genus, interfaces, interface_gap_rel, lattice_negative_fraction,
+/// ...); boundary and lines cover the cuboids' surface faces with uvw as fractions of each
+/// cuboid's box, plus cuboid (Uint32Array, per point / per segment) and boundary.colours
+/// (Float32Array RGB per point, the GPC view's cuboid colours); the cut is the plane
+/// uvw[cut_axis] = cut_position of every cuboid, with cut.cuboid per point; spline_json is the
+/// volspline-gpc-spline document, vtu the sampled hexes (vtu_cells per unit of the longest cuboid).
 emscripten::val mesh2spline(const emscripten::val& bytes, const std::string& name, const emscripten::val& options,
                             const emscripten::val& progress);
 
 /// JS: splineCut(splineJson, axis, position, samples) -> {ok:true, axis, position, positions,
 /// triangles, scaled_jacobian, min_scaled_jacobian} or {ok:false, message}: the cut of a spline
 /// JSON document (Uint8Array|ArrayBuffer, as returned by mesh2spline) at uvw[axis] = position
-/// (fraction of the domain), sampled samples×samples.
+/// (fraction of the domain), sampled samples×samples. A volspline-gpc-spline document gives the
+/// cut of every cuboid at its own uvw[axis] = position, with cuboid (Uint32Array per point).
 emscripten::val spline_cut(const emscripten::val& spline_json, int axis, double position, int samples);
 
 }  // namespace volspline::wasm

@@ -82,7 +82,7 @@ module.exports = function (vs, { check, sourceDir, fs, path }) {
     try { x = vs.mesh2spline(...args); } catch (e) { check(false, what + ': threw ' + e); return; }
     check(x && x.ok === false && typeof x.message === 'string' && pattern.test(x.message), `${what}: ${JSON.stringify(x && x.message)}`);
   };
-  bad([sample('torus.off'), 'torus.off', small, null], /genus/, 'torus (genus 1)');
+  // A solid of genus > 0 runs over its GPC domain: mesh2spline_gpc.cjs.
   bad([text('OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n'), 'open.off', small, null], /open\.off/, 'open mesh');
   bad([text('OFF\n4 2 0\n0 0 0\n1 0 0\n'), 'broken.off', small, null], /broken\.off/, 'truncated OFF');
   bad([sample('sphere.off'), 'sphere.off', { fit: 'magic' }, null], /fit/, 'unknown fit');
