@@ -140,6 +140,33 @@ Eigen::MatrixXd prior_points(const spline::GpcSpline& spline, const spline::GpcS
   return p;
 }
 
+// Per cuboid axis, the mean length of the volumetric grid's lines along it in the unit-box
+// frame: how long the solid is in that direction (the cuboid sizes follow the cut loops and poly-
+// edges, which can be far thinner than the solid between them, e.g. kitten's tube).
+std::vector<std::array<double, 3>> grid_line_lengths(const GpcResult& gpc, double diagonal) {
+  std::vector<std::array<double, 3>> out;
+  for (const param::GpcCuboidGrid& g : gpc.map.grids) {
+    const auto& n = g.nodes;
+    std::array<double, 3> mean{};
+    for (int a = 0; a < 3; ++a) {
+      const int b = (a + 1) % 3, e = (a + 2) % 3;
+      double sum = 0.0;
+      std::array<int, 3> idx{};
+      for (idx[e] = 0; idx[e] < n[e]; ++idx[e])
+        for (idx[b] = 0; idx[b] < n[b]; ++idx[b])
+          for (idx[a] = 0; idx[a] + 1 < n[a]; ++idx[a]) {
+            std::array<int, 3> next = idx;
+            ++next[a];
+            auto row = [&](const std::array<int, 3>& q) { return q[0] + n[0] * (q[1] + n[1] * q[2]); };
+            sum += (g.xyz.row(row(next)) - g.xyz.row(row(idx))).norm();
+          }
+      mean[a] = sum / (static_cast<double>(n[b]) * n[e]) / diagonal;
+    }
+    out.push_back(mean);
+  }
+  return out;
+}
+
 double longest_size(const polycube::GpcDomain& domain) {
   double longest = 0.0;
   for (const polycube::GpcCuboid& c : domain.cuboids)
@@ -226,11 +253,14 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
   // Uniform knot refinement (§4.3 with a uniform marking): the spacing shrinks by
   // refinement_ratio per level until rms_rel ≤ max_rms_rel, the levels or the budget run out.
   std::optional<spline::GpcSpline> best;
-  double spacing = longest_size(domain) / options.initial_cells;
+  const std::vector<std::array<double, 3>> lengths = grid_line_lengths(gpc, diagonal);
+  double longest = 0.0;
+  for (const auto& l : lengths) longest = std::max({longest, l[0], l[1], l[2]});
+  double spacing = longest / options.initial_cells;
   for (int level = 0; level <= options.max_levels; ++level, spacing /= options.refinement_ratio) {
     progress.report("fit level " + std::to_string(level), 0.6 + 0.3 * level / (options.max_levels + 1));
     spline::GpcSplineOptions so;
-    so.intervals = spline::gpc_uniform_intervals(domain, spacing);
+    so.intervals = spline::gpc_uniform_intervals(domain, spacing, &lengths);
     spline::GpcSpline candidate(domain, so);
     // More functions than a quarter of the samples: the least squares would be fixed mostly by the
     // regularization, not by data (and CG slows down by orders of magnitude).

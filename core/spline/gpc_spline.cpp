@@ -571,10 +571,14 @@ void GpcSpline::basis_at(int cuboid, const Eigen::Vector3d& uvw, const std::arra
   }
 }
 
-std::vector<std::array<int, 3>> gpc_uniform_intervals(const polycube::GpcDomain& domain, double knot_spacing) {
+std::vector<std::array<int, 3>> gpc_uniform_intervals(const polycube::GpcDomain& domain, double knot_spacing,
+                                                      const std::vector<std::array<double, 3>>* lengths) {
   if (!std::isfinite(knot_spacing) || !(knot_spacing > 0.0))
     throw Error("gpc_uniform_intervals: knot_spacing is " + std::to_string(knot_spacing) + " (must be > 0)");
   const int nc = static_cast<int>(domain.cuboids.size());
+  if (lengths && static_cast<int>(lengths->size()) != nc)
+    throw Error("gpc_uniform_intervals: " + str(static_cast<int>(lengths->size())) + " length triples for " + str(nc) +
+                " cuboids");
   UnionFind uf(3 * nc);
   for (int i = 0; i < static_cast<int>(domain.interfaces.size()); ++i) {
     const auto& in = domain.interfaces[i];
@@ -593,12 +597,23 @@ std::vector<std::array<int, 3>> gpc_uniform_intervals(const polycube::GpcDomain&
       uf.unite(3 * in.cuboid[0] + t, 3 * in.cuboid[1] + tb);
     }
   }
-  std::vector<int> count(static_cast<std::size_t>(3 * nc), 1);
+  // Glued axes share one count: the mean of their lengths over the spacing (the sizes of glued
+  // axes are equal, so without lengths this is ceil(size/spacing)).
+  std::vector<double> sum(static_cast<std::size_t>(3 * nc), 0.0);
+  std::vector<int> members(static_cast<std::size_t>(3 * nc), 0);
   for (int c = 0; c < nc; ++c)
     for (int a = 0; a < 3; ++a) {
-      const double n = std::ceil(domain.cuboids[c].size[a] / knot_spacing);
-      int& slot = count[uf.find(3 * c + a)];
-      slot = std::max(slot, n > 1.0 ? static_cast<int>(std::min(n, 1e6)) : 1);
+      const double length = lengths ? (*lengths)[c][a] : domain.cuboids[c].size[a];
+      if (!(length >= 0.0) || !std::isfinite(length))
+        throw Error("gpc_uniform_intervals: the length of cuboid " + str(c) + " axis " + str(a) + " is not finite and >= 0");
+      sum[uf.find(3 * c + a)] += length;
+      ++members[uf.find(3 * c + a)];
+    }
+  std::vector<int> count(static_cast<std::size_t>(3 * nc), 1);
+  for (std::size_t k = 0; k < count.size(); ++k)
+    if (members[k] > 0) {
+      const double n = std::ceil(sum[k] / members[k] / knot_spacing * (1.0 - 1e-12));
+      count[k] = n > 1.0 ? static_cast<int>(std::min(n, 1e6)) : 1;
     }
   std::vector<std::array<int, 3>> out(static_cast<std::size_t>(nc));
   for (int c = 0; c < nc; ++c)

@@ -153,12 +153,15 @@ class GpcSpline {
   Eigen::MatrixXd points_;
 };
 
-/// Knot intervals for GpcSplineOptions::intervals: per cuboid axis ceil(size/knot_spacing)
-/// (at least 1), raised to the largest over each class of axes glued together as tangent axes of
-/// some face (union–find over the interfaces), so the two sides of every glued face share their
-/// knot lines. knot_spacing in the units of the cuboid sizes, > 0.
-/// Throws volspline::Error if knot_spacing is not finite and positive, or two glued axes differ
-/// in size (by more than 1e-9 relative), naming the interface.
-std::vector<std::array<int, 3>> gpc_uniform_intervals(const polycube::GpcDomain& domain, double knot_spacing);
+/// Knot intervals for GpcSplineOptions::intervals: per class of axes glued together as tangent
+/// axes of some face (union–find over the interfaces) one count, ceil(mean length/knot_spacing)
+/// (at least 1), so the two sides of every glued face share their knot lines. knot_spacing in
+/// the units of the cuboid sizes, > 0. `lengths` (one triple per cuboid, ≥ 0, e.g. the mean
+/// length of the map's grid lines along each axis) are counted instead of the sizes if given, so
+/// the knots follow the solid rather than the domain's proportions.
+/// Throws volspline::Error if knot_spacing is not finite and positive, two glued axes differ
+/// in size (by more than 1e-9 relative), naming the interface, or lengths are malformed.
+std::vector<std::array<int, 3>> gpc_uniform_intervals(const polycube::GpcDomain& domain, double knot_spacing,
+                                                      const std::vector<std::array<double, 3>>* lengths = nullptr);
 
 }  // namespace volspline::spline
