@@ -150,7 +150,8 @@ export class MeshView {
     this.resetCamera(centre, radius);
   }
 
-  /// Shows a mesh2spline result: r.boundary {positions, uvw, triangles}, r.lines {positions, uvw},
+  /// Shows a mesh2spline result: r.boundary {positions, uvw, triangles, colours?: RGB per point, the
+  /// cuboids of a GPC spline}, r.lines {positions, uvw},
   /// r.control_points, and r.cut (see setCut); lattice (optional, splineLattice's {uvw, edges}:
   /// the control points' anchors and lattice edges) lets the cut clip the control points and
   /// draws the lattice. The input mesh stays as faint context.
@@ -158,7 +159,7 @@ export class MeshView {
     for (const name of GPC_LAYERS) this.setLayer(name, {});
     this.boundarySamples = { positions: r.boundary.positions, uvw: r.boundary.uvw };
     this.cut = null;  // the first cut turns the camera towards it
-    this.setLayer('boundary', { positions: r.boundary.positions, uvw: r.boundary.uvw, indices: r.boundary.triangles });
+    this.setLayer('boundary', { positions: r.boundary.positions, uvw: r.boundary.uvw, indices: r.boundary.triangles, colours: r.boundary.colours ?? null });
     this.setLayer('lines', { positions: r.lines.positions, uvw: r.lines.uvw, mode: 'lines' });
     this.setLayer('control', { positions: r.control_points, uvw: lattice?.uvw ?? null, mode: 'points' });
     this.setLayer('lattice', lattice ? { positions: r.control_points, uvw: lattice.uvw, indices: lattice.edges, mode: 'lines' } : {});

@@ -44,7 +44,7 @@ const STAGE_WORDS = {
   validate: 'checking the input', 'cuboid layout': 'placing the cuboid corners', 'surface map': 'mapping the surface onto the cuboid',
   'volumetric map': 'mapping the volume', fit: 'fitting the spline', untangle: 'unfolding the spline',
   'untangle pass': 'unfolding the spline', 'untangle polish': 'polishing the unfolded spline', 'untangle certificate': 'unfolding the uncertified cells',
-  'Jacobian repair': 'repairing the Jacobian', measures: 'measuring the fit', certificate: 'certifying det J > 0 cell by cell',
+  'Jacobian repair': 'repairing the Jacobian', measures: 'measuring the fit', measure: 'measuring the fit', certificate: 'certifying det J > 0 cell by cell',
   'uniform comparison': 'fitting a uniform spline to compare', 'local cubic fit': 'fitting local cubics to the voxels',
   'hessian frames': 'frames from the Hessians', classification: 'classifying the materials', parameterization: 'aligning the parameters with the frames',
   'smooth frames': 'smoothing the frames', decompose: 'cutting the solid into pieces', 'T-to-cube': 'laying the pieces out as cuboids',

@@ -2,7 +2,6 @@
 // The Mesh tab's "GPC domain" run: the gpc job on the open mesh (any genus), its surface
 // coloured by cuboid with the poly-edges and corners in the 3D view, its stats, and downloads of
 // DOMAIN.json and SEG.glb (the files `volspline gpc -o DOMAIN.json --glb SEG.glb` writes).
-// It is also what "Run mesh2spline" runs on a solid of genus ≥ 1.
 import { $, download, fillStats, fmt, baseName } from '../ui.js';
 import { meshTab } from './mesh_tab.js';
 
@@ -34,7 +33,7 @@ export const gpcRun = {
 };
 
 meshTab.addRun({
-  button: $('mesh-run-gpc'), job: 'gpc', options: () => ({}), anyGenus: true,
+  button: $('mesh-run-gpc'), job: 'gpc', options: () => ({}),
   render: (r) => gpcRun.render(r), reset: () => gpcRun.reset(),
 });
 $('mesh-download-domain').addEventListener('click', () => download(gpcRun.result.domain_json, baseName(meshTab.name) + '.domain.json', 'application/json'));

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 // The Mesh tab: open a mesh (its facts), run a spline job on it, show the result in the 3D view
 // with a cut, the stats and the downloads. Another job on the same mesh adds a run button with
-// meshTab.addRun({button, job, options, render, reset, anyGenus}): its result goes to `render`
-// (the hook a new job's view and stats use), `reset` clears what render showed when another mesh
-// or result replaces it; the tab handles busy state, errors and cancellation. A run marked
-// anyGenus (gpc) is what "Run mesh2spline" starts on a solid of genus ≥ 1, which mesh2spline
-// refuses (it maps a solid to one cuboid).
+// meshTab.addRun({button, job, options, render, reset}): its result goes to `render` (the hook a
+// new job's view and stats use), `reset` clears what render showed when another mesh or result
+// replaces it; the tab handles busy state, errors and cancellation. mesh2spline takes a solid of
+// any genus: genus 0 gives one cuboid, genus ≥ 1 a spline over its GPC domain (result.domain
+// 'gpc'), whose boundary is coloured by cuboid.
 import { $, jobs, runJob, showError, clearError, download, acceptFiles, fillStats, fmt, baseName, markStale } from '../ui.js';
 import { MeshView, QUALITY_GRADIENT } from '../mesh_view.js';
 import { splineLattice } from '../spline_json.js';
@@ -28,7 +28,7 @@ export const meshTab = {
   info: null,        // meshInfo result of the open mesh (without its arrays)
   bytes: null, name: null,
   result: null,      // the last mesh2spline result
-  runs: [],          // the jobs added by addRun: {button, job, reset, anyGenus, start}
+  runs: [],          // the jobs added by addRun: {button, job, reset, start}
   lastRun: null,     // {job, options, result} of the last addRun job shown
   cutRunning: false, cutPending: false,
 
@@ -45,9 +45,8 @@ export const meshTab = {
     this.showInfo();
     this.updateButtons();
     $('mesh-download-stats').disabled = false;
-    const fallback = this.anyGenusRun();
-    this.notice(this.info.genus > 0 && fallback
-      ? `${name} has genus ${this.info.genus}: mesh2spline needs genus 0 (one cuboid), so Run mesh2spline builds the GPC domain instead`
+    this.notice(this.info.genus > 0
+      ? `${name} has genus ${this.info.genus}: mesh2spline fits one spline over its generalized poly-cube (several cuboids, each in its own colour)`
       : '');
   },
 
@@ -56,9 +55,6 @@ export const meshTab = {
     $('mesh-run').disabled = !this.bytes || !jobs.available?.includes('mesh2spline');
     for (const run of this.runs) run.button.disabled = !this.bytes || !jobs.available?.includes(run.job);
   },
-
-  /// The run that takes a solid of any genus, if the core offers it.
-  anyGenusRun() { return this.runs.find((run) => run.anyGenus && jobs.available?.includes(run.job)) ?? null; },
 
   /// Shows `text` in the tab's notice line (a remark, not an error); '' hides it.
   notice(text) {
@@ -113,12 +109,6 @@ export const meshTab = {
 
   async run() {
     if (!this.bytes || jobs.busy) return;
-    const fallback = this.anyGenusRun();
-    if (this.info?.genus > 0 && fallback) {
-      this.notice(`${this.name} has genus ${this.info.genus}: mesh2spline maps a solid to one cuboid and needs genus 0, ` +
-                  `so its GPC domain (any genus) is built instead`);
-      return fallback.start();
-    }
     clearError();
     $('mesh-run').disabled = true;
     const options = this.options();
@@ -131,9 +121,12 @@ export const meshTab = {
     }
     this.clearResults();
     this.result = { ...r, options };
-    this.view?.setSpline(r, r.spline_json ? splineLattice(r.spline_json) : null);
+    // A GPC spline's JSON has no single-patch anchors, and the quality views read single-patch
+    // splines: its cut and stats carry its Jacobian measures.
+    const gpc = r.domain === 'gpc';
+    this.view?.setSpline(r, r.spline_json && !gpc ? splineLattice(r.spline_json) : null);
     this.showVerdict();
-    await this.runQuality();
+    if (!gpc) await this.runQuality();
     // The input mesh would hide the cut: shown again by its checkbox.
     $('mesh-show-input').checked = false;
     if (this.view) this.view.visible.input = false;
@@ -227,6 +220,7 @@ export const meshTab = {
     // Folds seen anywhere: the job's Gauss points, the quality lattice, or the cut shown.
     const where = [];
     if (s.negative_jacobian_fraction > 0 || s.min_scaled_jacobian <= 0) where.push(`${pct(s.negative_jacobian_fraction)} of the Gauss points`);
+    if (s.lattice_negative_fraction > 0) where.push(`${pct(s.lattice_negative_fraction)} of the ${s.lattice_samples} lattice points`);
     if (q && q.folded.length) where.push(`${q.folded.length / 3} of ${q.samples} lattice points`);
     if (cut && cut.min_scaled_jacobian <= 0) where.push(`the cut (min scaled Jacobian ${fmt(cut.min_scaled_jacobian, 3)})`);
     const minQ = Math.min(s.min_scaled_jacobian, q ? q.min_scaled_jacobian : 1);
@@ -251,6 +245,26 @@ export const meshTab = {
 
   showStats() {
     const s = this.result.stats, i = this.info;
+    if (this.result.domain === 'gpc') {
+      fillStats($('mesh-stats'), [
+        ['file', i.file], ['vertices', i.vertices], ['faces', i.faces], ['genus', s.genus],
+        ['cuboids', s.cuboids], ['t_shapes', s.t_shapes], ['ill_points', s.ill_points],
+        ['interfaces', s.interfaces], ['continued_interfaces', s.continued_interfaces],
+        ['rms_rel', fmt(s.rms_rel, 3)], ['max_rel', fmt(s.max_rel, 3)],
+        ['hausdorff_rel', fmt(s.hausdorff_rel, 3)], ['rms_geo_rel', fmt(s.rms_geo_rel, 3)],
+        ['control_points', s.control_points], ['levels', s.levels],
+        ['min_scaled_jacobian', fmt(s.min_scaled_jacobian, 3)], ['negative_jacobian_fraction', fmt(s.negative_jacobian_fraction, 3)],
+        ['lattice_negative_fraction', fmt(s.lattice_negative_fraction, 3)],
+        ['semi_standard_max_error', fmt(s.semi_standard_max_error, 3)],
+        ['interface_gap_rel', fmt(s.interface_gap_rel, 3)], ['interface_normal_jump_deg', fmt(s.interface_normal_jump_deg, 3)],
+        ['flipped_triangles', s.flipped_triangles], ['grid_inverted_hexes', s.grid_inverted_hexes],
+        ['grid_min_scaled_jacobian', fmt(s.grid_min_scaled_jacobian, 3)], ['samples', s.samples],
+        ['untangled_control_points', s.untangled_control_points],
+        ['cut_min_scaled_jacobian', fmt(this.result.cut.min_scaled_jacobian, 3)],
+        ['time_s', fmt(s.times_s.total, 3)], ['worker_ms', fmt(this.result.ms_worker, 4)],
+      ]);
+      return;
+    }
     fillStats($('mesh-stats'), [
       ['file', i.file], ['vertices', i.vertices], ['faces', i.faces], ['genus', i.genus === null ? 'undefined' : i.genus],
       ['fit', s.fit], ['rms_rel', fmt(s.rms_rel, 3)], ['max_rel', fmt(s.max_rel, 3)],
@@ -289,10 +303,10 @@ export const meshTab = {
 
   /// Adds a job that runs on the open mesh: `button` (an element) starts it with `options()`,
   /// `render(result)` shows its result, `reset()` (optional) clears it when another mesh or result
-  /// replaces it; anyGenus: this job is run instead of mesh2spline on a solid of genus ≥ 1. The
-  /// job gets {bytes, name, options} like mesh2spline; its result's `stats` are the stats download.
+  /// replaces it. The job gets {bytes, name, options} like mesh2spline; its result's `stats` are
+  /// the stats download.
   /// Returns the start function (what a click does): resolves when the job has finished.
-  addRun({ button, job, options, render, reset = null, anyGenus = false }) {
+  addRun({ button, job, options, render, reset = null }) {
     const start = async () => {
       if (!this.bytes || jobs.busy) return;
       clearError();
@@ -312,7 +326,7 @@ export const meshTab = {
       if (this.view) this.view.visible.input = false;
       render(r);
     };
-    this.runs.push({ button, job, reset, anyGenus, start });
+    this.runs.push({ button, job, reset, start });
     button.addEventListener('click', start);
     this.updateButtons();
     return start;
