@@ -268,6 +268,15 @@ val gpc_mesh2spline(const mesh::TriangleMesh& input, const std::string& name, co
   for (Eigen::Index i = 0; i < points.rows(); ++i)
     for (int d = 0; d < 3; ++d) control.push_back(static_cast<float>(points(i, d)));
   out.set("control_points", float32_array(control.data(), control.size()));
+  // Each control point's anchor as a fraction of its cuboid's box: the view clips them by the cut.
+  std::vector<float> control_uvw;
+  control_uvw.reserve(points.rows() * 3);
+  for (int i = 0; i < result.spline.num_functions(); ++i) {
+    const spline::GpcAnchor& anchor = result.spline.anchor(i);
+    const auto& size = result.spline.domain().cuboids[anchor.cuboid].size;
+    for (int a = 0; a < 3; ++a) control_uvw.push_back(static_cast<float>(anchor.uvw(a) / size[a]));
+  }
+  out.set("control_uvw", float32_array(control_uvw.data(), control_uvw.size()));
   out.set("cut", gpc_cut_to_js(spline::gpc_spline_cut(result.spline, cut_axis, cut_position, cut_samples), cut_axis,
                                cut_position));
   if (outputs) {

@@ -36,7 +36,8 @@ namespace volspline::wasm {
 /// (cuboids, ill_points, t_shapes, genus, interfaces, interface_gap_rel, lattice_negative_fraction,
 /// ...); boundary and lines cover the cuboids' surface faces with uvw as fractions of each
 /// cuboid's box, plus cuboid (Uint32Array, per point / per segment) and boundary.colours
-/// (Float32Array RGB per point, the GPC view's cuboid colours); the cut is the plane
+/// (Float32Array RGB per point, the GPC view's cuboid colours); control_uvw (Float32Array, each
+/// control point's anchor as a fraction of its cuboid's box); the cut is the plane
 /// uvw[cut_axis] = cut_position of every cuboid, with cut.cuboid per point; spline_json is the
 /// volspline-gpc-spline document, vtu the sampled hexes (vtu_cells per unit of the longest cuboid).
 emscripten::val mesh2spline(const emscripten::val& bytes, const std::string& name, const emscripten::val& options,

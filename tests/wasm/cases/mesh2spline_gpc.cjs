@@ -28,6 +28,7 @@ module.exports = function (vs, { check, sourceDir, fs, path }) {
   check(s.min_scaled_jacobian > 0 && s.negative_jacobian_fraction === 0 && s.lattice_negative_fraction === 0,
         `torus: no folds (min scaled Jacobian ${s.min_scaled_jacobian}, lattice ${s.lattice_negative_fraction})`);
   check(s.control_points >= 64 && r.control_points.length === 3 * s.control_points, `torus: ${s.control_points} control points`);
+  check(r.control_uvw.length === r.control_points.length && r.control_uvw.every((x) => x >= 0 && x <= 1), 'control_uvw: each anchor in its cuboid, [0, 1]');
   check(s.interface_gap_rel <= 1e-9 && s.continued_interfaces === 1, `the glued face is continued, gap ${s.interface_gap_rel}`);
   check(s.input === 'torus.off' && s.fit === 'grid' && s.times_s.total > 0 && s.times_s.gpc > 0, 'stats: input, fit, times_s');
   check(stages.length > 2 && stages.every(([st, f]) => typeof st === 'string' && f >= 0 && f <= 1) &&
