@@ -35,6 +35,11 @@ const WHEEL_SETTLE_MS = 250;
 const SPLINE_LAYERS = ['boundary', 'lines', 'control', 'lattice', 'cut', 'folds'];
 const GPC_LAYERS = ['cuboids', 'poly_edges', 'corners'];
 
+// Cuboid colours on a spline's boundary: lightened towards grey, so the cut's saturated scaled
+// Jacobian colours stand out against them.
+const PASTEL_WEIGHT = 0.6;
+const pastel = (colours) => colours.map((c) => PASTEL_WEIGHT * c + (1 - PASTEL_WEIGHT) * 0.85);
+
 /// Legend colours of the scaled Jacobian (CSS), matching the shader.
 export const QUALITY_GRADIENT = 'linear-gradient(to right, rgb(242,115,26) 0%, rgb(250,217,51) 33%, rgb(77,191,89) 67%, rgb(51,102,217) 100%)';
 
@@ -151,17 +156,18 @@ export class MeshView {
   }
 
   /// Shows a mesh2spline result: r.boundary {positions, uvw, triangles, colours?: RGB per point, the
-  /// cuboids of a GPC spline}, r.lines {positions, uvw},
-  /// r.control_points, and r.cut (see setCut); lattice (optional, splineLattice's {uvw, edges}:
-  /// the control points' anchors and lattice edges) lets the cut clip the control points and
-  /// draws the lattice. The input mesh stays as faint context.
+  /// cuboids of a GPC spline}, r.lines {positions, uvw}, r.control_points, r.control_uvw (optional:
+  /// the anchors of a GPC spline's control points, so the cut clips them), and r.cut (see setCut);
+  /// lattice (optional, splineLattice's {uvw, edges}: the control points' anchors and lattice
+  /// edges) lets the cut clip the control points and draws the lattice. The input mesh stays as
+  /// faint context.
   setSpline(r, lattice = null) {
     for (const name of GPC_LAYERS) this.setLayer(name, {});
     this.boundarySamples = { positions: r.boundary.positions, uvw: r.boundary.uvw };
     this.cut = null;  // the first cut turns the camera towards it
-    this.setLayer('boundary', { positions: r.boundary.positions, uvw: r.boundary.uvw, indices: r.boundary.triangles, colours: r.boundary.colours ?? null });
+    this.setLayer('boundary', { positions: r.boundary.positions, uvw: r.boundary.uvw, indices: r.boundary.triangles, colours: r.boundary.colours ? pastel(r.boundary.colours) : null });
     this.setLayer('lines', { positions: r.lines.positions, uvw: r.lines.uvw, mode: 'lines' });
-    this.setLayer('control', { positions: r.control_points, uvw: lattice?.uvw ?? null, mode: 'points' });
+    this.setLayer('control', { positions: r.control_points, uvw: lattice?.uvw ?? r.control_uvw ?? null, mode: 'points' });
     this.setLayer('lattice', lattice ? { positions: r.control_points, uvw: lattice.uvw, indices: lattice.edges, mode: 'lines' } : {});
     this.setCut(r.cut);
   }

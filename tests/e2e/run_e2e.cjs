@@ -279,16 +279,15 @@ async function meshToSpline(page) {
         `the job bar names the stage in plain words with its share: ${JSON.stringify(plain.slice(0, 3))}`);
 }
 
-// Mesh tab, GPC domain: torus.off (genus 1) uploaded → the tab says mesh2spline needs genus 0 →
-// Run GPC domain → stats (genus 1, 1 cuboid, 0 ill-points), the cuboid colours and poly-edges on
-// the canvas, DOMAIN.json / SEG.glb / stats downloads; Run mesh2spline on it runs gpc instead of
-// ending in an error.
+// Mesh tab, GPC domain: torus.off (genus 1) uploaded → the tab says mesh2spline goes over the
+// generalized poly-cube → Run GPC domain → stats (genus 1, 1 cuboid, 0 ill-points), the cuboid
+// colours and poly-edges on the canvas, DOMAIN.json / SEG.glb / stats downloads.
 async function meshGpc(page) {
   await page.setInputFiles('#mesh-file', path.join(sharedData, 'meshes/torus.off'));
   await waitStat(page, 'mesh-stats', 'file', (v) => v === 'torus.off');
   await page.waitForFunction(() => !document.getElementById('mesh-run-gpc').disabled, null, { timeout: 10000 }).catch(() => {});
   const notice = await page.evaluate(() => { const n = document.getElementById('mesh-notice'); return n.hidden ? '' : n.textContent; });
-  check(/genus 1/.test(notice) && /GPC domain/.test(notice), `opening a genus-1 mesh says mesh2spline needs genus 0 and what runs instead: "${notice}"`);
+  check(/genus 1/.test(notice) && /poly-cube/.test(notice), `opening a genus-1 mesh says mesh2spline fits it over its poly-cube: "${notice}"`);
   const t0 = Date.now();
   await page.click('#mesh-run-gpc');
   await page.waitForFunction(() => window.volspline.gpcRun.result || !document.getElementById('error').hidden, null, { timeout: 120000 }).catch(() => {});
@@ -337,19 +336,141 @@ async function meshGpc(page) {
   const statsFile = JSON.parse((await save('#mesh-download-stats', 'torus.gpc.stats.json')).toString());
   check(statsFile.job === 'gpc' && statsFile.cuboids === 1 && statsFile.genus === 1, 'Download stats gives the gpc stats');
 
-  // Run mesh2spline on the genus-1 torus: the GPC domain is built instead, with a message, no error.
-  const before = await page.evaluate(() => { window.volspline.gpcRun.result.seen = true; return true; });
-  await page.click('#mesh-run');
-  await page.waitForFunction(() => (window.volspline.gpcRun.result && !window.volspline.gpcRun.result.seen) || !document.getElementById('error').hidden, null, { timeout: 120000 }).catch(() => {});
-  const fallback = await page.evaluate(() => ({
-    fresh: !!window.volspline.gpcRun.result && !window.volspline.gpcRun.result.seen,
-    spline: window.volspline.meshTab.result !== null,
-    notice: document.getElementById('mesh-notice').hidden ? '' : document.getElementById('mesh-notice').textContent,
-    cuboids: document.querySelector('#mesh-stats td[data-key="cuboids"]')?.textContent,
-  }));
-  const fallbackError = await errorText(page);
-  check(before && fallback.fresh && !fallback.spline && fallback.cuboids === '1' && fallbackError === '' && /needs genus 0/.test(fallback.notice) && /instead/.test(fallback.notice),
-        `Run mesh2spline on genus 1 builds the GPC domain instead, no error: "${fallback.notice}"${fallbackError ? ' error: ' + fallbackError : ''}`);
+}
+
+// Pixels of the mesh canvas whose colour is a shade of `rgb` (components in [0, 1]; lit shading
+// scales all three alike), as a fraction of the canvas.
+async function shadeFraction(page, rgb) {
+  return page.evaluate((c) => {
+    const canvas = document.getElementById('mesh-canvas');
+    const tmp = document.createElement('canvas');
+    tmp.width = canvas.width; tmp.height = canvas.height;
+    const ctx = tmp.getContext('2d');
+    ctx.drawImage(canvas, 0, 0);
+    const d = ctx.getImageData(0, 0, canvas.width, canvas.height).data;
+    const top = Math.max(...c);
+    let n = 0;
+    for (let i = 0; i < d.length; i += 4) {
+      const m = Math.max(d[i], d[i + 1], d[i + 2]);
+      if (m < 40) continue;
+      if ([0, 1, 2].every((k) => Math.abs(d[i + k] / m - c[k] / top) < 0.06)) n++;
+    }
+    return n / (d.length / 4);
+  }, rgb);
+}
+
+// Mesh tab, mesh2spline on genus ≥ 1: the torus (open from meshGpc) → Run mesh2spline → one
+// spline over its GPC: the GPC stats, the boundary in its cuboid's colour, the cut by scaled
+// Jacobian (and moved through the GPC JSON), the JSON download; Cancel on eight (genus 2, seconds
+// in WebAssembly) stops the job and the tab is idle again; eight then runs to the end with its
+// five cuboids in five colours; kitten runs too.
+async function meshGpcSpline(page) {
+  // The CLI's default for genus > 0 (8 uniform refinements); the sphere's run left 2.
+  await page.selectOption('#mesh-levels', '8');
+  const runSpline = async (timeout) => {
+    const t0 = Date.now();
+    await page.click('#mesh-run');
+    await page.waitForFunction(() => window.volspline.meshTab.result?.domain === 'gpc' || !document.getElementById('error').hidden, null, { timeout }).catch(() => {});
+    await idle(page);
+    return Date.now() - t0;
+  };
+  const ms = await runSpline(60000);
+  const r = await page.evaluate(() => {
+    const m = window.volspline.meshTab.result;
+    // The colour drawn: the view lightens the cuboid colours of the result.
+    const drawn = window.volspline.meshTab.view.layers.boundary.data.colours;
+    return m && m.domain === 'gpc' && { stats: { ...m.stats }, colour: Array.from(drawn.slice(0, 3)), cuboids: [...new Set(m.boundary.cuboid)],
+      cut: m.cut.scaled_jacobian.length, json: new TextDecoder().decode(m.spline_json.slice(0, 60)) };
+  });
+  check(!!r, `mesh2spline on torus.off (genus 1) finishes in the page over its GPC (${ms} ms) ${r ? '' : await errorText(page)}`);
+  if (!r) return;
+  const s = r.stats;
+  notes.push(`mesh2spline torus.off (GPC) in the browser: ${ms} ms wall, core ${(1000 * s.times_s.total).toFixed(0)} ms, ${s.control_points} control points`);
+  check(s.genus === 1 && s.cuboids === 1 && s.ill_points === 0 && s.rms_rel <= 0.002 && s.semi_standard_max_error <= 1e-12,
+        `torus spline: genus ${s.genus}, ${s.cuboids} cuboid, rms_rel ${s.rms_rel.toExponential(2)}, semi-standard ${s.semi_standard_max_error.toExponential(1)}`);
+  const shown = {};
+  for (const k of ['genus', 'cuboids', 'ill_points', 't_shapes', 'rms_rel', 'hausdorff_rel', 'control_points', 'cut_min_scaled_jacobian']) shown[k] = await stat(page, 'mesh-stats', k);
+  check(shown.cuboids === '1' && shown.ill_points === '0' && Number(shown.rms_rel) > 0 && Number(shown.control_points) === s.control_points && shown.cut_min_scaled_jacobian !== null,
+        `GPC spline stats shown: ${JSON.stringify(shown)}`);
+  check((await errorText(page)) === '' && r.cuboids.join() === '0' && r.cut > 0, `no error; the boundary is tagged with cuboid 0 and the cut has ${r.cut} points`);
+  const verdict = await page.evaluate(() => document.getElementById('mesh-verdict').dataset.verdict);
+  check(['good', 'poor', 'folds'].includes(verdict), `the verdict line is shown (${verdict})`);
+  await page.waitForTimeout(300);
+  // The cut shows the scaled Jacobian's colours; without it the boundary shows the cuboid's colour.
+  const cutColours = await page.evaluate(() => !!window.volspline.meshTab.view.layers.cut?.hasScalar);
+  await page.uncheck('#mesh-show-cut');
+  await page.waitForTimeout(200);
+  const shade = await shadeFraction(page, r.colour);
+  check(cutColours && shade > 0.03, `the spline's boundary is drawn in its cuboid's colour (${(100 * shade).toFixed(1)} % of the canvas)`);
+  await page.check('#mesh-show-cut');
+  await page.screenshot({ path: path.join(artifacts, 'mesh-torus-gpc-spline.png') });
+  // Moving the cut recomputes it from the GPC spline JSON.
+  await page.locator('#mesh-cut-position').fill('0.3');
+  await page.waitForFunction(() => window.volspline.meshTab.result?.cut?.position === 0.3, null, { timeout: 20000 }).catch(() => {});
+  const moved = await page.evaluate(() => { const c = window.volspline.meshTab.result.cut; return { position: c.position, n: c.scaled_jacobian.length, cuboid: !!c.cuboid }; });
+  check(moved.position === 0.3 && moved.n > 0 && moved.cuboid && (await errorText(page)) === '', `the cut slider moves the GPC spline's cut (${JSON.stringify(moved)})`);
+  await page.locator('#mesh-cut-position').fill('0.5');
+  await page.waitForFunction(() => window.volspline.meshTab.result?.cut?.position === 0.5, null, { timeout: 20000 }).catch(() => {});
+  const [d] = await Promise.all([page.waitForEvent('download', { timeout: 20000 }), page.click('#mesh-download-json')]);
+  const target = path.join(artifacts, 'torus.gpc.spline.json');
+  await d.saveAs(target);
+  const json = JSON.parse(fs.readFileSync(target, 'utf8'));
+  check(json.format === 'volspline-gpc-spline' && json.points.length === s.control_points, `Download JSON gives the GPC spline (${json.points.length} points)`);
+
+  // Cancel on eight: the job stops, the tab returns to idle and still runs.
+  const meshSamples = await page.$$eval('#mesh-samples option', (os) => os.map((o) => o.value).filter(Boolean));
+  const eight = meshSamples.find((v) => v.endsWith('eight.off'));
+  check(!!eight && meshSamples.some((v) => v.endsWith('kitten.off')), 'the samples menu offers eight.off and kitten.off');
+  if (!eight) return;
+  await page.selectOption('#mesh-samples', eight);
+  await waitStat(page, 'mesh-stats', 'file', (v) => v === 'eight.off');
+  await page.waitForFunction(() => !document.getElementById('mesh-run').disabled, null, { timeout: 10000 }).catch(() => {});
+  const cancelled = await page.evaluate(async () => {
+    const { jobs } = window.volspline;
+    document.getElementById('mesh-run').click();
+    const button = document.getElementById('job-cancel');
+    for (let t0 = performance.now(); button.disabled && performance.now() - t0 < 5000;) await new Promise((r) => setTimeout(r, 10));
+    await new Promise((r) => setTimeout(r, 500));
+    const busy = jobs.busy;
+    button.click();
+    const t = performance.now();
+    while (jobs.busy && performance.now() - t < 10000) await new Promise((r) => setTimeout(r, 10));
+    return { busy, idle: !jobs.busy, ms: performance.now() - t, stage: document.getElementById('job-stage').textContent,
+             error: document.getElementById('error').hidden ? '' : document.getElementById('error-text').textContent,
+             result: window.volspline.meshTab.result !== null, run: !document.getElementById('mesh-run').disabled };
+  });
+  check(cancelled.busy && cancelled.idle && /cancelled/.test(cancelled.stage) && cancelled.error === '' && !cancelled.result && cancelled.run,
+        `Cancel stops mesh2spline on eight.off and the tab is idle (${cancelled.stage}, ${cancelled.ms.toFixed(0)} ms${cancelled.error ? ', error: ' + cancelled.error : ''})`);
+  const ms8 = await runSpline(120000);
+  const r8 = await page.evaluate(() => {
+    const m = window.volspline.meshTab.result;
+    if (!m || m.domain !== 'gpc') return null;
+    const colours = new Set();
+    for (const c of new Set(m.boundary.cuboid)) colours.add(Array.from(m.boundary.colours.slice(3 * m.boundary.cuboid.indexOf(c), 3 * m.boundary.cuboid.indexOf(c) + 3)).join());
+    return { stats: { ...m.stats }, cuboids: new Set(m.boundary.cuboid).size, colours: colours.size,
+             first: Array.from(window.volspline.meshTab.view.layers.boundary.data.colours.slice(0, 3)) };
+  });
+  check(!!r8, `mesh2spline on eight.off (genus 2) finishes in the page (${ms8} ms) ${r8 ? '' : await errorText(page)}`);
+  if (!r8) return;
+  notes.push(`mesh2spline eight.off (GPC) in the browser: ${ms8} ms wall, core ${(1000 * r8.stats.times_s.total).toFixed(0)} ms, ${r8.stats.control_points} control points`);
+  check(r8.stats.genus === 2 && r8.stats.cuboids >= 2 && r8.cuboids === r8.stats.cuboids && r8.colours === r8.cuboids && r8.stats.rms_rel < 0.005,
+        `eight spline: ${r8.stats.cuboids} cuboids, every one on the boundary in its own colour (${r8.colours}), rms_rel ${r8.stats.rms_rel.toExponential(2)}`);
+  await page.uncheck('#mesh-show-cut');
+  await page.waitForTimeout(200);
+  const shade8 = await shadeFraction(page, r8.first);
+  await page.check('#mesh-show-cut');
+  check(shade8 > 0.003, `eight: cuboid 0's colour is on screen (${(100 * shade8).toFixed(2)} %)`);
+  await page.screenshot({ path: path.join(artifacts, 'mesh-eight-gpc-spline.png') });
+
+  // kitten (genus 1, 10,000 vertices) from the samples menu.
+  await page.selectOption('#mesh-samples', meshSamples.find((v) => v.endsWith('kitten.off')));
+  await waitStat(page, 'mesh-stats', 'file', (v) => v === 'kitten.off');
+  await page.waitForFunction(() => !document.getElementById('mesh-run').disabled, null, { timeout: 10000 }).catch(() => {});
+  const msk = await runSpline(120000);
+  const rk = await page.evaluate(() => { const m = window.volspline.meshTab.result; return m?.domain === 'gpc' ? { ...m.stats } : null; });
+  check(!!rk && rk.genus === 1 && rk.cuboids >= 1 && rk.rms_rel < 0.01 && (await errorText(page)) === '',
+        `mesh2spline on kitten.off (genus 1) finishes in the page (${msk} ms): ${rk ? `${rk.cuboids} cuboid(s), rms_rel ${rk.rms_rel.toExponential(2)}` : await errorText(page)}`);
+  if (rk) notes.push(`mesh2spline kitten.off (GPC) in the browser: ${msk} ms wall, core ${(1000 * rk.times_s.total).toFixed(0)} ms, ${rk.control_points} control points`);
 }
 
 // Volume tab: a generated NRRD and a raw file; slices not blank; bad input gives a message.
@@ -596,6 +717,8 @@ async function main() {
     const vertices = Number(await stat(page, 'mesh-stats', 'vertices'));
     check(genus === '1' && vertices > 100, `torus.off stats: genus ${genus}, ${vertices} vertices`);
     check((await stat(page, 'mesh-stats', 'closed')) === 'yes', 'torus.off is closed');
+    const torusLevels = await page.evaluate(() => document.getElementById('mesh-levels').value);
+    check(torusLevels === '8', `genus 1: the levels setting shows the CLI's default for genus > 0 (${torusLevels})`);
     await page.waitForTimeout(200);
     const meshPixels = await canvasContent(page, '#mesh-canvas');
     check(meshPixels.differ > 0.05 && meshPixels.colours > 10, `mesh canvas is not blank (${(100 * meshPixels.differ).toFixed(1)} % drawn, ${meshPixels.colours} colours)`);
@@ -619,6 +742,8 @@ async function main() {
     await page.selectOption('#mesh-samples', meshSamples.find((v) => v.endsWith('cube.off')));
     const cubeVertices = await waitStat(page, 'mesh-stats', 'vertices', (v) => v === '8');
     check(cubeVertices === '8' && (await errorText(page)) === '', 'after the error a sample still loads (cube: 8 vertices) and the error is cleared');
+    const cubeLevels = await page.evaluate(() => document.getElementById('mesh-levels').value);
+    check(cubeLevels === '4', `genus 0: the levels setting is back at the CLI's default for genus 0 (${cubeLevels})`);
 
     if (available.includes('mesh2spline')) {
       await meshToSpline(page);
@@ -627,6 +752,7 @@ async function main() {
     }
     if (available.includes('gpc')) {
       await meshGpc(page);
+      await meshGpcSpline(page);
     } else {
       check(false, 'gpc is in the worker\'s job list');
     }

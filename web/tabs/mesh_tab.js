@@ -26,6 +26,7 @@ function qualityColour(q) {
 export const meshTab = {
   view: null,
   info: null,        // meshInfo result of the open mesh (without its arrays)
+  defaultLevels: 4,  // the levels setting's default for the open mesh's genus
   bytes: null, name: null,
   result: null,      // the last mesh2spline result
   runs: [],          // the jobs added by addRun: {button, job, reset, start}
@@ -38,6 +39,11 @@ export const meshTab = {
     if (!r.ok) { if (r.message !== 'cancelled') showError(r.message); return; }
     const { positions, triangles, ok, ms_worker, ...facts } = r;
     Object.assign(this, { info: { file: name, ...facts }, bytes, name });
+    // The levels follow the CLI's default for the genus (4 levels; genus > 0: 8 uniform
+    // refinements) unless they were changed from the default shown.
+    const levels = this.info.genus > 0 ? 8 : 4;
+    if ($('mesh-levels').value === String(this.defaultLevels)) $('mesh-levels').value = String(levels);
+    this.defaultLevels = levels;
     this.clearResults();
     $('mesh-show-input').checked = true;
     if (this.view) this.view.visible.input = true;
