@@ -26,7 +26,7 @@ function qualityColour(q) {
 export const meshTab = {
   view: null,
   info: null,        // meshInfo result of the open mesh (without its arrays)
-  defaultLevels: 4,  // the levels setting's default for the open mesh's genus
+  defaultLevels: '4',  // the levels setting's default for the open mesh's genus ('' = auto)
   bytes: null, name: null,
   result: null,      // the last mesh2spline result
   runs: [],          // the jobs added by addRun: {button, job, reset, start}
@@ -39,10 +39,10 @@ export const meshTab = {
     if (!r.ok) { if (r.message !== 'cancelled') showError(r.message); return; }
     const { positions, triangles, ok, ms_worker, ...facts } = r;
     Object.assign(this, { info: { file: name, ...facts }, bytes, name });
-    // The levels follow the CLI's default for the genus (4 levels; genus > 0: 8 uniform
-    // refinements) unless they were changed from the default shown.
-    const levels = this.info.genus > 0 ? 8 : 4;
-    if ($('mesh-levels').value === String(this.defaultLevels)) $('mesh-levels').value = String(levels);
+    // The levels follow the CLI's default for the genus (4; genus > 0: auto, the GPC job's own
+    // default) unless they were changed from the default shown.
+    const levels = this.info.genus > 0 ? '' : '4';
+    if ($('mesh-levels').value === this.defaultLevels) $('mesh-levels').value = levels;
     this.defaultLevels = levels;
     this.clearResults();
     $('mesh-show-input').checked = true;
@@ -105,8 +105,10 @@ export const meshTab = {
   },
 
   options() {
+    const levels = $('mesh-levels').value;
     return {
-      max_levels: Number($('mesh-levels').value), fit: $('mesh-fit').value,
+      // auto ('') leaves the levels to the job's default.
+      ...(levels === '' ? {} : { max_levels: Number(levels) }), fit: $('mesh-fit').value,
       // The CLI's targets, sent explicitly: the verdict line compares the result with them.
       max_rms_rel: 0.002, max_surface_error_rel: 0.005,
       cut_axis: Number($('mesh-cut-axis').value), cut_position: Number($('mesh-cut-position').value),
