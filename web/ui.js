@@ -48,6 +48,7 @@ const STAGE_WORDS = {
   'uniform comparison': 'fitting a uniform spline to compare', 'local cubic fit': 'fitting local cubics to the voxels',
   'hessian frames': 'frames from the Hessians', classification: 'classifying the materials', parameterization: 'aligning the parameters with the frames',
   'smooth frames': 'smoothing the frames', decompose: 'cutting the solid into pieces', 'T-to-cube': 'laying the pieces out as cuboids',
+  'grid untangling': 'unfolding the volume grid', padding: 'padding the grid under the surface',
   read: 'reading the file', flatten: 'flattening the lens', done: 'done',
 };
 const JOB_WORDS = { meshInfo: 'reading the mesh', mesh2spline: 'mesh2spline', gpc: 'GPC domain', loadVolume: 'reading the volume',

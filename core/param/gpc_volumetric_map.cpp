@@ -141,7 +141,7 @@ int untangle_padded_mesh(const polycube::GpcConstruction& construction, const st
 }  // namespace
 
 GpcVolumetricMap compute_gpc_volumetric_map(polycube::GpcConstruction& construction, double bbox_diagonal,
-                                            const GpcGridOptions& options) {
+                                            const GpcGridOptions& options, const Progress& progress) {
   polycube::GpcDomain& domain = construction.domain;
   const int nc = static_cast<int>(domain.cuboids.size());
   GpcVolumetricMap out;
@@ -158,6 +158,7 @@ GpcVolumetricMap compute_gpc_volumetric_map(polycube::GpcConstruction& construct
   std::vector<CuboidSurfaceLocator> locators;
   locators.reserve(nc);
   for (int c = 0; c < nc; ++c) {
+    progress.report("surface map", 0.3 * c / nc);
     const polycube::CuboidSurface& s = construction.surfaces[c];
     const mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(s.mesh, "gpc cuboid " + std::to_string(c));
     CuboidSurfaceMapOptions map_options;
@@ -274,6 +275,7 @@ GpcVolumetricMap compute_gpc_volumetric_map(polycube::GpcConstruction& construct
     if (root[r] == r && copies[r] > 1) ++out.shared_nodes;
 
   // Eq. 3.1 over the union of the grids: unknowns are the roots not on the surface.
+  progress.report("volumetric map", 0.35);
   std::vector<int> unknown(total, -1);
   int m = 0;
   for (int r = 0; r < total; ++r)
@@ -335,6 +337,7 @@ GpcVolumetricMap compute_gpc_volumetric_map(polycube::GpcConstruction& construct
   };
   out.grids.resize(nc);
   for (int c = 0; c < nc; ++c) {
+    progress.report("grid untangling", 0.45 + 0.15 * c / nc);
     GpcCuboidGrid& grid = out.grids[c];
     grid.nodes = domain.cuboids[c].nodes;
     const int count = offset[c + 1] - offset[c];
@@ -382,6 +385,7 @@ GpcVolumetricMap compute_gpc_volumetric_map(polycube::GpcConstruction& construct
   int folded = 0;
   for (const GpcCuboidGrid& grid : out.grids) folded += grid.num_inverted_hexes;
   if (options.untangle == GpcGridOptions::Untangle::On && folded > 0 && out.shared_nodes > 0) {
+    progress.report("grid untangling", 0.6);
     std::vector<char> fixed(total);
     for (int r = 0; r < total; ++r) fixed[r] = root[r] != r || on_surface[r];
     // Only the folds near glued nodes: the others had every node they can move free before.
@@ -402,6 +406,7 @@ GpcVolumetricMap compute_gpc_volumetric_map(polycube::GpcConstruction& construct
   }
   // The output hex mesh: padded under the surface, then untangled with only the surface held.
   if (options.padding == GpcGridOptions::Padding::On) {
+    progress.report("padding", 0.7);
     out.hex_mesh = pad_hex_mesh(xyz, hexes, hex_cuboid, surface_faces, options.padding_depth);
     if (options.untangle == GpcGridOptions::Untangle::On)
       out.untangled_nodes += untangle_padded_mesh(construction, root, offset, total, options, out.hex_mesh);

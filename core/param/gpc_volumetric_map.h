@@ -4,6 +4,7 @@
 #include <array>
 #include <vector>
 
+#include "core/common/progress.h"
 #include "core/mesh/triangle_mesh.h"
 #include "core/param/cuboid_surface_map.h"
 #include "core/param/hex_padding.h"
@@ -63,9 +64,11 @@ struct GpcVolumetricMap {
 /// interfaces: the parameterization is smooth across them instead of pinned to the discs. Folded
 /// hexes are then untangled per cuboid (untangle_hex_grid) with the shared nodes held, and the
 /// folds left over all cuboids at once (untangle_hex_mesh) with the shared nodes free.
-/// Writes the node counts into construction.domain.cuboids[c].nodes.
-/// Throws polycube::DecompositionError naming the cuboid if a surface map is not bijective.
+/// Writes the node counts into construction.domain.cuboids[c].nodes. `progress` hears the phases
+/// ('surface map', 'volumetric map', 'grid untangling', 'padding') with the fraction of this map done.
+/// Throws polycube::DecompositionError naming the cuboid if a surface map is not bijective;
+/// volspline::Cancelled if progress asks to stop.
 GpcVolumetricMap compute_gpc_volumetric_map(polycube::GpcConstruction& construction, double bbox_diagonal,
-                                            const GpcGridOptions& options = {});
+                                            const GpcGridOptions& options = {}, const Progress& progress = {});
 
 }  // namespace volspline::param

@@ -130,7 +130,12 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
 
   t0 = Clock::now();
   progress.report("volumetric map", 0.15);
-  result.map = param::compute_gpc_volumetric_map(result.construction, 1.0, options.grid);
+  // The map's phases are the rest of the job (the T-to-cube stages took the first 15 %).
+  const Progress map_progress([&](const std::string& stage, double fraction) {
+    progress.report(stage, 0.15 + 0.85 * fraction);
+    return true;
+  });
+  result.map = param::compute_gpc_volumetric_map(result.construction, 1.0, options.grid, map_progress);
   stats.times_s["volumetric_map"] = seconds_since(t0);
 
   // Back to model units.

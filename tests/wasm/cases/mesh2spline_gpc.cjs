@@ -71,14 +71,17 @@ module.exports = function (vs, { check, sourceDir, fs, path }) {
   const badCut = vs.splineCut(text('{"format": "volspline-gpc-spline", "version": 1}'), 2, 0.5, 9);
   check(badCut.ok === false && /spline JSON/.test(badCut.message), `a broken gpc JSON: ${JSON.stringify(badCut.message)}`);
 
-  // The native CLI writes the same spline: same domain and intervals, points within 1e-4 of the
-  // diagonal (the builds round differently; the fits are iterative).
+  // The native CLI writes the same spline at level 0: same domain and intervals, points within
+  // 1e-4 of the diagonal (the builds round differently; the fits are iterative). Level 0 only:
+  // whether a level meets max_rms_rel, or which knots the misfit marks, may differ by rounding.
   const native = process.env.VOLSPLINE_NATIVE || path.join(sourceDir, 'build/release/cli/volspline');
   if (fs.existsSync(native)) {
     const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'volspline-gpc-spline-'));
     try {
-      execFileSync(native, ['mesh2spline', file, '-o', path.join(dir, 't.json'), '--quiet']);
+      execFileSync(native, ['mesh2spline', file, '-o', path.join(dir, 't.json'), '--max-levels', '0', '--quiet']);
       const a = JSON.parse(fs.readFileSync(path.join(dir, 't.json'), 'utf8'));
+      const level0 = vs.mesh2spline(torus, 'torus.off', { ...view, max_levels: 0 }, null);
+      const json = JSON.parse(decode(level0.spline_json));
       const same = JSON.stringify(a.intervals) === JSON.stringify(json.intervals) && a.points.length === json.points.length;
       let far = 0;
       if (same) a.points.forEach((p, i) => p.forEach((x, k) => { far = Math.max(far, Math.abs(x - json.points[i][k])); }));
@@ -88,17 +91,26 @@ module.exports = function (vs, { check, sourceDir, fs, path }) {
     }
   }
 
+  // The volumetric map (most of the GPC's time) reports its phases, so a cancel there is heard.
+  const phases = stages.map(([st]) => st);
+  check(['surface map', 'grid untangling', 'padding'].every((p) => phases.includes(p)) && stages.every(([, f], i) => i === 0 || f >= stages[i - 1][1]),
+        `the volumetric map reports its phases, fractions increasing: ${JSON.stringify([...new Set(phases)])}`);
+
   // Cancellation through the progress callback, and the module keeps working.
   let calls = 0;
   const cancelled = vs.mesh2spline(torus, 'torus.off', view, () => ++calls < 3);
   check(cancelled.ok === false && cancelled.message === 'cancelled', 'progress returning false cancels the GPC run: ' + cancelled.message);
+  let seen = [];
+  const inMap = vs.mesh2spline(torus, 'torus.off', view, (stage) => { seen.push(stage); return stage !== 'grid untangling'; });
+  check(inMap.ok === false && inMap.message === 'cancelled' && seen[seen.length - 1] === 'grid untangling',
+        `a cancel inside the volumetric map stops there: ${inMap.message} after ${JSON.stringify(seen.slice(-2))}`);
   const bad = (options, pattern, what) => {
     let x;
     try { x = vs.mesh2spline(torus, 'torus.off', options, null); } catch (e) { check(false, what + ': threw ' + e); return; }
     check(x && x.ok === false && typeof x.message === 'string' && pattern.test(x.message), `${what}: ${JSON.stringify(x && x.message)}`);
   };
   bad({ fit: 'meshless' }, /meshless/, 'meshless on genus 1');
-  bad({ max_levels: 11 }, /max_levels|levels/, 'max_levels 11 on genus 1');
+  bad({ max_levels: -1 }, /max_levels|levels/, 'max_levels -1 on genus 1');
   bad({ max_rms_rel: 0 }, /rms/, 'max_rms_rel 0 on genus 1');
   bad({ gpc_grid_nodes: 10 }, /nodes/, 'gpc_grid_nodes 10');
   bad({ padding: 'no' }, /padding/, 'padding not a boolean');
