@@ -2,6 +2,7 @@
 #include "wasm/mesh2spline_binding.h"
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "core/common/error.h"
@@ -15,6 +16,7 @@
 #include "core/mesh/mesh_report.h"
 #include "core/pipeline/gpc_mesh2spline.h"
 #include "core/pipeline/mesh2spline_job.h"
+#include "core/polycube/solid_decomposition.h"
 #include "core/spline/gpc_boundary_tessellation.h"
 #include "core/spline/gpc_spline_cut.h"
 #include "wasm/guarded.h"
@@ -236,8 +238,14 @@ val gpc_mesh2spline(const mesh::TriangleMesh& input, const std::string& name, co
   const int cut_samples = integer_option(options, "cut_samples", 41, 2, 257);
   const int vtu_cells = integer_option(options, "vtu_cells", 24, 1, 64);
   const bool outputs = bool_option(options, "outputs", true);
-  const pipeline::GpcMesh2SplineResult result =
-      pipeline::run_gpc_mesh2spline(input, name, job, progress_from_js(progress));
+  std::optional<pipeline::GpcMesh2SplineResult> run;
+  try {
+    run = pipeline::run_gpc_mesh2spline(input, name, job, progress_from_js(progress));
+  } catch (const polycube::DecompositionError& e) {
+    // The CLI's exit 1: the input was fine, the construction was not.
+    return failure(std::string("mesh2spline failed: ") + e.what());
+  }
+  const pipeline::GpcMesh2SplineResult& result = *run;
 
   val out = val::object();
   out.set("ok", true);

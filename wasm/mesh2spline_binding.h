@@ -40,6 +40,7 @@ namespace volspline::wasm {
 /// control point's anchor as a fraction of its cuboid's box); the cut is the plane
 /// uvw[cut_axis] = cut_position of every cuboid, with cut.cuboid per point; spline_json is the
 /// volspline-gpc-spline document, vtu the sampled hexes (vtu_cells per unit of the longest cuboid).
+/// A GPC construction that fails on a valid solid gives {ok:false, message:'mesh2spline failed: ...'}.
 emscripten::val mesh2spline(const emscripten::val& bytes, const std::string& name, const emscripten::val& options,
                             const emscripten::val& progress);
 
