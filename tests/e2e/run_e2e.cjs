@@ -471,6 +471,28 @@ async function meshGpcSpline(page) {
   check(!!rk && rk.genus === 1 && rk.cuboids >= 1 && rk.rms_rel < 0.01 && (await errorText(page)) === '',
         `mesh2spline on kitten.off (genus 1) finishes in the page (${msk} ms): ${rk ? `${rk.cuboids} cuboid(s), rms_rel ${rk.rms_rel.toExponential(2)}` : await errorText(page)}`);
   if (rk) notes.push(`mesh2spline kitten.off (GPC) in the browser: ${msk} ms wall, core ${(1000 * rk.times_s.total).toFixed(0)} ms, ${rk.control_points} control points`);
+
+  // A torus of 4×3 quads whose GPC construction fails: a message, and the tab stays usable.
+  const [nu, nv] = [4, 3];
+  let off = `OFF\n${nu * nv} ${2 * nu * nv} 0\n`;
+  for (let i = 0; i < nu; i++)
+    for (let j = 0; j < nv; j++) {
+      const u = (2 * Math.PI * i) / nu, v = (2 * Math.PI * j) / nv;
+      off += `${(1 + 0.3 * Math.cos(v)) * Math.cos(u)} ${(1 + 0.3 * Math.cos(v)) * Math.sin(u)} ${0.3 * Math.sin(v)}\n`;
+    }
+  const id = (i, j) => (i % nu) * nv + (j % nv);
+  for (let i = 0; i < nu; i++)
+    for (let j = 0; j < nv; j++) off += `3 ${id(i, j)} ${id(i + 1, j)} ${id(i + 1, j + 1)}\n3 ${id(i, j)} ${id(i + 1, j + 1)} ${id(i, j + 1)}\n`;
+  await page.setInputFiles('#mesh-file', { name: 'ring.off', mimeType: 'application/octet-stream', buffer: Buffer.from(off) });
+  await waitStat(page, 'mesh-stats', 'file', (v) => v === 'ring.off');
+  await page.waitForFunction(() => !document.getElementById('mesh-run').disabled, null, { timeout: 10000 }).catch(() => {});
+  await page.click('#mesh-run');
+  await page.waitForFunction(() => window.volspline.meshTab.result || !document.getElementById('error').hidden, null, { timeout: 60000 }).catch(() => {});
+  await idle(page);
+  const ringError = await errorText(page);
+  const ringResult = await page.evaluate(() => !!window.volspline.meshTab.result);
+  check(ringResult || (/mesh2spline failed/.test(ringError) && !/internal error/.test(ringError)),
+        `a GPC construction that fails shows the core's message: "${ringResult ? 'converted' : ringError}"`);
 }
 
 // Volume tab: a generated NRRD and a raw file; slices not blank; bad input gives a message.
