@@ -30,6 +30,7 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
                                  const pipeline::Mesh2SplineOptions& m, int vtk_cells, OutputFiles& files) {
   pipeline::GpcMesh2SplineOptions options;
   options.max_rms_rel = m.max_rms_rel;
+  if (args.has("max-surface-error")) options.max_surface_error_rel = m.max_surface_error_rel;
   options.max_control_points = m.max_control_points;
   if (args.has("max-levels")) options.max_levels = m.max_levels;
   if (m.untangle == pipeline::Mesh2SplineOptions::Untangle::Off) options.untangle = pipeline::GpcMesh2SplineOptions::Untangle::Off;
@@ -38,6 +39,9 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
   options.seed = m.seed;
   options.gpc.grid.area_balance_iterations = m.area_balance_iterations;
   if (args.has("no-padding")) options.gpc.grid.padding = param::GpcGridOptions::Padding::Off;
+  if (args.has("adaptive-knots")) options.refinement = pipeline::GpcMesh2SplineOptions::Refinement::Adaptive;
+  options.adaptive_growth = args.get_double("knot-growth", options.adaptive_growth);
+  options.surface_weight = args.get_double("surface-weight", options.surface_weight);
   ProgressBar bar(!args.has("quiet"));
   const pipeline::GpcMesh2SplineResult result = pipeline::run_gpc_mesh2spline(input, path, options, bar.progress());
   bar.finish();
@@ -56,6 +60,11 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
     j["rms_geo_rel"] = s.rms_geo_rel;
     j["control_points"] = s.control_points;
     j["levels"] = s.levels;
+    j["knot_refinement"] = args.has("adaptive-knots") ? "adaptive" : "uniform";
+    nlohmann::ordered_json history = nlohmann::ordered_json::array();
+    for (const auto& l : s.level_history)
+      history.push_back({{"control_points", l.control_points}, {"rms_rel", l.rms_rel}, {"surface_max_rel", l.surface_max_rel}});
+    j["level_history"] = history;
     j["min_scaled_jacobian"] = s.min_scaled_jacobian;
     j["negative_jacobian_fraction"] = s.negative_jacobian_fraction;
     j["jacobian_samples"] = s.jacobian_samples;
@@ -118,9 +127,9 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
       {"vtk-linear", "N", "write --vtk as straight hexes sampled on an N^3 lattice instead (tools without Bézier cells)"},
       {"glb", "OUT.glb", "boundary surface of the spline with iso-parameter lines"},
       {"max-rms", "R", "stop refining at rms_rel <= R (fraction of the bbox diagonal; default 0.002)"},
-      {"max-surface-error", "R", "also refine until every surface sample is within R of the mesh (fraction of the bbox diagonal; default 0.005)"},
+      {"max-surface-error", "R", "also refine until every surface sample is within R of the mesh (fraction of the bbox diagonal; default 0.005; genus > 0: only if given)"},
       {"max-control-points", "N", "no refinement beyond N control points (default 50000)"},
-      {"max-levels", "L", "refinement levels after level 0 (default 4; genus > 0: uniform knot refinements, default 8)"},
+      {"max-levels", "L", "refinement levels after level 0 (default 4; genus > 0: knot refinements, default 14)"},
       {"fit", "grid|meshless", "grid: volumetric grid map + fit (§3.4.2); meshless: §4.3.2 (default grid)"},
       {"corners", "FILE", "8 corner vertex ids (cube corner c at (c&1, c>>1&1, c>>2&1)); default automatic"},
       {"weights", "meanvalue|cotan", "surface map weights (default meanvalue)"},
@@ -130,6 +139,9 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
       {"compare-uniform", "", "also fit uniform B-splines to the same rms_rel (stats: uniform_control_points)"},
       {"no-untangle", "", "skip the untangling of folded interior control points after the fit (the thesis's plain fit)"},
       {"no-padding", "", "genus > 0: fit the cuboid grids without the padding layer under the surface (see volspline gpc)"},
+      {"adaptive-knots", "", "genus > 0: each level adds knot lines where the misfit is instead of dividing the spacing by 1.5"},
+      {"surface-weight", "W", "genus > 0: least-squares weight of a surface vertex against a grid node (default 1)"},
+      {"knot-growth", "G", "genus > 0, --adaptive-knots: each level adds lines until the control points grow by G (default 1.4)"},
   };
   for (auto common : common_job_options()) {
     if (common.name == "threads") common.help = "accepted for scripts; the job runs on one thread (same output for any N)";

@@ -34,6 +34,15 @@ std::string serialize_gpc_spline_json(const spline::GpcSpline& spline) {
   Json intervals = Json::array();
   for (int c = 0; c < spline.num_cuboids(); ++c) intervals.push_back(spline.intervals(c));
   j["intervals"] = intervals;
+  if (!spline.uniform_knots()) {  // written only where it differs from what the intervals give
+    Json lines = Json::array();
+    for (int c = 0; c < spline.num_cuboids(); ++c) {
+      Json triple = Json::array();
+      for (int a = 0; a < 3; ++a) triple.push_back(spline.knot_lines(c, a));
+      lines.push_back(triple);
+    }
+    j["knot_lines"] = lines;
+  }
   Json clamped = Json::array();
   for (int g = 0; g < static_cast<int>(spline.domain().interfaces.size()); ++g)
     if (spline.interface_join(g) == spline::GpcFaceJoin::Clamped) clamped.push_back(g);
@@ -98,6 +107,27 @@ spline::GpcSpline parse_gpc_spline_json(const std::string& text, const std::stri
     options.intervals.push_back(n);
   }
   if (cells > kMaxCells) throw Error(prefix + "\"intervals\" ask for more than 2^24 knot cells");
+  if (doc.contains("knot_lines")) {
+    const Json& lines = doc["knot_lines"];
+    if (!lines.is_array() || lines.size() != domain.cuboids.size())
+      throw Error(prefix + "\"knot_lines\" must hold one triple of lists per cuboid");
+    for (std::size_t c = 0; c < lines.size(); ++c) {
+      const std::string at = prefix + "\"knot_lines\"[" + std::to_string(c) + "]";
+      if (!lines[c].is_array() || lines[c].size() != 3) throw Error(at + " is not a triple of lists");
+      std::array<std::vector<double>, 3> triple;
+      for (int a = 0; a < 3; ++a) {
+        const Json& list = lines[c][a];
+        if (!list.is_array() || static_cast<int>(list.size()) != options.intervals[c][a] + 1)
+          throw Error(at + "[" + std::to_string(a) + "] must hold intervals + 1 = " +
+                      std::to_string(options.intervals[c][a] + 1) + " numbers");
+        for (const Json& x : list) {
+          if (!x.is_number() || !std::isfinite(x.get<double>())) throw Error(at + " holds a value that is not a finite number");
+          triple[a].push_back(x.get<double>());
+        }
+      }
+      options.knot_lines.push_back(std::move(triple));
+    }
+  }
   const Json& clamped = doc["clamped_interfaces"];
   if (!clamped.is_array()) throw Error(prefix + "\"clamped_interfaces\" is not an array");
   for (const Json& g : clamped) {

@@ -8,7 +8,8 @@
 namespace volspline::io {
 
 /// A GPC spline as UTF-8 JSON ("format": "volspline-gpc-spline", schema in the README): the
-/// domain (serialize_gpc_domain's object), the knot intervals per cuboid, the clamped interfaces,
+/// domain (serialize_gpc_domain's object), the knot intervals per cuboid (and the knot lines where
+/// they are not uniform), the clamped interfaces,
 /// the dimension and the global control points (numbers at shortest round-trip precision).
 /// The functions follow from the domain and the intervals (GpcSpline's construction is
 /// deterministic), so write → read → write is byte-identical.

@@ -18,10 +18,13 @@ namespace {
 void check_options(const GpcMesh2SplineOptions& o) {
   auto fail = [](const std::string& what) { throw Error("mesh2spline: " + what); };
   if (!(o.max_rms_rel > 0.0) || !std::isfinite(o.max_rms_rel)) fail("`max_rms_rel` must be a positive number");
+  if (!(o.max_surface_error_rel >= 0.0) || !std::isfinite(o.max_surface_error_rel))
+    fail("`max_surface_error_rel` must be a number ≥ 0");
   if (o.max_control_points < 64) fail("`max_control_points` must be ≥ 64");
-  if (o.max_levels < 0 || o.max_levels > 10) fail("`max_levels` must be in [0, 10]");
+  if (o.max_levels < 0 || o.max_levels > 30) fail("`max_levels` must be in [0, 30]");
   if (o.initial_cells < 1 || o.initial_cells > 64) fail("`initial_cells` must be in [1, 64]");
   if (!(o.refinement_ratio > 1.0 && o.refinement_ratio <= 4.0)) fail("`refinement_ratio` must be in (1, 4]");
+  if (!(o.adaptive_growth > 1.0 && o.adaptive_growth <= 8.0)) fail("`adaptive_growth` must be in (1, 8]");
   if (o.measure_samples < 8 || o.measure_samples > 512) fail("`measure_samples` must be in [8, 512]");
   if (!(o.surface_weight > 0.0) || !std::isfinite(o.surface_weight)) fail("`surface_weight` must be a positive number");
   if (o.measure_lattice < 4 || o.measure_lattice > 256) fail("`measure_lattice` must be in [4, 256]");
@@ -167,6 +170,29 @@ std::vector<std::array<double, 3>> grid_line_lengths(const GpcResult& gpc, doubl
   return out;
 }
 
+// ‖F − value‖ of the last `count` samples (the surface vertices), unit-box frame.
+Eigen::VectorXd surface_misfit(const spline::GpcSpline& spline, const spline::GpcSamples& samples, std::size_t count) {
+  const Eigen::Index m = samples.uvw.rows(), first = m - static_cast<Eigen::Index>(count);
+  Eigen::VectorXd out(static_cast<Eigen::Index>(count));
+  double value[3], jacobian[9];
+  for (Eigen::Index s = first; s < m; ++s) {
+    spline.evaluate_with_jacobian(samples.cuboid[s], samples.uvw.row(s).transpose(), value, jacobian);
+    out(s - first) = (Eigen::Vector3d(value[0], value[1], value[2]) - samples.values.row(s).transpose()).norm();
+  }
+  return out;
+}
+
+// Sample ids of the surface vertices (misfit: surface_misfit) farther than `bound`, farthest first.
+std::vector<int> surface_samples_beyond(const Eigen::VectorXd& misfit, const spline::GpcSamples& samples,
+                                        double bound) {
+  const int first = static_cast<int>(samples.uvw.rows() - misfit.size());
+  std::vector<int> out;
+  for (Eigen::Index k = 0; k < misfit.size(); ++k)
+    if (misfit(k) > bound) out.push_back(first + static_cast<int>(k));
+  std::stable_sort(out.begin(), out.end(), [&](int a, int b) { return misfit(a - first) > misfit(b - first); });
+  return out;
+}
+
 double longest_size(const polycube::GpcDomain& domain) {
   double longest = 0.0;
   for (const polycube::GpcCuboid& c : domain.cuboids)
@@ -250,17 +276,30 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
                                 options.surface_weight, centre, diagonal);
   stats.samples = static_cast<int>(data.samples.cuboid.size());
 
-  // Uniform knot refinement (§4.3 with a uniform marking): the spacing shrinks by
-  // refinement_ratio per level until rms_rel ≤ max_rms_rel, the levels or the budget run out.
+  // Knot refinement (§4.3, Algorithm 4) until rms_rel ≤ max_rms_rel, the levels or the budget run
+  // out: level 0 uniform, then per level either the misfit's marking on knot intervals or the
+  // uniform spacing shrunk by refinement_ratio.
   std::optional<spline::GpcSpline> best;
+  std::vector<int> beyond;  // surface samples of the last level beyond max_surface_error_rel
   const std::vector<std::array<double, 3>> lengths = grid_line_lengths(gpc, diagonal);
   double longest = 0.0;
   for (const auto& l : lengths) longest = std::max({longest, l[0], l[1], l[2]});
   double spacing = longest / options.initial_cells;
+  const bool adaptive = options.refinement == GpcMesh2SplineOptions::Refinement::Adaptive;
+  // No knot interval below the volumetric grid's step: every function keeps grid nodes.
+  std::vector<std::array<double, 3>> grid_step;
+  for (std::size_t c = 0; c < gpc.map.grids.size(); ++c) {
+    std::array<double, 3> step{};
+    for (int a = 0; a < 3; ++a) step[a] = domain.cuboids[c].size[a] / std::max(1, gpc.map.grids[c].nodes[a] - 1);
+    grid_step.push_back(step);
+  }
   for (int level = 0; level <= options.max_levels; ++level, spacing /= options.refinement_ratio) {
     progress.report("fit level " + std::to_string(level), 0.6 + 0.3 * level / (options.max_levels + 1));
     spline::GpcSplineOptions so;
-    so.intervals = spline::gpc_uniform_intervals(domain, spacing, &lengths);
+    if (adaptive && best)
+      so.knot_lines = spline::gpc_refined_knot_lines(*best, data.samples, options.adaptive_growth, grid_step, beyond);
+    else
+      so.intervals = spline::gpc_uniform_intervals(domain, spacing, &lengths);
     spline::GpcSpline candidate(domain, so);
     // More functions than a quarter of the samples: the least squares would be fixed mostly by the
     // regularization, not by data (and CG slows down by orders of magnitude).
@@ -274,8 +313,12 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
     stats.rms_rel = report.rms_error;  // unit diagonal: already relative
     stats.max_rel = report.max_error;
     stats.control_points = candidate.num_functions();
+    const Eigen::VectorXd misfit = surface_misfit(candidate, data.samples, data.surface.size());
+    if (options.max_surface_error_rel > 0.0)
+      beyond = surface_samples_beyond(misfit, data.samples, options.max_surface_error_rel);
+    stats.level_history.push_back({candidate.num_functions(), report.rms_error, misfit.size() ? misfit.maxCoeff() : 0.0});
     best = std::move(candidate);
-    if (stats.rms_rel <= options.max_rms_rel) break;
+    if (stats.rms_rel <= options.max_rms_rel && beyond.empty()) break;
   }
   spline::GpcSpline& fitted = *best;
   stats.continued_interfaces = fitted.num_continued_interfaces();

@@ -16,12 +16,24 @@ namespace volspline::pipeline {
 /// GPC construction's).
 struct GpcMesh2SplineOptions {
   double max_rms_rel = 0.002;      ///< stop at rms_rel ≤ this (fraction of the bbox diagonal), > 0
+  /// If > 0, also refine until every surface vertex's sample is within this of the vertex
+  /// (fraction of the bbox diagonal; 0 = rms only): the Hausdorff distance follows the surface
+  /// error, the rms does not. Adaptive refinement splits the intervals of the samples beyond it first.
+  double max_surface_error_rel = 0.0;
   int max_control_points = 50000;  ///< no level beyond this many control points, ≥ 64
-  int max_levels = 8;              ///< knot refinements after level 0, in [0, 10]
+  int max_levels = 14;             ///< knot refinements after level 0, in [0, 30]
   /// Knot intervals along the longest cuboid axis at level 0, in [1, 64]; every further level
   /// divides the knot spacing by refinement_ratio.
   int initial_cells = 4;
   double refinement_ratio = 1.5;  ///< in (1, 4]
+  /// How each level refines the knots (§4.3, Algorithm 4). Uniform divides the knot spacing by
+  /// refinement_ratio; Adaptive (after a uniform level 0) splits the knot intervals of the cuboid
+  /// axes that hold the most misfit until the functions grow by adaptive_growth
+  /// (spline::gpc_refined_knot_lines). Each cuboid stays a tensor product, so a split runs through
+  /// its cross-section and every glued axis: it pays where the misfit sits in a few slabs, not for
+  /// misfit spread over the solid.
+  enum class Refinement { Uniform, Adaptive } refinement = Refinement::Uniform;
+  double adaptive_growth = 1.4;  ///< in (1, 8]
   /// Least-squares weight of a surface vertex relative to a volumetric grid node (> 0).
   double surface_weight = 1.0;
   GpcOptions gpc;                 ///< the domain and its volumetric map (run_gpc)
@@ -44,7 +56,9 @@ struct GpcMesh2SplineResult {
 /// T-to-cube, surface and volumetric maps of every cuboid), then one cubic spline over all
 /// cuboids (spline::GpcSpline: C² across regular interfaces, C⁰ at ill-points) fitted by least
 /// squares to the volumetric map's hex mesh nodes and the surface vertices (fit_gpc_spline),
-/// its knot spacing refined uniformly until rms_rel ≤ max_rms_rel, then measured.
+/// its knots refined (by the misfit or uniformly, options.refinement) until rms_rel ≤
+/// max_rms_rel and every surface sample is within max_surface_error_rel, then untangled and
+/// measured.
 /// Works on a centred copy scaled to a unit diagonal; the spline's points are in model units.
 /// Throws like run_gpc, volspline::Error on bad options.
 GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const std::string& name,

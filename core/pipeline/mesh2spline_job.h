@@ -58,6 +58,14 @@ struct Mesh2SplineStats {
   double rms_geo_rel = 0;          ///< RMS of the same two-sided distances / bbox diagonal
   int control_points = 0;
   int levels = 0;                  ///< refinement levels done after level 0
+  /// GPC splines: per fitted level, its control points, rms_rel and the largest surface-sample
+  /// misfit over the bbox diagonal (the convergence curve).
+  struct Level {
+    int control_points = 0;
+    double rms_rel = 0.0;
+    double surface_max_rel = 0.0;
+  };
+  std::vector<Level> level_history;
   /// From the Bernstein certificate of det J (spline::certify_jacobian): the fraction of
   /// knot-line cells with det J ≥ 0 proven, the smallest certified bound scaled like the scaled
   /// Jacobian (negative if a cell is not certified), and every cell that is not certified.

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numeric>
 #include <string>
+#include <tuple>
 #include <utility>
 
 #include "core/common/error.h"
@@ -124,9 +125,9 @@ void validate_domain(const GpcDomain& domain, double tol) {
   }
 }
 
-// The knot-line intervals of the two sides of every glued face must agree along its tangent
-// axes (§4.4.1 step 1: the two components share their knot intervals on the merged face).
-void check_intervals(const GpcDomain& domain, const std::vector<std::array<int, 3>>& intervals, double tol) {
+using KnotLines = std::vector<std::array<std::vector<double>, 3>>;
+
+void check_counts(const GpcDomain& domain, const std::vector<std::array<int, 3>>& intervals) {
   const int nc = static_cast<int>(domain.cuboids.size());
   if (static_cast<int>(intervals.size()) != nc)
     throw Error("GpcSpline: intervals has " + str(static_cast<int>(intervals.size())) + " entries for " + str(nc) +
@@ -136,19 +137,68 @@ void check_intervals(const GpcDomain& domain, const std::vector<std::array<int, 
       if (intervals[c][a] < 1)
         throw Error("GpcSpline: intervals of cuboid " + str(c) + " axis " + str(a) + " is " + str(intervals[c][a]) +
                     " (must be >= 1)");
+}
+
+// Each list runs from 0 to the size, increasing by more than tol; ends within tol snap onto 0 and size.
+void check_line_lists(const GpcDomain& domain, KnotLines& lines, double tol) {
+  const int nc = static_cast<int>(domain.cuboids.size());
+  if (static_cast<int>(lines.size()) != nc)
+    throw Error("GpcSpline: knot_lines has " + str(static_cast<int>(lines.size())) + " entries for " + str(nc) +
+                " cuboids");
+  for (int c = 0; c < nc; ++c)
+    for (int a = 0; a < 3; ++a) {
+      std::vector<double>& l = lines[c][a];
+      const double size = domain.cuboids[c].size[a];
+      const std::string where = "GpcSpline: knot_lines of cuboid " + str(c) + " axis " + str(a);
+      if (l.size() < 2) throw Error(where + " hold fewer than 2 lines");
+      if (l.size() > 4097) throw Error(where + " hold more than 4097 lines");
+      for (double x : l)
+        if (!std::isfinite(x)) throw Error(where + " hold a value that is not finite");
+      if (std::abs(l.front()) > tol || std::abs(l.back() - size) > tol)
+        throw Error(where + " must start at 0 and end at the size " + std::to_string(size));
+      l.front() = 0.0;
+      l.back() = size;
+      for (std::size_t k = 1; k < l.size(); ++k)
+        if (!(l[k] - l[k - 1] > tol)) throw Error(where + " must increase (by more than 1e-9 of the largest size)");
+    }
+}
+
+// The image of knot line x of the source cuboid's tangent axis a under transition `to`.
+double line_image(const GpcTransition& to, int a, double x) { return to.sign[a] * x + to.translation(to.axis[a]); }
+
+// The knot lines of the two sides of every glued face must agree along its tangent axes (§4.4.1
+// step 1: the two components share their knot intervals on the merged face).
+void check_lines(const GpcDomain& domain, const KnotLines& lines, double tol) {
   for (int i = 0; i < static_cast<int>(domain.interfaces.size()); ++i) {
     const auto& in = domain.interfaces[i];
     const int ca = in.cuboid[0], cb = in.cuboid[1];
     for (int t = 0; t < 3; ++t) {
       if (t == in.face[0] / 2) continue;
       const int tb = in.transition.axis[t];
-      if (intervals[ca][t] != intervals[cb][tb] ||
-          std::abs(domain.cuboids[ca].size[t] - domain.cuboids[cb].size[tb]) > tol)
+      const std::vector<double>& la = lines[ca][t];
+      const std::vector<double>& lb = lines[cb][tb];
+      bool same = la.size() == lb.size() && std::abs(domain.cuboids[ca].size[t] - domain.cuboids[cb].size[tb]) <= tol;
+      for (std::size_t k = 0; same && k < la.size(); ++k) {
+        const std::size_t kb = in.transition.sign[t] > 0 ? k : la.size() - 1 - k;
+        same = std::abs(line_image(in.transition, t, la[k]) - lb[kb]) <= 4.0 * tol;  // sizes agree to tol
+      }
+      if (!same)
         throw Error("GpcSpline: interface " + str(i) + " glues cuboid " + str(ca) + " axis " + str(t) + " (" +
-                    str(intervals[ca][t]) + " intervals) to cuboid " + str(cb) + " axis " + str(tb) + " (" +
-                    str(intervals[cb][tb]) + " intervals): the knot lines of the two sides differ");
+                    str(static_cast<int>(la.size()) - 1) + " intervals) to cuboid " + str(cb) + " axis " + str(tb) +
+                    " (" + str(static_cast<int>(lb.size()) - 1) + " intervals): the knot lines of the two sides differ");
     }
   }
+}
+
+KnotLines uniform_lines(const GpcDomain& domain, const std::vector<std::array<int, 3>>& intervals) {
+  KnotLines out(domain.cuboids.size());
+  for (std::size_t c = 0; c < out.size(); ++c)
+    for (int a = 0; a < 3; ++a) {
+      const int n = intervals[c][a];
+      const double size = domain.cuboids[c].size[a];
+      for (int k = 0; k <= n; ++k) out[c][a].push_back(k == n ? size : size * k / n);
+    }
+  return out;
 }
 
 // The continuity rule, with the join of every interface (Continued or Clamped).
@@ -232,9 +282,8 @@ struct UnionFind {
 // Knot vectors, local functions and their identification for one set of joins.
 class Assembly {
  public:
-  Assembly(const GpcDomain& domain, const std::vector<std::array<int, 3>>& intervals,
-           const std::vector<GpcFaceJoin>& join, double tol)
-      : domain_(domain), intervals_(intervals), join_(join), tol_(tol) {
+  Assembly(const GpcDomain& domain, const KnotLines& lines, const std::vector<GpcFaceJoin>& join, double tol)
+      : domain_(domain), lines_(lines), join_(join), tol_(tol) {
     const int nc = static_cast<int>(domain.cuboids.size());
     knots_.resize(nc);
     offsets_.assign(nc + 1, 0);
@@ -325,12 +374,13 @@ class Assembly {
       }
       const Link l = link_of(domain_, x, f);
       const GpcTransition y_to_c = to_c.after(l.to.inverse());
-      const int ay = l.face / 2, ey = l.face % 2, n = intervals_[l.cuboid][ay];
+      const int ay = l.face / 2, ey = l.face % 2;
+      const std::vector<double>& ly = lines_[l.cuboid][ay];
+      const int n = static_cast<int>(ly.size()) - 1;
       assert(y_to_c.axis[ay] == a);
-      const double s = domain_.cuboids[l.cuboid].size[ay];
       for (int k = 1; k <= n && filled < 3; ++k) {
         Eigen::Vector3d p = Eigen::Vector3d::Zero();
-        p(ay) = ey == 0 ? line(s, n, k) : line(s, n, n - k);
+        p(ay) = ey == 0 ? ly[k] : ly[n - k];
         out[filled++] = y_to_c.apply(p)(a);
       }
       x = l.cuboid;
@@ -341,16 +391,13 @@ class Assembly {
     return out;
   }
 
-  static double line(double size, int n, int k) { return k == n ? size : size * k / n; }
-
   std::vector<double> chain_knots(int c, int a) const {
-    const int n = intervals_[c][a];
-    const double s = domain_.cuboids[c].size[a];
+    const std::vector<double>& own = lines_[c][a];
     const std::array<double, 3> lo = extension(c, a, 0), hi = extension(c, a, 1);
     std::vector<double> out;
-    out.reserve(static_cast<std::size_t>(n) + 7);
+    out.reserve(own.size() + 6);
     for (int q = 2; q >= 0; --q) out.push_back(lo[q]);
-    for (int k = 0; k <= n; ++k) out.push_back(line(s, n, k));
+    out.insert(out.end(), own.begin(), own.end());
     for (int q = 0; q < 3; ++q) out.push_back(hi[q]);
     for (std::size_t q = 1; q < out.size(); ++q)
       if (!(out[q] >= out[q - 1]))
@@ -378,7 +425,7 @@ class Assembly {
   }
 
   const GpcDomain& domain_;
-  const std::vector<std::array<int, 3>>& intervals_;
+  const KnotLines& lines_;
   const std::vector<GpcFaceJoin>& join_;
   double tol_;
   std::vector<std::array<std::vector<double>, 3>> knots_;
@@ -396,12 +443,22 @@ double length_tolerance(const GpcDomain& domain) {
 }  // namespace
 
 GpcSpline::GpcSpline(const polycube::GpcDomain& domain, const GpcSplineOptions& options)
-    : domain_(domain), dimension_(options.dimension), intervals_(options.intervals) {
+    : domain_(domain), dimension_(options.dimension) {
   if (dimension_ < 1 || dimension_ > 4)
     throw Error("GpcSpline: dimension is " + str(dimension_) + " (must be 1..4)");
   const double tol = length_tolerance(domain_);
   validate_domain(domain_, tol);
-  check_intervals(domain_, intervals_, tol);
+  if (options.knot_lines.empty()) {
+    check_counts(domain_, options.intervals);
+    lines_ = uniform_lines(domain_, options.intervals);
+  } else {
+    lines_ = options.knot_lines;
+    check_line_lists(domain_, lines_, tol);
+  }
+  check_lines(domain_, lines_, tol);
+  intervals_.resize(lines_.size());
+  for (std::size_t c = 0; c < lines_.size(); ++c)
+    for (int a = 0; a < 3; ++a) intervals_[c][a] = static_cast<int>(lines_[c][a].size()) - 1;
   const int ni = static_cast<int>(domain_.interfaces.size());
   interface_join_.assign(ni, GpcFaceJoin::Continued);
   for (int i : options.clamped_interfaces) {
@@ -423,7 +480,7 @@ GpcSpline::GpcSpline(const polycube::GpcDomain& domain, const GpcSplineOptions& 
   for (;;) {
     while (rule.pass()) {
     }
-    const Assembly assembly(domain_, intervals_, interface_join_, tol);
+    const Assembly assembly(domain_, lines_, interface_join_, tol);
     UnionFind uf(assembly.total());
     const int failed = assembly.identify(uf);
     if (failed >= 0) {
@@ -487,6 +544,17 @@ GpcFaceJoin GpcSpline::face_join(int cuboid, int face) const {
 
 int GpcSpline::num_continued_interfaces() const {
   return static_cast<int>(std::count(interface_join_.begin(), interface_join_.end(), GpcFaceJoin::Continued));
+}
+
+bool GpcSpline::uniform_knots() const {
+  for (std::size_t c = 0; c < lines_.size(); ++c)
+    for (int a = 0; a < 3; ++a) {
+      const int n = intervals_[c][a];
+      const double size = domain_.cuboids[c].size[a];
+      for (int k = 0; k <= n; ++k)
+        if (lines_[c][a][k] != (k == n ? size : size * k / n)) return false;
+    }
+  return true;
 }
 
 polycube::CubeFaceSet GpcSpline::exposed_faces(int cuboid) const {
@@ -619,6 +687,47 @@ std::vector<std::array<int, 3>> gpc_uniform_intervals(const polycube::GpcDomain&
   for (int c = 0; c < nc; ++c)
     for (int a = 0; a < 3; ++a) out[c][a] = count[uf.find(3 * c + a)];
   return out;
+}
+
+
+std::vector<std::array<std::vector<double>, 3>> gpc_uniform_knot_lines(const polycube::GpcDomain& domain,
+                                                                       const std::vector<std::array<int, 3>>& intervals) {
+  check_counts(domain, intervals);
+  return uniform_lines(domain, intervals);
+}
+
+int gpc_insert_knot_line(const polycube::GpcDomain& domain, std::vector<std::array<std::vector<double>, 3>>& lines,
+                         int cuboid, int axis, double x) {
+  const int nc = static_cast<int>(domain.cuboids.size());
+  if (static_cast<int>(lines.size()) != nc)
+    throw Error("gpc_insert_knot_line: knot lines for " + str(static_cast<int>(lines.size())) + " cuboids, the domain has " +
+                str(nc));
+  if (cuboid < 0 || cuboid >= nc || axis < 0 || axis > 2)
+    throw Error("gpc_insert_knot_line: cuboid " + str(cuboid) + " axis " + str(axis) + " out of range");
+  if (!(x > 0.0 && x < domain.cuboids[cuboid].size[axis]))
+    throw Error("gpc_insert_knot_line: the line " + std::to_string(x) + " is not inside cuboid " + str(cuboid) +
+                " axis " + str(axis));
+  const double tol = length_tolerance(domain);
+  int inserted = 0;
+  // Closure over the gluing of tangent axes: every line lands in every axis of its class.
+  std::vector<std::tuple<int, int, double>> queue{{cuboid, axis, x}};
+  while (!queue.empty()) {
+    const auto [c, a, v] = queue.back();
+    queue.pop_back();
+    std::vector<double>& l = lines[c][a];
+    if (l.size() < 2) throw Error("gpc_insert_knot_line: cuboid " + str(c) + " axis " + str(a) + " has fewer than 2 lines");
+    const auto at = std::lower_bound(l.begin(), l.end(), v);
+    if ((at != l.end() && *at - v <= tol) || (at != l.begin() && v - *(at - 1) <= tol)) continue;
+    l.insert(at, v);
+    ++inserted;
+    for (const polycube::GpcInterface& in : domain.interfaces)
+      for (int s = 0; s < 2; ++s) {
+        if (in.cuboid[s] != c || in.face[s] / 2 == a) continue;
+        const GpcTransition to = s == 0 ? in.transition : in.transition.inverse();
+        queue.emplace_back(in.cuboid[1 - s], to.axis[a], line_image(to, a, v));
+      }
+  }
+  return inserted;
 }
 
 }  // namespace volspline::spline

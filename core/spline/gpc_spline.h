@@ -28,6 +28,11 @@ struct GpcSplineOptions {
   /// Along the two tangent axes of every glued face both sides need the same count (the same
   /// knot lines, §4.4.1 step 1); gpc_uniform_intervals gives such a set.
   std::vector<std::array<int, 3>> intervals;
+  /// Non-uniform knot lines, used instead of intervals when not empty: one triple of increasing
+  /// lists per cuboid, knot_lines[c][a] from 0 to size[a] (at least 2 entries, gaps above 1e-9 of
+  /// the largest size). Along the tangent axes of every glued face both sides need the same lines
+  /// through the transition (x ↦ size − x where the axis flips); gpc_insert_knot_line keeps that.
+  std::vector<std::array<std::vector<double>, 3>> knot_lines;
   /// Interfaces (ids into domain.interfaces, any order, repeats allowed) made Clamped whatever
   /// the continuity rule would allow; the rule then runs from there.
   std::vector<int> clamped_interfaces;
@@ -90,6 +95,10 @@ class GpcSpline {
   int dimension() const { return dimension_; }
   /// Knot intervals of cuboid c along u, v, w.
   const std::array<int, 3>& intervals(int cuboid) const { return intervals_[cuboid]; }
+  /// Knot lines of cuboid c along axis a (0 .. size[a], intervals(c)[a] + 1 entries).
+  const std::vector<double>& knot_lines(int cuboid, int axis) const { return lines_[cuboid][axis]; }
+  /// True if every axis has uniform knot lines (k·size/n, as options.intervals gives).
+  bool uniform_knots() const;
   /// How face f (0..5, polycube/cube_faces.h numbering) of cuboid c is joined.
   GpcFaceJoin face_join(int cuboid, int face) const;
   /// Continued or Clamped for an interface of the domain.
@@ -146,6 +155,7 @@ class GpcSpline {
   int dimension_ = 3;
   int num_functions_ = 0;
   std::vector<std::array<int, 3>> intervals_;
+  std::vector<std::array<std::vector<double>, 3>> lines_;
   std::vector<GpcFaceJoin> interface_join_;
   std::vector<TSpline> patches_;
   std::vector<std::vector<int>> patch_ids_;
@@ -163,5 +173,19 @@ class GpcSpline {
 /// in size (by more than 1e-9 relative), naming the interface, or lengths are malformed.
 std::vector<std::array<int, 3>> gpc_uniform_intervals(const polycube::GpcDomain& domain, double knot_spacing,
                                                       const std::vector<std::array<double, 3>>* lengths = nullptr);
+
+/// Uniform knot lines (GpcSplineOptions::knot_lines) for the given intervals: k·size[a]/n.
+/// Throws volspline::Error if intervals does not hold one triple of counts ≥ 1 per cuboid.
+std::vector<std::array<std::vector<double>, 3>> gpc_uniform_knot_lines(const polycube::GpcDomain& domain,
+                                                                       const std::vector<std::array<int, 3>>& intervals);
+
+/// Inserts knot line x (0 < x < size[axis]) into cuboid c's axis and its image into every axis
+/// glued to it as a tangent axis of some face, through the transitions (Eq. 3.4) and repeated
+/// until nothing new appears (a tube glued to itself under a half turn gets x and size − x), so
+/// that valid knot_lines stay valid. A line within 1e-9 of the largest size of one already there
+/// is not inserted again. Returns how many lines were inserted over all axes.
+/// Throws volspline::Error if c, axis or x is out of range or lines does not fit the domain.
+int gpc_insert_knot_line(const polycube::GpcDomain& domain, std::vector<std::array<std::vector<double>, 3>>& lines,
+                         int cuboid, int axis, double x);
 
 }  // namespace volspline::spline

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include <Eigen/Core>
@@ -53,5 +54,25 @@ struct GpcSplineFitReport {
 /// finite, a value is not finite, or an option is out of range.
 GpcSplineFitReport fit_gpc_spline(GpcSpline& spline, const GpcSamples& samples,
                                   const GpcSplineFitOptions& options = {});
+
+/// Knot lines of an error-driven refinement of `spline` (Algorithm 4's marking, §4.3, on the knot
+/// intervals of every cuboid axis). A GPC-spline stays a tensor product per cuboid with the knot
+/// lines shared through the gluing, so the refinable unit is a knot interval of one axis, not a
+/// cell: each sample's weighted squared misfit weight_s ‖F(uvw_s) − values_s‖² is shared among
+/// the intervals holding it along the three axes in proportion to (h_a³ ‖∂³F/∂u_a³‖)² there (the
+/// axes along which F is far from quadratic at this knot spacing); intervals are split at their
+/// midpoint in decreasing order of what they received
+/// (gpc_insert_knot_line: through every glued axis) until the estimated number of functions,
+/// Σ_c Π_a (intervals + 3), has grown by `growth` (> 1) or no interval with misfit is left. No
+/// half gets shorter than min_interval[c][a] (cuboid units; empty: no limit), e.g. the sample
+/// spacing, so that every function keeps samples. The samples listed in `first` (ids, most
+/// important first, e.g. surface samples beyond a tolerance) have the interval holding them along
+/// their axis of largest share split before any other. Deterministic (ties by cuboid, axis,
+/// interval).
+/// Throws volspline::Error like fit_gpc_spline on malformed samples, if growth is not > 1,
+/// min_interval does not hold one triple per cuboid or an id in `first` is out of range.
+std::vector<std::array<std::vector<double>, 3>> gpc_refined_knot_lines(
+    const GpcSpline& spline, const GpcSamples& samples, double growth,
+    const std::vector<std::array<double, 3>>& min_interval = {}, const std::vector<int>& first = {});
 
 }  // namespace volspline::spline

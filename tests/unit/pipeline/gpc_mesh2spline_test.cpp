@@ -53,6 +53,31 @@ TEST_CASE("gpc mesh2spline: a torus is one cuboid glued to itself, C² across th
   CHECK(far == doctest::Approx(1.35).epsilon(0.01));
 }
 
+TEST_CASE("gpc mesh2spline: adaptive knots on a torus keep the glued spline exact and meet both targets") {
+  pipeline::GpcMesh2SplineOptions o = small_options();
+  o.refinement = pipeline::GpcMesh2SplineOptions::Refinement::Adaptive;
+  o.max_rms_rel = 0.001;
+  o.max_surface_error_rel = 0.005;
+  const pipeline::GpcMesh2SplineResult r = pipeline::run_gpc_mesh2spline(test::torus(64, 24, 1.0, 0.35), "torus", o);
+  const pipeline::Mesh2SplineStats& s = r.stats;
+  CHECK(s.genus == 1);
+  REQUIRE(s.level_history.size() >= 2);
+  CHECK(s.rms_rel <= 0.001);
+  CHECK(s.level_history.back().surface_max_rel <= 0.005);
+  CHECK(s.hausdorff_rel <= 0.01);  // off the samples
+  for (std::size_t l = 1; l < s.level_history.size(); ++l)
+    CHECK(s.level_history[l].control_points > s.level_history[l - 1].control_points);
+  CHECK_FALSE(r.spline.uniform_knots());
+  CHECK(s.semi_standard_max_error <= 1e-12);
+  CHECK(s.interface_gap_rel <= 1e-9);
+  CHECK(s.interface_normal_jump_deg <= 1e-6);
+  CHECK(s.negative_jacobian_fraction == 0.0);
+  // The file holds the knot lines: write → read → write is byte-identical.
+  const std::string text = io::serialize_gpc_spline_json(r.spline);
+  CHECK(text.find("\"knot_lines\"") != std::string::npos);
+  CHECK(io::serialize_gpc_spline_json(io::parse_gpc_spline_json(text, "torus")) == text);
+}
+
 TEST_CASE("gpc mesh2spline: a two-hole slab (genus 2) converts without folds, one spline over its cuboids") {
   const pipeline::GpcMesh2SplineResult r =
       pipeline::run_gpc_mesh2spline(test::two_hole_slab(3), "slab", small_options());

@@ -252,3 +252,47 @@ TEST_CASE("gpc fit: sample weights give the weighted least-squares solution") {
   bad.weight.pop_back();
   CHECK_THROWS_WITH_AS(fit_gpc_spline(spline, bad), doctest::Contains("weights for"), Error);
 }
+
+TEST_CASE("gpc fit: knot lines refined where the misfit is lower it monotonically with fewer functions than uniform") {
+  // The solid torus with a bump near u = 0.3: the misfit sits in a few intervals of u.
+  const GpcDomain d = torus_domain(false);
+  const Map map = [](int, const Eigen::Vector3d& h) {
+    const double bump = 0.04 * std::exp(-std::pow((h(0) - 0.3) / 0.03, 2));
+    const double r = 1.0 + h(1) - 0.15 + bump, angle = 2.0 * M_PI * h(0);
+    return Eigen::Vector3d(r * std::cos(angle), r * std::sin(angle), h(2));
+  };
+  GpcSplineOptions dense;
+  dense.intervals = {{64, 2, 2}};
+  const GpcSamples samples = lattice_samples(GpcSpline(d, dense), map, 2);
+  const std::vector<std::array<double, 3>> spacing = {{1.0 / 128, 0.3 / 4, 0.2 / 4}};  // the samples'
+  const double target = 4e-5;
+  GpcSplineOptions o;
+  o.intervals = {{4, 1, 1}};
+  GpcSpline spline(d, o);
+  double rms = fit_gpc_spline(spline, samples, exact_options()).rms_error;
+  for (int level = 1; level <= 10 && rms > target; ++level) {
+    GpcSplineOptions refined;
+    refined.knot_lines = volspline::spline::gpc_refined_knot_lines(spline, samples, 1.4, spacing);
+    GpcSpline next(d, refined);
+    CHECK(next.num_functions() > spline.num_functions());
+    const double r = fit_gpc_spline(next, samples, exact_options()).rms_error;
+    CHECK(r <= rms * (1.0 + 1e-9));  // nested spaces: least squares cannot get worse
+    rms = r;
+    spline = std::move(next);
+  }
+  REQUIRE(rms <= target);
+  // Uniform knots need more: the fewest functions over n_u = 4 .. 64, n_v = n_w = 1, 2 at the same rms.
+  int uniform = 0;
+  for (int nu = 4; nu <= 64 && uniform == 0; nu *= 2)
+    for (int nvw : {1, 2}) {
+      GpcSplineOptions u;
+      u.intervals = {{nu, nvw, nvw}};
+      GpcSpline us(d, u);
+      if (fit_gpc_spline(us, samples, exact_options()).rms_error <= target) {
+        uniform = us.num_functions();
+        break;
+      }
+    }
+  MESSAGE("rms <= " << target << ": adaptive " << spline.num_functions() << " functions, uniform " << uniform);
+  CHECK(uniform >= 2 * spline.num_functions());
+}

@@ -10,6 +10,7 @@
 
 #include "core/common/error.h"
 #include "core/io/gpc_json.h"
+#include "core/io/gpc_spline_io.h"
 #include "core/spline/gpc_spline.h"
 #include "tests/unit/spline/gpc_test_domains.h"
 
@@ -416,5 +417,87 @@ TEST_CASE("gpc spline: bad input throws with a message") {
   broken = d;
   broken.cuboids[1].size[1] = 0.7;
   CHECK_THROWS_WITH_AS(gpc_uniform_intervals(broken, 0.1), doctest::Contains("interface 0 glues cuboid 0 axis 2"),
+                       Error);
+}
+
+TEST_CASE("gpc spline: knot lines inserted through the gluing keep a C² partition of unity") {
+  // The twisted tube (a quarter turn: v → w, w → size − v): a line lands in both tangent axes
+  // and, through the turn, mirrored: v and w each get 0.1 and 0.3 − 0.1.
+  {
+    const GpcDomain d = torus_domain(true);
+    auto lines = volspline::spline::gpc_uniform_knot_lines(d, {{4, 2, 2}});
+    CHECK(volspline::spline::gpc_insert_knot_line(d, lines, 0, 1, 0.1) == 4);
+    CHECK(volspline::spline::gpc_insert_knot_line(d, lines, 0, 2, 0.2) == 0);  // already there
+    for (int a : {1, 2}) {
+      REQUIRE(lines[0][a].size() == 5);
+      CHECK(lines[0][a][1] == doctest::Approx(0.1).epsilon(1e-15));
+      CHECK(lines[0][a][3] == doctest::Approx(0.2).epsilon(1e-15));
+    }
+    GpcSplineOptions o;
+    o.knot_lines = lines;
+    GpcSpline spline(d, o);
+    CHECK_FALSE(spline.uniform_knots());
+    CHECK(spline.intervals(0) == std::array<int, 3>{4, 4, 4});
+    CHECK(spline.num_functions() == 4 * 7 * 7);  // periodic u: as many functions as intervals
+    random_points(spline, 61);
+    CHECK(partition_error(spline, 20000, 62) <= 1e-12);
+    CHECK(interface_gap(spline, 400, 63) <= 1e-12);
+    const auto j = max_jumps(spline, 0, 64);
+    CHECK(j.d1 <= 1e-9);
+    CHECK(j.d2 <= 1e-6);
+  }
+  // Two cubes and a block of rotated cuboids: midpoints of random intervals, anywhere.
+  const std::vector<GpcDomain> domains = {glue_boxes(two_cube_boxes()),
+                                          glue_boxes(block_boxes({{{1.0, 0.7}, {0.8, 1.2}, {0.5, 0.9}}}, 11))};
+  for (const GpcDomain& d : domains) {
+    auto lines = volspline::spline::gpc_uniform_knot_lines(d, intervals_of(d, 0.3));
+    std::mt19937_64 rng(70);
+    for (int k = 0; k < 8; ++k) {
+      const int c = std::uniform_int_distribution<int>(0, static_cast<int>(d.cuboids.size()) - 1)(rng);
+      const int a = std::uniform_int_distribution<int>(0, 2)(rng);
+      const auto& l = lines[c][a];
+      const int i = std::uniform_int_distribution<int>(0, static_cast<int>(l.size()) - 2)(rng);
+      CHECK(volspline::spline::gpc_insert_knot_line(d, lines, c, a, 0.5 * (l[i] + l[i + 1])) >= 1);
+    }
+    GpcSplineOptions o;
+    o.knot_lines = lines;
+    GpcSpline spline(d, o);
+    CHECK(spline.num_continued_interfaces() == static_cast<int>(d.interfaces.size()));
+    random_points(spline, 71);
+    CHECK(partition_error(spline, 100000, 72) <= 1e-12);
+    CHECK(interface_gap(spline, 200, 73) <= 1e-12);
+    for (int i = 0; i < static_cast<int>(d.interfaces.size()); ++i) {
+      const auto j = max_jumps(spline, i, 74 + i);
+      CHECK(j.d1 <= 1e-9);
+      CHECK(j.d2 <= 1e-6);
+    }
+    // The file holds the lines: write → read → write is byte-identical; uniform knots write none.
+    const std::string text = volspline::io::serialize_gpc_spline_json(spline);
+    CHECK(text.find("\"knot_lines\"") != std::string::npos);
+    CHECK(volspline::io::serialize_gpc_spline_json(volspline::io::parse_gpc_spline_json(text, "t")) == text);
+    GpcSplineOptions uniform;
+    uniform.intervals = intervals_of(d, 0.3);
+    CHECK(volspline::io::serialize_gpc_spline_json(GpcSpline(d, uniform)).find("knot_lines") == std::string::npos);
+  }
+}
+
+TEST_CASE("gpc spline: bad knot lines throw with a message") {
+  const GpcDomain d = glue_boxes(two_cube_boxes());
+  auto lines = volspline::spline::gpc_uniform_knot_lines(d, {{3, 4, 3}, {4, 3, 4}});
+  GpcSplineOptions o;
+  o.knot_lines = lines;
+  o.knot_lines[0][1].insert(o.knot_lines[0][1].begin() + 1, 0.05);  // one side only
+  CHECK_THROWS_WITH_AS(GpcSpline(d, o), doctest::Contains("knot lines of the two sides differ"), Error);
+  o.knot_lines = lines;
+  std::swap(o.knot_lines[0][0][1], o.knot_lines[0][0][2]);
+  CHECK_THROWS_WITH_AS(GpcSpline(d, o), doctest::Contains("must increase"), Error);
+  o.knot_lines = lines;
+  o.knot_lines[1][2].back() = 2.0;
+  CHECK_THROWS_WITH_AS(GpcSpline(d, o), doctest::Contains("must start at 0 and end at the size"), Error);
+  o.knot_lines.pop_back();
+  CHECK_THROWS_WITH_AS(GpcSpline(d, o), doctest::Contains("knot_lines has 1 entries for 2 cuboids"), Error);
+  CHECK_THROWS_WITH_AS(volspline::spline::gpc_insert_knot_line(d, lines, 0, 0, 0.0), doctest::Contains("not inside"),
+                       Error);
+  CHECK_THROWS_WITH_AS(volspline::spline::gpc_insert_knot_line(d, lines, 2, 0, 0.5), doctest::Contains("out of range"),
                        Error);
 }
