@@ -26,4 +26,5 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/gpc_spline_fitting.cpp
   ${CMAKE_CURRENT_LIST_DIR}/gpc_boundary_tessellation.cpp
   ${CMAKE_CURRENT_LIST_DIR}/gpc_spline_cut.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/gpc_jacobian_lattice.cpp
 )

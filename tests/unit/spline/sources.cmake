@@ -22,4 +22,5 @@ set(TEST_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/gpc_spline_fitting_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/gpc_boundary_tessellation_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/gpc_spline_cut_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/gpc_jacobian_lattice_test.cpp
 )
