@@ -8,9 +8,12 @@
 #include <Eigen/LU>
 
 #include "core/common/error.h"
+#include "core/io/gpc_spline_io.h"
 #include "core/io/mesh_io.h"
 #include "core/io/spline_json.h"
 #include "core/param/surface_distance.h"
+#include "core/spline/gpc_boundary_tessellation.h"
+#include "core/spline/gpc_jacobian_lattice.h"
 #include "wasm/guarded.h"
 #include "wasm/js_values.h"
 #include "wasm/spline_preview.h"
@@ -30,6 +33,56 @@ double scaled_jacobian_at(const spline::TSpline& spline, const Eigen::Vector3d& 
   return scale > 0 ? std::clamp(J.determinant() / scale, -1.0, 1.0) : 0.0;
 }
 
+// Per vertex of the boundary preview `xyz` (3 floats each), its distance to the mesh ÷ its bbox
+// diagonal; sets boundary_distance_rel and max_distance_rel on `out`.
+void set_boundary_distance(val& out, const std::vector<float>& xyz, const val& mesh_bytes, const std::string& mesh_name) {
+  const mesh::TriangleMesh input = io::parse_mesh(bytes_from_js(mesh_bytes, "mesh '" + mesh_name + "'"),
+                                                  io::mesh_format_from_path(mesh_name), mesh_name);
+  const double diagonal = (input.positions.colwise().maxCoeff() - input.positions.colwise().minCoeff()).norm();
+  if (!(diagonal > 0)) throw Error("mesh '" + mesh_name + "': its bounding box has no extent");
+  const param::SurfaceDistance surface(input);
+  std::vector<float> distance(xyz.size() / 3);
+  double max_d = 0;
+  for (std::size_t v = 0; v < distance.size(); ++v) {
+    const double d = surface.distance(Eigen::Vector3d(xyz[3 * v], xyz[3 * v + 1], xyz[3 * v + 2])) / diagonal;
+    distance[v] = static_cast<float>(d);
+    max_d = std::max(max_d, d);
+  }
+  out.set("boundary_distance_rel", float32_array(distance.data(), distance.size()));
+  out.set("max_distance_rel", max_d);
+}
+
+// The quality views of a GPC spline: the lattice in every cuboid, the boundary of its surface faces.
+val gpc_spline_quality(const std::string& text, const val& mesh_bytes, const std::string& mesh_name, int n, int bins,
+                       int preview_samples, int preview_lines) {
+  const spline::GpcSpline spline = io::parse_gpc_spline_json(text, "spline JSON");
+  if (spline.dimension() != 3)
+    throw Error("spline JSON: the quality views need a geometric spline (dimension 3), got dimension " +
+                std::to_string(spline.dimension()));
+  const spline::GpcJacobianLattice lattice = spline::sample_gpc_jacobian_lattice(spline, n);
+  std::vector<double> counts(bins, 0.0);
+  std::vector<float> folded;
+  for (std::size_t s = 0; s < lattice.scaled_jacobian.size(); ++s) {
+    const double q = lattice.scaled_jacobian[s];
+    counts[std::clamp(static_cast<int>((q + 1.0) / 2.0 * bins), 0, bins - 1)] += 1;
+    if (q <= 0) folded.insert(folded.end(), lattice.xyz.begin() + 3 * s, lattice.xyz.begin() + 3 * s + 3);
+  }
+  val out = val::object();
+  out.set("ok", true);
+  out.set("samples", double(lattice.scaled_jacobian.size()));
+  out.set("cuboids", spline.num_cuboids());
+  out.set("bins", bins);
+  out.set("counts", float64_array(counts.data(), counts.size()));
+  out.set("min_scaled_jacobian", lattice.min_scaled_jacobian);
+  out.set("folded", float32_array(folded.data(), folded.size()));
+  out.set("boundary_distance_rel", val::null());
+  out.set("max_distance_rel", val::null());
+  if (!mesh_bytes.isNull() && !mesh_bytes.isUndefined())
+    set_boundary_distance(out, spline::tessellate_gpc_boundary(spline, preview_samples, preview_lines).surface_xyz,
+                          mesh_bytes, mesh_name);
+  return out;
+}
+
 }  // namespace
 
 val spline_quality(const val& spline_json, const val& mesh_bytes, const std::string& mesh_name, const val& options) {
@@ -38,7 +91,10 @@ val spline_quality(const val& spline_json, const val& mesh_bytes, const std::str
     const int bins = integer_option(options, "bins", 20, 2, 200);
     const int preview_samples = integer_option(options, "preview_samples", 25, 2, 129);
     const int preview_lines = integer_option(options, "preview_lines", 9, 2, 65);
-    const spline::TSpline spline = io::parse_spline_json(bytes_from_js(spline_json, "spline JSON"), "spline JSON");
+    const std::string text = bytes_from_js(spline_json, "spline JSON");
+    if (io::is_gpc_spline_json(text))
+      return gpc_spline_quality(text, mesh_bytes, mesh_name, n, bins, preview_samples, preview_lines);
+    const spline::TSpline spline = io::parse_spline_json(text, "spline JSON");
     if (spline.dimension() != 3)
       throw Error("spline JSON: the quality views need a geometric spline (dimension 3), got dimension " +
                   std::to_string(spline.dimension()));
@@ -68,24 +124,8 @@ val spline_quality(const val& spline_json, const val& mesh_bytes, const std::str
     out.set("folded", float32_array(folded.data(), folded.size()));
     out.set("boundary_distance_rel", val::null());
     out.set("max_distance_rel", val::null());
-    if (!mesh_bytes.isNull() && !mesh_bytes.isUndefined()) {
-      const mesh::TriangleMesh input = io::parse_mesh(bytes_from_js(mesh_bytes, "mesh '" + mesh_name + "'"),
-                                                      io::mesh_format_from_path(mesh_name), mesh_name);
-      const double diagonal = (input.positions.colwise().maxCoeff() - input.positions.colwise().minCoeff()).norm();
-      if (!(diagonal > 0)) throw Error("mesh '" + mesh_name + "': its bounding box has no extent");
-      const param::SurfaceDistance surface(input);
-      const SplinePreview preview = spline_preview(spline, preview_samples, preview_lines);
-      std::vector<float> distance(preview.surface_xyz.size() / 3);
-      double max_d = 0;
-      for (std::size_t v = 0; v < distance.size(); ++v) {
-        const Eigen::Vector3d p(preview.surface_xyz[3 * v], preview.surface_xyz[3 * v + 1], preview.surface_xyz[3 * v + 2]);
-        const double d = surface.distance(p) / diagonal;
-        distance[v] = static_cast<float>(d);
-        max_d = std::max(max_d, d);
-      }
-      out.set("boundary_distance_rel", float32_array(distance.data(), distance.size()));
-      out.set("max_distance_rel", max_d);
-    }
+    if (!mesh_bytes.isNull() && !mesh_bytes.isUndefined())
+      set_boundary_distance(out, spline_preview(spline, preview_samples, preview_lines).surface_xyz, mesh_bytes, mesh_name);
     return out;
   });
 }

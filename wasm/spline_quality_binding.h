@@ -15,8 +15,9 @@ namespace volspline::wasm {
 /// The scaled Jacobian det J / (|J_u| |J_v| |J_w|) is taken at the centres of an n³ lattice of the
 /// domain (options.lattice, default 24, in [2, 96]) and binned over [−1, 1] (options.bins,
 /// default 20, in [2, 200]). The boundary preview is spline_preview's with options.preview_samples
-/// and options.preview_lines (defaults 25 and 9, as mesh2spline's). {ok:false, message} on bad
-/// JSON, mesh or options.
+/// and options.preview_lines (defaults 25 and 9, as mesh2spline's). A volspline-gpc-spline
+/// document is sampled on the lattice of every cuboid (samples = cuboids·n³, plus cuboids), its
+/// boundary preview is mesh2spline's for genus > 0. {ok:false, message} on bad JSON, mesh or options.
 emscripten::val spline_quality(const emscripten::val& spline_json, const emscripten::val& mesh_bytes,
                                const std::string& mesh_name, const emscripten::val& options);
 

@@ -2,7 +2,7 @@
 // mesh2spline on a solid of genus > 0: the bundled torus (genus 1) goes over its GPC domain (one
 // cuboid glued to itself), with the CLI's GPC stats, the boundary tagged and coloured by cuboid,
 // the cut by scaled Jacobian, the volspline-gpc-spline JSON (the native CLI's within rounding),
-// GLB and VTU; splineCut on that JSON; progress and cancellation; {ok:false, message} for bad
+// GLB and VTU; splineCut and splineQuality on that JSON; progress and cancellation; {ok:false, message} for bad
 // options and JSON.
 'use strict';
 const { execFileSync } = require('child_process');
@@ -70,6 +70,16 @@ module.exports = function (vs, { check, sourceDir, fs, path }) {
   check(u0.ok && u0.positions.length === 75 && u0.axis === 0, 'splineCut of the gpc json on u = 0');
   const badCut = vs.splineCut(text('{"format": "volspline-gpc-spline", "version": 1}'), 2, 0.5, 9);
   check(badCut.ok === false && /spline JSON/.test(badCut.message), `a broken gpc JSON: ${JSON.stringify(badCut.message)}`);
+
+  // splineQuality on the GPC JSON: the lattice of every cuboid, the boundary's distance to the mesh
+  // at the points of the run's boundary preview.
+  const q = vs.splineQuality(r.spline_json, torus, 'torus.off', { lattice: 6, bins: 10, preview_samples: 5, preview_lines: 3 });
+  check(q.ok && q.samples === 216 * s.cuboids && q.cuboids === s.cuboids && q.counts.reduce((a, x) => a + x, 0) === q.samples,
+        `splineQuality(gpc json): ${q.ok ? `${q.samples} lattice points in ${q.cuboids} cuboid(s), binned` : q.message}`);
+  check(q.ok && q.min_scaled_jacobian > 0 && q.folded.length === 0 && q.counts.slice(0, 5).every((c) => c === 0),
+        `torus lattice: none folded, min scaled Jacobian ${q.min_scaled_jacobian}`);
+  check(q.ok && q.boundary_distance_rel.length === n && q.max_distance_rel > 0 && q.max_distance_rel < 0.02,
+        `boundary distance per preview point, max ${q.max_distance_rel} (hausdorff_rel ${s.hausdorff_rel})`);
 
   // The native CLI writes the same spline at level 0: same domain and intervals, points within
   // 1e-4 of the diagonal (the builds round differently; the fits are iterative). Level 0 only:
