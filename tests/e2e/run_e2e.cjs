@@ -370,7 +370,8 @@ async function meshGpcSpline(page) {
   const runSpline = async (timeout) => {
     const t0 = Date.now();
     await page.click('#mesh-run');
-    await page.waitForFunction(() => window.volspline.meshTab.result?.domain === 'gpc' || !document.getElementById('error').hidden, null, { timeout }).catch(() => {});
+    // Done once the quality views (splineQuality after mesh2spline) are in.
+    await page.waitForFunction(() => (window.volspline.meshTab.result?.domain === 'gpc' && window.volspline.meshTab.result.quality) || !document.getElementById('error').hidden, null, { timeout }).catch(() => {});
     await idle(page);
     return Date.now() - t0;
   };
@@ -395,6 +396,10 @@ async function meshGpcSpline(page) {
   check((await errorText(page)) === '' && r.cuboids.join() === '0' && r.cut > 0, `no error; the boundary is tagged with cuboid 0 and the cut has ${r.cut} points`);
   const verdict = await page.evaluate(() => document.getElementById('mesh-verdict').dataset.verdict);
   check(['good', 'poor', 'folds'].includes(verdict), `the verdict line is shown (${verdict})`);
+  const histogram = await page.evaluate(() => ({ shown: !document.getElementById('mesh-histogram').hidden, caption: document.getElementById('mesh-histogram-caption').textContent,
+    bars: document.querySelectorAll('#mesh-histogram-svg rect').length, distance: !!window.volspline.meshTab.result.quality?.boundary_distance_rel }));
+  check(histogram.shown && histogram.bars > 0 && /scaled Jacobian at 24³ points/.test(histogram.caption) && !histogram.distance,
+        `the scaled-Jacobian histogram of the GPC spline is shown, the boundary keeps its cuboid colours: "${histogram.caption}"`);
   await page.waitForTimeout(300);
   // The cut shows the scaled Jacobian's colours; without it the boundary shows the cuboid's colour.
   const cutColours = await page.evaluate(() => !!window.volspline.meshTab.view.layers.cut?.hasScalar);
@@ -455,6 +460,8 @@ async function meshGpcSpline(page) {
   notes.push(`mesh2spline eight.off (GPC) in the browser: ${ms8} ms wall, core ${(1000 * r8.stats.times_s.total).toFixed(0)} ms, ${r8.stats.control_points} control points`);
   check(r8.stats.genus === 2 && r8.stats.cuboids >= 2 && r8.cuboids === r8.stats.cuboids && r8.colours === r8.cuboids && r8.stats.rms_rel < 0.005,
         `eight spline: ${r8.stats.cuboids} cuboids, every one on the boundary in its own colour (${r8.colours}), rms_rel ${r8.stats.rms_rel.toExponential(2)}`);
+  const caption8 = await page.evaluate(() => document.getElementById('mesh-histogram-caption').textContent);
+  check(/in each of \d+ cuboids/.test(caption8), `eight: the histogram samples every cuboid: "${caption8}"`);
   await page.uncheck('#mesh-show-cut');
   await page.waitForTimeout(200);
   const shade8 = await shadeFraction(page, r8.first);

@@ -129,12 +129,12 @@ export const meshTab = {
     }
     this.clearResults();
     this.result = { ...r, options };
-    // A GPC spline's JSON has no single-patch anchors, and the quality views read single-patch
-    // splines: its cut and stats carry its Jacobian measures.
+    // A GPC spline's JSON has no single-patch anchors (no lattice); its control points carry
+    // their anchors in control_uvw.
     const gpc = r.domain === 'gpc';
     this.view?.setSpline(r, r.spline_json && !gpc ? splineLattice(r.spline_json) : null);
     this.showVerdict();
-    if (!gpc) await this.runQuality();
+    await this.runQuality();
     // The input mesh would hide the cut: shown again by its checkbox.
     $('mesh-show-input').checked = false;
     if (this.view) this.view.visible.input = false;
@@ -151,7 +151,9 @@ export const meshTab = {
   async runQuality() {
     const result = this.result;
     if (!result?.spline_json || !jobs.available?.includes('splineQuality')) return;
-    const r = await runJob('splineQuality', { json: result.spline_json.slice(), bytes: this.bytes.slice(), name: this.name, options: { lattice: QUALITY_LATTICE } });
+    // A GPC spline's boundary keeps its cuboid colours: no distance colours asked for.
+    const bytes = result.domain === 'gpc' ? null : this.bytes.slice();
+    const r = await runJob('splineQuality', { json: result.spline_json.slice(), bytes, name: this.name, options: { lattice: QUALITY_LATTICE } });
     if (this.cutPending) this.updateCut();  // a cut asked for while this ran
     if (this.result !== result) return;  // another run or mesh replaced it meanwhile
     if (!r.ok) { if (r.message !== 'cancelled') showError(r.message); return; }
@@ -164,7 +166,7 @@ export const meshTab = {
     $('mesh-distance-bar').style.background = DISTANCE_GRADIENT;
     $('mesh-distance-mid').textContent = pct(target / 2);
     $('mesh-distance-max').textContent = '≥ ' + pct(target);
-    $('mesh-distance-legend').hidden = !$('mesh-show-distance').checked;
+    $('mesh-distance-legend').hidden = !$('mesh-show-distance').checked || !r.boundary_distance_rel;
   },
 
   /// Hands the quality views to the 3D view, the distance colours as the checkbox says.
@@ -202,7 +204,8 @@ export const meshTab = {
     zero.setAttribute('stroke', '#475569'); zero.setAttribute('stroke-dasharray', '2 2');
     svg.replaceChildren(...bars, zero);
     const folded = q.folded.length / 3;
-    $('mesh-histogram-caption').textContent = `scaled Jacobian at ${QUALITY_LATTICE}³ points: ${folded ? `${folded} folded (≤ 0)` : 'none folded'}, min ${fmt(q.min_scaled_jacobian, 3)}`;
+    const where = q.cuboids > 1 ? `${QUALITY_LATTICE}³ points in each of ${q.cuboids} cuboids` : `${QUALITY_LATTICE}³ points`;
+    $('mesh-histogram-caption').textContent = `scaled Jacobian at ${where}: ${folded ? `${folded} folded (≤ 0)` : 'none folded'}, min ${fmt(q.min_scaled_jacobian, 3)}`;
     $('mesh-histogram').hidden = false;
   },
 
