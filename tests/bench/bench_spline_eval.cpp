@@ -1,19 +1,30 @@
 // SPDX-License-Identifier: MIT
 // Evaluation throughput of the trivariate spline kernels (one thread): tensor B-spline volume,
-// T-spline semi-standard (Eq. 4.3) and rational (Eq. 4.1), value only and value + Jacobian.
+// T-spline semi-standard (Eq. 4.3) and rational (Eq. 4.1), value only and value + Jacobian, and a
+// GPC-spline (§3.5) at random (cuboid, uvw): a block of 8 rotated cuboids glued C² and a twisted
+// closed tube, 16 intervals per longest side, or the spline JSON given with --gpc FILE (e.g.
+// mesh2spline's output for a genus > 0 solid), with its own patches called directly as the
+// reference in the same run (the cost of the cuboid dispatch and the box check).
 // Prints JSON: evaluations per second, median of 5 runs over the same random parameters.
+// usage: bench_spline_eval [COUNT] [--gpc FILE.json]
 #include <algorithm>
 #include <cstdio>
 #include <ctime>
+#include <fstream>
 #include <functional>
 #include <random>
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "core/io/gpc_spline_io.h"
 #include "core/spline/bspline_volume.h"
+#include "core/spline/gpc_spline.h"
 #include "core/spline/tspline.h"
 #include "core/spline/tspline_refinement.h"
+#include "tests/unit/spline/gpc_test_domains.h"
 
 using namespace volspline::spline;
 
@@ -44,7 +55,19 @@ double median_rate(const std::function<double()>& run, int count, double* checks
 
 int main(int argc, char** argv) {
   const int num_control = 16;
-  const int count = argc > 1 ? std::atoi(argv[1]) : 1000000;
+  int count = 1000000;
+  std::string gpc_file;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--gpc" && i + 1 < argc)
+      gpc_file = argv[++i];
+    else
+      count = std::atoi(argv[i]);
+  }
+  if (count < 1) {
+    std::fprintf(stderr, "usage: bench_spline_eval [COUNT >= 1] [--gpc FILE.json]\n");
+    return 2;
+  }
   std::mt19937 rng(12345);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::normal_distribution<double> normal(0.0, 1.0);
@@ -136,6 +159,75 @@ int main(int argc, char** argv) {
   bench_tspline(refined, "tspline_refined");
   out["tspline_tensor_over_bspline_volume"] =
       out["tspline_tensor"]["semi_standard"]["value"].get<double>() / out["bspline_volume"]["value"].get<double>();
+
+  // GPC-splines: random cuboids (in proportion to their volume) and points inside them.
+  auto bench_gpc = [&](const GpcSpline& spline, const std::string& name) {
+    nlohmann::json& o = out["gpc_spline"][name];
+    o["cuboids"] = spline.num_cuboids();
+    o["control_points"] = spline.num_functions();
+    o["continued_interfaces"] = spline.num_continued_interfaces();
+    std::vector<double> volume_share;
+    for (int c = 0; c < spline.num_cuboids(); ++c) {
+      const auto& size = spline.domain().cuboids[c].size;
+      volume_share.push_back(size[0] * size[1] * size[2]);
+    }
+    std::discrete_distribution<int> pick(volume_share.begin(), volume_share.end());
+    std::vector<int> cuboid(count);
+    std::vector<Eigen::Vector3d> uvw(count);
+    for (int k = 0; k < count; ++k) {
+      cuboid[k] = pick(rng);
+      const auto& size = spline.domain().cuboids[cuboid[k]].size;
+      uvw[k] = Eigen::Vector3d(unit(rng) * size[0], unit(rng) * size[1], unit(rng) * size[2]);
+    }
+    o["value_jacobian"] = median_rate([&] {
+      double s = 0.0, v[4], j[12];
+      for (int k = 0; k < count; ++k) { spline.evaluate_with_jacobian(cuboid[k], uvw[k], v, j); s += v[0] + j[4]; }
+      return s;
+    }, count, &checksum);
+    o["patch_value_jacobian_reference"] = median_rate([&] {
+      double s = 0.0, v[4], j[12];
+      for (int k = 0; k < count; ++k) {
+        spline.patch(cuboid[k]).evaluate_with_jacobian(uvw[k], TSplineForm::SemiStandard, v, j);
+        s += v[0] + j[4];
+      }
+      return s;
+    }, count, &checksum);
+    o["value"] = median_rate([&] {
+      double s = 0.0, v[4];
+      for (int k = 0; k < count; ++k) { spline.patch(cuboid[k]).evaluate_to(uvw[k], TSplineForm::SemiStandard, v); s += v[0]; }
+      return s;
+    }, count, &checksum);
+  };
+  auto random_gpc = [&](const volspline::polycube::GpcDomain& domain) {
+    double longest = 0.0;
+    for (const auto& c : domain.cuboids) longest = std::max({longest, c.size[0], c.size[1], c.size[2]});
+    GpcSplineOptions options;
+    options.intervals = gpc_uniform_intervals(domain, longest / 16);
+    GpcSpline spline(domain, options);
+    Eigen::MatrixXd p(spline.num_functions(), 3);
+    for (Eigen::Index i = 0; i < p.size(); ++i) p.data()[i] = normal(rng);
+    spline.set_points(p);
+    return spline;
+  };
+  using namespace volspline::test;
+  bench_gpc(random_gpc(glue_boxes(block_boxes({{{1.0, 0.7}, {0.8, 1.2}, {0.5, 0.9}}}, 11))), "block_8_cuboids");
+  bench_gpc(random_gpc(torus_domain(true)), "twisted_tube");
+  if (!gpc_file.empty()) {
+    std::ifstream in(gpc_file, std::ios::binary);
+    std::stringstream text;
+    text << in.rdbuf();
+    if (!in) {
+      std::fprintf(stderr, "bench_spline_eval: cannot read '%s'\n", gpc_file.c_str());
+      return 2;
+    }
+    try {
+      bench_gpc(volspline::io::parse_gpc_spline_json(text.str(), gpc_file), "file");
+      out["gpc_spline"]["file"]["path"] = gpc_file;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "%s\n", e.what());
+      return 2;
+    }
+  }
   out["checksum"] = checksum;
   std::printf("%s\n", out.dump(2).c_str());
   return 0;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/LU>  // determinant
 
 #include "core/polycube/gpc_domain.h"
 
