@@ -42,6 +42,7 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
   if (args.has("adaptive-knots")) options.refinement = pipeline::GpcMesh2SplineOptions::Refinement::Adaptive;
   options.adaptive_growth = args.get_double("knot-growth", options.adaptive_growth);
   options.surface_weight = args.get_double("surface-weight", options.surface_weight);
+  options.measure_lattice = args.get_int("measure-lattice", options.measure_lattice);
   ProgressBar bar(!args.has("quiet"));
   const pipeline::GpcMesh2SplineResult result = pipeline::run_gpc_mesh2spline(input, path, options, bar.progress());
   bar.finish();
@@ -140,6 +141,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
       {"no-untangle", "", "skip the untangling of folded interior control points after the fit (the thesis's plain fit)"},
       {"no-padding", "", "genus > 0: fit the cuboid grids without the padding layer under the surface (see volspline gpc)"},
       {"adaptive-knots", "", "genus > 0: each level adds knot lines where the misfit is instead of dividing the spacing by 1.5"},
+      {"measure-lattice", "N", "genus > 0: lattice_negative_fraction at the cell centres of an N^3 lattice per cuboid (default 64, 4..256)"},
       {"surface-weight", "W", "genus > 0: least-squares weight of a surface vertex against a grid node (default 1)"},
       {"knot-growth", "G", "genus > 0, --adaptive-knots: each level adds lines until the control points grow by G (default 1.4)"},
   };
