@@ -43,6 +43,7 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
   options.adaptive_growth = args.get_double("knot-growth", options.adaptive_growth);
   options.surface_weight = args.get_double("surface-weight", options.surface_weight);
   options.measure_lattice = args.get_int("measure-lattice", options.measure_lattice);
+  options.threads = args.get_int("threads", 1);
   ProgressBar bar(!args.has("quiet"));
   const pipeline::GpcMesh2SplineResult result = pipeline::run_gpc_mesh2spline(input, path, options, bar.progress());
   bar.finish();
@@ -146,7 +147,8 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
       {"knot-growth", "G", "genus > 0, --adaptive-knots: each level adds lines until the control points grow by G (default 1.4)"},
   };
   for (auto common : common_job_options()) {
-    if (common.name == "threads") common.help = "accepted for scripts; the job runs on one thread (same output for any N)";
+    if (common.name == "threads")
+      common.help = "genus > 0: the cuboids' untangling on N threads (default 1); genus 0 runs on one (same output for any N)";
     specs.push_back(common);
   }
   const Args args = parse_args(argv, specs);
@@ -174,7 +176,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
   options.max_control_points = args.get_int("max-control-points", options.max_control_points);
   options.max_levels = args.get_int("max-levels", options.max_levels);
   options.initial_cells = args.get_int("initial-cells", options.initial_cells);
-  if (args.get_int("threads", 1) < 1) throw UsageError("--threads must be >= 1");  // accepted; the job runs on one thread
+  if (args.get_int("threads", 1) < 1) throw UsageError("--threads must be >= 1");
   if (args.has("compare-uniform")) options.compare_uniform = pipeline::Mesh2SplineOptions::CompareUniform::On;
   if (args.has("no-untangle")) options.untangle = pipeline::Mesh2SplineOptions::Untangle::Off;
   const std::string fit = args.get("fit", "grid");

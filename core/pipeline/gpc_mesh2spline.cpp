@@ -3,9 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <optional>
 
 #include "core/common/error.h"
+#include "core/linalg/parallel_for.h"
 #include "core/pipeline/gpc_spline_measures.h"
 #include "core/pipeline/stage_timer.h"
 #include "core/spline/gpc_spline_fitting.h"
@@ -28,6 +30,7 @@ void check_options(const GpcMesh2SplineOptions& o) {
   if (o.measure_samples < 8 || o.measure_samples > 512) fail("`measure_samples` must be in [8, 512]");
   if (!(o.surface_weight > 0.0) || !std::isfinite(o.surface_weight)) fail("`surface_weight` must be a positive number");
   if (o.measure_lattice < 4 || o.measure_lattice > 256) fail("`measure_lattice` must be in [4, 256]");
+  if (o.threads < 1) fail("`threads` must be ≥ 1");
 }
 
 // Fitting samples in the unit-box frame: every (cuboid, node) of the volumetric map's hex mesh
@@ -204,11 +207,14 @@ double longest_size(const polycube::GpcDomain& domain) {
 // support lies inside the box and vanishes on its faces move (each belongs to this cuboid alone),
 // so the surface fit and both sides of every glued face stay as they are. Returns the functions
 // that were free to move.
-int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& samples) {
-  Eigen::MatrixXd points = spline.points();
+int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& samples, int threads) {
   const double longest_side = longest_size(spline.domain());
-  int free = 0;
-  for (int c = 0; c < spline.num_cuboids(); ++c) {
+  const int nc = spline.num_cuboids();
+  // Every cuboid starts from the fitted points and its moves are written back in cuboid order, so
+  // the cuboids are independent jobs: the same result on any number of threads.
+  std::vector<Eigen::MatrixXd> moved(static_cast<std::size_t>(nc));
+  std::vector<int> free(static_cast<std::size_t>(nc), 0);
+  linalg::parallel_for(threads, nc, [&](int c) {
     std::vector<Eigen::Index> rows;
     for (std::size_t s = 0; s < samples.cuboid.size(); ++s)
       if (samples.cuboid[s] == c) rows.push_back(static_cast<Eigen::Index>(s));
@@ -233,12 +239,16 @@ int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& sample
     if (continued)
       uo.region = {{Eigen::Vector3d::Zero().cwiseMax(patch.domain_min()),
                     Eigen::Vector3d(size[0], size[1], size[2]).cwiseMin(patch.domain_max())}};
-    free += spline::untangle_spline(patch, uvw, xyz, uo).free_functions;
+    free[c] = spline::untangle_spline(patch, uvw, xyz, uo).free_functions;
+    moved[c] = patch.points();
+  });
+  Eigen::MatrixXd points = spline.points();
+  for (int c = 0; c < nc; ++c) {
     const std::vector<int>& ids = spline.patch_function_ids(c);
-    for (std::size_t j = 0; j < ids.size(); ++j) points.row(ids[j]) = patch.points().row(static_cast<Eigen::Index>(j));
+    for (std::size_t j = 0; j < ids.size(); ++j) points.row(ids[j]) = moved[c].row(static_cast<Eigen::Index>(j));
   }
   spline.set_points(std::move(points));
-  return free;
+  return std::accumulate(free.begin(), free.end(), 0);
 }
 
 
@@ -325,7 +335,7 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
   stats.negative_jacobian_fraction_fit = -1.0;
   if (options.untangle == GpcMesh2SplineOptions::Untangle::On) {
     progress.report("untangle", 0.9);
-    stats.untangled_control_points = untangle_cuboids(fitted, data.samples);
+    stats.untangled_control_points = untangle_cuboids(fitted, data.samples, options.threads);
     timer.end_stage("untangle");
   }
 

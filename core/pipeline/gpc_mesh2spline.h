@@ -44,6 +44,9 @@ struct GpcMesh2SplineOptions {
   /// Cell centres per axis per cuboid at which lattice_negative_fraction is counted, [4, 256].
   int measure_lattice = 64;
   std::uint64_t seed = 1;  ///< seeds the random parameters of semi_standard_max_error
+  /// Worker threads of the untangling (the cuboids run concurrently), ≥ 1 (1 creates none); the
+  /// result is the same for every count.
+  int threads = 1;
 };
 
 /// Result of run_gpc_mesh2spline.

@@ -97,6 +97,10 @@ TEST_CASE("gpc spline JSON: write, read, write is byte-identical and evaluates t
       pipeline::run_gpc_mesh2spline(test::two_hole_slab(2), "slab", small_options());
   const std::string text = io::serialize_gpc_spline_json(r.spline);
   CHECK(io::is_gpc_spline_json(text));
+  // The cuboids' untangling on two threads gives the same bytes.
+  pipeline::GpcMesh2SplineOptions two = small_options();
+  two.threads = 2;
+  CHECK(io::serialize_gpc_spline_json(pipeline::run_gpc_mesh2spline(test::two_hole_slab(2), "slab", two).spline) == text);
   const spline::GpcSpline back = io::parse_gpc_spline_json(text, "slab.json");
   CHECK(io::serialize_gpc_spline_json(back) == text);
   REQUIRE(back.num_functions() == r.spline.num_functions());
