@@ -471,8 +471,10 @@ GpcSpline::GpcSpline(const polycube::GpcDomain& domain, const GpcSplineOptions& 
   // with shared face control points) until the rule of JoinRule::same_at_edge holds on every face.
   // At a Type-1 ill-point the thesis (§4.4.2) adds extra bd-control-points and re-weights them by
   // knot insertion into an auxiliary grid (Table 4.2) but leaves open how the knot vectors of the
-  // functions around the concave edge continue; we clamp the faces touching it instead (C⁰ there,
-  // the continuity the thesis claims at ill-points), which keeps its measures exact: Σ w_i B_i ≡ 1
+  // functions around the concave edge continue, and those weights (re-derived in the unit test)
+  // sum to 1 − B_aux, short of 1 inside the solid next to the edge; we clamp the faces touching it
+  // instead (C⁰ there, the continuity the thesis claims at ill-points), which keeps its measures
+  // exact: Σ w_i B_i ≡ 1
   // (Eq. 4.3) and no function beyond the solid's boundary (§4.3.1). A configuration the rule does
   // not foresee (functions that fail to match across a face) clamps that face too, and the rule
   // runs again: joins only ever turn Clamped, so this ends.

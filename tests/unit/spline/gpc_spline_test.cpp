@@ -11,7 +11,9 @@
 #include "core/common/error.h"
 #include "core/io/gpc_json.h"
 #include "core/io/gpc_spline_io.h"
+#include "core/spline/bspline_basis.h"
 #include "core/spline/gpc_spline.h"
+#include "core/spline/knot_insertion.h"
 #include "tests/unit/spline/gpc_test_domains.h"
 
 using volspline::Error;
@@ -500,4 +502,52 @@ TEST_CASE("gpc spline: bad knot lines throw with a message") {
                        Error);
   CHECK_THROWS_WITH_AS(volspline::spline::gpc_insert_knot_line(d, lines, 2, 0, 0.5), doctest::Contains("out of range"),
                        Error);
+}
+
+TEST_CASE("gpc spline: knot insertion re-derives Table 4.2's Type-1 weights, which leave Σ w B short of 1 inside") {
+  // §4.4.2 around a Type-1 ill-point (the cross-section of a concave edge: three quadrants of a
+  // standard grid are the solid, x < 0, y < 0 is outside): an auxiliary control point completes
+  // the grid, bd-knots make x = 0 and y = 0 triple, and every refined function's weight is the
+  // sum of the refinement coefficients of the original unit-weight functions except the
+  // auxiliary one: w = 1 − α_x α_y with α the auxiliary function's coefficient per axis.
+  using volspline::spline::insert_knot;
+  using volspline::spline::LocalKnots;
+  const LocalKnots aux = {-3.0, -2.0, -1.0, 0.0, 1.0};  // centred on −1, the missing corner
+  std::vector<std::pair<LocalKnots, double>> parts = {{aux, 1.0}};
+  for (int round = 0; round < 2; ++round) {  // 0 twice more: multiplicity 3
+    std::vector<std::pair<LocalKnots, double>> next;
+    for (const auto& [r, c] : parts) {
+      if (!(r[0] < 0.0 && r[4] > 0.0)) {  // 0 is an end knot: nothing to split
+        next.push_back({r, c});
+        continue;
+      }
+      const auto k = insert_knot(r, 0.0);
+      if (k.first_coefficient > 0.0) next.push_back({k.first, c * k.first_coefficient});
+      if (k.second_coefficient > 0.0) next.push_back({k.second, c * k.second_coefficient});
+    }
+    parts = next;
+  }
+  auto alpha = [&](const LocalKnots& r) {
+    double sum = 0.0;
+    for (const auto& [q, c] : parts)
+      if (q == r) sum += c;
+    return sum;
+  };
+  // The three refined functions nearest the central point along an axis: ending at the triple
+  // knot, the C⁰ one through it, starting at it.
+  const std::array<LocalKnots, 3> near = {{{-2.0, -1.0, 0.0, 0.0, 0.0}, {-1.0, 0.0, 0.0, 0.0, 1.0}, {0.0, 0.0, 0.0, 1.0, 2.0}}};
+  const std::array<double, 3> a = {alpha(near[0]), alpha(near[1]), alpha(near[2])};
+  CHECK(a[0] == doctest::Approx(1.0 / 3.0).epsilon(1e-15));
+  CHECK(a[1] == doctest::Approx(1.0 / 6.0).epsilon(1e-15));
+  CHECK(a[2] == 0.0);
+  // Table 4.2, Type-1 row: 8/9, 17/18, 35/36 and 1 (the third axis, along the edge, adds factors 1).
+  const double table[3][3] = {{8.0 / 9, 17.0 / 18, 1.0}, {17.0 / 18, 35.0 / 36, 1.0}, {1.0, 1.0, 1.0}};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) CHECK(1.0 - a[i] * a[j] == doctest::Approx(table[i][j]).epsilon(1e-15));
+  // The refined functions with these weights sum to 1 − B_aux, and B_aux does not vanish in the
+  // solid (x > 0 or y > 0 next to the edge): Σ w B falls short of 1 there. GpcSpline clamps the
+  // faces at a Type-1 ill-point instead (weights 1, Σ B ≡ 1; the T-shape case above).
+  const double deficit = volspline::spline::cubic_basis(aux, 0.5) * volspline::spline::cubic_basis(aux, -0.5);
+  MESSAGE("Type-1 weights: Σ w B = 1 − " << deficit << " at (0.5, −0.5), inside the solid");
+  CHECK(deficit > 1e-3);
 }
