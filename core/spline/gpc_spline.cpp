@@ -474,10 +474,9 @@ GpcSpline::GpcSpline(const polycube::GpcDomain& domain, const GpcSplineOptions& 
   // functions around the concave edge continue, and those weights (re-derived in the unit test)
   // sum to 1 − B_aux, short of 1 inside the solid next to the edge; we clamp the faces touching it
   // instead (C⁰ there, the continuity the thesis claims at ill-points), which keeps its measures
-  // exact: Σ w_i B_i ≡ 1
-  // (Eq. 4.3) and no function beyond the solid's boundary (§4.3.1). A configuration the rule does
-  // not foresee (functions that fail to match across a face) clamps that face too, and the rule
-  // runs again: joins only ever turn Clamped, so this ends.
+  // exact: Σ w_i B_i ≡ 1 (Eq. 4.3) and no function beyond the solid's boundary (§4.3.1). A
+  // configuration the rule does not foresee (functions that fail to match across a face) clamps
+  // that face too, and the rule runs again: joins only ever turn Clamped, so this ends.
   JoinRule rule(domain_, interface_join_, tol);
   for (;;) {
     while (rule.pass()) {
