@@ -161,15 +161,22 @@ int surface_genus(const mesh::TriangleMesh& input, const std::string& name) {
   }
 }
 
-// The multi-cuboid job's options from the same keys, as the CLI maps its flags; max_levels only
-// when given (its default differs: uniform refinements, not hierarchical levels).
+bool has_option(const val& o, const char* key) { return !o.isUndefined() && !o.isNull() && !o[key].isUndefined(); }
+
+// The multi-cuboid job's options from the same keys, as the CLI maps its flags; max_levels and
+// max_surface_error_rel only when given (their defaults differ from the single cuboid's).
 pipeline::GpcMesh2SplineOptions gpc_job_options_from_js(const val& o, const pipeline::Mesh2SplineOptions& m) {
   if (m.fit != pipeline::Mesh2SplineFit::Grid)
     throw Error("option 'fit': a solid of genus > 0 is fitted over its GPC grid map; 'meshless' needs genus 0");
   pipeline::GpcMesh2SplineOptions options;
   options.max_rms_rel = m.max_rms_rel;
   options.max_control_points = m.max_control_points;
-  if (!o.isUndefined() && !o.isNull() && !o["max_levels"].isUndefined()) options.max_levels = m.max_levels;
+  if (has_option(o, "max_levels")) options.max_levels = m.max_levels;
+  if (has_option(o, "max_surface_error_rel")) options.max_surface_error_rel = m.max_surface_error_rel;
+  if (bool_option(o, "adaptive_knots", false)) options.refinement = pipeline::GpcMesh2SplineOptions::Refinement::Adaptive;
+  options.adaptive_growth = number_option(o, "adaptive_growth", options.adaptive_growth);
+  options.surface_weight = number_option(o, "surface_weight", options.surface_weight);
+  options.measure_lattice = integer_option(o, "measure_lattice", options.measure_lattice, -1000000, 1000000);
   if (m.untangle == pipeline::Mesh2SplineOptions::Untangle::Off)
     options.untangle = pipeline::GpcMesh2SplineOptions::Untangle::Off;
   options.initial_cells = m.initial_cells;
@@ -181,7 +188,7 @@ pipeline::GpcMesh2SplineOptions gpc_job_options_from_js(const val& o, const pipe
   return options;  // ranges are checked by run_gpc_mesh2spline
 }
 
-val gpc_stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name) {
+val gpc_stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name, bool adaptive) {
   val out = val::object();
   out.set("input", name);
   out.set("fit", std::string("grid"));
@@ -191,6 +198,16 @@ val gpc_stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name
   out.set("rms_geo_rel", s.rms_geo_rel);
   out.set("control_points", s.control_points);
   out.set("levels", s.levels);
+  out.set("knot_refinement", std::string(adaptive ? "adaptive" : "uniform"));
+  val history = val::array();
+  for (const pipeline::Mesh2SplineStats::Level& l : s.level_history) {
+    val level = val::object();
+    level.set("control_points", l.control_points);
+    level.set("rms_rel", l.rms_rel);
+    level.set("surface_max_rel", l.surface_max_rel);
+    history.call<void>("push", level);
+  }
+  out.set("level_history", history);
   out.set("min_scaled_jacobian", s.min_scaled_jacobian);
   out.set("negative_jacobian_fraction", s.negative_jacobian_fraction);
   out.set("jacobian_samples", double(s.jacobian_samples));
@@ -250,7 +267,7 @@ val gpc_mesh2spline(const mesh::TriangleMesh& input, const std::string& name, co
   val out = val::object();
   out.set("ok", true);
   out.set("domain", std::string("gpc"));
-  out.set("stats", gpc_stats_to_js(result.stats, name));
+  out.set("stats", gpc_stats_to_js(result.stats, name, job.refinement == pipeline::GpcMesh2SplineOptions::Refinement::Adaptive));
   out.set("input", input_to_js(input));
 
   const spline::GpcBoundaryTessellation b = spline::tessellate_gpc_boundary(result.spline, preview_samples, preview_lines);

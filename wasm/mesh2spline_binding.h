@@ -29,12 +29,15 @@ namespace volspline::wasm {
 /// spline_json, glb, vtu as Uint8Array (the bytes the CLI writes for -o, --glb, --vtk); domain
 /// 'cuboid'.
 /// A solid of genus > 0 runs pipeline::run_gpc_mesh2spline instead (as the CLI does), domain
-/// 'gpc': the keys max_rms_rel, max_control_points, max_levels (only if given: uniform
-/// refinements, default 8), initial_cells, measure_samples, seed, area_balance_iterations,
-/// untangle reach it, plus gpc_grid_nodes (grid nodes over all cuboids, default 24000) and
-/// padding (boolean, default true); fit 'meshless' is refused. Stats are the CLI's GPC stats keys
-/// (cuboids, ill_points, t_shapes, genus, interfaces, interface_gap_rel, lattice_negative_fraction,
-/// ...); boundary and lines cover the cuboids' surface faces with uvw as fractions of each
+/// 'gpc': the keys max_rms_rel, max_control_points, max_levels and max_surface_error_rel (these
+/// two only if given: the GPC job's own defaults otherwise, as the CLI), initial_cells,
+/// measure_samples, seed, area_balance_iterations, untangle reach it, plus gpc_grid_nodes (grid
+/// nodes over all cuboids, default 24000), padding (boolean, default true), adaptive_knots
+/// (boolean, default false), adaptive_growth, surface_weight, measure_lattice (the CLI's
+/// --knot-growth, --surface-weight, --measure-lattice; ranges checked by the job); fit
+/// 'meshless' is refused. Stats are the CLI's GPC stats keys (cuboids, ill_points, t_shapes,
+/// genus, interfaces, interface_gap_rel, lattice_negative_fraction, knot_refinement,
+/// level_history [{control_points, rms_rel, surface_max_rel}], ...); boundary and lines cover the cuboids' surface faces with uvw as fractions of each
 /// cuboid's box, plus cuboid (Uint32Array, per point / per segment) and boundary.colours
 /// (Float32Array RGB per point, the GPC view's cuboid colours); control_uvw (Float32Array, each
 /// control point's anchor as a fraction of its cuboid's box); the cut is the plane

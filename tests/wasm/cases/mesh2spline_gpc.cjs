@@ -31,6 +31,10 @@ module.exports = function (vs, { check, sourceDir, fs, path }) {
   check(r.control_uvw.length === r.control_points.length && r.control_uvw.every((x) => x >= 0 && x <= 1), 'control_uvw: each anchor in its cuboid, [0, 1]');
   check(s.interface_gap_rel <= 1e-9 && s.continued_interfaces === 1, `the glued face is continued, gap ${s.interface_gap_rel}`);
   check(s.input === 'torus.off' && s.fit === 'grid' && s.times_s.total > 0 && s.times_s.gpc > 0, 'stats: input, fit, times_s');
+  const h = s.level_history;
+  check(s.knot_refinement === 'uniform' && h.length === s.levels + 1 && h[h.length - 1].control_points === s.control_points &&
+        Math.abs(h[h.length - 1].rms_rel - s.rms_rel) < 1e-15 && h.every((l) => l.surface_max_rel >= 0),
+        `knot_refinement ${s.knot_refinement}, level_history of ${h.length} levels ending at the result`);
   check(stages.length > 2 && stages.every(([st, f]) => typeof st === 'string' && f >= 0 && f <= 1) &&
         stages.some(([st]) => /^fit level/.test(st)), `progress reported (${stages.length} calls, fit levels included)`);
 
@@ -124,6 +128,12 @@ module.exports = function (vs, { check, sourceDir, fs, path }) {
   bad({ max_rms_rel: 0 }, /rms/, 'max_rms_rel 0 on genus 1');
   bad({ gpc_grid_nodes: 10 }, /nodes/, 'gpc_grid_nodes 10');
   bad({ padding: 'no' }, /padding/, 'padding not a boolean');
+  bad({ adaptive_knots: true, adaptive_growth: 0.5 }, /adaptive_growth/, 'adaptive_growth 0.5');
+  bad({ measure_lattice: 2 }, /measure_lattice/, 'measure_lattice 2');
+  bad({ surface_weight: -1 }, /surface_weight/, 'surface_weight -1');
+  const adaptive = vs.mesh2spline(torus, 'torus.off', { ...view, outputs: false, adaptive_knots: true, max_surface_error_rel: 0.004, measure_lattice: 8 }, null);
+  check(adaptive.ok && adaptive.stats.knot_refinement === 'adaptive' && adaptive.stats.lattice_samples === 512 * adaptive.stats.cuboids,
+        `adaptive knots, a surface target and an 8³ measure lattice reach the job (${adaptive.message || adaptive.stats.control_points + ' control points'})`);
   // A torus of 4×3 quads: the construction may fail (its surface maps fold); then the message says
   // so, as the CLI's exit 1, never as an internal error.
   const ring = (nu, nv) => {
