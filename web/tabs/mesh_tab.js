@@ -12,6 +12,8 @@ import { splineLattice } from '../spline_json.js';
 
 // The splineQuality lattice (points per axis) of the histogram and the folded points.
 const QUALITY_LATTICE = 24;
+// The CLI's surface error target (fraction of the bbox diagonal): the verdict's Hausdorff target.
+const SURFACE_TARGET = 0.005;
 const DISTANCE_GRADIENT = 'linear-gradient(to right, rgb(224,230,242) 0%, rgb(250,184,64) 50%, rgb(204,26,26) 100%)';
 // The cut's colours (mesh_shaders.js quality()) for q in (0, 1], as CSS.
 function qualityColour(q) {
@@ -109,8 +111,9 @@ export const meshTab = {
     return {
       // auto ('') leaves the levels to the job's default.
       ...(levels === '' ? {} : { max_levels: Number(levels) }), fit: $('mesh-fit').value,
-      // The CLI's targets, sent explicitly: the verdict line compares the result with them.
-      max_rms_rel: 0.002, max_surface_error_rel: 0.005,
+      // The CLI's targets, sent explicitly: the verdict line compares the result with them. The
+      // surface target only for genus 0: the GPC job refines by rms alone unless asked (as the CLI).
+      max_rms_rel: 0.002, ...(this.info?.genus > 0 ? {} : { max_surface_error_rel: SURFACE_TARGET }),
       cut_axis: Number($('mesh-cut-axis').value), cut_position: Number($('mesh-cut-position').value),
     };
   },
@@ -157,7 +160,7 @@ export const meshTab = {
     if (this.cutPending) this.updateCut();  // a cut asked for while this ran
     if (this.result !== result) return;  // another run or mesh replaced it meanwhile
     if (!r.ok) { if (r.message !== 'cancelled') showError(r.message); return; }
-    const target = result.options.max_surface_error_rel;
+    const target = result.options.max_surface_error_rel ?? SURFACE_TARGET;
     result.quality = { ...r, target };
     this.applyQuality();
     this.showHistogram();
@@ -226,8 +229,9 @@ export const meshTab = {
   showVerdict() {
     const s = this.result.stats, o = this.result.options, q = this.result.quality, cut = this.result.cut;
     const pct = (x) => `${fmt(100 * x, 2)} %`;
-    const fit = `RMS distance ${pct(s.rms_rel)} of the diagonal (target ${pct(o.max_rms_rel)}), Hausdorff ${pct(s.hausdorff_rel)} (target ${pct(o.max_surface_error_rel)})`;
-    const poor = s.rms_rel > o.max_rms_rel || s.hausdorff_rel > o.max_surface_error_rel;
+    const surface = o.max_surface_error_rel ?? SURFACE_TARGET;
+    const fit = `RMS distance ${pct(s.rms_rel)} of the diagonal (target ${pct(o.max_rms_rel)}), Hausdorff ${pct(s.hausdorff_rel)} (target ${pct(surface)})`;
+    const poor = s.rms_rel > o.max_rms_rel || s.hausdorff_rel > surface;
     // Folds seen anywhere: the job's Gauss points, the quality lattice, or the cut shown.
     const where = [];
     if (s.negative_jacobian_fraction > 0 || s.min_scaled_jacobian <= 0) where.push(`${pct(s.negative_jacobian_fraction)} of the Gauss points`);
