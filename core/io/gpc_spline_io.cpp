@@ -107,6 +107,13 @@ spline::GpcSpline parse_gpc_spline_json(const std::string& text, const std::stri
     options.intervals.push_back(n);
   }
   if (cells > kMaxCells) throw Error(prefix + "\"intervals\" ask for more than 2^24 knot cells");
+  // A spline has at least as many functions as knot cells (n intervals give n + 3 functions, n if
+  // periodic; gluing shares at most the extra ones), so a file cannot ask for more work than it
+  // holds points: checked before the functions are built.
+  if (!doc["points"].is_array() || static_cast<double>(doc["points"].size()) < cells)
+    throw Error(prefix + "\"intervals\" ask for " + std::to_string(static_cast<long long>(cells)) +
+                " knot cells, more than the " +
+                std::to_string(doc["points"].is_array() ? doc["points"].size() : 0) + " points");
   if (doc.contains("knot_lines")) {
     const Json& lines = doc["knot_lines"];
     if (!lines.is_array() || lines.size() != domain.cuboids.size())

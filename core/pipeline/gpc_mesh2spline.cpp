@@ -261,7 +261,7 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
   StageTimer timer(stats.times_s);
   // The GPC construction is the first 60 % of the job.
   const Progress gpc_progress([&](const std::string& stage, double fraction) {
-    progress.report(stage, 0.6 * fraction);
+    progress.report(stage == "done" ? "domain built" : stage, 0.6 * fraction);
     return true;
   });
   const GpcResult gpc = run_gpc(mesh, name, options.gpc, gpc_progress);
