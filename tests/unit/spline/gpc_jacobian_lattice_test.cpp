@@ -15,29 +15,13 @@ using volspline::spline::GpcSplineOptions;
 using volspline::spline::sample_gpc_jacobian_lattice;
 using namespace volspline::test;
 
-namespace {
-
-// Control points at the placed anchors, mirrored in x if `mirror`: F is each cuboid's placement
-// (a rotation: scaled Jacobian 1) or its mirror image (−1), exactly (Greville abscissae).
-void place_lattice_points(GpcSpline& spline, const std::vector<PlacedCuboid>& boxes, bool mirror) {
-  Eigen::MatrixXd p(spline.num_functions(), 3);
-  for (int i = 0; i < spline.num_functions(); ++i) {
-    const auto& anchor = spline.anchor(i);
-    p.row(i) = boxes[anchor.cuboid].placement.apply(anchor.uvw).transpose();
-    if (mirror) p(i, 0) = -p(i, 0);
-  }
-  spline.set_points(p);
-}
-
-}  // namespace
-
 TEST_CASE("gpc jacobian lattice: cell centres of every cuboid, F and its scaled Jacobian") {
   const std::vector<PlacedCuboid> boxes = two_cube_boxes();
   const GpcDomain d = glue_boxes(boxes);
   GpcSplineOptions o;
   o.intervals = {{3, 4, 3}, {4, 3, 4}};
   GpcSpline spline(d, o);
-  place_lattice_points(spline, boxes, false);
+  place_at_anchors(spline, boxes, false);
   const int n = 3;
   const GpcJacobianLattice l = sample_gpc_jacobian_lattice(spline, n);
   REQUIRE(l.scaled_jacobian.size() == 2 * 27);
@@ -56,7 +40,7 @@ TEST_CASE("gpc jacobian lattice: cell centres of every cuboid, F and its scaled 
   CHECK(l.min_scaled_jacobian == doctest::Approx(1.0).epsilon(1e-6));
   CHECK(*std::max_element(l.scaled_jacobian.begin(), l.scaled_jacobian.end()) <= 1.0f + 1e-6f);
 
-  place_lattice_points(spline, boxes, true);
+  place_at_anchors(spline, boxes, true);
   const GpcJacobianLattice m = sample_gpc_jacobian_lattice(spline, 2);
   CHECK(m.scaled_jacobian.size() == 2 * 8);
   CHECK(m.min_scaled_jacobian == doctest::Approx(-1.0).epsilon(1e-6));

@@ -16,29 +16,13 @@ using volspline::spline::GpcSplineCut;
 using volspline::spline::GpcSplineOptions;
 using namespace volspline::test;
 
-namespace {
-
-// Control points at the placed anchors, mirrored in x if `mirror`: F is each cuboid's placement
-// (a rotation: scaled Jacobian 1), or its mirror image (scaled Jacobian −1), exactly.
-void place_points(GpcSpline& spline, const std::vector<PlacedCuboid>& boxes, bool mirror) {
-  Eigen::MatrixXd p(spline.num_functions(), 3);
-  for (int i = 0; i < spline.num_functions(); ++i) {
-    const auto& anchor = spline.anchor(i);
-    p.row(i) = boxes[anchor.cuboid].placement.apply(anchor.uvw).transpose();
-    if (mirror) p(i, 0) = -p(i, 0);
-  }
-  spline.set_points(p);
-}
-
-}  // namespace
-
 TEST_CASE("gpc spline cut: each cuboid's plane at its own parameter, scaled Jacobian of F") {
   const std::vector<PlacedCuboid> boxes = two_cube_boxes();
   const GpcDomain d = glue_boxes(boxes);
   GpcSplineOptions o;
   o.intervals = {{3, 4, 3}, {4, 3, 4}};
   GpcSpline spline(d, o);
-  place_points(spline, boxes, false);
+  place_at_anchors(spline, boxes, false);
   const int m = 6;
   for (int axis = 0; axis < 3; ++axis)
     for (double t : {0.0, 0.3, 1.0}) {
@@ -69,7 +53,7 @@ TEST_CASE("gpc spline cut: each cuboid's plane at its own parameter, scaled Jaco
     }
 
   // The mirror image folds every point: scaled Jacobian −1.
-  place_points(spline, boxes, true);
+  place_at_anchors(spline, boxes, true);
   const GpcSplineCut folded = gpc_spline_cut(spline, 2, 0.5, 4);
   CHECK(folded.min_scaled_jacobian == doctest::Approx(-1.0).epsilon(1e-6));
   CHECK(*std::max_element(folded.scaled_jacobian.begin(), folded.scaled_jacobian.end()) <= -1.0f + 1e-6f);

@@ -575,10 +575,7 @@ TEST_CASE("gpc spline: poly-cube blocks with concave edges and corners (Type-1 t
       if (spline.interface_join(i) == GpcFaceJoin::Continued) CHECK(max_jumps(spline, i, 83 + i).d1 <= 1e-9);
     // Linear maps are reproduced (control points at the anchors' global positions): no function
     // reaches a region the solid does not cover.
-    Eigen::MatrixXd p(spline.num_functions(), 3);
-    for (int i = 0; i < spline.num_functions(); ++i)
-      p.row(i) = boxes[spline.anchor(i).cuboid].placement.apply(spline.anchor(i).uvw).transpose();
-    spline.set_points(p);
+    place_at_anchors(spline, boxes);
     std::mt19937_64 rng(84);
     double worst = 0.0;
     for (int k = 0; k < 3000; ++k) {

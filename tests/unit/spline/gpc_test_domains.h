@@ -10,6 +10,7 @@
 #include <Eigen/LU>  // determinant
 
 #include "core/polycube/gpc_domain.h"
+#include "core/spline/gpc_spline.h"
 
 namespace volspline::test {
 
@@ -188,6 +189,19 @@ inline polycube::GpcDomain torus_domain(bool twist) {
   d.genus = 1;
   d.tubes = 1;
   return d;
+}
+
+// Control points at the placed anchors, mirrored in x if `mirror`: F is each cuboid's placement
+// (a rotation: scaled Jacobian 1) or its mirror image (−1), exactly (Greville abscissae
+// reproduce linear maps).
+inline void place_at_anchors(spline::GpcSpline& spline, const std::vector<PlacedCuboid>& boxes, bool mirror = false) {
+  Eigen::MatrixXd p(spline.num_functions(), 3);
+  for (int i = 0; i < spline.num_functions(); ++i) {
+    const spline::GpcAnchor& anchor = spline.anchor(i);
+    p.row(i) = boxes[anchor.cuboid].placement.apply(anchor.uvw).transpose();
+    if (mirror) p(i, 0) = -p(i, 0);
+  }
+  spline.set_points(p);
 }
 
 }  // namespace volspline::test
