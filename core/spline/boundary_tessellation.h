@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "core/polycube/cube_faces.h"
@@ -27,6 +28,12 @@ struct BoundaryTessellation {
 BoundaryTessellation tessellate_boundary(const TSpline& spline, int samples, int lines,
                                          polycube::CubeFaceSet faces = polycube::CubeFaceSet::all());
 
+/// Appends one face (polycube::cube_face_point numbering) of the unit box to `out` as
+/// tessellate_boundary samples it: points, triangles (ids continue after out's points), lines.
+/// evaluate maps a point of the unit box to model units. Preconditions: samples ≥ 2, lines ≥ 2.
+void append_face_tessellation(int face, int samples, int lines,
+                              const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>& evaluate,
+                              BoundaryTessellation& out);
 /// Appends two triangles per cell of an m×m lattice of points base + i + m·j, counter-clockwise
 /// in (i, j); `flip` reverses them.
 void append_lattice_triangles(std::vector<std::uint32_t>& out, std::uint32_t base, int m, bool flip);
