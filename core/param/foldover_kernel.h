@@ -73,9 +73,101 @@ inline void foldover_kernel(const double* j, double eps, double theta, double* e
   }
 }
 
+// The start of x^(−1/3) for normal x > 0 without division or libm: the exponent divided by 3 as
+// an integer (≤ 4 % off); hex_corner_kernel then takes 4 Newton steps y ← y(4 − x y³)/3 on
+// y⁻³ = x, quadratic (4 % → 1e-16, a few ulps).
+inline double inverse_cbrt_guess(double x) {
+  std::uint64_t bits;
+  std::memcpy(&bits, &x, sizeof bits);
+  bits = 0x553edc82c19c9000ULL - bits / 3;
+  double y;
+  std::memcpy(&y, &bits, sizeof y);
+  return y;
+}
+
+// The energy of foldover_kernel at the 8 corner tetrahedra of one hex (Garanzha et al. 2021,
+// Eq. 2 per corner), lane c = corner c: p[q] is node q (offset (q&1, q>>1&1, q>>2&1)),
+// corner c's J has column a = the +axis hex edge through c, times inv_h. e[c] gets the energy
+// of every corner; if grad is not null, grad[q] gets the gradient over the nodes of the corners
+// flagged in `corners` (bit c). The lanes of all 8 corners are computed the same way, so a
+// compiler vectorizes them; no FMA and no reassociation, so every build gives the same bits.
+inline void hex_corner_kernel(const double (*p)[3], double inv_h, double eps2, double theta, unsigned corners,
+                              double* e, double (*grad)[3]) {
+  double edge[3][8][3];  // [axis][lower corner][coordinate]
+  for (int a = 0; a < 3; ++a)
+    for (int q = 0; q < 8; ++q) {
+      if (q & (1 << a)) continue;
+      for (int d = 0; d < 3; ++d) edge[a][q][d] = (p[q | (1 << a)][d] - p[q][d]) * inv_h;
+    }
+  // j[a][d][c]: coordinate d of J's column a at corner c.
+  double j[3][3][8];
+  for (int a = 0; a < 3; ++a)
+    for (int d = 0; d < 3; ++d)
+      for (int c = 0; c < 8; ++c) j[a][d][c] = edge[a][c & ~(1 << a)][d];
+  const double shape = 1.0 - theta;
+  double cof[3][3][8], det[8], tr[8], root[8], chi[8], inv_cbrt[8];
+  for (int a = 0; a < 3; ++a) {
+    const double(*u)[8] = j[(a + 1) % 3];
+    const double(*v)[8] = j[(a + 2) % 3];
+    for (int d = 0; d < 3; ++d)
+      for (int c = 0; c < 8; ++c)
+        cof[a][d][c] = u[(d + 1) % 3][c] * v[(d + 2) % 3][c] - u[(d + 2) % 3][c] * v[(d + 1) % 3][c];
+  }
+  for (int c = 0; c < 8; ++c) {
+    det[c] = j[0][0][c] * cof[0][0][c] + j[0][1][c] * cof[0][1][c] + j[0][2][c] * cof[0][2][c];
+    double t = 0.0;
+    for (int a = 0; a < 3; ++a) t += j[a][0][c] * j[a][0][c] + j[a][1][c] * j[a][1][c] + j[a][2][c] * j[a][2][c];
+    tr[c] = t;
+    root[c] = std::sqrt(eps2 + det[c] * det[c]);
+    // χ = (D + √(ε² + D²))/2, in the cancellation-free form for D < 0.
+    const double positive = 0.5 * (det[c] + root[c]), negative = 0.5 * eps2 / (root[c] - det[c]);
+    chi[c] = det[c] >= 0.0 ? positive : negative;
+  }
+  for (int c = 0; c < 8; ++c) inv_cbrt[c] = inverse_cbrt_guess(chi[c]);
+  for (int step = 0; step < 4; ++step)
+    for (int c = 0; c < 8; ++c)
+      inv_cbrt[c] = inv_cbrt[c] * (4.0 - chi[c] * (inv_cbrt[c] * inv_cbrt[c] * inv_cbrt[c])) * (1.0 / 3.0);
+  double ja[8], jb[8];
+  for (int c = 0; c < 8; ++c) {
+    const double inv_chi23 = inv_cbrt[c] * inv_cbrt[c], inv_chi = inv_chi23 * inv_cbrt[c];
+    e[c] = shape * tr[c] * inv_chi23 + theta * (det[c] * det[c] + 1.0) * inv_chi;
+    // ∂f/∂J = ja·J + jb·cof(J), ∂χ/∂D = (1 + D/√(ε² + D²))/2.
+    const double dchi = chi[c] / root[c];
+    ja[c] = 2.0 * shape * inv_chi23;
+    jb[c] = -(2.0 / 3.0) * shape * tr[c] * inv_chi23 * inv_chi * dchi +
+            theta * (2.0 * det[c] * inv_chi - (det[c] * det[c] + 1.0) * dchi * inv_chi * inv_chi);
+  }
+  if (!grad) return;
+  double g[3][3][8];
+  for (int a = 0; a < 3; ++a)
+    for (int d = 0; d < 3; ++d)
+      for (int c = 0; c < 8; ++c) g[a][d][c] = ja[c] * j[a][d][c] + jb[c] * cof[a][d][c];
+  double edge_grad[3][8][3] = {};
+  for (int c = 0; c < 8; ++c) {
+    if (!(corners & (1u << c))) continue;
+    for (int a = 0; a < 3; ++a) {
+      double* eg = edge_grad[a][c & ~(1 << a)];
+      for (int d = 0; d < 3; ++d) eg[d] += g[a][d][c];
+    }
+  }
+  for (int q = 0; q < 8; ++q) grad[q][0] = grad[q][1] = grad[q][2] = 0.0;
+  for (int a = 0; a < 3; ++a)
+    for (int q = 0; q < 8; ++q) {
+      if (q & (1 << a)) continue;
+      for (int d = 0; d < 3; ++d) {
+        const double edge_term = edge_grad[a][q][d] * inv_h;
+        grad[q | (1 << a)][d] += edge_term;
+        grad[q][d] -= edge_term;
+      }
+    }
+}
+
 }  // namespace
 
 #if defined(VOLSPLINE_AVX2_KERNELS)
+/// hex_corner_kernel built for AVX2 (foldover_batch_avx2.cpp).
+void hex_corner_kernel_avx2(const double (*p)[3], double inv_h, double eps2, double theta, unsigned corners,
+                            double* e, double (*grad)[3]);
 /// foldover_kernel<4> built for AVX2 (foldover_batch_avx2.cpp).
 void foldover_kernel4_avx2(const double* j, double eps, double theta, double* energy, double* gradient);
 #endif

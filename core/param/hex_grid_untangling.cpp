@@ -4,14 +4,13 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
-#include <cstdint>
-#include <cstring>
 #include <limits>
 #include <memory>
 
 #include <Eigen/LU>
 
 #include "core/param/barrier_untangling.h"
+#include "core/param/foldover_kernel.h"
 
 namespace volspline::param {
 
@@ -22,61 +21,14 @@ constexpr double kMinSigma = 0.5;
 // Steps without a new low of the folded corner count after which the continuation stops.
 constexpr int kCountStallSteps = 3;
 
-// The start of x^(−1/3) for normal x > 0 without division or libm (a third of the energy's time
-// once went to cbrt): the exponent divided by 3 as an integer (≤ 4 % off); hex_corner_terms then
-// takes 4 Newton steps y ← y(4 − x y³)/3 on y⁻³ = x, quadratic (4 % → 1e-16, a few ulps).
-double inverse_cbrt_guess(double x) {
-  std::uint64_t bits;
-  std::memcpy(&bits, &x, sizeof bits);
-  bits = 0x553edc82c19c9000ULL - bits / 3;
-  double y;
-  std::memcpy(&y, &bits, sizeof y);
-  return y;
-}
-
-// The 8 corner terms of one hex at once, lane c = corner c (j[a][d][c]: coordinate d of J's
-// column a; the lanes of corners without a term are computed and ignored): the energy e[c] and,
-// if asked, ∂f/∂J = ja·J + jb·cof(J) as g[a][d][c]. Every lane does the operations of the
-// per-corner formula in its order, and on x86-64 an AVX2 clone (no FMA) is chosen at run time,
-// so every build gives the same bits.
-#if defined(__GNUC__) && defined(__x86_64__) && !defined(__EMSCRIPTEN__)
-__attribute__((target_clones("avx2", "default")))
+// The 8 corner terms of one hex, in the AVX2 build where the CPU has it (the same bits).
+void hex_corner_terms(const double (*p)[3], double inv_h, double eps2, double theta, unsigned corners, double* e,
+                      double (*grad)[3]) {
+#if defined(VOLSPLINE_AVX2_KERNELS)
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  if (avx2) return detail::hex_corner_kernel_avx2(p, inv_h, eps2, theta, corners, e, grad);
 #endif
-void hex_corner_terms(const double (*j)[3][8], double eps2, double theta, double* e, double (*g)[3][8]) {
-  const double shape = 1.0 - theta;
-  double cof[3][3][8], det[8], tr[8], root[8], chi[8], inv_cbrt[8];
-  for (int a = 0; a < 3; ++a) {
-    const double(*u)[8] = j[(a + 1) % 3];
-    const double(*v)[8] = j[(a + 2) % 3];
-    for (int d = 0; d < 3; ++d)
-      for (int c = 0; c < 8; ++c)
-        cof[a][d][c] = u[(d + 1) % 3][c] * v[(d + 2) % 3][c] - u[(d + 2) % 3][c] * v[(d + 1) % 3][c];
-  }
-  for (int c = 0; c < 8; ++c) {
-    det[c] = j[0][0][c] * cof[0][0][c] + j[0][1][c] * cof[0][1][c] + j[0][2][c] * cof[0][2][c];
-    double t = 0.0;
-    for (int a = 0; a < 3; ++a) t += j[a][0][c] * j[a][0][c] + j[a][1][c] * j[a][1][c] + j[a][2][c] * j[a][2][c];
-    tr[c] = t;
-    root[c] = std::sqrt(eps2 + det[c] * det[c]);
-    // χ = (D + √(ε² + D²))/2, in the cancellation-free form for D < 0.
-    const double positive = 0.5 * (det[c] + root[c]), negative = 0.5 * eps2 / (root[c] - det[c]);
-    chi[c] = det[c] >= 0.0 ? positive : negative;
-  }
-  for (int c = 0; c < 8; ++c) inv_cbrt[c] = inverse_cbrt_guess(chi[c]);
-  for (int step = 0; step < 4; ++step)
-    for (int c = 0; c < 8; ++c)
-      inv_cbrt[c] = inv_cbrt[c] * (4.0 - chi[c] * (inv_cbrt[c] * inv_cbrt[c] * inv_cbrt[c])) * (1.0 / 3.0);
-  for (int c = 0; c < 8; ++c) {
-    const double inv_chi23 = inv_cbrt[c] * inv_cbrt[c], inv_chi = inv_chi23 * inv_cbrt[c];
-    e[c] = shape * tr[c] * inv_chi23 + theta * (det[c] * det[c] + 1.0) * inv_chi;
-    if (!g) continue;
-    const double dchi = chi[c] / root[c];  // ∂χ/∂D = (1 + D/√(ε² + D²))/2
-    const double ja = 2.0 * shape * inv_chi23;
-    const double jb = -(2.0 / 3.0) * shape * tr[c] * inv_chi23 * inv_chi * dchi +
-                      theta * (2.0 * det[c] * inv_chi - (det[c] * det[c] + 1.0) * dchi * inv_chi * inv_chi);
-    for (int a = 0; a < 3; ++a)
-      for (int d = 0; d < 3; ++d) g[a][d][c] = ja * j[a][d][c] + jb * cof[a][d][c];
-  }
+  detail::hex_corner_kernel(p, inv_h, eps2, theta, corners, e, grad);
 }
 
 double barrier_chi(double d, double eps) { return 0.5 * (d + std::sqrt(eps * eps + d * d)); }
@@ -212,12 +164,9 @@ class Energy {
     return count;
   }
 
-  // Hessian of the energy's shape term Σ tr(JᵀJ) over the free nodes, per coordinate: the
-  // Laplacian of the hex edges (each corner term contributes its 3 edges with weight 2/h²).
   // Energy at x (set as the free node positions) with barrier parameter eps; gradient if asked.
-  // Per corner the energy and ∂f/∂J of foldover_free_energy, fused and per hex: the 12 edges
-  // are formed once (J's column a at corner c is the +axis edge through c), ∂f/∂J = a·J +
-  // b·cof(J) is summed per edge, and the 8 node gradients are written once.
+  // Per hex (hex_corner_kernel): the 12 edges are formed once, the 8 corner terms computed side
+  // by side, and the 8 node gradients written once.
   double evaluate(const Eigen::VectorXd& x, double eps, Eigen::VectorXd* gradient) {
     set_variables(x);
     if (gradient) gradient->setZero(num_variables());
@@ -230,41 +179,11 @@ class Energy {
         const double* src = flat_.data() + 3 * static_cast<std::size_t>(hex.node[q]);
         p[q][0] = src[0], p[q][1] = src[1], p[q][2] = src[2];
       }
-      double edge[3][8][3], edge_grad[3][8][3];  // [axis][lower corner][coordinate]
-      for (int a = 0; a < 3; ++a)
-        for (int q = 0; q < 8; ++q) {
-          if (q & (1 << a)) continue;
-          for (int d = 0; d < 3; ++d) {
-            edge[a][q][d] = (p[q | (1 << a)][d] - p[q][d]) * inv_h_;
-            edge_grad[a][q][d] = 0.0;
-          }
-        }
-      // Corner c's J: column a is the +axis edge through c.
-      double j[3][3][8], e[8], g[3][3][8];
-      for (int a = 0; a < 3; ++a)
-        for (int d = 0; d < 3; ++d)
-          for (int c = 0; c < 8; ++c) j[a][d][c] = edge[a][c & ~(1 << a)][d];
-      hex_corner_terms(j, eps2, theta, e, g_out ? g : nullptr);
-      for (int c = 0; c < 8; ++c) {
-        if (!(hex.corners & (1u << c))) continue;
-        total += e[c];
-        if (!g_out) continue;
-        for (int a = 0; a < 3; ++a) {
-          double* eg = edge_grad[a][c & ~(1 << a)];
-          for (int d = 0; d < 3; ++d) eg[d] += g[a][d][c];
-        }
-      }
+      double e[8], node_grad[8][3];
+      hex_corner_terms(p, inv_h_, eps2, theta, hex.corners, e, g_out ? node_grad : nullptr);
+      for (int c = 0; c < 8; ++c)
+        if (hex.corners & (1u << c)) total += e[c];
       if (!g_out) continue;
-      double node_grad[8][3] = {};
-      for (int a = 0; a < 3; ++a)
-        for (int q = 0; q < 8; ++q) {
-          if (q & (1 << a)) continue;
-          for (int d = 0; d < 3; ++d) {
-            const double edge_term = edge_grad[a][q][d] * inv_h_;
-            node_grad[q | (1 << a)][d] += edge_term;
-            node_grad[q][d] -= edge_term;
-          }
-        }
       for (int q = 0; q < 8; ++q) {
         if (hex.var[q] < 0) continue;
         double* dst = g_out + 3 * static_cast<std::size_t>(hex.var[q]);
