@@ -92,9 +92,11 @@ int untangle_padded_mesh(const polycube::GpcConstruction& construction, const st
   SlidingNodes sliding;
   sliding.slides.resize(rows);
   for (int r = 0; r < rows; ++r) sliding.slides[r] = slides[r] > 0;
+  // Each sliding node's last triangle bounds its next search (the optimizer moves it a little).
+  std::vector<int> last_face(rows, -1);
   sliding.project = [&](int r, const Eigen::Vector3d& p, Eigen::Matrix3d* tangent) {
     Eigen::Vector3d normal;
-    const Eigen::Vector3d q = patches[slides[r] - 1]->closest_point(p, &normal);
+    const Eigen::Vector3d q = patches[slides[r] - 1]->closest_point(p, &normal, &last_face[r]);
     if (tangent) *tangent = Eigen::Matrix3d::Identity() - normal * normal.transpose();
     return q;
   };

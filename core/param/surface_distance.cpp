@@ -144,13 +144,26 @@ double SurfaceDistance::search(const Eigen::Vector3d& p, double best2, double st
 }
 
 Eigen::Vector3d SurfaceDistance::closest_point(const Eigen::Vector3d& p, Eigen::Vector3d* normal) const {
-  Eigen::Vector3d q = p;
   int face = -1;
-  search(p, std::numeric_limits<double>::infinity(), -1.0, &q, &face);
+  return closest_point(p, normal, &face);
+}
+
+Eigen::Vector3d SurfaceDistance::closest_point(const Eigen::Vector3d& p, Eigen::Vector3d* normal, int* face) const {
+  assert(face && *face < static_cast<int>(boxes_.size() / 6));
+  Eigen::Vector3d q = p;
+  double best2 = std::numeric_limits<double>::infinity();
+  if (*face >= 0) {
+    const double* c = corners_.data() + 9 * std::size_t(*face);
+    q = closest_point_on_triangle(p, Eigen::Vector3d(c[0], c[1], c[2]), Eigen::Vector3d(c[3], c[4], c[5]),
+                                  Eigen::Vector3d(c[6], c[7], c[8]));
+    // Just above its distance, so that a tie goes to the triangle closest_point would take.
+    best2 = std::nextafter((q - p).squaredNorm(), std::numeric_limits<double>::infinity());
+  }
+  search(p, best2, -1.0, &q, face);
   if (normal) {
     normal->setZero();
-    if (face >= 0) {
-      const double* c = corners_.data() + 9 * std::size_t(face);
+    if (*face >= 0) {
+      const double* c = corners_.data() + 9 * std::size_t(*face);
       const Eigen::Vector3d a(c[0], c[1], c[2]), b(c[3], c[4], c[5]), d(c[6], c[7], c[8]);
       const Eigen::Vector3d n = (b - a).cross(d - a);
       if (n.norm() > 0.0) *normal = n.normalized();

@@ -32,6 +32,10 @@ class SurfaceDistance {
   /// The nearest point of the mesh to p (the first of the nearest triangles in bucket order on a
   /// tie) and, if asked, that triangle's unit normal (zero if it is degenerate).
   Eigen::Vector3d closest_point(const Eigen::Vector3d& p, Eigen::Vector3d* normal = nullptr) const;
+  /// closest_point for a point near its last projection: *face (a triangle id, or −1 for none)
+  /// bounds the search by its own distance to p, so that only triangles as close are examined;
+  /// *face gets the nearest triangle. The same point, normal and triangle as closest_point.
+  Eigen::Vector3d closest_point(const Eigen::Vector3d& p, Eigen::Vector3d* normal, int* face) const;
 
  private:
   // Smallest squared distance from p below best2, stopping once it is <= stop2; the point and

@@ -57,3 +57,31 @@ TEST_CASE("bounded distance queries agree with the exact distance") {
   // A point on the mesh is within 0 of it.
   CHECK(distance.within(mesh.positions.row(3).transpose(), 0.0));
 }
+
+TEST_CASE("closest point from a triangle hint: the point, normal and triangle of the plain search") {
+  // Points on the mesh's vertices and edges tie between triangles: the hint must not win them.
+  const auto mesh = test::cube_sphere(4);
+  const param::SurfaceDistance distance(mesh);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.2, 1.2);
+  std::uniform_int_distribution<int> any_face(0, mesh.num_faces() - 1);
+  for (int s = 0; s < 300; ++s) {
+    Eigen::Vector3d p(u(rng), u(rng), u(rng));
+    if (s % 3 == 0) p = mesh.positions.row(mesh.triangles(any_face(rng), 0)).transpose();
+    if (s % 3 == 1)
+      p = 0.5 * (mesh.positions.row(mesh.triangles(s % mesh.num_faces(), 0)) +
+                 mesh.positions.row(mesh.triangles(s % mesh.num_faces(), 1))).transpose();
+    Eigen::Vector3d normal, hinted_normal;
+    int face = -1;
+    const Eigen::Vector3d q = distance.closest_point(p, &normal, &face);
+    int hint = any_face(rng);
+    const Eigen::Vector3d hinted = distance.closest_point(p, &hinted_normal, &hint);
+    CHECK(hinted == q);
+    CHECK(hinted_normal == normal);
+    CHECK(hint == face);
+    // The nearest triangle as hint finds itself.
+    int same = face;
+    CHECK(distance.closest_point(p, nullptr, &same) == q);
+    CHECK(same == face);
+  }
+}
