@@ -66,12 +66,18 @@ int lbfgs(const UntangleProblem& problem, Eigen::VectorXd& x, double eps, int ma
     // Along a prepared line the trials need only the energy; the gradient follows at the step taken.
     const bool line = problem.set_line && problem.line_energy;
     if (line) problem.set_line(x, d);
+    // Without a line, the full step (mostly taken) gets its gradient at once, and after a
+    // rejection the shorter trials need only the energy.
     for (double t = 1.0; t > 1e-9; t *= 0.5) {
       x_new = x + t * d;
-      f_new = line ? problem.line_energy(t, eps, nullptr) : problem.energy(x_new, eps, &g_new);
+      const bool with_gradient = !line && t == 1.0;
+      f_new = line ? problem.line_energy(t, eps, nullptr) : problem.energy(x_new, eps, with_gradient ? &g_new : nullptr);
       if (f_new <= f + 1e-4 * t * slope) {
         accepted = true;
-        if (line) f_new = problem.line_energy(t, eps, &g_new);
+        if (line)
+          f_new = problem.line_energy(t, eps, &g_new);
+        else if (!with_gradient)
+          f_new = problem.energy(x_new, eps, &g_new);
         break;
       }
     }
