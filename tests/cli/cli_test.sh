@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 # CLI integration tests: exit codes, messages and outputs of the built volspline binary.
-# usage: cli_test.sh VOLSPLINE_BIN SOURCE_DIR SHARED_DATA_DIR
+# usage: cli_test.sh VOLSPLINE_BIN SOURCE_DIR SHARED_DATA_DIR [CASE.sh...]
+# Runs the named scripts of tests/cli/cases/ (ctest runs one per test), or all of them.
 set -u
-BIN=$1; SRC=$2; DATA=$3
+BIN=$1; SRC=$2; DATA=$3; shift 3
 TMP=$(mktemp -d); trap 'rm -rf "$TMP"' EXIT
 pass=0; fail=0
 ok()   { pass=$((pass+1)); }
@@ -17,8 +18,11 @@ expect() {
 # contains FILE TEXT
 contains() { if grep -qF -- "$2" "$1"; then ok; else bad "'$2' not in $1: $(head -c 300 "$1")"; fi; }
 
-for f in "$SRC"/tests/cli/cases/*.sh; do
-  [ -f "$f" ] && . "$f"
+cases=("$@")
+[ ${#cases[@]} -gt 0 ] || cases=($(cd "$SRC/tests/cli/cases" && ls -- *.sh))
+for c in "${cases[@]}"; do
+  f=$SRC/tests/cli/cases/$c
+  if [ -f "$f" ]; then . "$f"; else bad "no case script $f"; fi
 done
 
 echo "$pass passed, $fail failed"

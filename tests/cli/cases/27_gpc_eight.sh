@@ -1,0 +1,11 @@
+# gpc on the eight: two T-shapes (genus 2), merged across cuts 5 cuboids, unmerged 8; 4 Type-1
+# ill-points either way. These counts come from the decomposition and the surface maps, before
+# the volumetric grid, so a coarse grid (--grid-nodes 2000) shows them as the default one does.
+expect 0 "$BIN" gpc "$DATA/meshes/eight.off" -o "$TMP/ge.json" --stats-json "$TMP/ge_stats.json" --grid-nodes 2000 --quiet
+contains "$TMP/ge_stats.json" "\"genus\": 2"
+contains "$TMP/ge_stats.json" "\"t_shapes\": 2"
+contains "$TMP/ge_stats.json" "\"cuboids\": 5"
+contains "$TMP/ge_stats.json" "\"ill_points\": 4"
+contains "$TMP/ge_stats.json" "\"flipped_triangles\": 0"
+expect 0 "$BIN" gpc "$DATA/meshes/eight.off" -o "$TMP/ge8.json" --stats-json "$TMP/ge8_stats.json" --no-merge --grid-nodes 2000 --quiet
+contains "$TMP/ge8_stats.json" "\"cuboids\": 8"
