@@ -12,6 +12,7 @@
 #include "core/io/mesh_io.h"
 #include "core/mesh/halfedge_mesh.h"
 #include "core/mesh/mesh_report.h"
+#include "core/param/gpc_volumetric_map.h"
 #include "core/pipeline/gpc_job.h"
 #include "core/polycube/cylinder_map.h"
 #include "core/polycube/disc_chords.h"
@@ -178,6 +179,14 @@ pipeline::GpcOptions small_grid() {
   return o;
 }
 
+// For the tests of what the job builds before its volumetric grids (decomposition, cuboids,
+// glued faces, surface maps): the grids keep the harmonic map's folds, as with gpc --no-untangle.
+pipeline::GpcOptions without_untangling() {
+  pipeline::GpcOptions o = small_grid();
+  o.grid.untangle = param::GpcGridOptions::Untangle::Off;
+  return o;
+}
+
 mesh::HalfedgeMesh outward(const mesh::TriangleMesh& m) {
   mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(m, "test");
   if (mesh::analyze_mesh(hm).signed_volume < 0) {
@@ -277,7 +286,7 @@ TEST_CASE("Morse decomposition: an arched frame is cut along meridians only, one
 }
 
 TEST_CASE("gpc job: the arched frame is 4 T-shapes with Type-1 ill-points only, its cut discs inside") {
-  const pipeline::GpcResult r = pipeline::run_gpc(make_arched_frame(40, 0.2, 0.6), "frame", small_grid());
+  const pipeline::GpcResult r = pipeline::run_gpc(make_arched_frame(40, 0.2, 0.6), "frame", without_untangling());
   CHECK(r.stats.genus == 3);
   CHECK(r.stats.t_shapes == 4);
   CHECK(r.stats.cut_discs_outside == 0);
@@ -548,13 +557,13 @@ int twisted_cycles(const polycube::GpcDomain& domain) {
 }
 
 TEST_CASE("gpc job: a two-hole solid is two T-shapes with Type-1 ill-points only, glued exactly") {
-  const pipeline::GpcResult r = pipeline::run_gpc(test::two_hole_slab(3), "slab", small_grid());
+  const pipeline::GpcResult r = pipeline::run_gpc(test::two_hole_slab(3), "slab", without_untangling());
   const pipeline::GpcStats& s = r.stats;
   CHECK(s.genus == 2);
   CHECK(s.t_shapes == 2);
   CHECK(s.ill_points == 4);
   // 4 cuboids per T-shape; merging across cuts removes one cuboid and one interface per merge.
-  pipeline::GpcOptions separate = small_grid();
+  pipeline::GpcOptions separate = without_untangling();
   separate.merge_cuboids = false;
   const pipeline::GpcResult u = pipeline::run_gpc(test::two_hole_slab(3), "slab", separate);
   CHECK(u.stats.cuboids == 8);
@@ -599,7 +608,7 @@ TEST_CASE("limbs: the three ends of a T-shaped solid become caps around one T-sh
   CHECK(caps == 3);
   CHECK(tshapes == 1);
   // Without limbs the blob stays one cuboid; with them the job cuts the three limbs off.
-  pipeline::GpcOptions on = small_grid();
+  pipeline::GpcOptions on = without_untangling();
   on.limb_persistence = 0.25;
   const pipeline::GpcResult r = pipeline::run_gpc(make_t_solid(3), "T", on);
   CHECK(r.stats.limb_fallback == "");
@@ -609,7 +618,7 @@ TEST_CASE("limbs: the three ends of a T-shaped solid become caps around one T-sh
   CHECK(r.stats.flipped_triangles == 0);
   CHECK(r.stats.interface_gap_rel <= 1e-12);
   CHECK(r.stats.cut_discs_outside == 0);
-  const pipeline::GpcResult blob = pipeline::run_gpc(make_t_solid(3), "T", small_grid());
+  const pipeline::GpcResult blob = pipeline::run_gpc(make_t_solid(3), "T", without_untangling());
   CHECK(blob.stats.cuboids == 1);
 }
 
@@ -617,7 +626,7 @@ TEST_CASE("gpc job: the eight's handles close without a twist") {
   // Each T-shape of the eight has both sides of one cut as its arms (a handle): its seams join
   // every corner of the cut to its own copy, so the merged ring closes without a twist.
   const mesh::TriangleMesh eight = io::read_mesh(std::string(VOLSPLINE_SHARED_DATA) + "/meshes/eight.off");
-  const pipeline::GpcResult r = pipeline::run_gpc(eight, "eight", small_grid());
+  const pipeline::GpcResult r = pipeline::run_gpc(eight, "eight", without_untangling());
   CHECK(r.stats.genus == 2);
   CHECK(r.stats.t_shapes == 2);
   CHECK(r.stats.cuboids == 5);
