@@ -93,6 +93,9 @@ SurfaceDistance::SurfaceDistance(const mesh::TriangleMesh& mesh) {
     for (int z = ranges[f][2]; z <= ranges[f][5]; ++z)
       for (int y = ranges[f][1]; y <= ranges[f][4]; ++y)
         for (int x = ranges[f][0]; x <= ranges[f][3]; ++x) bucket_triangles_[counts[x + size_(0) * (y + size_(1) * z)]++] = f;
+  bucket_boxes_.resize(6 * bucket_triangles_.size());
+  for (std::size_t k = 0; k < bucket_triangles_.size(); ++k)
+    std::copy_n(boxes_.data() + 6 * std::size_t(bucket_triangles_[k]), 6, bucket_boxes_.data() + 6 * k);
 }
 
 double SurfaceDistance::search(const Eigen::Vector3d& p, double best2, double stop2, Eigen::Vector3d* point,
@@ -121,9 +124,9 @@ double SurfaceDistance::search(const Eigen::Vector3d& p, double best2, double st
           if (farther(box_distance2(p.data(), lo, hi), best2)) continue;
           const int b = x + size_(0) * (y + size_(1) * z);
           for (int k = bucket_begin_[b]; k < bucket_begin_[b + 1]; ++k) {
-            const int f = bucket_triangles_[k];
-            const double* box = boxes_.data() + 6 * std::size_t(f);
+            const double* box = bucket_boxes_.data() + 6 * std::size_t(k);
             if (farther(box_distance2(p.data(), box, box + 3), best2)) continue;
+            const int f = bucket_triangles_[k];
             const double* c = corners_.data() + 9 * std::size_t(f);
             const Eigen::Vector3d q = closest_point_on_triangle(p, Eigen::Vector3d(c[0], c[1], c[2]),
                                                                 Eigen::Vector3d(c[3], c[4], c[5]),

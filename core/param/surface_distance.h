@@ -50,6 +50,7 @@ class SurfaceDistance {
   Eigen::Vector3i size_;
   std::vector<int> bucket_begin_;
   std::vector<int> bucket_triangles_;
+  std::vector<double> bucket_boxes_;  // boxes_ of bucket_triangles_, in their order: one stream per bucket
 };
 
 }  // namespace volspline::param
