@@ -30,7 +30,7 @@ native() {
 }
 # The configurations are the presets of CMakePresets.json. One clang Debug build (preset sanitize,
 # line tables only) serves both the sanitizer run and the fuzzers: ASan+UBSan everywhere, and the
-# core also carries libFuzzer's coverage instrumentation (harmless for the tests).
+# core's reader code also carries libFuzzer's coverage instrumentation (tests/fuzz/CMakeLists.txt).
 sanitized() {
   cmake --preset sanitize >/dev/null &&
   cmake --build build/sanitize -j"$JOBS" &&
