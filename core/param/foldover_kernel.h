@@ -85,12 +85,12 @@ inline double inverse_cbrt_guess(double x) {
   return y;
 }
 
-// The energy of foldover_kernel at the 8 corner tetrahedra of one hex (Garanzha et al. 2021,
-// Eq. 2 per corner), lane c = corner c: p[q] is node q (offset (q&1, q>>1&1, q>>2&1)),
-// corner c's J has column a = the +axis hex edge through c, times inv_h. e[c] gets the energy
-// of every corner; if grad is not null, grad[q] gets the gradient over the nodes of the corners
-// flagged in `corners` (bit c). The lanes of all 8 corners are computed the same way, so a
-// compiler vectorizes them; no FMA and no reassociation, so every build gives the same bits.
+// The energy of foldover_kernel (Garanzha et al. 2021) at the 8 corner tetrahedra of one hex,
+// lane c = corner c: p[q] is node q (offset (q&1, q>>1&1, q>>2&1)), corner c's J has column
+// a = the +axis hex edge through c, times inv_h. e[c] gets the energy of every corner; if grad
+// is not null, grad[q] gets the gradient over the nodes of the corners flagged in `corners`
+// (bit c). All 8 lanes are computed the same way, so that a compiler can vectorize them; no FMA
+// and no reassociation, so every build gives the same bits.
 inline void hex_corner_kernel(const double (*p)[3], double inv_h, double eps2, double theta, unsigned corners,
                               double* e, double (*grad)[3]) {
   double edge[3][8][3];  // [axis][lower corner][coordinate]
