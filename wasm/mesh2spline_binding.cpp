@@ -85,7 +85,8 @@ void check_cut(int axis, double position, int samples) {
   if (samples < 2 || samples > 257) throw Error("cut samples must be in [2, 257], got " + std::to_string(samples));
 }
 
-val stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name, const std::string& fit) {
+// The keys both kinds of job report first, in the CLI's order.
+val fit_stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name, const std::string& fit) {
   val out = val::object();
   out.set("input", name);
   out.set("fit", fit);
@@ -95,6 +96,11 @@ val stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name, co
   out.set("rms_geo_rel", s.rms_geo_rel);
   out.set("control_points", s.control_points);
   out.set("levels", s.levels);
+  return out;
+}
+
+val stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name, const std::string& fit) {
+  val out = fit_stats_to_js(s, name, fit);
   out.set("jacobian_certified_fraction", s.jacobian_certified_fraction);
   out.set("det_j_lower_bound_rel", s.det_j_lower_bound_rel);
   out.set("certificate_cells", s.certificate_cells);
@@ -189,15 +195,7 @@ pipeline::GpcMesh2SplineOptions gpc_job_options_from_js(const val& o, const pipe
 }
 
 val gpc_stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name, bool adaptive) {
-  val out = val::object();
-  out.set("input", name);
-  out.set("fit", std::string("grid"));
-  out.set("rms_rel", s.rms_rel);
-  out.set("max_rel", s.max_rel);
-  out.set("hausdorff_rel", s.hausdorff_rel);
-  out.set("rms_geo_rel", s.rms_geo_rel);
-  out.set("control_points", s.control_points);
-  out.set("levels", s.levels);
+  val out = fit_stats_to_js(s, name, "grid");
   out.set("knot_refinement", std::string(adaptive ? "adaptive" : "uniform"));
   val history = val::array();
   for (const pipeline::Mesh2SplineStats::Level& l : s.level_history) {
