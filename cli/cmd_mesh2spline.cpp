@@ -40,6 +40,8 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
   options.gpc.grid.area_balance_iterations = m.area_balance_iterations;
   if (args.has("no-padding")) options.gpc.grid.padding = param::GpcGridOptions::Padding::Off;
   if (args.has("adaptive-knots")) options.refinement = pipeline::GpcMesh2SplineOptions::Refinement::Adaptive;
+  if (args.has("hierarchical")) options.refinement = pipeline::GpcMesh2SplineOptions::Refinement::Hierarchical;
+  options.hierarchy_depth = args.get_int("hierarchy-depth", options.hierarchy_depth);
   options.adaptive_growth = args.get_double("knot-growth", options.adaptive_growth);
   options.surface_weight = args.get_double("surface-weight", options.surface_weight);
   options.measure_lattice = args.get_int("measure-lattice", options.measure_lattice);
@@ -62,7 +64,7 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
     j["rms_geo_rel"] = s.rms_geo_rel;
     j["control_points"] = s.control_points;
     j["levels"] = s.levels;
-    j["knot_refinement"] = args.has("adaptive-knots") ? "adaptive" : "uniform";
+    j["knot_refinement"] = args.has("hierarchical") ? "hierarchical" : args.has("adaptive-knots") ? "adaptive" : "uniform";
     nlohmann::ordered_json history = nlohmann::ordered_json::array();
     for (const auto& l : s.level_history)
       history.push_back({{"control_points", l.control_points}, {"rms_rel", l.rms_rel}, {"surface_max_rel", l.surface_max_rel}});
@@ -142,6 +144,8 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
       {"no-untangle", "", "skip the untangling of folded interior control points after the fit (the thesis's plain fit)"},
       {"no-padding", "", "genus > 0: fit the cuboid grids without the padding layer under the surface (see volspline gpc)"},
       {"adaptive-knots", "", "genus > 0: each level adds knot lines where the misfit is instead of dividing the spacing by 1.5"},
+      {"hierarchical", "", "genus > 0: past the uniform levels, split the functions holding the most misfit (T-spline refinement)"},
+      {"hierarchy-depth", "L", "genus > 0, --hierarchical: split functions at most L dyadic levels below the last uniform level (default 2, 1..6)"},
       {"measure-lattice", "N", "genus > 0: lattice_negative_fraction at the cell centres of an N^3 lattice per cuboid (default 64, 4..256)"},
       {"surface-weight", "W", "genus > 0: least-squares weight of a surface vertex against a grid node (default 1)"},
       {"knot-growth", "G", "genus > 0, --adaptive-knots: each level adds lines until the control points grow by G (default 1.4)"},

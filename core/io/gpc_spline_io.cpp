@@ -47,6 +47,7 @@ std::string serialize_gpc_spline_json(const spline::GpcSpline& spline) {
   for (int g = 0; g < static_cast<int>(spline.domain().interfaces.size()); ++g)
     if (spline.interface_join(g) == spline::GpcFaceJoin::Clamped) clamped.push_back(g);
   j["clamped_interfaces"] = clamped;
+  if (!spline.splits().empty()) j["splits"] = spline.splits();  // hierarchical refinement steps
   Json points = Json::array();
   for (int i = 0; i < spline.num_functions(); ++i) {
     Json p = Json::array();
@@ -142,6 +143,21 @@ spline::GpcSpline parse_gpc_spline_json(const std::string& text, const std::stri
         g.get<long long>() >= static_cast<long long>(domain.interfaces.size()))
       throw Error(prefix + "\"clamped_interfaces\" holds an entry that is not an interface id");
     options.clamped_interfaces.push_back(g.get<int>());
+  }
+  if (doc.contains("splits")) {
+    const Json& splits = doc["splits"];
+    if (!splits.is_array() || splits.size() > 64)
+      throw Error(prefix + "\"splits\" must be an array of at most 64 refinement steps");
+    for (const Json& step : splits) {
+      if (!step.is_array()) throw Error(prefix + "\"splits\" holds a step that is not an array of function ids");
+      std::vector<int> ids;
+      for (const Json& id : step) {
+        if (!id.is_number_integer() || id.get<long long>() < 0 || id.get<long long>() > (1LL << 30))
+          throw Error(prefix + "\"splits\" holds an entry that is not a function id");
+        ids.push_back(id.get<int>());
+      }
+      options.splits.push_back(std::move(ids));
+    }
   }
   std::optional<spline::GpcSpline> spline;
   try {

@@ -31,6 +31,10 @@ void check_options(const GpcMesh2SplineOptions& o) {
   if (!(o.surface_weight > 0.0) || !std::isfinite(o.surface_weight)) fail("`surface_weight` must be a positive number");
   if (o.measure_lattice < 4 || o.measure_lattice > 256) fail("`measure_lattice` must be in [4, 256]");
   if (o.threads < 1) fail("`threads` must be ≥ 1");
+  if (!(o.hierarchical_from >= 1.0) || !std::isfinite(o.hierarchical_from)) fail("`hierarchical_from` must be ≥ 1");
+  if (!(o.marking_fraction > 0.0 && o.marking_fraction <= 1.0)) fail("`marking_fraction` must be in (0, 1]");
+  if (o.hierarchy_depth < 1 || o.hierarchy_depth > spline::GpcSpline::kMaxLevel)
+    fail("`hierarchy_depth` must be in [1, " + std::to_string(spline::GpcSpline::kMaxLevel) + "]");
 }
 
 // Fitting samples in the unit-box frame: every (cuboid, node) of the volumetric map's hex mesh
@@ -303,23 +307,57 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
     for (int a = 0; a < 3; ++a) step[a] = domain.cuboids[c].size[a] / std::max(1, gpc.map.grids[c].nodes[a] - 1);
     grid_step.push_back(step);
   }
-  for (int level = 0; level <= options.max_levels; ++level, spacing /= options.refinement_ratio) {
-    progress.report("fit level " + std::to_string(level), 0.6 + 0.3 * level / (options.max_levels + 1));
-    spline::GpcSplineOptions so;
-    if (adaptive && best)
-      so.knot_lines = spline::gpc_refined_knot_lines(*best, data.samples, options.adaptive_growth, grid_step, beyond);
-    else
-      so.intervals = spline::gpc_uniform_intervals(domain, spacing, &lengths);
-    spline::GpcSpline candidate(domain, so);
+  const bool hierarchical = options.refinement == GpcMesh2SplineOptions::Refinement::Hierarchical;
+  bool splitting = false;  // Hierarchical: past the uniform levels
+  bool rebase = false;     // Hierarchical: the splits stalled, the next level is the next uniform one
+  // level counts the uniform levels (max_levels), step every fit (stage names, level_history).
+  for (int level = 0, step = 0; level <= options.max_levels && step <= options.max_levels + 40; ++step) {
+    progress.report("fit level " + std::to_string(step), 0.6 + 0.3 * level / (options.max_levels + 1));
+    splitting = !rebase && (splitting || (hierarchical && best && stats.rms_rel <= options.hierarchical_from * options.max_rms_rel));
+    rebase = false;
+    std::optional<spline::GpcSpline> next;
+    std::vector<int> marked;
+    if (splitting) {
+      // About 16 new functions per split (children shared between neighbours).
+      const int n = best->num_functions();
+      const int room = static_cast<int>(std::min<double>((options.adaptive_growth - 1.0) * n / 16.0,
+                                                         (options.max_control_points - n) / 16.0));
+      if (room >= 1)
+        marked = spline::gpc_marked_functions(*best, data.samples, options.marking_fraction, room,
+                                              options.hierarchy_depth);
+      // Every function with misfit at hierarchy_depth: the next uniform level instead.
+      splitting = !marked.empty();
+    }
+    if (splitting) {
+      next = best->refined(marked);  // F carried over exactly: the fit starts from the last level
+    } else {
+      spline::GpcSplineOptions so;
+      if (adaptive && best)
+        so.knot_lines = spline::gpc_refined_knot_lines(*best, data.samples, options.adaptive_growth, grid_step, beyond);
+      else
+        so.intervals = spline::gpc_uniform_intervals(domain, spacing, &lengths);
+      spacing /= options.refinement_ratio;
+      next.emplace(domain, so);
+      ++level;
+      // After stalled splits, the first uniform level with more functions than the splits reached.
+      while (hierarchical && best && next->num_functions() <= best->num_functions() &&
+             next->num_functions() <= options.max_control_points) {
+        so.intervals = spline::gpc_uniform_intervals(domain, spacing, &lengths);
+        spacing /= options.refinement_ratio;
+        next.emplace(domain, so);
+      }
+    }
+    spline::GpcSpline& candidate = *next;
     // More functions than a quarter of the samples: the least squares would be fixed mostly by the
     // regularization, not by data (and CG slows down by orders of magnitude).
     if (best && (candidate.num_functions() > options.max_control_points ||
                  4 * candidate.num_functions() > stats.samples))
       break;
-    candidate.set_points(prior_points(candidate, best ? &*best : nullptr, centre, diagonal));
+    if (!splitting) candidate.set_points(prior_points(candidate, best ? &*best : nullptr, centre, diagonal));
+    const double last_rms = stats.rms_rel;
     const spline::GpcSplineFitReport report = spline::fit_gpc_spline(candidate, data.samples);
-    timer.end_stage("fit_level_" + std::to_string(level));
-    stats.levels = level;
+    timer.end_stage("fit_level_" + std::to_string(step));
+    stats.levels = step;
     stats.rms_rel = report.rms_error;  // unit diagonal: already relative
     stats.max_rel = report.max_error;
     stats.control_points = candidate.num_functions();
@@ -329,6 +367,9 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
     stats.level_history.push_back({candidate.num_functions(), report.rms_error, misfit.size() ? misfit.maxCoeff() : 0.0});
     best = std::move(candidate);
     if (stats.rms_rel <= options.max_rms_rel && beyond.empty()) break;
+    // A split step that gains under 2 % of the rms has met functions at hierarchy_depth only: the
+    // next level is the next uniform one, and splitting goes on from there.
+    if (splitting && stats.rms_rel > 0.98 * last_rms) rebase = true;
   }
   spline::GpcSpline& fitted = *best;
   stats.continued_interfaces = fitted.num_continued_interfaces();

@@ -32,8 +32,16 @@ struct GpcMesh2SplineOptions {
   /// (spline::gpc_refined_knot_lines). Each cuboid stays a tensor product, so a split runs through
   /// its cross-section and every glued axis: it pays where the misfit sits in a few slabs, not for
   /// misfit spread over the solid.
-  enum class Refinement { Uniform, Adaptive } refinement = Refinement::Uniform;
-  double adaptive_growth = 1.4;  ///< in (1, 8]
+  /// Hierarchical: uniform levels while rms_rel > hierarchical_from · max_rms_rel, then each
+  /// level splits the functions holding the most misfit into their children one dyadic level
+  /// finer (spline::gpc_marked_functions, GpcSpline::refined: a T-spline refinement that can split
+  /// a cell of any cuboid, next to interfaces too), at most hierarchy_depth levels below the last
+  /// uniform one.
+  enum class Refinement { Uniform, Adaptive, Hierarchical } refinement = Refinement::Uniform;
+  double adaptive_growth = 1.4;  ///< in (1, 8]; for Hierarchical the growth cap of one step
+  double hierarchical_from = 2.5;  ///< ≥ 1
+  double marking_fraction = 0.5;   ///< Dörfler fraction of the misfit marked per step, in (0, 1]
+  int hierarchy_depth = 2;         ///< in [1, GpcSpline::kMaxLevel]
   /// Least-squares weight of a surface vertex relative to a volumetric grid node (> 0).
   double surface_weight = 1.0;
   GpcOptions gpc;                 ///< the domain and its volumetric map (run_gpc)

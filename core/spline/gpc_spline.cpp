@@ -4,12 +4,14 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <map>
 #include <numeric>
 #include <string>
 #include <tuple>
 #include <utility>
 
 #include "core/common/error.h"
+#include "core/spline/knot_insertion.h"
 
 namespace volspline::spline {
 
@@ -297,6 +299,7 @@ class Assembly {
     return static_cast<int>((knots_[c][0].size() - 4) * (knots_[c][1].size() - 4) * (knots_[c][2].size() - 4));
   }
   int total() const { return offsets_.back(); }
+  const std::array<std::vector<double>, 3>& knots(int c) const { return knots_[c]; }
   int offset(int c) const { return offsets_[c]; }
   std::array<int, 3> index3(int c, int l) const {
     const int m0 = static_cast<int>(knots_[c][0].size()) - 4, m1 = static_cast<int>(knots_[c][1].size()) - 4;
@@ -432,6 +435,262 @@ class Assembly {
   std::vector<int> offsets_;
 };
 
+}  // namespace
+
+namespace detail {
+// The B-spline over the GPC on one set of knot lines with fixed joins: per cuboid its chain
+// knot vectors and the global id of every local function (ids in order of first appearance:
+// cuboid, then local function), and per global id the local functions that are its pieces.
+struct GpcLevelBasis {
+  std::vector<std::array<std::vector<double>, 3>> knots;
+  std::vector<std::vector<int>> ids;
+  std::vector<std::vector<std::pair<int, int>>> pieces;
+  int count = 0;
+
+  std::array<int, 3> index3(int c, int l) const {
+    const int m0 = static_cast<int>(knots[c][0].size()) - 4, m1 = static_cast<int>(knots[c][1].size()) - 4;
+    return {l % m0, (l / m0) % m1, l / (m0 * m1)};
+  }
+  BlendingKnots blending(int c, int l) const {
+    const std::array<int, 3> j = index3(c, l);
+    BlendingKnots out;
+    for (int a = 0; a < 3; ++a)
+      for (int q = 0; q < 5; ++q) out[a][q] = knots[c][a][j[a] + q];
+    return out;
+  }
+  // Local function of cuboid c with knots k (to tol), −1 if none.
+  int local_of(int c, const BlendingKnots& k, double tol) const {
+    std::array<int, 3> j{};
+    for (int a = 0; a < 3; ++a) {
+      const std::vector<double>& v = knots[c][a];
+      const int m = static_cast<int>(v.size()) - 4;
+      j[a] = -1;
+      int s = static_cast<int>(std::lower_bound(v.begin(), v.end(), k[a][0] - tol) - v.begin());
+      for (; s < m && v[s] <= k[a][0] + tol && j[a] < 0; ++s) {
+        bool same = true;
+        for (int q = 0; q < 5 && same; ++q) same = std::abs(v[s + q] - k[a][q]) <= tol;
+        if (same) j[a] = s;
+      }
+      if (j[a] < 0) return -1;
+    }
+    const int m0 = static_cast<int>(knots[c][0].size()) - 4, m1 = static_cast<int>(knots[c][1].size()) - 4;
+    return j[0] + m0 * (j[1] + m1 * j[2]);
+  }
+};
+
+}  // namespace detail
+
+namespace {
+
+using LevelBasis = detail::GpcLevelBasis;
+
+LevelBasis make_basis(const Assembly& assembly, UnionFind& uf, int nc) {
+  LevelBasis b;
+  b.knots.resize(nc);
+  b.ids.resize(nc);
+  std::vector<int> id_of_root(static_cast<std::size_t>(assembly.total()), -1);
+  for (int c = 0; c < nc; ++c) {
+    b.knots[c] = assembly.knots(c);
+    const int m = assembly.count(c);
+    b.ids[c].resize(m);
+    for (int l = 0; l < m; ++l) {
+      int& id = id_of_root[uf.find(assembly.offset(c) + l)];
+      if (id < 0) {
+        id = b.count++;
+        b.pieces.emplace_back();
+      }
+      b.ids[c][l] = id;
+      b.pieces[id].emplace_back(c, l);
+    }
+  }
+  return b;
+}
+
+// Children of a cubic B-spline with local knots r when the midpoint of every non-empty interval
+// is inserted (Eq. 4.8 repeated): N_r = Σ coefficient · N_child, children with r0 < r4 only.
+std::vector<std::pair<LocalKnots, double>> midpoint_children(const LocalKnots& r, double tol) {
+  std::vector<std::pair<LocalKnots, double>> list{{r, 1.0}};
+  for (int q = 0; q < 4; ++q) {
+    if (!(r[q + 1] - r[q] > tol)) continue;
+    const double m = 0.5 * (r[q] + r[q + 1]);
+    std::vector<std::pair<LocalKnots, double>> next;
+    auto add = [&](const LocalKnots& k, double coefficient) {
+      if (!(coefficient > 0.0) || !(k[4] - k[0] > tol)) return;
+      for (auto& [known, c] : next) {
+        bool same = true;
+        for (int i = 0; i < 5 && same; ++i) same = std::abs(known[i] - k[i]) <= tol;
+        if (same) {
+          c += coefficient;
+          return;
+        }
+      }
+      next.emplace_back(k, coefficient);
+    };
+    for (const auto& [k, c] : list) {
+      if (!(k[0] < m && m < k[4])) {
+        add(k, c);
+        continue;
+      }
+      const KnotInsertion ins = insert_knot(k, m);
+      add(ins.first, c * ins.first_coefficient);
+      add(ins.second, c * ins.second_coefficient);
+    }
+    list = std::move(next);
+  }
+  return list;
+}
+
+// The levels of a hierarchical GPC-spline and the refinement relation between them (see
+// GpcSpline's class comment): level ℓ's lines cut every base interval into 2^ℓ parts.
+class Hierarchy {
+ public:
+  using Key = std::pair<int, int>;  // (level, id among that level's functions)
+
+  Hierarchy(const GpcDomain& domain, const KnotLines& base, const std::vector<GpcFaceJoin>& join, double tol,
+            LevelBasis level0)
+      : domain_(domain), base_(base), join_(join), tol_(tol) {
+    levels_.push_back(std::move(level0));
+  }
+
+  const LevelBasis& level(int l) {
+    while (static_cast<int>(levels_.size()) <= l) build(static_cast<int>(levels_.size()));
+    return levels_[l];
+  }
+
+  // B_key = Σ coefficient · B_child over the children one level finer.
+  const std::vector<std::pair<int, double>>& children(const Key& key) {
+    auto it = children_.find(key);
+    if (it != children_.end()) return it->second;
+    const int l = key.first;
+    if (l + 1 > GpcSpline::kMaxLevel)
+      throw Error("GpcSpline: refinement below level " + str(GpcSpline::kMaxLevel) + " (the deepest allowed)");
+    const LevelBasis& fine = level(l + 1);
+    const LevelBasis& coarse = levels_[l];
+    std::vector<std::pair<int, double>> out;
+    for (const auto& [c, local] : coarse.pieces[key.second]) {
+      const BlendingKnots k = coarse.blending(c, local);
+      const Eigen::Vector3d size = size_of(domain_, c);
+      std::array<std::vector<std::pair<LocalKnots, double>>, 3> one;
+      for (int a = 0; a < 3; ++a) one[a] = midpoint_children(k[a], tol_);
+      for (const auto& [k2, c2] : one[2])
+        for (const auto& [k1, c1] : one[1])
+          for (const auto& [k0, c0] : one[0]) {
+            const BlendingKnots child{k0, k1, k2};
+            bool meets = true;
+            for (int a = 0; a < 3 && meets; ++a) meets = child[a][0] < size(a) - tol_ && child[a][4] > tol_;
+            if (!meets) continue;
+            const int lc = fine.local_of(c, child, 4.0 * tol_);
+            if (lc < 0)
+              throw Error("GpcSpline: a child of a level-" + str(l) + " function in cuboid " + str(c) +
+                          " is not a level-" + str(l + 1) + " function (inconsistent knot lines)");
+            const int j = fine.ids[c][lc];
+            const double coefficient = c0 * c1 * c2;
+            auto at = std::find_if(out.begin(), out.end(), [&](const auto& e) { return e.first == j; });
+            if (at == out.end()) {
+              out.emplace_back(j, coefficient);
+            } else if (std::abs(at->second - coefficient) > 1e-9) {
+              throw Error("GpcSpline: the pieces of a level-" + str(l) + " function refine differently (cuboid " +
+                          str(c) + ")");
+            }
+          }
+    }
+    std::sort(out.begin(), out.end());
+    return children_.emplace(key, std::move(out)).first->second;
+  }
+
+ private:
+  void build(int l) {
+    const int parts = 1 << l;
+    KnotLines lines(base_.size());
+    long estimate = 0;
+    for (std::size_t c = 0; c < base_.size(); ++c) {
+      long local = 1;
+      for (int a = 0; a < 3; ++a) {
+        const std::vector<double>& b = base_[c][a];
+        for (std::size_t k = 0; k + 1 < b.size(); ++k)
+          for (int q = 0; q < parts; ++q) lines[c][a].push_back(b[k] + (b[k + 1] - b[k]) * q / parts);
+        lines[c][a].push_back(b.back());
+        local *= static_cast<long>(lines[c][a].size()) + 2;
+      }
+      estimate += local;
+    }
+    if (estimate > GpcSpline::kMaxLevelFunctions)
+      throw Error("GpcSpline: refinement level " + str(l) + " would hold about " + std::to_string(estimate) +
+                  " functions (at most " + std::to_string(GpcSpline::kMaxLevelFunctions) + ")");
+    const Assembly assembly(domain_, lines, join_, tol_);
+    UnionFind uf(assembly.total());
+    const int failed = assembly.identify(uf);
+    if (failed >= 0)
+      throw Error("GpcSpline: the level-" + str(l) + " functions do not match across interface " + str(failed));
+    levels_.push_back(make_basis(assembly, uf, static_cast<int>(base_.size())));
+  }
+
+  const GpcDomain& domain_;
+  KnotLines base_;
+  std::vector<GpcFaceJoin> join_;
+  double tol_;
+  std::vector<LevelBasis> levels_;
+  std::map<Key, std::vector<std::pair<int, double>>> children_;
+};
+
+// One refinement step on the active functions (key → weight): the listed ones and the closure
+// replaced by their children. `from` (n×... old order) receives, per new function in key order,
+// the old functions it draws on with their factors (weights: Σ factors; points: Σ factor·p / w).
+struct StepRecord {
+  std::vector<std::vector<std::pair<int, double>>> from;
+  std::vector<int> split;  // old indices split, closure included, increasing
+};
+
+StepRecord refine_step(Hierarchy& h, std::map<Hierarchy::Key, double>& active, const std::vector<int>& split_ids) {
+  std::vector<Hierarchy::Key> order;
+  order.reserve(active.size());
+  for (const auto& e : active) order.push_back(e.first);
+  const int n = static_cast<int>(order.size());
+  std::vector<char> split(n, 0);
+  for (int i : split_ids) {
+    if (i < 0 || i >= n) throw Error("GpcSpline: splits name function " + str(i) + " of " + str(n));
+    split[i] = 1;
+  }
+  std::map<Hierarchy::Key, std::vector<std::pair<int, double>>> next;
+  for (;;) {
+    next.clear();
+    for (int i = 0; i < n; ++i) {
+      const double w = active[order[i]];
+      if (!split[i]) {
+        next[order[i]].emplace_back(i, w);
+        continue;
+      }
+      for (const auto& [j, coefficient] : h.children(order[i]))
+        next[{order[i].first + 1, j}].emplace_back(i, w * coefficient);
+    }
+    // Closure: an unsplit function whose children are all present is split as well.
+    bool grew = false;
+    for (int i = 0; i < n; ++i) {
+      if (split[i] || order[i].first >= GpcSpline::kMaxLevel) continue;
+      if (!next.count({order[i].first + 1, h.children(order[i]).front().first})) continue;
+      bool all = true;
+      for (const auto& [j, coefficient] : h.children(order[i]))
+        if (!next.count({order[i].first + 1, j})) {
+          all = false;
+          break;
+        }
+      if (all) split[i] = 1, grew = true;
+    }
+    if (!grew) break;
+  }
+  StepRecord record;
+  active.clear();
+  for (auto& [key, sources] : next) {
+    double w = 0.0;
+    for (const auto& s : sources) w += s.second;
+    active[key] = w;
+    record.from.push_back(std::move(sources));
+  }
+  for (int i = 0; i < n; ++i)
+    if (split[i]) record.split.push_back(i);
+  return record;
+}
+
 double length_tolerance(const GpcDomain& domain) {
   double largest = 0.0;
   for (const auto& c : domain.cuboids)
@@ -443,7 +702,7 @@ double length_tolerance(const GpcDomain& domain) {
 }  // namespace
 
 GpcSpline::GpcSpline(const polycube::GpcDomain& domain, const GpcSplineOptions& options)
-    : domain_(domain), dimension_(options.dimension) {
+    : domain_(domain), dimension_(options.dimension), clamped_option_(options.clamped_interfaces) {
   if (dimension_ < 1 || dimension_ > 4)
     throw Error("GpcSpline: dimension is " + str(dimension_) + " (must be 1..4)");
   const double tol = length_tolerance(domain_);
@@ -500,8 +759,12 @@ GpcSpline::GpcSpline(const polycube::GpcDomain& domain, const GpcSplineOptions& 
                     " do not match (unsupported gluing)");
       continue;
     }
-    // Global ids in order of first appearance (cuboid, then local function).
     const int nc = num_cuboids();
+    if (!options.splits.empty()) {
+      build_hierarchy(make_basis(assembly, uf, nc), options.splits, tol);
+      break;
+    }
+    // Global ids in order of first appearance (cuboid, then local function).
     std::vector<int> id_of_root(static_cast<std::size_t>(assembly.total()), -1);
     patch_ids_.assign(nc, {});
     patches_.clear();
@@ -534,8 +797,92 @@ GpcSpline::GpcSpline(const polycube::GpcDomain& domain, const GpcSplineOptions& 
       patches_.emplace_back(std::move(knots), Eigen::VectorXd::Ones(m), Eigen::MatrixXd::Zero(m, dimension_));
     }
     points_ = Eigen::MatrixXd::Zero(num_functions_, dimension_);
+    level_of_.assign(num_functions_, 0);
+    level_id_.resize(num_functions_);
+    std::iota(level_id_.begin(), level_id_.end(), 0);
     break;
   }
+}
+
+void GpcSpline::build_hierarchy(detail::GpcLevelBasis level0, const std::vector<std::vector<int>>& steps, double tol) {
+  const int nc = num_cuboids();
+  Hierarchy h(domain_, lines_, interface_join_, tol, std::move(level0));
+  std::map<Hierarchy::Key, double> active;
+  for (int i = 0; i < h.level(0).count; ++i) active[{0, i}] = 1.0;
+  splits_.clear();
+  for (const std::vector<int>& step : steps) {
+    StepRecord record = refine_step(h, active, step);
+    splits_.push_back(std::move(record.split));
+    last_step_from_ = std::move(record.from);
+  }
+  num_functions_ = static_cast<int>(active.size());
+  level_of_.clear();
+  level_id_.clear();
+  std::vector<double> weight;
+  for (const auto& [key, w] : active) {
+    level_of_.push_back(key.first);
+    level_id_.push_back(key.second);
+    weight.push_back(w);
+  }
+  // Per cuboid: the pieces of every function, in function order (Greville anchors as above).
+  patch_ids_.assign(nc, {});
+  patches_.clear();
+  patches_.reserve(nc);
+  anchors_.assign(num_functions_, {});
+  std::vector<char> anchored(num_functions_, 0);
+  std::vector<std::vector<BlendingKnots>> knots(nc);
+  std::vector<std::vector<double>> weights(nc);
+  for (int k = 0; k < num_functions_; ++k) {
+    const LevelBasis& basis = h.level(level_of_[k]);
+    for (const auto& [c, local] : basis.pieces[level_id_[k]]) {
+      const BlendingKnots b = basis.blending(c, local);
+      knots[c].push_back(b);
+      weights[c].push_back(weight[k]);
+      patch_ids_[c].push_back(k);
+      if (anchored[k]) continue;
+      const Eigen::Vector3d size = size_of(domain_, c);
+      Eigen::Vector3d greville;
+      for (int a = 0; a < 3; ++a) greville(a) = (b[a][1] + b[a][2] + b[a][3]) / 3.0;
+      const bool inside = (greville.array() >= -tol).all() && (greville.array() <= size.array() + tol).all();
+      if (inside || anchors_[k].cuboid < 0) {
+        anchors_[k] = {c, greville.cwiseMax(Eigen::Vector3d::Zero()).cwiseMin(size)};
+        anchored[k] = inside;
+      }
+    }
+  }
+  for (int c = 0; c < nc; ++c) {
+    const Eigen::Index m = static_cast<Eigen::Index>(knots[c].size());
+    patches_.emplace_back(std::move(knots[c]), Eigen::Map<const Eigen::VectorXd>(weights[c].data(), m),
+                          Eigen::MatrixXd::Zero(m, dimension_));
+  }
+  points_ = Eigen::MatrixXd::Zero(num_functions_, dimension_);
+}
+
+int GpcSpline::max_level() const {
+  return level_of_.empty() ? 0 : *std::max_element(level_of_.begin(), level_of_.end());
+}
+
+GpcSpline GpcSpline::refined(const std::vector<int>& split) const {
+  GpcSplineOptions o;
+  o.knot_lines = lines_;
+  o.clamped_interfaces = clamped_option_;
+  o.dimension = dimension_;
+  o.splits = splits_;
+  o.splits.push_back(split);
+  GpcSpline out(domain_, o);
+  // F unchanged: each new point is the weighted mean of the points it draws on (Eq. 4.9).
+  Eigen::MatrixXd points(out.num_functions_, dimension_);
+  for (int k = 0; k < out.num_functions_; ++k) {
+    Eigen::RowVectorXd sum = Eigen::RowVectorXd::Zero(dimension_);
+    double w = 0.0;
+    for (const auto& [old, factor] : out.last_step_from_[k]) {
+      sum += factor * points_.row(old);
+      w += factor;
+    }
+    points.row(k) = sum / w;
+  }
+  out.set_points(std::move(points));
+  return out;
 }
 
 GpcFaceJoin GpcSpline::face_join(int cuboid, int face) const {

@@ -12,6 +12,10 @@
 
 namespace volspline::spline {
 
+namespace detail {
+struct GpcLevelBasis;
+}
+
 /// How the spline meets one face of a cuboid.
 enum class GpcFaceJoin {
   Surface,    ///< on the solid's surface: clamped (4-fold end knots), no function reaches beyond (§4.3.1)
@@ -36,6 +40,11 @@ struct GpcSplineOptions {
   /// Interfaces (ids into domain.interfaces, any order, repeats allowed) made Clamped whatever
   /// the continuity rule would allow; the rule then runs from there.
   std::vector<int> clamped_interfaces;
+  /// Hierarchical local refinement (§4.3.3 over the GPC, see GpcSpline::refined): splits[s] lists
+  /// the functions (indices 0 .. n−1 into the spline after steps 0 .. s−1, any order, repeats
+  /// allowed) that step s replaces by their children one dyadic level finer. Empty: a plain
+  /// B-spline over the knot lines above.
+  std::vector<std::vector<int>> splits;
   int dimension = 3;  ///< components D of a control point, 1..4 (3 for geometry)
 };
 
@@ -46,10 +55,21 @@ struct GpcAnchor {
   Eigen::Vector3d uvw = Eigen::Vector3d::Zero();
 };
 
-/// A cubic spline over a generalized poly-cube (GPC-spline, §3.5): global blending functions
-/// with global control points, weights 1 (a B-spline over the GPC; T-spline refinement comes
-/// later, so every cuboid keeps its functions as a TSpline with explicit BlendingKnots), evaluated
-/// in any cuboid's local coordinates through the transition maps of Eq. 3.4.
+/// A cubic T-spline over a generalized poly-cube (GPC-spline, §3.5): global blending functions
+/// with global control points and weights, evaluated in any cuboid's local coordinates through
+/// the transition maps of Eq. 3.4; every cuboid holds its functions as a TSpline with explicit
+/// BlendingKnots. Without options.splits it is a B-spline over the GPC (weights 1).
+///
+/// Hierarchical refinement (options.splits, refined()): level ℓ is the B-spline over the GPC
+/// whose knot lines are the base lines with every interval cut into 2^ℓ equal parts (nested
+/// spaces: the same joins on every level). Splitting function B of level ℓ replaces w B by
+/// Σ_j (w R_j) B_j over its children of level ℓ + 1 (knot insertion of the midpoints, Eq. 4.8/4.9,
+/// per axis; R_j the product of the three factors), adding to the weight of a child already
+/// present. So F and Σ w_i B_i are unchanged (Eq. 4.3: semi-standard by construction), supports
+/// only shrink (no function reaches beyond the solid, §4.3.1), a split next to an interface
+/// splits the function on both sides of it, and a cell of any cuboid can be refined. An
+/// unsplit function all of whose children are present would be their combination: it is split
+/// too (closure), so the set stays free of that dependence.
 ///
 /// Domain: cuboid c has local coordinates [0, size[0]]×[0, size[1]]×[0, size[2]] (model units
 /// over the bbox diagonal, as polycube::GpcCuboid). Its knot lines are uniform (options.intervals).
@@ -99,6 +119,20 @@ class GpcSpline {
   const std::vector<double>& knot_lines(int cuboid, int axis) const { return lines_[cuboid][axis]; }
   /// True if every axis has uniform knot lines (k·size/n, as options.intervals gives).
   bool uniform_knots() const;
+  /// Hierarchical refinement steps done (options.splits, with the closure's additions).
+  const std::vector<std::vector<int>>& splits() const { return splits_; }
+  /// Level (0 = the base knot lines) of global function i.
+  int function_level(int function_id) const { return level_of_[function_id]; }
+  /// Deepest level of any function.
+  int max_level() const;
+  /// This spline with the given functions (ids, any order, repeats allowed) split into their
+  /// children one level finer, and the closure (see the class comment); F and Σ w_i B_i are the
+  /// same function before and after (the points are carried over exactly). Throws volspline::Error
+  /// if an id is out of range, a function would go below kMaxLevel, or the finer level would
+  /// hold more than kMaxLevelFunctions functions.
+  GpcSpline refined(const std::vector<int>& split) const;
+  static constexpr int kMaxLevel = 6;
+  static constexpr long kMaxLevelFunctions = 4000000;
   /// How face f (0..5, polycube/cube_faces.h numbering) of cuboid c is joined.
   GpcFaceJoin face_join(int cuboid, int face) const;
   /// Continued or Clamped for an interface of the domain.
@@ -150,6 +184,8 @@ class GpcSpline {
 
  private:
   Eigen::Vector3d checked(int cuboid, const Eigen::Vector3d& uvw) const;
+  // Replays options.splits from the level-0 basis (a LevelBasis of the .cpp) and builds the patches.
+  void build_hierarchy(detail::GpcLevelBasis level0, const std::vector<std::vector<int>>& steps, double tol);
 
   polycube::GpcDomain domain_;
   int dimension_ = 3;
@@ -161,6 +197,12 @@ class GpcSpline {
   std::vector<std::vector<int>> patch_ids_;
   std::vector<GpcAnchor> anchors_;
   Eigen::MatrixXd points_;
+  std::vector<std::vector<int>> splits_;
+  std::vector<int> level_of_;  // per global function
+  std::vector<int> level_id_;  // per global function: its id among the functions of its level
+  std::vector<int> clamped_option_;  // options.clamped_interfaces
+  // Per function: the functions before the last split step it draws on, with their factors.
+  std::vector<std::vector<std::pair<int, double>>> last_step_from_;
 };
 
 /// Knot intervals for GpcSplineOptions::intervals: per class of axes glued together as tangent

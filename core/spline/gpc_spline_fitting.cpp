@@ -234,4 +234,41 @@ std::vector<std::array<std::vector<double>, 3>> gpc_refined_knot_lines(const Gpc
   return lines;
 }
 
+std::vector<int> gpc_marked_functions(const GpcSpline& spline, const GpcSamples& samples, double fraction,
+                                      int max_count, int max_level) {
+  check_samples(spline, samples, "gpc_marked_functions");
+  if (!(fraction > 0.0 && fraction <= 1.0)) throw Error("gpc_marked_functions: fraction must be in (0, 1]");
+  if (max_count < 1) throw Error("gpc_marked_functions: max_count must be >= 1");
+  const int n = spline.num_functions(), dim = spline.dimension();
+  std::vector<double> share(static_cast<std::size_t>(n), 0.0);
+  std::vector<int> ids;
+  std::vector<double> values;
+  for (Eigen::Index s = 0; s < samples.uvw.rows(); ++s) {
+    const int c = samples.cuboid[s];
+    if (c < 0 || c >= spline.num_cuboids())
+      throw Error("gpc_marked_functions: sample " + std::to_string(s) + " names cuboid " + std::to_string(c));
+    spline.basis_at(c, samples.uvw.row(s).transpose(), {0, 0, 0}, ids, values);
+    Eigen::VectorXd f = Eigen::VectorXd::Zero(dim);
+    for (std::size_t k = 0; k < ids.size(); ++k) f += values[k] * spline.points().row(ids[k]).transpose();
+    const double e = (samples.weight.empty() ? 1.0 : samples.weight[s]) * (f - samples.values.row(s).transpose()).squaredNorm();
+    for (std::size_t k = 0; k < ids.size(); ++k) share[ids[k]] += values[k] * e;
+  }
+  std::vector<int> order;
+  double total = 0.0;
+  for (int i = 0; i < n; ++i) {
+    total += share[i];
+    if (spline.function_level(i) < max_level && share[i] > 0.0) order.push_back(i);
+  }
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return share[a] > share[b]; });
+  std::vector<int> out;
+  double taken = 0.0;
+  for (int i : order) {
+    if (taken >= fraction * total || static_cast<int>(out.size()) >= max_count) break;
+    out.push_back(i);
+    taken += share[i];
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 }  // namespace volspline::spline

@@ -75,4 +75,14 @@ std::vector<std::array<std::vector<double>, 3>> gpc_refined_knot_lines(
     const GpcSpline& spline, const GpcSamples& samples, double growth,
     const std::vector<std::array<double, 3>>& min_interval = {}, const std::vector<int>& first = {});
 
+/// Functions to split in one hierarchical step (Algorithm 4's marking over the GPC, §4.3.3, for
+/// GpcSpline::refined): each sample's weighted squared misfit weight_s ‖F(uvw_s) − values_s‖² is
+/// shared among the functions non-zero there in proportion to w_i B_i(uvw_s) (they sum to 1,
+/// Eq. 4.3); functions are taken in decreasing order of their share until they hold `fraction`
+/// (in (0, 1]) of the total (Dörfler marking) or max_count (≥ 1) are taken. Functions at level
+/// ≥ max_level are never taken. Increasing ids; deterministic (ties by id).
+/// Throws volspline::Error like fit_gpc_spline on malformed samples or if an argument is out of range.
+std::vector<int> gpc_marked_functions(const GpcSpline& spline, const GpcSamples& samples, double fraction,
+                                      int max_count, int max_level);
+
 }  // namespace volspline::spline

@@ -80,6 +80,31 @@ TEST_CASE("gpc mesh2spline: adaptive knots on a torus keep the glued spline exac
   CHECK(io::serialize_gpc_spline_json(io::parse_gpc_spline_json(text, "torus")) == text);
 }
 
+TEST_CASE("gpc mesh2spline: hierarchical splits on a torus meet the target exactly merged, with fewer functions") {
+  pipeline::GpcMesh2SplineOptions o = small_options();
+  o.max_rms_rel = 0.0005;
+  const mesh::TriangleMesh torus = test::torus(64, 24, 1.0, 0.35);
+  const pipeline::GpcMesh2SplineResult uniform = pipeline::run_gpc_mesh2spline(torus, "torus", o);
+  o.refinement = pipeline::GpcMesh2SplineOptions::Refinement::Hierarchical;
+  const pipeline::GpcMesh2SplineResult r = pipeline::run_gpc_mesh2spline(torus, "torus", o);
+  const pipeline::Mesh2SplineStats& s = r.stats;
+  MESSAGE("uniform " << uniform.stats.control_points << " cp at rms " << uniform.stats.rms_rel << ", hierarchical "
+                     << s.control_points << " cp at rms " << s.rms_rel);
+  for (const auto& l : s.level_history) MESSAGE(l.control_points << " " << l.rms_rel);
+  CHECK(s.rms_rel <= 0.0005);
+  CHECK(r.spline.max_level() >= 1);
+  CHECK_FALSE(r.spline.splits().empty());
+  CHECK(s.control_points < uniform.stats.control_points);
+  CHECK(s.hausdorff_rel <= 0.01);
+  CHECK(s.semi_standard_max_error <= 1e-12);
+  CHECK(s.interface_gap_rel <= 1e-9);
+  CHECK(s.interface_normal_jump_deg <= 1e-6);
+  CHECK(s.negative_jacobian_fraction == 0.0);
+  const std::string text = io::serialize_gpc_spline_json(r.spline);
+  CHECK(text.find("\"splits\"") != std::string::npos);
+  CHECK(io::serialize_gpc_spline_json(io::parse_gpc_spline_json(text, "torus")) == text);
+}
+
 TEST_CASE("gpc mesh2spline: a two-hole slab (genus 2) converts without folds, one spline over its cuboids") {
   const pipeline::GpcMesh2SplineResult r =
       pipeline::run_gpc_mesh2spline(test::two_hole_slab(3), "slab", small_options());

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numeric>
 #include <random>
 #include <string>
 #include <vector>
@@ -19,6 +20,7 @@
 using volspline::Error;
 using volspline::polycube::GpcDomain;
 using volspline::spline::gpc_uniform_intervals;
+using volspline::spline::gpc_uniform_knot_lines;
 using volspline::spline::GpcFaceJoin;
 using volspline::spline::GpcSpline;
 using volspline::spline::GpcSplineOptions;
@@ -585,4 +587,122 @@ TEST_CASE("gpc spline: poly-cube blocks with concave edges and corners (Type-1 t
     }
     CHECK(worst <= 1e-12);
   }
+}
+
+TEST_CASE("gpc spline: hierarchical splits keep F and a C² partition of unity across every kind of gluing") {
+  // A twisted closed tube, a block of rotated cuboids (regular edges and vertices) and a T with
+  // Type-1 ill-points (clamped faces): split a random fifth of the functions, then some of their
+  // children, and compare with the spline before.
+  const std::vector<std::pair<GpcDomain, double>> cases = {
+      {torus_domain(true), 0.25},
+      {glue_boxes(block_boxes({{{1.0, 0.7}, {0.8, 1.2}, {0.5, 0.9}}}, 11)), 0.5},
+      {t_shape_domain(), 0.5}};
+  unsigned seed = 200;
+  for (const auto& [d, spacing] : cases) {
+    GpcSplineOptions o;
+    o.intervals = intervals_of(d, spacing);
+    GpcSpline base(d, o);
+    random_points(base, seed++);
+    std::mt19937_64 rng(seed++);
+    std::vector<int> split;
+    for (int i = 0; i < base.num_functions(); ++i)
+      if (rng() % 5 == 0) split.push_back(i);
+    const GpcSpline once = base.refined(split);
+    std::vector<int> again;
+    for (int i = 0; i < once.num_functions(); ++i)
+      if (once.function_level(i) == 1 && rng() % 3 == 0) again.push_back(i);
+    const GpcSpline twice = once.refined(again);
+    MESSAGE("functions " << base.num_functions() << " -> " << once.num_functions() << " -> " << twice.num_functions());
+    CHECK(once.num_functions() > base.num_functions());
+    CHECK(twice.num_functions() > once.num_functions());
+    CHECK(twice.max_level() == 2);
+    REQUIRE(twice.splits().size() == 2);
+    // F is the same function (Eq. 4.9) and the weights still sum to 1 (Eq. 4.3).
+    double worst = 0.0;
+    std::mt19937_64 points_rng(seed++);
+    for (int k = 0; k < 20000; ++k) {
+      const int c = static_cast<int>(points_rng() % d.cuboids.size());
+      const Eigen::Vector3d uvw = random_uvw(d, c, points_rng);
+      worst = std::max(worst, (twice.evaluate(c, uvw) - base.evaluate(c, uvw)).cwiseAbs().maxCoeff());
+    }
+    CHECK(worst <= 1e-12);
+    // New points: the refined basis itself is single-valued and C² across continued faces.
+    GpcSpline fresh = twice;
+    random_points(fresh, seed++);
+    CHECK(partition_error(fresh, 50000, seed++) <= 1e-12);
+    CHECK(interface_gap(fresh, 300, seed++) <= 1e-12);
+    for (int i = 0; i < static_cast<int>(d.interfaces.size()); ++i)
+      if (fresh.interface_join(i) == GpcFaceJoin::Continued) {
+        const auto j = max_jumps(fresh, i, seed++);
+        CHECK(j.d1 <= 1e-9);
+        CHECK(j.d2 <= 1e-6);
+      }
+    // The splits replay: the same functions from the options alone.
+    GpcSplineOptions replay;
+    replay.knot_lines = gpc_uniform_knot_lines(d, o.intervals);
+    replay.splits = twice.splits();
+    const GpcSpline again_built(d, replay);
+    REQUIRE(again_built.num_functions() == twice.num_functions());
+    for (int c = 0; c < twice.num_cuboids(); ++c) CHECK(again_built.patch(c).weights() == twice.patch(c).weights());
+  }
+}
+
+TEST_CASE("gpc spline: splitting every function is the uniform level with halved knot intervals") {
+  const GpcDomain d = torus_domain(true);
+  GpcSplineOptions o;
+  o.intervals = intervals_of(d, 0.25);
+  GpcSpline base(d, o);
+  random_points(base, 300);
+  std::vector<int> all(base.num_functions());
+  std::iota(all.begin(), all.end(), 0);
+  const GpcSpline fine = base.refined(all);
+  GpcSplineOptions halved;
+  halved.intervals = o.intervals;
+  for (auto& triple : halved.intervals)
+    for (int& n : triple) n *= 2;
+  const GpcSpline uniform(d, halved);
+  CHECK(fine.num_functions() == uniform.num_functions());
+  for (int c = 0; c < fine.num_cuboids(); ++c) {
+    const Eigen::VectorXd& w = fine.patch(c).weights();
+    CHECK((w.array() - 1.0).abs().maxCoeff() <= 1e-12);  // a standard B-spline again
+  }
+  // Splitting only some functions never splits a function twice or loses one: the count of
+  // functions from a split of one function is its 5×5×5 children minus what was there.
+  GpcSplineOptions finer;
+  finer.intervals = intervals_of(d, 0.07);
+  const GpcSpline many(d, finer);
+  int centre = 0;
+  for (int i = 1; i < many.num_functions(); ++i)
+    if ((many.anchor(i).uvw - Eigen::Vector3d(0.5, 0.15, 0.15)).norm() <
+        (many.anchor(centre).uvw - Eigen::Vector3d(0.5, 0.15, 0.15)).norm())
+      centre = i;
+  const GpcSpline one = many.refined({centre});
+  CHECK(one.num_functions() == many.num_functions() - 1 + 125);
+  CHECK_THROWS_WITH_AS(base.refined({base.num_functions()}), doctest::Contains("splits name function"), Error);
+}
+
+TEST_CASE("gpc spline: a hierarchically refined spline round-trips through its JSON") {
+  const GpcDomain d = t_shape_domain();
+  GpcSplineOptions o;
+  o.intervals = intervals_of(d, 0.5);
+  GpcSpline base(d, o);
+  random_points(base, 400);
+  std::vector<int> split;
+  for (int i = 0; i < base.num_functions(); i += 7) split.push_back(i);
+  const GpcSpline refined = base.refined(split);
+  const std::string text = volspline::io::serialize_gpc_spline_json(refined);
+  CHECK(text.find("\"splits\"") != std::string::npos);
+  const GpcSpline back = volspline::io::parse_gpc_spline_json(text, "t");
+  CHECK(back.num_functions() == refined.num_functions());
+  CHECK(volspline::io::serialize_gpc_spline_json(back) == text);
+  for (int c = 0; c < static_cast<int>(d.cuboids.size()); ++c) {
+    const Eigen::Vector3d uvw = 0.37 * cuboid_size(d, c);
+    CHECK((back.evaluate(c, uvw) - base.evaluate(c, uvw)).cwiseAbs().maxCoeff() <= 1e-12);
+  }
+  // A split id beyond the functions of its step is refused with the file named.
+  std::string bad = text;
+  const auto at = bad.find_first_of("0123456789", bad.find("\"splits\""));
+  REQUIRE(at != std::string::npos);
+  bad.insert(at, "99999999,");
+  CHECK_THROWS_WITH_AS(volspline::io::parse_gpc_spline_json(bad, "bad.json"), doctest::Contains("bad.json"), Error);
 }
