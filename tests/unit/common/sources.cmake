@@ -1,4 +1,4 @@
 # SPDX-License-Identifier: MIT
 set(TEST_SOURCES
-  ${CMAKE_CURRENT_LIST_DIR}/version_test.cpp
+  version_test.cpp
 )

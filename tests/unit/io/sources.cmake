@@ -1,20 +1,20 @@
 # SPDX-License-Identifier: MIT
 set(TEST_SOURCES
-  ${CMAKE_CURRENT_LIST_DIR}/mesh_io_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/mesh_builder_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/mesh_text_scanner_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/obj_format_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/off_format_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/ply_format_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/stl_format_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/gltf_format_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/json_depth_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/spline_json_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/vtu_writer_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/volume_vtu_writer_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/vtk_xml_writer_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/glb_lines_writer_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/volume_io_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/vtk_written_volumes_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/gzip_inflate_test.cpp
+  mesh_io_test.cpp
+  mesh_builder_test.cpp
+  mesh_text_scanner_test.cpp
+  obj_format_test.cpp
+  off_format_test.cpp
+  ply_format_test.cpp
+  stl_format_test.cpp
+  gltf_format_test.cpp
+  json_depth_test.cpp
+  spline_json_test.cpp
+  vtu_writer_test.cpp
+  volume_vtu_writer_test.cpp
+  vtk_xml_writer_test.cpp
+  glb_lines_writer_test.cpp
+  volume_io_test.cpp
+  vtk_written_volumes_test.cpp
+  gzip_inflate_test.cpp
 )

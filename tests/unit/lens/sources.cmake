@@ -1,14 +1,14 @@
 # SPDX-License-Identifier: MIT
 set(TEST_SOURCES
-  ${CMAKE_CURRENT_LIST_DIR}/roi_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/roi_field_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/lens_mesh_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/lens_texture_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/flatten_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/lens_flattener_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/lens_measures_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/rasterize_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/image_io_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/roi_translation_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/baseline_lens_test.cpp
+  roi_test.cpp
+  roi_field_test.cpp
+  lens_mesh_test.cpp
+  lens_texture_test.cpp
+  flatten_test.cpp
+  lens_flattener_test.cpp
+  lens_measures_test.cpp
+  rasterize_test.cpp
+  image_io_test.cpp
+  roi_translation_test.cpp
+  baseline_lens_test.cpp
 )

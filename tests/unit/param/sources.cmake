@@ -1,10 +1,10 @@
 # SPDX-License-Identifier: MIT
 set(TEST_SOURCES
-  ${CMAKE_CURRENT_LIST_DIR}/cuboid_surface_map_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/volumetric_grid_map_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/surface_distance_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/hex_grid_untangling_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/barrier_untangling_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/hex_padding_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/cuboid_surface_locator_test.cpp
+  cuboid_surface_map_test.cpp
+  volumetric_grid_map_test.cpp
+  surface_distance_test.cpp
+  hex_grid_untangling_test.cpp
+  barrier_untangling_test.cpp
+  hex_padding_test.cpp
+  cuboid_surface_locator_test.cpp
 )
