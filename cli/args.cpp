@@ -2,6 +2,7 @@
 #include "cli/args.h"
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <sstream>
 
@@ -92,12 +93,27 @@ std::string format_help(const std::string& usage, const std::string& description
   return out.str();
 }
 
+bool print_help_if_asked(const Args& args, const std::string& usage, const std::string& description,
+                         const std::vector<OptionSpec>& specs) {
+  if (!args.has("help")) return false;
+  std::fputs(format_help(usage, description, specs).c_str(), stdout);
+  return true;
+}
+
 std::vector<OptionSpec> common_job_options() {
   return {
       {"stats-json", "FILE", "write the measures of the run as JSON"},
       {"threads", "N", "worker threads (default 1)"},
       {"quiet", "", "no progress bar"},
   };
+}
+
+std::vector<OptionSpec> with_job_options(std::vector<OptionSpec> specs, const std::string& threads_help) {
+  for (OptionSpec common : common_job_options()) {
+    if (common.name == "threads") common.help = threads_help;
+    specs.push_back(common);
+  }
+  return specs;
 }
 
 }  // namespace volspline::cli

@@ -46,7 +46,16 @@ Args parse_args(const std::vector<std::string>& argv, const std::vector<OptionSp
 std::string format_help(const std::string& usage, const std::string& description,
                         const std::vector<OptionSpec>& specs);
 
+/// If args has --help: prints format_help(usage, description, specs) to stdout and returns true
+/// (the command then exits 0); otherwise returns false.
+bool print_help_if_asked(const Args& args, const std::string& usage, const std::string& description,
+                         const std::vector<OptionSpec>& specs);
+
 /// Options every job shares: --stats-json, --threads, --quiet, --help.
 std::vector<OptionSpec> common_job_options();
+
+/// A job's own options followed by those every job shares: --stats-json, --threads, --quiet
+/// (--help is implicit). `threads_help` is the --threads line: what this job does with threads.
+std::vector<OptionSpec> with_job_options(std::vector<OptionSpec> specs, const std::string& threads_help);
 
 }  // namespace volspline::cli

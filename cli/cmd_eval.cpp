@@ -19,16 +19,12 @@ int run_eval(const std::vector<std::string>& argv) {
       {"cuboid", "K", "cuboid of a multi-cuboid (GPC) spline whose local u,v,w are given (default 0)"},
   };
   const Args args = parse_args(argv, specs);
-  if (args.has("help")) {
-    std::fputs(format_help("volspline eval SPLINE.json [--cuboid K] --uvw u,v,w [--uvw ...] [--jacobian]",
-                           "Evaluates a spline JSON file (semi-standard form, Eq. 4.3; or a GPC spline, in\n"
-                           "cuboid K's local coordinates) and prints one line 'x y z' per --uvw, at\n"
-                           "round-trip precision.",
-                           specs)
-                   .c_str(),
-               stdout);
+  if (print_help_if_asked(args, "volspline eval SPLINE.json [--cuboid K] --uvw u,v,w [--uvw ...] [--jacobian]",
+                          "Evaluates a spline JSON file (semi-standard form, Eq. 4.3; or a GPC spline, in\n"
+                          "cuboid K's local coordinates) and prints one line 'x y z' per --uvw, at\n"
+                          "round-trip precision.",
+                          specs))
     return 0;
-  }
   if (args.positional.size() != 1) throw UsageError("expects exactly one SPLINE file (see --help)");
   if (!args.has("uvw")) throw UsageError("needs --uvw u,v,w");
   const std::string& path = args.positional[0];

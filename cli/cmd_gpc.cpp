@@ -16,7 +16,7 @@
 namespace volspline::cli {
 
 int run_gpc(const std::vector<std::string>& argv) {
-  std::vector<OptionSpec> specs = {
+  const std::vector<OptionSpec> specs = with_job_options({
       {"output", "DOMAIN.json", "GPC domain (cuboids, glued faces, transition maps, ill-points) to write (required; also -o)"},
       {"glb", "SEG.glb", "the surface coloured by cuboid with poly-edges and corners"},
       {"vtk", "GRID.vtu", "the hex mesh: every cuboid's grid over shared nodes and the padding layer, cell data cuboid, scaled_jacobian, padding"},
@@ -26,24 +26,16 @@ int run_gpc(const std::vector<std::string>& argv) {
       {"no-padding", "", "the hex mesh without the padding layer under the surface (the cuboid grids alone)"},
       {"no-merge", "", "keep every T-shape arm, tube and cap its own cuboid (no merging across cuts)"},
       {"limbs", "P", "limb ends become caps when their branch is at least P of the shape's graph diameter long (default 0.25 for genus > 0, off for genus 0; 0 = off)"},
-  };
-  for (auto common : common_job_options()) {
-    if (common.name == "threads") common.help = "accepted for scripts; the job runs on one thread (same output for any N)";
-    specs.push_back(common);
-  }
+  }, "accepted for scripts; the job runs on one thread (same output for any N)");
   const Args args = parse_args(argv, specs);
-  if (args.has("help")) {
-    std::fputs(format_help("volspline gpc MESH -o DOMAIN.json [options]",
-                           "Builds the generalized poly-cube (GPC) domain of a closed solid of any genus (thesis\n"
-                           "ch. 3): decomposition into caps, tubes and T-shapes along cuts that bound discs inside\n"
-                           "the solid, cuboids with glued faces and their transition maps, per-cuboid surface maps\n"
-                           "and volumetric grids with the glued nodes shared. Exit 2 on bad input (open,\n"
-                           "non-manifold, several components, degenerate), 1 if the construction fails.",
-                           specs)
-                   .c_str(),
-               stdout);
+  if (print_help_if_asked(args, "volspline gpc MESH -o DOMAIN.json [options]",
+                          "Builds the generalized poly-cube (GPC) domain of a closed solid of any genus (thesis\n"
+                          "ch. 3): decomposition into caps, tubes and T-shapes along cuts that bound discs inside\n"
+                          "the solid, cuboids with glued faces and their transition maps, per-cuboid surface maps\n"
+                          "and volumetric grids with the glued nodes shared. Exit 2 on bad input (open,\n"
+                          "non-manifold, several components, degenerate), 1 if the construction fails.",
+                          specs))
     return 0;
-  }
   if (args.positional.size() != 1) throw UsageError("expects exactly one MESH (see --help)");
   const std::string output = args.get("output");
   if (output.empty()) throw UsageError("needs -o DOMAIN.json");

@@ -14,16 +14,12 @@ namespace volspline::cli {
 int run_info(const std::vector<std::string>& argv) {
   const std::vector<OptionSpec> specs = {{"json", "", "print the facts as one JSON object"}};
   const Args args = parse_args(argv, specs);
-  if (args.has("help")) {
-    std::fputs(format_help("volspline info FILE [--json]",
-                           "Reads a triangle mesh (OBJ, OFF, PLY, STL, glTF/GLB) and prints its vertex and face\n"
-                           "counts, whether it is closed and manifold, its components, genus and bounding box.\n"
-                           "A non-manifold or broken file is an error (exit 2) naming the first bad element.",
-                           specs)
-                   .c_str(),
-               stdout);
+  if (print_help_if_asked(args, "volspline info FILE [--json]",
+                          "Reads a triangle mesh (OBJ, OFF, PLY, STL, glTF/GLB) and prints its vertex and face\n"
+                          "counts, whether it is closed and manifold, its components, genus and bounding box.\n"
+                          "A non-manifold or broken file is an error (exit 2) naming the first bad element.",
+                          specs))
     return 0;
-  }
   if (args.positional.size() != 1) throw UsageError("expects exactly one FILE (see --help)");
   const std::string& path = args.positional[0];
 

@@ -51,7 +51,7 @@ std::string textured_obj(const pipeline::LensResult& r, int width, int height) {
 // options, the job, the outputs) with nothing to reuse; split, every part would take the parsed
 // arguments and the output list along.
 int run_lens(const std::vector<std::string>& argv_in) {
-  std::vector<OptionSpec> specs = {
+  const std::vector<OptionSpec> specs = with_job_options({
       {"output", "FILE", "output PNG (also -o); required"},
       {"roi", "SPEC",
        "region (pixels): circle:CX,CY,R | rect:X,Y,W,H | polygon:X1,Y1,... | mask:MASK.png; default a centred "
@@ -66,23 +66,15 @@ int run_lens(const std::vector<std::string>& argv_in) {
       {"method", "NAME", "metric | fisheye | bifocal | zoom (default metric)"},
       {"max-pixels", "N", "refuse images (and masks) of more pixels, checked on the header before decoding (default 67108864)"},
       {"mesh-out", "FILE", "flattened textured mesh, .obj (with texture coordinates) or .glb (y up, UVs, the image embedded)"},
-  };
-  for (auto spec : common_job_options()) {
-    if (spec.name == "threads") spec.help = "accepted for scripts; the lens runs on one thread";
-    specs.push_back(spec);
-  }
+  }, "accepted for scripts; the lens runs on one thread");
   const Args args = parse_args(argv_in, specs);
-  if (args.has("help")) {
-    std::fputs(format_help("volspline lens IMAGE.png -o OUT.png [--roi SPEC ...] [options]",
-                           "Focus+context magnification lens (thesis ch. 6): the ROIs are lifted to a 3D lens\n"
-                           "mesh, textured harmonically and flattened back to the plane preserving a blend of\n"
-                           "its rigid and conformal metric; the result is rendered to OUT.png. The baselines\n"
-                           "fisheye, bifocal and zoom use the same grid, ROIs and measured magnification.",
-                           specs)
-                   .c_str(),
-               stdout);
+  if (print_help_if_asked(args, "volspline lens IMAGE.png -o OUT.png [--roi SPEC ...] [options]",
+                          "Focus+context magnification lens (thesis ch. 6): the ROIs are lifted to a 3D lens\n"
+                          "mesh, textured harmonically and flattened back to the plane preserving a blend of\n"
+                          "its rigid and conformal metric; the result is rendered to OUT.png. The baselines\n"
+                          "fisheye, bifocal and zoom use the same grid, ROIs and measured magnification.",
+                          specs))
     return 0;
-  }
   if (args.positional.size() != 1) throw UsageError("expects exactly one IMAGE (see --help)");
   if (!args.has("output")) throw UsageError("missing -o OUT.png");
   const std::string output = args.get("output");

@@ -11,6 +11,7 @@
 #include "cli/commands.h"
 #include "cli/output_files.h"
 #include "cli/progress_bar.h"
+#include "cli/stage_times_json.h"
 #include "core/io/file_bytes.h"
 #include "core/io/spline_json.h"
 #include "core/io/volume_io.h"
@@ -87,7 +88,7 @@ std::vector<std::size_t> read_corners(const std::string& path, const volume::Vol
 // options, the job, the outputs) with nothing to reuse; split, every part would take the parsed
 // arguments and the output list along.
 int run_vol2spline(const std::vector<std::string>& argv) {
-  std::vector<OptionSpec> specs = {
+  const std::vector<OptionSpec> specs = with_job_options({
       {"output", "OUT.json", "spline JSON of (X, Y, Z, density), dimension 4 (required; also -o)"},
       {"vtk", "OUT.vtu", "the (X, Y, Z, density) spline as VTK Bézier hexahedra (exact; point data density)"},
       {"vti", "OUT.vti", "the voxels as VTK ImageData: sample, reconstructed density, error (and uvw if aligned)"},
@@ -105,27 +106,19 @@ int run_vol2spline(const std::vector<std::string>& argv) {
       {"iso", "V", "classify by the threshold V (sample units) instead of k-means"},
       {"corners", "FILE", "corner voxels, one 'x y z' per line (aligned; default automatic)"},
       {"max-voxels", "N", "refuse volumes of more voxels, checked on the header before reading (default 16777216 = 256^3)"},
-  };
-  for (auto common : common_job_options()) {
-    if (common.name == "threads") common.help = "worker threads (default: the cores, at most 8; same output for any N)";
-    specs.push_back(common);
-  }
+  }, "worker threads (default: the cores, at most 8; same output for any N)");
   const Args args = parse_args(argv, specs);
-  if (args.has("help")) {
-    std::fputs(format_help("volspline vol2spline VOLUME -o OUT.json [options]",
-                           "Fits a trivariate T-spline of (X, Y, Z, density) to a scalar volume (raw, NRRD/NHDR,\n"
-                           "legacy VTK structured points, MetaImage) with adaptive refinement (thesis ch. 5).\n"
-                           "--param aligned first builds the Hessian frame field, classifies materials, smooths the\n"
-                           "frames and computes the field-aligned parameterization. Refinement stops at the first of:\n"
-                           "--max-rms reached (stop_reason target), the control point budget (budget), a level that\n"
-                           "gains too little, ln(rms ratio)/ln(control point ratio) < --min-gain-rate or < 2 %\n"
-                           "(diminishing), --max-levels (max_levels), no cell left to split (no_cells). A level is only\n"
-                           "started if the budget leaves room for 25 % more control points. Exit 2 on bad input.",
-                           specs)
-                   .c_str(),
-               stdout);
+  if (print_help_if_asked(args, "volspline vol2spline VOLUME -o OUT.json [options]",
+                          "Fits a trivariate T-spline of (X, Y, Z, density) to a scalar volume (raw, NRRD/NHDR,\n"
+                          "legacy VTK structured points, MetaImage) with adaptive refinement (thesis ch. 5).\n"
+                          "--param aligned first builds the Hessian frame field, classifies materials, smooths the\n"
+                          "frames and computes the field-aligned parameterization. Refinement stops at the first of:\n"
+                          "--max-rms reached (stop_reason target), the control point budget (budget), a level that\n"
+                          "gains too little, ln(rms ratio)/ln(control point ratio) < --min-gain-rate or < 2 %\n"
+                          "(diminishing), --max-levels (max_levels), no cell left to split (no_cells). A level is only\n"
+                          "started if the budget leaves room for 25 % more control points. Exit 2 on bad input.",
+                          specs))
     return 0;
-  }
   if (args.positional.size() != 1) throw UsageError("expects exactly one VOLUME (see --help)");
   const std::string output = args.get("output");
   if (output.empty()) throw UsageError("needs -o OUT.json");
@@ -224,14 +217,7 @@ int run_vol2spline(const std::vector<std::string>& argv) {
       curve.push_back({{"control_points", level.control_points}, {"density_rms_rel", level.rms_rel},
                        {"density_max_rel", level.max_rel}, {"cg_iterations", level.cg_iterations}});
     j["curve"] = curve;
-    nlohmann::ordered_json times;
-    double total = 0.0;
-    for (const auto& [stage, seconds] : s.times_s) {
-      times[stage] = seconds;
-      total += seconds;
-    }
-    times["total"] = total;
-    j["times_s"] = times;
+    j["times_s"] = stage_times_json(s.times_s);
     files.stage(args.get("stats-json"), j.dump(2) + "\n");
   }
   files.commit();
