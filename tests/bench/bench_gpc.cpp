@@ -14,7 +14,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
-#include <map>
 #include <string>
 #include <vector>
 
@@ -22,10 +21,12 @@
 #include "core/io/mesh_io.h"
 #include "core/param/cuboid_surface_locator.h"
 #include "core/pipeline/gpc_job.h"
+#include "tests/bench/stage_cpu_times.h"
 
 int main(int argc, char** argv) {
   using namespace volspline;
   using Clock = std::chrono::steady_clock;
+  using bench::median;
   std::string path = std::string(VOLSPLINE_SHARED_DATA) + "/meshes/kitten.off";
   pipeline::GpcOptions options;
   int runs = 5;
@@ -43,16 +44,11 @@ int main(int argc, char** argv) {
     else
       path = a;
   }
-  auto median = [](std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? 0.0 : v[v.size() / 2];
-  };
   auto seconds_since = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
   auto cpu_since = [](std::clock_t t0) { return double(std::clock() - t0) / CLOCKS_PER_SEC; };
   try {
     std::vector<double> seconds, cpu_seconds, read_seconds;
-    std::map<std::string, std::vector<double>> stage_cpu;
-    std::vector<std::string> stage_order;
+    bench::StageCpuTimes stage_cpu;
     pipeline::GpcResult result;
     if (parts_only) {
       options.grid.untangle = param::GpcGridOptions::Untangle::Off;
@@ -63,20 +59,7 @@ int main(int argc, char** argv) {
       const std::clock_t cpu_start = std::clock();
       const mesh::TriangleMesh mesh = io::read_mesh(path);
       read_seconds.push_back(cpu_since(cpu_start));
-      std::string stage;
-      std::clock_t stage_start = std::clock();
-      const Progress progress([&](const std::string& next, double) {
-        if (next == stage) return true;
-        const std::clock_t now = std::clock();
-        if (!stage.empty()) {
-          if (!stage_cpu.count(stage)) stage_order.push_back(stage);
-          stage_cpu[stage].push_back(double(now - stage_start) / CLOCKS_PER_SEC);
-        }
-        stage = next;
-        stage_start = now;
-        return true;
-      });
-      result = pipeline::run_gpc(mesh, path, options, progress);
+      result = pipeline::run_gpc(mesh, path, options, stage_cpu.run_progress());
       seconds.push_back(seconds_since(start));
       cpu_seconds.push_back(cpu_since(cpu_start));
     }
@@ -130,7 +113,8 @@ int main(int argc, char** argv) {
     std::printf("  \"flipped_triangles\": %d,\n  \"grid_inverted_hexes\": %d,\n  \"grid_min_scaled_jacobian\": %.6g,\n",
                 stats.flipped_triangles, stats.grid_inverted_hexes, stats.grid_min_scaled_jacobian);
     std::printf("  \"stage_cpu_s\": {\"read\": %.4f", median(read_seconds));
-    for (const std::string& stage : stage_order) std::printf(", \"%s\": %.4f", stage.c_str(), median(stage_cpu[stage]));
+    for (const std::string& stage : stage_cpu.stages())
+      std::printf(", \"%s\": %.4f", stage.c_str(), stage_cpu.median_seconds(stage));
     std::printf("},\n  \"volumetric_map_parts_cpu_s\": {\"surface_maps\": %.4f, \"locators\": %.4f, "
                 "\"lookups\": %.4f},\n",
                 median(surface_map_s), median(locator_s), median(lookup_s));

@@ -11,15 +11,16 @@
 #include <ctime>
 #include <cstdio>
 #include <cstdlib>
-#include <map>
 #include <string>
 #include <vector>
 
 #include "core/io/mesh_io.h"
 #include "core/pipeline/mesh2spline_job.h"
+#include "tests/bench/stage_cpu_times.h"
 
 int main(int argc, char** argv) {
   using namespace volspline;
+  using bench::median;
   std::string path = std::string(VOLSPLINE_SHARED_DATA) + "/meshes/bunny_closed.obj";
   pipeline::Mesh2SplineOptions options;
   int runs = 5;
@@ -41,33 +42,17 @@ int main(int argc, char** argv) {
   try {
     std::vector<double> seconds, cpu_seconds;
     pipeline::Mesh2SplineStats stats;
-    std::vector<std::string> stage_order;
-    std::map<std::string, std::vector<double>> stage_cpu;
+    bench::StageCpuTimes stage_cpu;
     for (int run = 0; run < runs; ++run) {
       const auto start = std::chrono::steady_clock::now();
       const std::clock_t cpu_start = std::clock();
-      std::string stage;
-      std::clock_t stage_start = cpu_start;
-      const Progress progress([&](const std::string& next, double) {
-        const std::clock_t now = std::clock();
-        if (!stage.empty()) {
-          if (!stage_cpu.count(stage)) stage_order.push_back(stage);
-          stage_cpu[stage].push_back(double(now - stage_start) / CLOCKS_PER_SEC);
-        }
-        stage = next;
-        stage_start = now;
-        return true;
-      });
+      const Progress progress = stage_cpu.run_progress();
       const mesh::TriangleMesh mesh = io::read_mesh(path);
       const auto result = pipeline::run_mesh2spline(mesh, path, options, progress);
       seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
       cpu_seconds.push_back(double(std::clock() - cpu_start) / CLOCKS_PER_SEC);
       stats = result.stats;
     }
-    auto median = [](std::vector<double> v) {
-      std::sort(v.begin(), v.end());
-      return v[v.size() / 2];
-    };
     pipeline::Mesh2SplineStats compared_stats;
     if (compare) {
       pipeline::Mesh2SplineOptions reference = options;
@@ -90,8 +75,9 @@ int main(int argc, char** argv) {
     for (std::size_t i = 0; i < stats.times_s.size(); ++i)
       std::printf("%s\"%s\": %.4f", i ? ", " : "", stats.times_s[i].first.c_str(), stats.times_s[i].second);
     std::printf("},\n  \"stage_cpu_s\": {");
-    for (std::size_t i = 0; i < stage_order.size(); ++i)
-      std::printf("%s\"%s\": %.4f", i ? ", " : "", stage_order[i].c_str(), median(stage_cpu[stage_order[i]]));
+    const std::vector<std::string>& stages = stage_cpu.stages();
+    for (std::size_t i = 0; i < stages.size(); ++i)
+      std::printf("%s\"%s\": %.4f", i ? ", " : "", stages[i].c_str(), stage_cpu.median_seconds(stages[i]));
     std::printf("}\n}\n");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_mesh2spline: %s\n", e.what());
