@@ -4,16 +4,13 @@
 #include "core/lens/flatten.h"
 #include "core/lens/lens_measures.h"
 #include "core/lens/lens_mesh.h"
+#include "tests/unit/common/test_lenses.h"
 
 using namespace volspline::lens;
 
 namespace {
 LensMesh bump(double h0, int grid = 24) {
-  const std::vector<RoiField> rois = {RoiField::build(parse_roi_spec("circle:50,50,20").roi, 100, 100, 0.75)};
-  LensMeshOptions o;
-  o.grid = grid;
-  o.height_rel = h0;
-  return build_lens_mesh(rois, 100, 100, o);
+  return volspline::test::circle_lens_mesh("circle:50,50,20", 100, 100, h0, grid);
 }
 FlattenResult flatten(const LensMesh& m, double alpha) {
   FlattenOptions o;

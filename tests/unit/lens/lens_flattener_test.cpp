@@ -5,17 +5,14 @@
 #include "core/lens/flatten.h"
 #include "core/lens/lens_flattener.h"
 #include "core/lens/lens_mesh.h"
+#include "tests/unit/common/test_lenses.h"
 
 using namespace volspline;
 using namespace volspline::lens;
 
 namespace {
 LensMesh lens_bump(double h0, int grid = 20) {
-  const std::vector<RoiField> rois = {RoiField::build(parse_roi_spec("circle:40,36,14").roi, 80, 70, 0.75)};
-  LensMeshOptions o;
-  o.grid = grid;
-  o.height_rel = h0;
-  return build_lens_mesh(rois, 80, 70, o);
+  return volspline::test::circle_lens_mesh("circle:40,36,14", 80, 70, h0, grid);
 }
 FlattenOptions with_alpha(double alpha) {
   FlattenOptions o;

@@ -2,6 +2,7 @@
 #include <doctest/doctest.h>
 
 #include "core/lens/lens_mesh.h"
+#include "tests/unit/common/test_lenses.h"
 
 using namespace volspline::lens;
 
@@ -33,11 +34,7 @@ TEST_CASE("profile: 1 on the axis, 0 on the boundary, monotone") {
 }
 
 TEST_CASE("lens mesh: heights inside the ROI only, subdivision keeps orientation and area") {
-  const std::vector<RoiField> rois = {RoiField::build(parse_roi_spec("circle:60,60,25").roi, 120, 120, 0.75)};
-  LensMeshOptions o;
-  o.grid = 25;
-  o.height_rel = 2.0;
-  const LensMesh m = build_lens_mesh(rois, 120, 120, o);
+  const LensMesh m = volspline::test::circle_lens_mesh("circle:60,60,25", 120, 120, 2.0, 25);
   CHECK(m.xyz.rows() > 25 * 25);  // steep flanks were split
   double area = 0;
   for (int t = 0; t < m.triangles.rows(); ++t) {

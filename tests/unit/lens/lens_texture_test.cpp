@@ -3,16 +3,13 @@
 
 #include "core/lens/lens_mesh.h"
 #include "core/lens/lens_texture.h"
+#include "tests/unit/common/test_lenses.h"
 
 using namespace volspline::lens;
 
 namespace {
 LensMesh lens_mesh(double h0) {
-  const std::vector<RoiField> rois = {RoiField::build(parse_roi_spec("circle:50,45,22").roi, 100, 90, 0.75)};
-  LensMeshOptions o;
-  o.grid = 30;
-  o.height_rel = h0;
-  return build_lens_mesh(rois, 100, 90, o);
+  return volspline::test::circle_lens_mesh("circle:50,45,22", 100, 90, h0, 30);
 }
 }  // namespace
 

@@ -3,17 +3,10 @@
 
 #include "core/lens/lens_mesh.h"
 #include "core/lens/rasterize.h"
+#include "tests/unit/common/test_lenses.h"
 
 using namespace volspline::lens;
-
-namespace {
-Image checkerboard(int w, int h, int cell) {
-  Image img{w, h, 1, std::vector<std::uint8_t>(std::size_t(w) * h)};
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) img.pixels[y * w + x] = ((x / cell + y / cell) % 2) ? 230 : 20;
-  return img;
-}
-}  // namespace
+using volspline::test::checkerboard;
 
 TEST_CASE("identity mesh reproduces the image to within one grey level") {
   const Image img = checkerboard(64, 48, 5);

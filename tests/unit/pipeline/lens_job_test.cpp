@@ -5,18 +5,13 @@
 
 #include "core/common/error.h"
 #include "core/pipeline/lens_job.h"
+#include "tests/unit/common/test_lenses.h"
 
 using namespace volspline;
 using namespace volspline::pipeline;
+using volspline::test::checkerboard;
 
 namespace {
-
-Image checkerboard(int w, int h, int cell) {
-  Image img{w, h, 1, std::vector<std::uint8_t>(std::size_t(w) * h)};
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) img.pixels[y * w + x] = ((x / cell + y / cell) % 2) ? 230 : 20;
-  return img;
-}
 
 Image circles(int w, int h) {
   Image img{w, h, 3, std::vector<std::uint8_t>(std::size_t(w) * h * 3)};
