@@ -20,17 +20,6 @@ using namespace volspline::test;
 
 namespace {
 
-// Control points at the placed anchors: Greville abscissae reproduce linear maps, so F is each
-// cuboid's placement, F(uvw) = placement(uvw) exactly, across the glued face.
-void place_points(GpcSpline& spline, const std::vector<PlacedCuboid>& boxes) {
-  Eigen::MatrixXd p(spline.num_functions(), 3);
-  for (int i = 0; i < spline.num_functions(); ++i) {
-    const auto& anchor = spline.anchor(i);
-    p.row(i) = boxes[anchor.cuboid].placement.apply(anchor.uvw).transpose();
-  }
-  spline.set_points(p);
-}
-
 Eigen::Vector3d point(const std::vector<float>& xyz, std::uint32_t i) {
   return {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]};
 }
@@ -39,11 +28,8 @@ Eigen::Vector3d point(const std::vector<float>& xyz, std::uint32_t i) {
 
 TEST_CASE("gpc boundary tessellation: two glued cuboids give the union box, outward, tagged by cuboid") {
   const std::vector<PlacedCuboid> boxes = two_cube_boxes();
-  const GpcDomain d = glue_boxes(boxes);
-  GpcSplineOptions o;
-  o.intervals = {{3, 4, 3}, {4, 3, 4}};
-  GpcSpline spline(d, o);
-  place_points(spline, boxes);
+  const GpcSpline spline = placed_gpc_spline(boxes, {{3, 4, 3}, {4, 3, 4}});
+  const GpcDomain& d = spline.domain();
   const int m = 5, lines = 3;
   const GpcBoundaryTessellation t = tessellate_gpc_boundary(spline, m, lines);
 

@@ -11,17 +11,13 @@
 using volspline::polycube::GpcDomain;
 using volspline::spline::GpcJacobianLattice;
 using volspline::spline::GpcSpline;
-using volspline::spline::GpcSplineOptions;
 using volspline::spline::sample_gpc_jacobian_lattice;
 using namespace volspline::test;
 
 TEST_CASE("gpc jacobian lattice: cell centres of every cuboid, F and its scaled Jacobian") {
   const std::vector<PlacedCuboid> boxes = two_cube_boxes();
-  const GpcDomain d = glue_boxes(boxes);
-  GpcSplineOptions o;
-  o.intervals = {{3, 4, 3}, {4, 3, 4}};
-  GpcSpline spline(d, o);
-  place_at_anchors(spline, boxes, false);
+  GpcSpline spline = placed_gpc_spline(boxes, {{3, 4, 3}, {4, 3, 4}});
+  const GpcDomain& d = spline.domain();
   const int n = 3;
   const GpcJacobianLattice l = sample_gpc_jacobian_lattice(spline, n);
   REQUIRE(l.scaled_jacobian.size() == 2 * 27);

@@ -18,11 +18,8 @@ using namespace volspline::test;
 
 TEST_CASE("gpc spline cut: each cuboid's plane at its own parameter, scaled Jacobian of F") {
   const std::vector<PlacedCuboid> boxes = two_cube_boxes();
-  const GpcDomain d = glue_boxes(boxes);
-  GpcSplineOptions o;
-  o.intervals = {{3, 4, 3}, {4, 3, 4}};
-  GpcSpline spline(d, o);
-  place_at_anchors(spline, boxes, false);
+  GpcSpline spline = placed_gpc_spline(boxes, {{3, 4, 3}, {4, 3, 4}});
+  const GpcDomain& d = spline.domain();
   const int m = 6;
   for (int axis = 0; axis < 3; ++axis)
     for (double t : {0.0, 0.3, 1.0}) {

@@ -204,4 +204,15 @@ inline void place_at_anchors(spline::GpcSpline& spline, const std::vector<Placed
   spline.set_points(p);
 }
 
+// A GPC spline over glue_boxes(boxes) with the given knot intervals per cuboid and its control
+// points at the placed anchors: F is each cuboid's placement, exactly.
+inline spline::GpcSpline placed_gpc_spline(const std::vector<PlacedCuboid>& boxes,
+                                           const std::vector<std::array<int, 3>>& intervals) {
+  spline::GpcSplineOptions o;
+  o.intervals = intervals;
+  spline::GpcSpline spline(glue_boxes(boxes), o);
+  place_at_anchors(spline, boxes);
+  return spline;
+}
+
 }  // namespace volspline::test
