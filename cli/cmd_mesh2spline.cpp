@@ -64,7 +64,7 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
     j["rms_geo_rel"] = s.rms_geo_rel;
     j["control_points"] = s.control_points;
     j["levels"] = s.levels;
-    j["knot_refinement"] = args.has("hierarchical") ? "hierarchical" : args.has("adaptive-knots") ? "adaptive" : "uniform";
+    j["knot_refinement"] = pipeline::refinement_name(options.refinement);
     nlohmann::ordered_json history = nlohmann::ordered_json::array();
     for (const auto& l : s.level_history)
       history.push_back({{"control_points", l.control_points}, {"rms_rel", l.rms_rel}, {"surface_max_rel", l.surface_max_rel}});

@@ -180,7 +180,10 @@ pipeline::GpcMesh2SplineOptions gpc_job_options_from_js(const val& o, const pipe
   if (has_option(o, "max_levels")) options.max_levels = m.max_levels;
   if (has_option(o, "max_surface_error_rel")) options.max_surface_error_rel = m.max_surface_error_rel;
   if (bool_option(o, "adaptive_knots", false)) options.refinement = pipeline::GpcMesh2SplineOptions::Refinement::Adaptive;
+  if (bool_option(o, "hierarchical", false))
+    options.refinement = pipeline::GpcMesh2SplineOptions::Refinement::Hierarchical;
   options.adaptive_growth = number_option(o, "adaptive_growth", options.adaptive_growth);
+  options.hierarchy_depth = integer_option(o, "hierarchy_depth", options.hierarchy_depth, -1000000, 1000000);
   options.surface_weight = number_option(o, "surface_weight", options.surface_weight);
   options.measure_lattice = integer_option(o, "measure_lattice", options.measure_lattice, -1000000, 1000000);
   if (m.untangle == pipeline::Mesh2SplineOptions::Untangle::Off)
@@ -194,9 +197,10 @@ pipeline::GpcMesh2SplineOptions gpc_job_options_from_js(const val& o, const pipe
   return options;  // ranges are checked by run_gpc_mesh2spline
 }
 
-val gpc_stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name, bool adaptive) {
+val gpc_stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name,
+                    pipeline::GpcMesh2SplineOptions::Refinement refinement) {
   val out = fit_stats_to_js(s, name, "grid");
-  out.set("knot_refinement", std::string(adaptive ? "adaptive" : "uniform"));
+  out.set("knot_refinement", std::string(pipeline::refinement_name(refinement)));
   val history = val::array();
   for (const pipeline::Mesh2SplineStats::Level& l : s.level_history) {
     val level = val::object();
@@ -265,7 +269,7 @@ val gpc_mesh2spline(const mesh::TriangleMesh& input, const std::string& name, co
   val out = val::object();
   out.set("ok", true);
   out.set("domain", std::string("gpc"));
-  out.set("stats", gpc_stats_to_js(result.stats, name, job.refinement == pipeline::GpcMesh2SplineOptions::Refinement::Adaptive));
+  out.set("stats", gpc_stats_to_js(result.stats, name, job.refinement));
   out.set("input", input_to_js(input));
 
   const spline::GpcBoundaryTessellation b = spline::tessellate_gpc_boundary(result.spline, preview_samples, preview_lines);

@@ -258,6 +258,14 @@ int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& sample
 
 }  // namespace
 
+const char* refinement_name(GpcMesh2SplineOptions::Refinement refinement) {
+  switch (refinement) {
+    case GpcMesh2SplineOptions::Refinement::Adaptive: return "adaptive";
+    case GpcMesh2SplineOptions::Refinement::Hierarchical: return "hierarchical";
+    default: return "uniform";
+  }
+}
+
 GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const std::string& name,
                                          const GpcMesh2SplineOptions& options, const Progress& progress) {
   check_options(options);

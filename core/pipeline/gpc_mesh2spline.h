@@ -57,6 +57,9 @@ struct GpcMesh2SplineOptions {
   int threads = 1;
 };
 
+/// "uniform", "adaptive" or "hierarchical" (stats `knot_refinement`).
+const char* refinement_name(GpcMesh2SplineOptions::Refinement refinement);
+
 /// Result of run_gpc_mesh2spline.
 struct GpcMesh2SplineResult {
   spline::GpcSpline spline;  ///< over the GPC domain (sizes in bbox diagonals), points in model units
