@@ -1,11 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "core/io/glb_lines_writer.h"
 
-#include <algorithm>
 #include <cassert>
 #include <cstdint>
-#include <cstring>
-#include <limits>
 #include <utility>
 #include <vector>
 
@@ -13,20 +10,12 @@
 #include <nlohmann/json.hpp>
 
 #include "core/io/file_bytes.h"
-#include "core/io/textured_glb_writer.h"
+#include "core/io/glb_container.h"
 #include "core/spline/boundary_tessellation.h"
 
 namespace volspline::io {
 
 namespace {
-
-template <class T>
-void append_bytes(std::string& bin, const std::vector<T>& data) {
-  const std::size_t begin = bin.size();
-  bin.resize(begin + data.size() * sizeof(T));
-  if (!data.empty()) std::memcpy(&bin[begin], data.data(), data.size() * sizeof(T));
-  while (bin.size() % 4) bin.push_back('\0');
-}
 
 // Unit vertex normals: the area-weighted mean of the adjacent triangles' normals (so smooth
 // shading follows the triangles' outward orientation); a vertex whose triangles all vanish gets
@@ -61,24 +50,11 @@ std::string serialize_spline_glb(const spline::TSpline& spline, int samples, int
   const std::vector<std::uint32_t>& surface_index = boundary.surface_triangles;
   const std::vector<float>& line_xyz = boundary.line_xyz;
   const std::vector<float> surface_normal = vertex_normals(surface_xyz, surface_index);
-  auto bounds = [](const std::vector<float>& xyz, bool upper) {
-    nlohmann::json out = nlohmann::json::array();
-    for (int d = 0; d < 3; ++d) {
-      float v = upper ? -std::numeric_limits<float>::max() : std::numeric_limits<float>::max();
-      for (std::size_t i = d; i < xyz.size(); i += 3) v = upper ? std::max(v, xyz[i]) : std::min(v, xyz[i]);
-      out.push_back(v);
-    }
-    return out;
-  };
   std::string bin;
-  const std::size_t off_surface = bin.size();
-  append_bytes(bin, surface_xyz);
-  const std::size_t off_index = bin.size();
-  append_bytes(bin, surface_index);
-  const std::size_t off_lines = bin.size();
-  append_bytes(bin, line_xyz);
-  const std::size_t off_normal = bin.size();
-  append_bytes(bin, surface_normal);
+  const std::size_t off_surface = append_glb_bytes(bin, surface_xyz.data(), surface_xyz.size() * 4);
+  const std::size_t off_index = append_glb_bytes(bin, surface_index.data(), surface_index.size() * 4);
+  const std::size_t off_lines = append_glb_bytes(bin, line_xyz.data(), line_xyz.size() * 4);
+  const std::size_t off_normal = append_glb_bytes(bin, surface_normal.data(), surface_normal.size() * 4);
 
   nlohmann::ordered_json gltf;
   gltf["asset"] = {{"version", "2.0"}, {"generator", "volspline"}};
@@ -101,10 +77,10 @@ std::string serialize_spline_glb(const spline::TSpline& spline, int samples, int
       {{"buffer", 0}, {"byteOffset", off_normal}, {"byteLength", surface_normal.size() * 4}, {"target", 34962}}};
   gltf["accessors"] = {
       {{"bufferView", 0}, {"componentType", 5126}, {"count", surface_xyz.size() / 3}, {"type", "VEC3"},
-       {"min", bounds(surface_xyz, false)}, {"max", bounds(surface_xyz, true)}},
+       {"min", glb_vec3_bound(surface_xyz, false)}, {"max", glb_vec3_bound(surface_xyz, true)}},
       {{"bufferView", 1}, {"componentType", 5125}, {"count", surface_index.size()}, {"type", "SCALAR"}},
       {{"bufferView", 2}, {"componentType", 5126}, {"count", line_xyz.size() / 3}, {"type", "VEC3"},
-       {"min", bounds(line_xyz, false)}, {"max", bounds(line_xyz, true)}},
+       {"min", glb_vec3_bound(line_xyz, false)}, {"max", glb_vec3_bound(line_xyz, true)}},
       {{"bufferView", 3}, {"componentType", 5126}, {"count", surface_normal.size() / 3}, {"type", "VEC3"}}};
   return glb_container(gltf.dump(), std::move(bin));
 }

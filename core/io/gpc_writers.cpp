@@ -4,12 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
-#include <limits>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
 #include "core/io/file_bytes.h"
+#include "core/io/glb_container.h"
 #include "core/io/vtk_xml_writer.h"
 #include "core/mesh/hex_quality.h"
 
@@ -46,33 +46,6 @@ std::string serialize_hex_mesh_vtu(const HexMeshView& mesh) {
   body += "</Cells>\n</Piece>\n";
   return writer.document("UnstructuredGrid", "", body);
 }
-
-namespace {
-
-template <class T>
-std::size_t append_aligned(std::string& bin, const std::vector<T>& data) {
-  const std::size_t begin = bin.size();
-  bin.resize(begin + data.size() * sizeof(T));
-  if (!data.empty()) std::memcpy(&bin[begin], data.data(), data.size() * sizeof(T));
-  while (bin.size() % 4) bin.push_back('\0');
-  return begin;
-}
-
-void put_u32(std::string& out, std::uint32_t x) {
-  for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((x >> (8 * i)) & 0xff));
-}
-
-nlohmann::ordered_json bounds(const std::vector<float>& xyz, bool upper) {
-  nlohmann::ordered_json out = nlohmann::ordered_json::array();
-  for (int d = 0; d < 3; ++d) {
-    float v = upper ? -std::numeric_limits<float>::max() : std::numeric_limits<float>::max();
-    for (std::size_t i = d; i < xyz.size(); i += 3) v = upper ? std::max(v, xyz[i]) : std::min(v, xyz[i]);
-    out.push_back(v);
-  }
-  return out;
-}
-
-}  // namespace
 
 std::array<float, 3> segment_colour(int s) {
   const double h = std::fmod(s * 0.61803398875, 1.0) * 6.0;
@@ -117,12 +90,12 @@ std::string serialize_segmented_glb(const mesh::TriangleMesh& surface, const std
   std::string bin;
   Json views = Json::array(), accessors = Json::array(), primitives = Json::array();
   auto add = [&](const std::vector<float>& data, bool with_bounds) {
-    const std::size_t offset = append_aligned(bin, data);
+    const std::size_t offset = append_glb_bytes(bin, data.data(), data.size() * 4);
     views.push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", data.size() * 4}, {"target", 34962}});
     Json a = {{"bufferView", views.size() - 1}, {"componentType", 5126}, {"count", data.size() / 3}, {"type", "VEC3"}};
     if (with_bounds) {
-      a["min"] = bounds(data, false);
-      a["max"] = bounds(data, true);
+      a["min"] = glb_vec3_bound(data, false);
+      a["max"] = glb_vec3_bound(data, true);
     }
     accessors.push_back(a);
     return static_cast<int>(accessors.size()) - 1;
@@ -157,19 +130,7 @@ std::string serialize_segmented_glb(const mesh::TriangleMesh& surface, const std
   gltf["buffers"] = {{{"byteLength", bin.size()}}};
   gltf["bufferViews"] = views;
   gltf["accessors"] = accessors;
-  std::string json = gltf.dump();
-  while (json.size() % 4) json.push_back(' ');
-  std::string out;
-  put_u32(out, 0x46546C67);  // "glTF"
-  put_u32(out, 2);
-  put_u32(out, static_cast<std::uint32_t>(12 + 8 + json.size() + 8 + bin.size()));
-  put_u32(out, static_cast<std::uint32_t>(json.size()));
-  put_u32(out, 0x4E4F534A);  // "JSON"
-  out += json;
-  put_u32(out, static_cast<std::uint32_t>(bin.size()));
-  put_u32(out, 0x004E4942);  // "BIN\0"
-  out += bin;
-  return out;
+  return glb_container(gltf.dump(), std::move(bin));
 }
 
 void write_segmented_glb(const std::string& path, const mesh::TriangleMesh& surface,

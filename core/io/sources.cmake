@@ -20,6 +20,7 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/vtk_xml_writer.cpp
   ${CMAKE_CURRENT_LIST_DIR}/bezier_vtu_writer.cpp
   ${CMAKE_CURRENT_LIST_DIR}/volume_vti_writer.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/glb_container.cpp
   ${CMAKE_CURRENT_LIST_DIR}/glb_lines_writer.cpp
   ${CMAKE_CURRENT_LIST_DIR}/textured_glb_writer.cpp
   ${CMAKE_CURRENT_LIST_DIR}/volume_io.cpp

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "core/io/textured_glb_writer.h"
 
+#include <algorithm>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -10,43 +10,9 @@
 #include <nlohmann/json.hpp>
 
 #include "core/common/error.h"
+#include "core/io/glb_container.h"
 
 namespace volspline::io {
-
-namespace {
-
-template <class T>
-std::size_t append_aligned(std::string& bin, const T* data, std::size_t bytes) {
-  const std::size_t begin = bin.size();
-  bin.append(reinterpret_cast<const char*>(data), bytes);
-  while (bin.size() % 4) bin.push_back('\0');
-  return begin;
-}
-
-void append_u32(std::string& out, std::uint32_t x) {
-  for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((x >> (8 * i)) & 0xff));
-}
-
-}  // namespace
-
-std::string glb_container(std::string json, std::string bin) {
-  while (json.size() % 4) json.push_back(' ');
-  while (bin.size() % 4) bin.push_back('\0');
-  std::string out;
-  out.reserve(12 + 8 + json.size() + 8 + bin.size());
-  append_u32(out, 0x46546C67);  // "glTF"
-  append_u32(out, 2);
-  append_u32(out, static_cast<std::uint32_t>(12 + 8 + json.size() + (bin.empty() ? 0 : 8 + bin.size())));
-  append_u32(out, static_cast<std::uint32_t>(json.size()));
-  append_u32(out, 0x4E4F534A);  // "JSON"
-  out += json;
-  if (!bin.empty()) {
-    append_u32(out, static_cast<std::uint32_t>(bin.size()));
-    append_u32(out, 0x004E4942);  // "BIN\0"
-    out += bin;
-  }
-  return out;
-}
 
 std::string serialize_textured_glb(const TexturedPlane& plane) {
   const auto n = static_cast<std::size_t>(plane.positions.rows());
@@ -81,11 +47,11 @@ std::string serialize_textured_glb(const TexturedPlane& plane) {
       index.push_back(static_cast<std::uint32_t>(id));
     }
   std::string bin;
-  const std::size_t off_xyz = append_aligned(bin, xyz.data(), xyz.size() * 4);
-  const std::size_t off_normal = append_aligned(bin, normal.data(), normal.size() * 4);
-  const std::size_t off_uv = append_aligned(bin, uv.data(), uv.size() * 4);
-  const std::size_t off_index = append_aligned(bin, index.data(), index.size() * 4);
-  const std::size_t off_png = append_aligned(bin, plane.texture_png.data(), plane.texture_png.size());
+  const std::size_t off_xyz = append_glb_bytes(bin, xyz.data(), xyz.size() * 4);
+  const std::size_t off_normal = append_glb_bytes(bin, normal.data(), normal.size() * 4);
+  const std::size_t off_uv = append_glb_bytes(bin, uv.data(), uv.size() * 4);
+  const std::size_t off_index = append_glb_bytes(bin, index.data(), index.size() * 4);
+  const std::size_t off_png = append_glb_bytes(bin, plane.texture_png.data(), plane.texture_png.size());
 
   nlohmann::ordered_json gltf;
   gltf["asset"] = {{"version", "2.0"}, {"generator", "volspline lens"}};

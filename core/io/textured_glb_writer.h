@@ -18,11 +18,6 @@ struct TexturedPlane {
   std::string texture_png;     ///< PNG bytes of the texture image, embedded in the GLB
 };
 
-/// GLB (binary glTF 2.0) container of a glTF JSON text and its binary buffer: the 12-byte header,
-/// the JSON chunk padded with spaces and the BIN chunk (if `bin` is not empty) padded with zeros
-/// to 4 bytes (glTF §4.4).
-std::string glb_container(std::string json, std::string bin);
-
 /// GLB (binary glTF 2.0) of the plane: one scene, one node, one triangle primitive with
 /// POSITION (x, output_height − y, 0) in pixels, y up as glTF expects, NORMAL +z, TEXCOORD_0
 /// (x / texture_width, y / texture_height: glTF's UV origin is the image's top-left corner) and
