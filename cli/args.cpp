@@ -100,19 +100,10 @@ bool print_help_if_asked(const Args& args, const std::string& usage, const std::
   return true;
 }
 
-std::vector<OptionSpec> common_job_options() {
-  return {
-      {"stats-json", "FILE", "write the measures of the run as JSON"},
-      {"threads", "N", "worker threads (default 1)"},
-      {"quiet", "", "no progress bar"},
-  };
-}
-
 std::vector<OptionSpec> with_job_options(std::vector<OptionSpec> specs, const std::string& threads_help) {
-  for (OptionSpec common : common_job_options()) {
-    if (common.name == "threads") common.help = threads_help;
-    specs.push_back(common);
-  }
+  specs.push_back({"stats-json", "FILE", "write the measures of the run as JSON"});
+  specs.push_back({"threads", "N", threads_help});
+  specs.push_back({"quiet", "", "no progress bar"});
   return specs;
 }
 

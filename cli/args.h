@@ -51,9 +51,6 @@ std::string format_help(const std::string& usage, const std::string& description
 bool print_help_if_asked(const Args& args, const std::string& usage, const std::string& description,
                          const std::vector<OptionSpec>& specs);
 
-/// Options every job shares: --stats-json, --threads, --quiet, --help.
-std::vector<OptionSpec> common_job_options();
-
 /// A job's own options followed by those every job shares: --stats-json, --threads, --quiet
 /// (--help is implicit). `threads_help` is the --threads line: what this job does with threads.
 std::vector<OptionSpec> with_job_options(std::vector<OptionSpec> specs, const std::string& threads_help);

@@ -10,6 +10,7 @@
 #include "cli/corners_file.h"
 #include "cli/output_files.h"
 #include "cli/progress_bar.h"
+#include "cli/stage_times_json.h"
 #include "core/io/bezier_vtu_writer.h"
 #include "core/io/file_bytes.h"
 #include "core/io/glb_lines_writer.h"
@@ -24,6 +25,21 @@
 namespace volspline::cli {
 
 namespace {
+
+// The keys both kinds of mesh2spline stats report first, in this order (as the wasm binding's
+// fit_stats_to_js).
+nlohmann::ordered_json fit_stats_json(const pipeline::Mesh2SplineStats& s, const std::string& path, const std::string& fit) {
+  nlohmann::ordered_json j;
+  j["input"] = path;
+  j["fit"] = fit;
+  j["rms_rel"] = s.rms_rel;
+  j["max_rel"] = s.max_rel;
+  j["hausdorff_rel"] = s.hausdorff_rel;
+  j["rms_geo_rel"] = s.rms_geo_rel;
+  j["control_points"] = s.control_points;
+  j["levels"] = s.levels;
+  return j;
+}
 
 // A solid of genus > 0: one spline over its generalized poly-cube (run_gpc_mesh2spline).
 void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& input, const std::string& path,
@@ -55,15 +71,7 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
   if (args.has("glb")) files.stage(args.get("glb"), io::serialize_gpc_spline_glb(result.spline));
   const pipeline::Mesh2SplineStats& s = result.stats;
   if (args.has("stats-json")) {
-    nlohmann::ordered_json j;
-    j["input"] = path;
-    j["fit"] = "grid";
-    j["rms_rel"] = s.rms_rel;
-    j["max_rel"] = s.max_rel;
-    j["hausdorff_rel"] = s.hausdorff_rel;
-    j["rms_geo_rel"] = s.rms_geo_rel;
-    j["control_points"] = s.control_points;
-    j["levels"] = s.levels;
+    nlohmann::ordered_json j = fit_stats_json(s, path, "grid");
     j["knot_refinement"] = pipeline::refinement_name(options.refinement);
     nlohmann::ordered_json history = nlohmann::ordered_json::array();
     for (const auto& l : s.level_history)
@@ -88,14 +96,7 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
     j["grid_min_scaled_jacobian"] = s.grid_min_scaled_jacobian;
     j["samples"] = s.samples;
     j["untangled_control_points"] = s.untangled_control_points;
-    nlohmann::ordered_json times;
-    double total = 0.0;
-    for (const auto& [stage, seconds] : s.times_s) {
-      times[stage] = seconds;
-      total += seconds;
-    }
-    times["total"] = total;
-    j["times_s"] = times;
+    j["times_s"] = stage_times_json(s.times_s);
     files.stage(args.get("stats-json"), j.dump(2) + "\n");
   }
   files.commit();
@@ -125,7 +126,7 @@ int solid_genus(const mesh::TriangleMesh& input, const std::string& path) {
 // options, the job, the outputs) with nothing to reuse; split, every part would take the parsed
 // arguments and the output list along.
 int run_mesh2spline(const std::vector<std::string>& argv) {
-  std::vector<OptionSpec> specs = {
+  const std::vector<OptionSpec> specs = with_job_options({
       {"output", "OUT.json", "spline JSON file to write (required; also -o)"},
       {"vtk", "OUT.vtu", "the spline as VTK Bézier hexahedra (exact, one per knot-line cell) with the certified scaled_jacobian_min per cell"},
       {"vtk-linear", "N", "write --vtk as straight hexes sampled on an N^3 lattice instead (tools without Bézier cells)"},
@@ -149,25 +150,16 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
       {"measure-lattice", "N", "genus > 0: lattice_negative_fraction at the cell centres of an N^3 lattice per cuboid (default 64, 4..256)"},
       {"surface-weight", "W", "genus > 0: least-squares weight of a surface vertex against a grid node (default 1)"},
       {"knot-growth", "G", "genus > 0, --adaptive-knots: each level adds lines until the control points grow by G (default 1.4)"},
-  };
-  for (auto common : common_job_options()) {
-    if (common.name == "threads")
-      common.help = "genus > 0: the cuboids' untangling on N threads (default 1); genus 0 runs on one (same output for any N)";
-    specs.push_back(common);
-  }
+  }, "genus > 0: the cuboids' untangling on N threads (default 1); genus 0 runs on one (same output for any N)");
   const Args args = parse_args(argv, specs);
-  if (args.has("help")) {
-    std::fputs(format_help("volspline mesh2spline MESH -o OUT.json [options]",
-                           "Maps a closed triangle mesh (OBJ, OFF, PLY, STL, glTF/GLB) of a solid to a trivariate\n"
-                           "spline (thesis ch. 3 and 4): genus 0 to one cuboid and a T-spline; genus > 0 to a\n"
-                           "generalized poly-cube (as volspline gpc) and one spline over all its cuboids (JSON\n"
-                           "format volspline-gpc-spline; eval --cuboid K). Exit 2 on bad input (open,\n"
-                           "non-manifold, NaN) with a message naming the problem.",
-                           specs)
-                   .c_str(),
-               stdout);
+  if (print_help_if_asked(args, "volspline mesh2spline MESH -o OUT.json [options]",
+                          "Maps a closed triangle mesh (OBJ, OFF, PLY, STL, glTF/GLB) of a solid to a trivariate\n"
+                          "spline (thesis ch. 3 and 4): genus 0 to one cuboid and a T-spline; genus > 0 to a\n"
+                          "generalized poly-cube (as volspline gpc) and one spline over all its cuboids (JSON\n"
+                          "format volspline-gpc-spline; eval --cuboid K). Exit 2 on bad input (open,\n"
+                          "non-manifold, NaN) with a message naming the problem.",
+                          specs))
     return 0;
-  }
   if (args.positional.size() != 1) throw UsageError("expects exactly one MESH (see --help)");
   const std::string output = args.get("output");
   if (output.empty()) throw UsageError("needs -o OUT.json");
@@ -229,15 +221,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
   if (args.has("glb")) files.stage(args.get("glb"), io::serialize_spline_glb(result.spline));
   const pipeline::Mesh2SplineStats& s = result.stats;
   if (args.has("stats-json")) {
-    nlohmann::ordered_json j;
-    j["input"] = path;
-    j["fit"] = fit;
-    j["rms_rel"] = s.rms_rel;
-    j["max_rel"] = s.max_rel;
-    j["hausdorff_rel"] = s.hausdorff_rel;
-    j["rms_geo_rel"] = s.rms_geo_rel;
-    j["control_points"] = s.control_points;
-    j["levels"] = s.levels;
+    nlohmann::ordered_json j = fit_stats_json(s, path, fit);
     j["jacobian_certified_fraction"] = s.jacobian_certified_fraction;
     j["det_j_lower_bound_rel"] = s.det_j_lower_bound_rel;
     j["certificate_cells"] = s.certificate_cells;
@@ -270,14 +254,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
                                                                    : nlohmann::ordered_json(nullptr);
       j["uniform_rms_rel"] = s.uniform_rms_rel;
     }
-    nlohmann::ordered_json times;
-    double total = 0.0;
-    for (const auto& [stage, seconds] : s.times_s) {
-      times[stage] = seconds;
-      total += seconds;
-    }
-    times["total"] = total;
-    j["times_s"] = times;
+    j["times_s"] = stage_times_json(s.times_s);
     files.stage(args.get("stats-json"), j.dump(2) + "\n");
   }
   files.commit();
