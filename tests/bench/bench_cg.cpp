@@ -33,9 +33,11 @@
 #include <nlohmann/json.hpp>
 
 #include "core/linalg/conjugate_gradient.h"
+#include "tests/unit/linalg/test_systems.h"
 
 namespace linalg = volspline::linalg;
 using nlohmann::json;
+using volspline::linalg::testing::pseudo_random_vector;
 
 namespace {
 
@@ -132,16 +134,6 @@ linalg::CsrMatrix screened_cotan_laplacian(const std::vector<Eigen::Vector3d>& v
   }
   const int n = static_cast<int>(v.size());
   return linalg::CsrMatrix::from_triplets(n, n, stiffness);
-}
-
-Eigen::VectorXd pseudo_random_vector(int n, std::uint64_t seed) {
-  Eigen::VectorXd x(n);
-  std::uint64_t s = seed * 6364136223846793005ULL + 1442695040888963407ULL;
-  for (int i = 0; i < n; ++i) {
-    s = s * 6364136223846793005ULL + 1442695040888963407ULL;
-    x[i] = static_cast<double>(s >> 11) / 9007199254740992.0 * 2.0 - 1.0;
-  }
-  return x;
 }
 
 struct Measurement {
