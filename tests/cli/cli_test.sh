@@ -17,6 +17,12 @@ expect() {
 }
 # contains FILE TEXT
 contains() { if grep -qF -- "$2" "$1"; then ok; else bad "'$2' not in $1: $(head -c 300 "$1")"; fi; }
+# has_keys JSON KEY... : every KEY appears as "KEY" in the file
+has_keys() { local file=$1 key; shift; for key in "$@"; do contains "$file" "\"$key\""; done; }
+# is_glb FILE : starts with the GLB magic
+is_glb() { if [ "$(head -c 4 "$1")" = "glTF" ]; then ok; else bad "$(basename "$1") is not a GLB file"; fi; }
+# same_bytes A B MESSAGE : the two files are byte-identical
+same_bytes() { if cmp -s "$1" "$2"; then ok; else bad "$3"; fi; }
 
 cases=("$@")
 [ ${#cases[@]} -gt 0 ] || cases=($(cd "$SRC/tests/cli/cases" && ls -- *.sh))

@@ -2,13 +2,11 @@
 expect 0 "$BIN" mesh2spline --help
 contains "$TMP/out" "mesh2spline MESH -o OUT.json"
 expect 0 "$BIN" mesh2spline "$DATA/meshes/sphere.off" -o "$TMP/s.json" --vtk "$TMP/s.vtu" --glb "$TMP/s.glb" --stats-json "$TMP/s_stats.json" --quiet
-for key in rms_rel max_rel hausdorff_rel rms_geo_rel control_points levels jacobian_certified_fraction det_j_lower_bound_rel uncertified_cells jacobian_samples min_scaled_jacobian negative_jacobian_fraction negative_jacobian_fraction_fit repaired_control_points semi_standard_max_error times_s; do
-  contains "$TMP/s_stats.json" "\"$key\""
-done
+has_keys "$TMP/s_stats.json" rms_rel max_rel hausdorff_rel rms_geo_rel control_points levels jacobian_certified_fraction det_j_lower_bound_rel uncertified_cells jacobian_samples min_scaled_jacobian negative_jacobian_fraction negative_jacobian_fraction_fit repaired_control_points semi_standard_max_error times_s
 contains "$TMP/s_stats.json" "\"measures\""
 contains "$TMP/s.vtu" "scaled_jacobian"
 contains "$TMP/s.json" "volspline-tspline"
-if [ "$(head -c 4 "$TMP/s.glb")" = "glTF" ]; then ok; else bad "s.glb is not a GLB file"; fi
+is_glb "$TMP/s.glb"
 expect 0 "$BIN" eval "$TMP/s.json" --uvw 0.5,0.5,0.5
 expect 2 "$BIN" eval "$TMP/s.json" --uvw 0.5,0.5
 contains "$TMP/err" "three comma-separated numbers"

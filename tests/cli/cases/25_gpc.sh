@@ -2,19 +2,17 @@
 expect 0 "$BIN" gpc --help
 contains "$TMP/out" "gpc MESH -o DOMAIN.json"
 expect 0 "$BIN" gpc "$DATA/meshes/torus.off" -o "$TMP/g.json" --glb "$TMP/g.glb" --vtk "$TMP/g.vtu" --stats-json "$TMP/g_stats.json" --quiet
-for key in genus t_shapes tubes caps cuboids ill_points flipped_triangles grid_inverted_hexes grid_min_scaled_jacobian interface_gap_rel times_s; do
-  contains "$TMP/g_stats.json" "\"$key\""
-done
+has_keys "$TMP/g_stats.json" genus t_shapes tubes caps cuboids ill_points flipped_triangles grid_inverted_hexes grid_min_scaled_jacobian interface_gap_rel times_s
 contains "$TMP/g_stats.json" "\"genus\": 1"
 contains "$TMP/g_stats.json" "\"cuboids\": 1"
 contains "$TMP/g_stats.json" "\"ill_points\": 0"
 contains "$TMP/g_stats.json" "\"grid_inverted_hexes\": 0"
 contains "$TMP/g.json" "volspline-gpc"
 contains "$TMP/g.vtu" "cuboid"
-if [ "$(head -c 4 "$TMP/g.glb")" = "glTF" ]; then ok; else bad "g.glb is not a GLB file"; fi
+is_glb "$TMP/g.glb"
 # Same input, same bytes.
 expect 0 "$BIN" gpc "$DATA/meshes/torus.off" -o "$TMP/g2.json" --quiet
-if cmp -s "$TMP/g.json" "$TMP/g2.json"; then ok; else bad "gpc output differs between two runs"; fi
+same_bytes "$TMP/g.json" "$TMP/g2.json" "gpc output differs between two runs"
 # Genus 0 is one cuboid; the count comes from the decomposition, a coarse grid shows it.
 expect 0 "$BIN" gpc "$DATA/meshes/sphere.off" -o "$TMP/gs.json" --stats-json "$TMP/gs_stats.json" --grid-nodes 2000 --quiet
 contains "$TMP/gs_stats.json" "\"cuboids\": 1"

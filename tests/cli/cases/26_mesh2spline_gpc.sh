@@ -1,16 +1,14 @@
 # mesh2spline on a solid of genus > 0: one spline over the GPC; JSON, eval --cuboid, VTU, GLB, stats.
 expect 0 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gt.json" --vtk "$TMP/gt.vtu" --glb "$TMP/gt.glb" --stats-json "$TMP/gt_stats.json" --quiet
 contains "$TMP/gt.json" "\"format\": \"volspline-gpc-spline\""
-for key in rms_rel hausdorff_rel control_points min_scaled_jacobian negative_jacobian_fraction lattice_negative_fraction semi_standard_max_error genus t_shapes cuboids ill_points interface_gap_rel interface_normal_jump_deg times_s; do
-  contains "$TMP/gt_stats.json" "\"$key\""
-done
+has_keys "$TMP/gt_stats.json" rms_rel hausdorff_rel control_points min_scaled_jacobian negative_jacobian_fraction lattice_negative_fraction semi_standard_max_error genus t_shapes cuboids ill_points interface_gap_rel interface_normal_jump_deg times_s
 contains "$TMP/gt_stats.json" "\"genus\": 1"
 contains "$TMP/gt_stats.json" "\"cuboids\": 1"
 contains "$TMP/gt_stats.json" "\"negative_jacobian_fraction\": 0.0"
-if [ "$(head -c 4 "$TMP/gt.glb")" = "glTF" ]; then ok; else bad "gt.glb is not a GLB file"; fi
+is_glb "$TMP/gt.glb"
 # Same input, same bytes.
 expect 0 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gt2.json" --quiet
-if cmp -s "$TMP/gt.json" "$TMP/gt2.json"; then ok; else bad "GPC spline JSON differs between two runs"; fi
+same_bytes "$TMP/gt.json" "$TMP/gt2.json" "GPC spline JSON differs between two runs"
 # eval in cuboid 0's local coordinates; the glued face: u = 0 and u = size meet (torus: a self-glued tube).
 expect 0 "$BIN" eval "$TMP/gt.json" --cuboid 0 --uvw 0.01,0.01,0.01 --jacobian
 if [ "$(wc -l < "$TMP/out")" = 4 ]; then ok; else bad "eval --jacobian prints 4 lines: $(cat "$TMP/out")"; fi

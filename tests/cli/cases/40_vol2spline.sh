@@ -3,9 +3,7 @@ VOL="$SRC/samples/volumes/bucky_32x32x32_uint8.raw"
 expect 0 "$BIN" vol2spline --help
 contains "$TMP/out" "vol2spline VOLUME -o OUT.json"
 expect 0 "$BIN" vol2spline "$VOL" -o "$TMP/v.json" --vtk "$TMP/v.vtu" --vti "$TMP/v.vti" --stats-json "$TMP/v_stats.json" --max-rms 0.1 --quiet
-for key in density_rms_rel density_max_rel control_points voxels patches corners frame_smoothness_initial frame_smoothness_final constraint_angle_max_deg min_scaled_jacobian stop_reason max_control_points curve times_s; do
-  contains "$TMP/v_stats.json" "\"$key\""
-done
+has_keys "$TMP/v_stats.json" density_rms_rel density_max_rel control_points voxels patches corners frame_smoothness_initial frame_smoothness_final constraint_angle_max_deg min_scaled_jacobian stop_reason max_control_points curve times_s
 contains "$TMP/v_stats.json" "\"voxels\": 32768"
 contains "$TMP/v_stats.json" "\"stop_reason\": \"target\""
 contains "$TMP/v_stats.json" "\"max_control_points\": 2048"
@@ -23,7 +21,7 @@ expect 0 "$BIN" vol2spline "$TMP/volume.raw" --dims 32,32,32 --type uint8 --spac
 # The same bytes as a gzip-encoded NRRD (attached data, compressed by the gzip command): the same spline.
 { printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 32 32 32\nencoding: gzip\n\n'; gzip -c "$VOL"; } > "$TMP/bucky.nrrd"
 expect 0 "$BIN" vol2spline "$TMP/bucky.nrrd" -o "$TMP/g.json" --max-rms 0.1 --quiet
-cmp -s "$TMP/g.json" "$TMP/v.json" || bad "gzip NRRD spline differs from the raw one"
+same_bytes "$TMP/g.json" "$TMP/v.json" "gzip NRRD spline differs from the raw one"
 head -c 2000 "$TMP/bucky.nrrd" > "$TMP/bucky_cut.nrrd"
 expect 2 "$BIN" vol2spline "$TMP/bucky_cut.nrrd" -o "$TMP/x.json" --quiet
 contains "$TMP/err" "bucky_cut.nrrd: truncated gzip data"

@@ -64,12 +64,12 @@ expect 2 "$BIN" mesh2spline "$TMP/o/in_link.off" -o "$TMP/o/in.off" --quiet
 expect 2 "$BIN" mesh2spline "$TMP/o/in.off" -o "$TMP/o/in_hard.off" --quiet
 expect 2 "$BIN" mesh2spline "$TMP/o/in.off" -o "$TMP/o/x.json" --stats-json "$TMP/o/x.json" --quiet
 contains "$TMP/err" "also the -o output"
-if cmp -s "$TMP/o/in.off" "$TMP/o/in.bak"; then ok; else bad "the input mesh was overwritten"; fi
+same_bytes "$TMP/o/in.off" "$TMP/o/in.bak" "the input mesh was overwritten"
 cp "$SRC/samples/images/text.png" "$TMP/o/in.png"
 expect 2 "$BIN" lens "$TMP/o/in.png" -o "$TMP/o/in.png" --roi circle:10,10,5 --quiet
 cp "$SRC/samples/volumes/bucky_32x32x32_uint8.raw" "$TMP/o/b_32x32x32_uint8.raw"
 expect 2 "$BIN" vol2spline "$TMP/o/b_32x32x32_uint8.raw" -o "$TMP/o/v.json" --vtk "$TMP/o/b_32x32x32_uint8.raw" --quiet
-if cmp -s "$TMP/o/b_32x32x32_uint8.raw" "$SRC/samples/volumes/bucky_32x32x32_uint8.raw"; then ok; else bad "the input volume was overwritten"; fi
+same_bytes "$TMP/o/b_32x32x32_uint8.raw" "$SRC/samples/volumes/bucky_32x32x32_uint8.raw" "the input volume was overwritten"
 # Every output folder is checked before the work starts (exit 2, -o not written).
 rm -f "$TMP/o/x.json"
 expect 2 "$BIN" "${M[@]}" -o "$TMP/o/x.json" --stats-json "$TMP/no/such/folder/s.json"
