@@ -24,6 +24,21 @@ int untangling_negative_points(const spline::TSpline& ts, int l) {
   return count;
 }
 
+// The centres of the 5×5×5 cells of the unit cube: samples of the identity inside the domain.
+Eigen::MatrixX3d cell_centres_5() {
+  Eigen::MatrixX3d uvw(5 * 5 * 5, 3);
+  for (int s = 0; s < 125; ++s) uvw.row(s) = Eigen::RowVector3d(s % 5 + 0.5, s / 5 % 5 + 0.5, s / 25 + 0.5) / 5.0;
+  return uvw;
+}
+
+// Every function touching the boundary (all six faces exposed) keeps its control point from
+// `points`: the untangler moves interior control points only.
+void check_boundary_points_kept(const spline::TSpline& ts, const Eigen::MatrixXd& points) {
+  const Eigen::Vector3d lo = ts.domain_min(), hi = ts.domain_max();
+  for (int i = 0; i < ts.num_functions(); ++i)
+    if (spline::touches_exposed_face(ts.knots()[i], lo, hi, polycube::CubeFaceSet::all())) CHECK(ts.points().row(i) == points.row(i));
+}
+
 }  // namespace
 
 TEST_CASE("spline untangling unfolds a near-boundary fold, keeps the boundary and the identity samples") {
@@ -35,9 +50,7 @@ TEST_CASE("spline untangling unfolds a near-boundary fold, keeps the boundary an
   points(id, 0) += 1.5;
   ts.set_points(points);
   REQUIRE(untangling_negative_points(ts, 16) > 0);
-  // Samples of the identity inside the domain.
-  Eigen::MatrixX3d uvw(5 * 5 * 5, 3);
-  for (int s = 0; s < 125; ++s) uvw.row(s) = Eigen::RowVector3d(s % 5 + 0.5, s / 5 % 5 + 0.5, s / 25 + 0.5) / 5.0;
+  const Eigen::MatrixX3d uvw = cell_centres_5();
   spline::SplineUntangleOptions options;
   options.lattice = 16;
   options.seed_stride = 1;
@@ -61,9 +74,7 @@ TEST_CASE("spline untangling unfolds a near-boundary fold, keeps the boundary an
       }
   // Rounding only: the two sums add the same terms in another order.
   CHECK(report.final_min_scaled == doctest::Approx(min_scaled).epsilon(1e-9));
-  const Eigen::Vector3d lo = ts.domain_min(), hi = ts.domain_max();
-  for (int i = 0; i < ts.num_functions(); ++i)
-    if (spline::touches_exposed_face(ts.knots()[i], lo, hi, polycube::CubeFaceSet::all())) CHECK(ts.points().row(i) == points.row(i));
+  check_boundary_points_kept(ts, points);
 }
 
 TEST_CASE("spline untangling on the cell-centre energy nodes unfolds the fold; the moved spline equals a fresh build") {
@@ -71,8 +82,7 @@ TEST_CASE("spline untangling on the cell-centre energy nodes unfolds the fold; t
   Eigen::MatrixXd points = ts.points();
   points(1 + 7 * (3 + 7 * 3), 0) += 1.5;  // the fold of the test above
   ts.set_points(points);
-  Eigen::MatrixX3d uvw(5 * 5 * 5, 3);
-  for (int s = 0; s < 125; ++s) uvw.row(s) = Eigen::RowVector3d(s % 5 + 0.5, s / 5 % 5 + 0.5, s / 25 + 0.5) / 5.0;
+  const Eigen::MatrixX3d uvw = cell_centres_5();
   spline::SplineUntangleOptions options;
   options.lattice = 16;  // seed_stride 2 and energy_stride 2: the 8³ cell centres of the 16 lattice
   options.nodes_per_knot_interval = 0;
@@ -145,8 +155,7 @@ TEST_CASE("spline untangling unfolds a fold at a face (normal derivative outward
   REQUIRE(ts.jacobian(Eigen::Vector3d(0.0, 0.5, 0.5)).determinant() < 0.0);
   const int folded = unseen_negative_points(ts);
   REQUIRE(folded > 0);
-  Eigen::MatrixX3d uvw(5 * 5 * 5, 3);
-  for (int s = 0; s < 125; ++s) uvw.row(s) = Eigen::RowVector3d(s % 5 + 0.5, s / 5 % 5 + 0.5, s / 25 + 0.5) / 5.0;
+  const Eigen::MatrixX3d uvw = cell_centres_5();
   spline::SplineUntangleOptions options;
   options.lattice = 16;
   SUBCASE("without boundary layers the cell-centre nodes (first at 1/16) miss most of it") {
@@ -167,9 +176,7 @@ TEST_CASE("spline untangling unfolds a fold at a face (normal derivative outward
     const spline::SplineUntangleResult report = spline::untangle_spline(ts, uvw, uvw, options);
     CHECK(report.check_points > 0);  // the first check found bad points between the nodes
     CHECK(unseen_negative_points(ts) == 0);
-    const Eigen::Vector3d lo = ts.domain_min(), hi = ts.domain_max();
-    for (int i = 0; i < ts.num_functions(); ++i)
-      if (spline::touches_exposed_face(ts.knots()[i], lo, hi, polycube::CubeFaceSet::all())) CHECK(ts.points().row(i) == points.row(i));
+    check_boundary_points_kept(ts, points);
   }
   SUBCASE("the polish holds the finest lattice that one pass on coarse nodes leaves folded") {
     // One pass on 2 nodes per knot interval (no boundary layers, no check): the fold stays at
@@ -195,9 +202,7 @@ TEST_CASE("spline untangling unfolds a fold at a face (normal derivative outward
     CHECK(report.polish_passes > 0);
     CHECK(report.polish_folded == 0);
     CHECK(lattice_folded(ts) == 0);
-    const Eigen::Vector3d lo = ts.domain_min(), hi = ts.domain_max();
-    for (int i = 0; i < ts.num_functions(); ++i)
-      if (spline::touches_exposed_face(ts.knots()[i], lo, hi, polycube::CubeFaceSet::all())) CHECK(ts.points().row(i) == points.row(i));
+    check_boundary_points_kept(ts, points);
   }
   SUBCASE("with them it is gone everywhere the check looks") {
     REQUIRE(options.boundary_layers.size() == 2);  // the defaults: 1/4 and 1/2 of the first node's depth
@@ -206,9 +211,7 @@ TEST_CASE("spline untangling unfolds a fold at a face (normal derivative outward
     CHECK(report.final_negative == 0);
     CHECK(unseen_negative_points(ts) == 0);
     CHECK(ts.jacobian(Eigen::Vector3d(0.0, 0.5, 0.5)).determinant() > 0.0);
-    const Eigen::Vector3d lo = ts.domain_min(), hi = ts.domain_max();
-    for (int i = 0; i < ts.num_functions(); ++i)
-      if (spline::touches_exposed_face(ts.knots()[i], lo, hi, polycube::CubeFaceSet::all())) CHECK(ts.points().row(i) == points.row(i));
+    check_boundary_points_kept(ts, points);
   }
 }
 
@@ -233,8 +236,7 @@ TEST_CASE("spline untangling on a region: folds outside it stay, functions reach
   Eigen::MatrixXd points = folded.points();
   points(1 + 7 * (3 + 7 * 3), 0) += 1.5;  // the fold of the first test, near u = 0
   folded.set_points(points);
-  Eigen::MatrixX3d uvw(5 * 5 * 5, 3);
-  for (int s = 0; s < 125; ++s) uvw.row(s) = Eigen::RowVector3d(s % 5 + 0.5, s / 5 % 5 + 0.5, s / 25 + 0.5) / 5.0;
+  const Eigen::MatrixX3d uvw = cell_centres_5();
   spline::SplineUntangleOptions options;
   options.lattice = 16;
   options.seed_stride = 1;
