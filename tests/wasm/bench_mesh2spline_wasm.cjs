@@ -8,58 +8,14 @@
 // Prints medians, the ratios and the stats keys whose values differ between the two as JSON.
 // usage: node --no-experimental-fetch tests/wasm/bench_mesh2spline_wasm.cjs NODE_BUILD.cjs VOLSPLINE_CLI MESH... [--runs 3]
 'use strict';
-const fs = require('fs');
-const os = require('os');
 const path = require('path');
-const { execFileSync } = require('child_process');
+const { benchAgainstNative } = require('./bench_against_native.cjs');
 
-const args = process.argv.slice(2);
-const runsAt = args.indexOf('--runs');
-const runs = runsAt >= 0 ? Number(args.splice(runsAt, 2)[1]) : 3;
-const [modulePath, cli, ...meshes] = args;
-if (!modulePath || !cli || !meshes.length) {
-  console.error('usage: node --no-experimental-fetch tests/wasm/bench_mesh2spline_wasm.cjs NODE_BUILD.cjs VOLSPLINE_CLI MESH... [--runs 3]');
-  process.exit(2);
-}
-const median = (v) => [...v].sort((a, b) => a - b)[v.length >> 1];
-const tmp = fs.mkdtempSync(path.join(os.tmpdir(), 'bench-m2s-'));
-
-function native(mesh) {
-  const out = path.join(tmp, 'out.json'), stats = path.join(tmp, 'stats.json'), time = path.join(tmp, 'time.txt');
-  execFileSync('/usr/bin/time', ['-o', time, '-f', '%e %U %S', cli, 'mesh2spline', mesh, '-o', out, '--stats-json', stats, '--quiet', '--threads', '1']);
-  const [wall, user, sys] = fs.readFileSync(time, 'utf8').trim().split(/\s+/).map(Number);
-  return { wall_s: wall, cpu_s: user + sys, stats: JSON.parse(fs.readFileSync(stats, 'utf8')) };
-}
-
-require(path.resolve(modulePath))().then((vs) => {
-  const out = { load_before: fs.readFileSync('/proc/loadavg', 'utf8').trim(), runs, meshes: {} };
-  for (const mesh of meshes) {
-    const bytes = new Uint8Array(fs.readFileSync(mesh));
-    const n = [], w = [];
-    for (let k = 0; k < runs; k++) {
-      n.push(native(mesh));
-      const t0 = performance.now(), c0 = process.cpuUsage();
-      const r = vs.mesh2spline(bytes, path.basename(mesh), { threads: 1, outputs: false }, null);
-      const c = process.cpuUsage(c0);
-      if (!r.ok) throw new Error(`${mesh}: ${r.message}`);
-      w.push({ wall_s: (performance.now() - t0) / 1000, cpu_s: (c.user + c.system) / 1e6, stats: r.stats });
-    }
-    const m = (side, f) => median(side.map(f));
-    const side = (s) => ({ wall_s: m(s, (x) => x.wall_s), cpu_s: m(s, (x) => x.cpu_s), core_total_s: m(s, (x) => x.stats.times_s.total) });
-    const nat = side(n), wasm = side(w);
-    // Every stat but the times and the input's path must be identical.
-    const differ = [];
-    for (const [key, value] of Object.entries(n[0].stats)) {
-      if (key === 'times_s' || key === 'input') continue;
-      if (JSON.stringify(value) !== JSON.stringify(w[0].stats[key])) differ.push({ key, native: value, wasm: w[0].stats[key] });
-    }
-    out.meshes[path.basename(mesh)] = {
-      native: nat, wasm,
-      ratio_wasm_over_native: { wall: wasm.wall_s / nat.wall_s, cpu: wasm.cpu_s / nat.cpu_s, core_total: wasm.core_total_s / nat.core_total_s },
-      control_points: n[0].stats.control_points, rms_rel: n[0].stats.rms_rel, stats_differ: differ,
-    };
-  }
-  out.load_after = fs.readFileSync('/proc/loadavg', 'utf8').trim();
-  fs.rmSync(tmp, { recursive: true, force: true });
-  console.log(JSON.stringify(out, null, 2));
-}).catch((e) => { console.error('bench failed: ' + e.message); process.exit(1); });
+benchAgainstNative({
+  script: 'bench_mesh2spline_wasm.cjs',
+  tmpPrefix: 'bench-m2s-',
+  cliArgs: (mesh, stats, tmp) =>
+    ['mesh2spline', mesh, '-o', path.join(tmp, 'out.json'), '--stats-json', stats, '--quiet', '--threads', '1'],
+  run: (vs, bytes, name) => vs.mesh2spline(bytes, name, { threads: 1, outputs: false }, null),
+  summary: (s) => ({ control_points: s.control_points, rms_rel: s.rms_rel }),
+});
