@@ -26,6 +26,22 @@ inline mesh::TriangleMesh make_mesh(const std::vector<double>& xyz, const std::v
   return mesh;
 }
 
+/// Triangle rows of vertex id triples.
+inline mesh::Triangles triangle_rows(const std::vector<std::array<int, 3>>& tris) {
+  mesh::Triangles rows(static_cast<int>(tris.size()), 3);
+  for (std::size_t t = 0; t < tris.size(); ++t) rows.row(static_cast<int>(t)) << tris[t][0], tris[t][1], tris[t][2];
+  return rows;
+}
+
+/// The mesh of a point list and vertex id triples into it.
+inline mesh::TriangleMesh mesh_of(const std::vector<Eigen::Vector3d>& points, const std::vector<std::array<int, 3>>& tris) {
+  mesh::TriangleMesh m;
+  m.positions.resize(static_cast<int>(points.size()), 3);
+  for (std::size_t v = 0; v < points.size(); ++v) m.positions.row(static_cast<int>(v)) = points[v].transpose();
+  m.triangles = triangle_rows(tris);
+  return m;
+}
+
 /// Corner tetrahedron, outward normals: V 4, E 6, F 4.
 inline mesh::TriangleMesh tetrahedron() {
   return make_mesh({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1}, {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3});
@@ -232,13 +248,7 @@ inline mesh::TriangleMesh voxel_solid(int nx, int ny, int nz, int k, const std::
               }
           }
       }
-  mesh::TriangleMesh m;
-  m.positions.resize(static_cast<int>(pts.size()), 3);
-  for (std::size_t i = 0; i < pts.size(); ++i) m.positions.row(static_cast<int>(i)) = pts[i].transpose();
-  m.triangles.resize(static_cast<int>(tris.size()), 3);
-  for (std::size_t i = 0; i < tris.size(); ++i)
-    m.triangles.row(static_cast<int>(i)) << tris[i][0], tris[i][1], tris[i][2];
-  return m;
+  return mesh_of(pts, tris);
 }
 
 /// The two-hole slab: 7×3×2 voxels with the cells (1, 1, z) and (5, 1, z) removed (genus 2).

@@ -122,13 +122,7 @@ mesh::TriangleMesh marching_tetrahedra(const Sdf& sdf, int n, double half) {
             emit(a, c1, d, dir);
           }
         }
-  mesh::TriangleMesh m;
-  m.positions.resize(static_cast<int>(pts.size()), 3);
-  for (std::size_t v = 0; v < pts.size(); ++v) m.positions.row(static_cast<int>(v)) = pts[v].transpose();
-  m.triangles.resize(static_cast<int>(tris.size()), 3);
-  for (std::size_t t = 0; t < tris.size(); ++t)
-    m.triangles.row(static_cast<int>(t)) << tris[t][0], tris[t][1], tris[t][2];
-  return m;
+  return test::mesh_of(pts, tris);
 }
 
 // A frame of genus 3 shaped as the planar drawing of a tetrahedron's edges: the triangle
@@ -338,8 +332,7 @@ TEST_CASE("cylinder map: u runs from loop to loop, v around") {
     const int i = t / 24;  // 2 triangles per quad, 12 quads per ring
     if (i < 12) tris.push_back({torus.triangles(t, 0), torus.triangles(t, 1), torus.triangles(t, 2)});
   }
-  band.triangles.resize(static_cast<int>(tris.size()), 3);
-  for (std::size_t t = 0; t < tris.size(); ++t) band.triangles.row(static_cast<int>(t)) << tris[t][0], tris[t][1], tris[t][2];
+  band.triangles = test::triangle_rows(tris);
   // Drop vertices no face uses by keeping them: HalfedgeMesh allows unreferenced vertices.
   const mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(band, "band");
   std::vector<int> a, b;
@@ -438,8 +431,7 @@ TEST_CASE("gpc job: a genus-0 blob is one cuboid laid out as mesh2spline does") 
     }
     tris.push_back({south, i1 * (nv - 1) + nv - 2, i * (nv - 1) + nv - 2});
   }
-  blob.triangles.resize(static_cast<int>(tris.size()), 3);
-  for (std::size_t t = 0; t < tris.size(); ++t) blob.triangles.row(static_cast<int>(t)) << tris[t][0], tris[t][1], tris[t][2];
+  blob.triangles = test::triangle_rows(tris);
   const pipeline::GpcResult r = pipeline::run_gpc(blob, "blob");
   CHECK(r.stats.genus == 0);
   CHECK(r.stats.cuboids == 1);
