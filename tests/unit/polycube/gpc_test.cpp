@@ -28,26 +28,7 @@ using namespace volspline;
 namespace {
 
 // Torus with major radius 1 and minor radius r around the z axis, nu × nv quads split in two.
-mesh::TriangleMesh make_torus(int nu, int nv, double r = 0.35) {
-  mesh::TriangleMesh m;
-  m.positions.resize(nu * nv, 3);
-  const double pi = 3.14159265358979323846;
-  for (int i = 0; i < nu; ++i)
-    for (int j = 0; j < nv; ++j) {
-      const double a = 2 * pi * i / nu, b = 2 * pi * j / nv;
-      m.positions.row(i * nv + j) << (1 + r * std::cos(b)) * std::cos(a), (1 + r * std::cos(b)) * std::sin(a), r * std::sin(b);
-    }
-  m.triangles.resize(2 * nu * nv, 3);
-  int t = 0;
-  for (int i = 0; i < nu; ++i)
-    for (int j = 0; j < nv; ++j) {
-      const int a = i * nv + j, b = ((i + 1) % nu) * nv + j, c = ((i + 1) % nu) * nv + (j + 1) % nv,
-                d = i * nv + (j + 1) % nv;
-      m.triangles.row(t++) << a, b, c;
-      m.triangles.row(t++) << a, c, d;
-    }
-  return m;
-}
+mesh::TriangleMesh make_torus(int nu, int nv, double r = 0.35) { return test::torus(nu, nv, 1.0, r); }
 
 // A "T" of voxels (a bar of 7 cells and a stem of 4 under its middle, one cell thick): genus 0
 // with three limbs.
