@@ -158,6 +158,7 @@ spline::GpcSpline parse_gpc_spline_json(const std::string& text, const std::stri
       }
       options.splits.push_back(std::move(ids));
     }
+    options.max_functions = static_cast<long>(doc["points"].size());  // an array: checked above
   }
   std::optional<spline::GpcSpline> spline;
   try {

@@ -641,7 +641,8 @@ struct StepRecord {
   std::vector<int> split;  // old indices split, closure included, increasing
 };
 
-StepRecord refine_step(Hierarchy& h, std::map<Hierarchy::Key, double>& active, const std::vector<int>& split_ids) {
+StepRecord refine_step(Hierarchy& h, std::map<Hierarchy::Key, double>& active, const std::vector<int>& split_ids,
+                       long max_functions) {
   std::vector<Hierarchy::Key> order;
   order.reserve(active.size());
   for (const auto& e : active) order.push_back(e.first);
@@ -662,6 +663,9 @@ StepRecord refine_step(Hierarchy& h, std::map<Hierarchy::Key, double>& active, c
       }
       for (const auto& [j, coefficient] : h.children(order[i]))
         next[{order[i].first + 1, j}].emplace_back(i, w * coefficient);
+      if (max_functions > 0 && static_cast<long>(next.size()) > max_functions)
+        throw Error("GpcSpline: a split step gives more than the " + std::to_string(max_functions) +
+                    " functions allowed");
     }
     // Closure: an unsplit function whose children are all present is split as well.
     bool grew = false;
@@ -761,7 +765,7 @@ GpcSpline::GpcSpline(const polycube::GpcDomain& domain, const GpcSplineOptions& 
     }
     const int nc = num_cuboids();
     if (!options.splits.empty()) {
-      build_hierarchy(make_basis(assembly, uf, nc), options.splits, tol);
+      build_hierarchy(make_basis(assembly, uf, nc), options.splits, options.max_functions, tol);
       break;
     }
     // Global ids in order of first appearance (cuboid, then local function).
@@ -804,14 +808,15 @@ GpcSpline::GpcSpline(const polycube::GpcDomain& domain, const GpcSplineOptions& 
   }
 }
 
-void GpcSpline::build_hierarchy(detail::GpcLevelBasis level0, const std::vector<std::vector<int>>& steps, double tol) {
+void GpcSpline::build_hierarchy(detail::GpcLevelBasis level0, const std::vector<std::vector<int>>& steps,
+                                long max_functions, double tol) {
   const int nc = num_cuboids();
   Hierarchy h(domain_, lines_, interface_join_, tol, std::move(level0));
   std::map<Hierarchy::Key, double> active;
   for (int i = 0; i < h.level(0).count; ++i) active[{0, i}] = 1.0;
   splits_.clear();
   for (const std::vector<int>& step : steps) {
-    StepRecord record = refine_step(h, active, step);
+    StepRecord record = refine_step(h, active, step, max_functions);
     splits_.push_back(std::move(record.split));
     last_step_from_ = std::move(record.from);
   }

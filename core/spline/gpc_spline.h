@@ -45,6 +45,9 @@ struct GpcSplineOptions {
   /// allowed) that step s replaces by their children one dyadic level finer. Empty: a plain
   /// B-spline over the knot lines above.
   std::vector<std::vector<int>> splits;
+  /// If > 0, construction stops with volspline::Error as soon as a split step holds more functions
+  /// (a reader passes the number of control points its file holds).
+  long max_functions = 0;
   int dimension = 3;  ///< components D of a control point, 1..4 (3 for geometry)
 };
 
@@ -102,9 +105,10 @@ class GpcSpline {
   /// onto the other, a size not finite and positive), options.intervals does not have one triple
   /// per cuboid or holds a count < 1, two sides of a glued face have different knot lines along
   /// a tangent axis (naming the interface and the axes), a clamped_interfaces id is out of
-  /// range, D is not in 1..4, the transitions make a continued knot vector decrease, or the face
+  /// range, D is not in 1..4, the transitions make a continued knot vector decrease, the face
   /// functions of a clamped face cannot be matched even with its tangent faces clamped (a gluing
-  /// no GPC builder makes).
+  /// no GPC builder makes), or a splits entry names no function of its step, goes below kMaxLevel,
+  /// needs a level of more than kMaxLevelFunctions functions or more than max_functions.
   GpcSpline(const polycube::GpcDomain& domain, const GpcSplineOptions& options);
 
   const polycube::GpcDomain& domain() const { return domain_; }
@@ -132,7 +136,7 @@ class GpcSpline {
   /// hold more than kMaxLevelFunctions functions.
   GpcSpline refined(const std::vector<int>& split) const;
   static constexpr int kMaxLevel = 6;
-  static constexpr long kMaxLevelFunctions = 4000000;
+  static constexpr long kMaxLevelFunctions = 2000000;
   /// How face f (0..5, polycube/cube_faces.h numbering) of cuboid c is joined.
   GpcFaceJoin face_join(int cuboid, int face) const;
   /// Continued or Clamped for an interface of the domain.
@@ -185,7 +189,8 @@ class GpcSpline {
  private:
   Eigen::Vector3d checked(int cuboid, const Eigen::Vector3d& uvw) const;
   // Replays options.splits from the level-0 basis (a LevelBasis of the .cpp) and builds the patches.
-  void build_hierarchy(detail::GpcLevelBasis level0, const std::vector<std::vector<int>>& steps, double tol);
+  void build_hierarchy(detail::GpcLevelBasis level0, const std::vector<std::vector<int>>& steps, long max_functions,
+                       double tol);
 
   polycube::GpcDomain domain_;
   int dimension_ = 3;

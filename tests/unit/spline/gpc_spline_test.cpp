@@ -705,4 +705,9 @@ TEST_CASE("gpc spline: a hierarchically refined spline round-trips through its J
   REQUIRE(at != std::string::npos);
   bad.insert(at, "99999999,");
   CHECK_THROWS_WITH_AS(volspline::io::parse_gpc_spline_json(bad, "bad.json"), doctest::Contains("bad.json"), Error);
+  // A step giving more functions than the file has points stops the construction there.
+  GpcSplineOptions capped = o;
+  capped.splits = refined.splits();
+  capped.max_functions = base.num_functions();
+  CHECK_THROWS_WITH_AS(GpcSpline(d, capped), doctest::Contains("functions allowed"), Error);
 }
