@@ -626,6 +626,20 @@ TEST_CASE("gpc spline: hierarchical splits keep F and a C² partition of unity a
       worst = std::max(worst, (twice.evaluate(c, uvw) - base.evaluate(c, uvw)).cwiseAbs().maxCoeff());
     }
     CHECK(worst <= 1e-12);
+    // The lattice evaluation (measures, untangling) agrees with point evaluation on the patches.
+    double lattice_worst = 0.0;
+    for (int c = 0; c < twice.num_cuboids(); ++c) {
+      std::array<std::vector<double>, 3> coords;
+      for (int a = 0; a < 3; ++a)
+        for (int q = 0; q < 7; ++q) coords[a].push_back(cuboid_size(d, c)(a) * (q + 0.5) / 7.0);
+      twice.patch(c).evaluate_lattice_with_jacobian(coords, [&](int i, int j, int k, const double* value, const double* jac) {
+        double v[3], jj[9];
+        twice.evaluate_with_jacobian(c, Eigen::Vector3d(coords[0][i], coords[1][j], coords[2][k]), v, jj);
+        for (int q = 0; q < 3; ++q) lattice_worst = std::max(lattice_worst, std::abs(v[q] - value[q]));
+        for (int q = 0; q < 9; ++q) lattice_worst = std::max(lattice_worst, std::abs(jj[q] - jac[q]) / 100.0);
+      });
+    }
+    CHECK(lattice_worst <= 1e-11);
     // New points: the refined basis itself is single-valued and C² across continued faces.
     GpcSpline fresh = twice;
     random_points(fresh, seed++);
