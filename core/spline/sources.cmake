@@ -4,6 +4,7 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/bspline_volume.cpp
   ${CMAKE_CURRENT_LIST_DIR}/knot_insertion.cpp
   ${CMAKE_CURRENT_LIST_DIR}/tspline.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/cell_polynomial_avx2.cpp
   ${CMAKE_CURRENT_LIST_DIR}/boundary_tessellation.cpp
   ${CMAKE_CURRENT_LIST_DIR}/tspline_refinement.cpp
   ${CMAKE_CURRENT_LIST_DIR}/tspline_fitting.cpp

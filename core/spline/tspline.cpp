@@ -13,6 +13,7 @@
 
 #include "core/common/error.h"
 #include "core/spline/bspline_volume.h"
+#include "core/spline/cell_polynomial_avx2.h"
 
 namespace volspline::spline {
 
@@ -23,6 +24,8 @@ constexpr long kMaxCells = long(1) << 26;
 // Smallest knot span, relative to the domain width along its axis.
 constexpr double kMinSpanRel = 1e-12;
 constexpr double kAutoPolynomialBytes = 256.0 * 1024 * 1024;
+// Doubles after the last cell polynomial: the AVX2 Horner reads a monomial as 4 lanes.
+constexpr size_t kPolynomialPad = 4;
 
 // Tricubic power-form polynomial with K components at (s0, s1, s2) by nested Horner; c holds
 // monomial m = (4 a + b) 4 + c, K values each.
@@ -427,6 +430,9 @@ std::size_t KnotsHash::operator()(const BlendingKnots& knots) const {
 TSpline::TSpline(std::vector<BlendingKnots> knots, Eigen::VectorXd weights, Eigen::MatrixXd points,
                  TSplineAcceleration acceleration)
     : knots_(std::move(knots)), weights_(std::move(weights)), points_(std::move(points)) {
+#if defined(VOLSPLINE_AVX2_KERNELS)
+  avx2_ = __builtin_cpu_supports("avx2");
+#endif
   const Eigen::Index n = static_cast<Eigen::Index>(knots_.size());
   if (n == 0) throw Error("T-spline: no blending functions");
   if (weights_.size() != n) {
@@ -468,8 +474,8 @@ bool TSpline::use_cell_polynomials() {
 
 // F and Σ w B restricted to one cell are sums of tensor products of the power-form pieces.
 void TSpline::build_cell_polynomials() {
-  cell_numerator_.assign(cells_.size() * 64 * dimension_, 0.0);
-  cell_denominator_.assign(cells_.size() * 64, 0.0);
+  cell_numerator_.assign(cells_.size() * 64 * dimension_ + kPolynomialPad, 0.0);
+  cell_denominator_.assign(cells_.size() * 64 + kPolynomialPad, 0.0);
   fill_cell_polynomials(cells_, entries_, cell_pieces_, pieces_, weighted_points_, weights_, dimension_, nullptr,
                         cell_numerator_, cell_denominator_);
 }
@@ -820,21 +826,60 @@ template <int D, bool kRational, bool kJacobian>
 void TSpline::evaluate_polynomial(int cell, const double* s, const int* k, double* value, double* jacobian) const {
   const double* numerator = cell_numerator_.data() + size_t(cell) * 64 * D;
   const double* denominator = cell_denominator_.data() + size_t(cell) * 64;
+#if defined(VOLSPLINE_AVX2_KERNELS)
+  // The denominator rides in the lane after the D components; D = 4 leaves none free.
+  constexpr bool kSharedLane = kRational && D < 4;
+#endif
   if (!kJacobian) {
-    horner3<D>(numerator, s, value);
+    double weight = 1.0;
+#if defined(VOLSPLINE_AVX2_KERNELS)
+    if (avx2_) {
+      double lanes[4];
+      detail::cell_horner_avx2<D, kSharedLane>(numerator, denominator, s, lanes);
+      for (int d = 0; d < D; ++d) value[d] = lanes[d];
+      if constexpr (kSharedLane) {
+        weight = lanes[D];
+      } else if constexpr (kRational) {
+        detail::cell_horner_avx2<1, false>(denominator, nullptr, s, lanes);
+        weight = lanes[0];
+      }
+    } else
+#endif
+    {
+      horner3<D>(numerator, s, value);
+      if (kRational) horner3<1>(denominator, s, &weight);
+    }
     if (kRational) {
-      double weight;
-      horner3<1>(denominator, s, &weight);
       const double inverse_weight = 1.0 / weight;
       for (int d = 0; d < D; ++d) value[d] *= inverse_weight;
     }
     return;
   }
   double grad[3][D];
-  horner3_gradient<D>(numerator, s, value, grad);
   double weight = 1.0, weight_grad[3][1] = {{0.0}, {0.0}, {0.0}};
+#if defined(VOLSPLINE_AVX2_KERNELS)
+  if (avx2_) {
+    double lanes[16];
+    detail::cell_horner_gradient_avx2<D, kSharedLane>(numerator, denominator, s, lanes);
+    for (int d = 0; d < D; ++d) {
+      value[d] = lanes[d];
+      for (int a = 0; a < 3; ++a) grad[a][d] = lanes[4 * (a + 1) + d];
+    }
+    if constexpr (kSharedLane) {
+      weight = lanes[D];
+      for (int a = 0; a < 3; ++a) weight_grad[a][0] = lanes[4 * (a + 1) + D];
+    } else if constexpr (kRational) {
+      detail::cell_horner_gradient_avx2<1, false>(denominator, nullptr, s, lanes);
+      weight = lanes[0];
+      for (int a = 0; a < 3; ++a) weight_grad[a][0] = lanes[4 * (a + 1)];
+    }
+  } else
+#endif
+  {
+    horner3_gradient<D>(numerator, s, value, grad);
+    if (kRational) horner3_gradient<1>(denominator, s, &weight, weight_grad);
+  }
   if (kRational) {
-    horner3_gradient<1>(denominator, s, &weight, weight_grad);
     for (int d = 0; d < D; ++d) value[d] /= weight;
   }
   for (int a = 0; a < 3; ++a) {
