@@ -166,6 +166,15 @@ int main(int argc, char** argv) {
     o["cuboids"] = spline.num_cuboids();
     o["control_points"] = spline.num_functions();
     o["continued_interfaces"] = spline.num_continued_interfaces();
+    long cells = 0;
+    double polynomial_bytes = 0.0;
+    for (int c = 0; c < spline.num_cuboids(); ++c) {
+      const TSpline& patch = spline.patch(c);
+      cells += patch.num_cells();
+      if (patch.has_cell_polynomials()) polynomial_bytes += double(patch.num_cells()) * 64 * (patch.dimension() + 1) * 8;
+    }
+    o["cells"] = cells;
+    o["cell_polynomial_mib"] = polynomial_bytes / (1024.0 * 1024.0);
     std::vector<double> volume_share;
     for (int c = 0; c < spline.num_cuboids(); ++c) {
       const auto& size = spline.domain().cuboids[c].size;
