@@ -931,15 +931,23 @@ void GpcSpline::set_points(Eigen::MatrixXd points) {
   points_ = std::move(points);
 }
 
-Eigen::Vector3d GpcSpline::checked(int cuboid, const Eigen::Vector3d& uvw) const {
+namespace {
+
+// Kept out of line so that the box check of every evaluation stays small.
+[[noreturn]] __attribute__((noinline, cold)) void throw_outside_cuboid(const Eigen::Vector3d& uvw, int cuboid) {
+  throw Error("GpcSpline: uvw (" + std::to_string(uvw(0)) + ", " + std::to_string(uvw(1)) + ", " +
+              std::to_string(uvw(2)) + ") is outside cuboid " + std::to_string(cuboid));
+}
+
+}  // namespace
+
+inline Eigen::Vector3d GpcSpline::checked(int cuboid, const Eigen::Vector3d& uvw) const {
   assert(cuboid >= 0 && cuboid < num_cuboids());
   const auto& size = domain_.cuboids[cuboid].size;
   Eigen::Vector3d out;
   for (int a = 0; a < 3; ++a) {
     const double slack = 1e-9 * size[a];
-    if (!std::isfinite(uvw(a)) || uvw(a) < -slack || uvw(a) > size[a] + slack)
-      throw Error("GpcSpline: uvw (" + std::to_string(uvw(0)) + ", " + std::to_string(uvw(1)) + ", " +
-                  std::to_string(uvw(2)) + ") is outside cuboid " + str(cuboid));
+    if (!std::isfinite(uvw(a)) || uvw(a) < -slack || uvw(a) > size[a] + slack) throw_outside_cuboid(uvw, cuboid);
     out(a) = std::clamp(uvw(a), 0.0, size[a]);
   }
   return out;
@@ -947,6 +955,10 @@ Eigen::Vector3d GpcSpline::checked(int cuboid, const Eigen::Vector3d& uvw) const
 
 void GpcSpline::evaluate_with_jacobian(int cuboid, const Eigen::Vector3d& uvw, double* value, double* jacobian) const {
   patches_[cuboid].evaluate_with_jacobian(checked(cuboid, uvw), TSplineForm::SemiStandard, value, jacobian);
+}
+
+void GpcSpline::evaluate_to(int cuboid, const Eigen::Vector3d& uvw, double* value) const {
+  patches_[cuboid].evaluate_to(checked(cuboid, uvw), TSplineForm::SemiStandard, value);
 }
 
 Eigen::VectorXd GpcSpline::evaluate(int cuboid, const Eigen::Vector3d& uvw) const {

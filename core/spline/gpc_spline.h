@@ -168,6 +168,8 @@ class GpcSpline {
   /// uvw must lie in c's box; points up to 1e-9·size outside are clamped onto it (rounding of a
   /// transition). Throws volspline::Error if uvw is outside or not finite.
   void evaluate_with_jacobian(int cuboid, const Eigen::Vector3d& uvw, double* value, double* jacobian) const;
+  /// F(uvw) in cuboid c written to value[0..D). No allocation. Throws like evaluate_with_jacobian.
+  void evaluate_to(int cuboid, const Eigen::Vector3d& uvw, double* value) const;
   /// F(uvw) in cuboid c, D values. Throws like evaluate_with_jacobian.
   Eigen::VectorXd evaluate(int cuboid, const Eigen::Vector3d& uvw) const;
   /// D×3 Jacobian of F in cuboid c (3×3 for geometry). Throws like evaluate_with_jacobian.

@@ -203,6 +203,11 @@ int main(int argc, char** argv) {
     }, count, &checksum);
     o["value"] = median_rate([&] {
       double s = 0.0, v[4];
+      for (int k = 0; k < count; ++k) { spline.evaluate_to(cuboid[k], uvw[k], v); s += v[0]; }
+      return s;
+    }, count, &checksum);
+    o["patch_value_reference"] = median_rate([&] {
+      double s = 0.0, v[4];
       for (int k = 0; k < count; ++k) { spline.patch(cuboid[k]).evaluate_to(uvw[k], TSplineForm::SemiStandard, v); s += v[0]; }
       return s;
     }, count, &checksum);

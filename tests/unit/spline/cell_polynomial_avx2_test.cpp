@@ -150,7 +150,8 @@ void compare(const TSpline& fast, const std::vector<Eigen::Vector3d>& points, Wo
       const double scale_j = largest_point * inverse_width * amplify;
       bool same_bits = true;
       for (int d = 0; d < D; ++d) {
-        worst.value = std::max({worst.value, std::abs(v[d] - v_ref[d]) / scale_v, std::abs(v_only[d] - v_ref[d]) / scale_v});
+        worst.value = std::max(
+            {worst.value, std::abs(v[d] - v_ref[d]) / scale_v, std::abs(v_only[d] - v_ref[d]) / scale_v});
         same_bits = same_bits && v[d] == v_form[d] && v_only[d] == v_form_only[d];
       }
       for (int e = 0; e < 3 * D; ++e) {
@@ -171,8 +172,9 @@ void random_points(GpcSpline& spline, unsigned seed) {
   spline.set_points(p);
 }
 
-// Every cuboid of a GPC-spline: GpcSpline::evaluate_with_jacobian and evaluate against the
-// patch's function lists and power form, at points of the cuboid box (its glued faces included).
+// Every cuboid of a GPC-spline: GpcSpline::evaluate_with_jacobian, evaluate and evaluate_to
+// against the patch's function lists and power form, at points of the cuboid box (its glued
+// faces included).
 Worst compare_gpc(const GpcDomain& domain, GpcSplineOptions options, unsigned seed) {
   Worst worst;
   for (int dimension = 1; dimension <= 4; ++dimension) {
@@ -190,13 +192,18 @@ Worst compare_gpc(const GpcDomain& domain, GpcSplineOptions options, unsigned se
         spline.evaluate_with_jacobian(c, p, v, j);
         lists.evaluate_with_jacobian(p, TSplineForm::SemiStandard, v_ref, j_ref);
         const Eigen::VectorXd value = spline.evaluate(c, p);
+        double value_to[4];
+        spline.evaluate_to(c, p, value_to);
+        for (int d = 0; d < dimension; ++d) CHECK(value_to[d] == value[d]);
         double v_form[4], j_form[12], v_form_only[4];
         const double scale_v = std::max(1.0, spline.points().cwiseAbs().maxCoeff());
         const double scale_j =
             scale_v * from_power_form(spline.patch(c), p, TSplineForm::SemiStandard, v_form, j_form, v_form_only);
         for (int d = 0; d < dimension; ++d)
-          worst.value = std::max({worst.value, std::abs(v[d] - v_ref[d]) / scale_v, std::abs(value[d] - v_ref[d]) / scale_v});
-        for (int e = 0; e < 3 * dimension; ++e) worst.jacobian = std::max(worst.jacobian, std::abs(j[e] - j_ref[e]) / scale_j);
+          worst.value = std::max(
+              {worst.value, std::abs(v[d] - v_ref[d]) / scale_v, std::abs(value[d] - v_ref[d]) / scale_v});
+        for (int e = 0; e < 3 * dimension; ++e)
+          worst.jacobian = std::max(worst.jacobian, std::abs(j[e] - j_ref[e]) / scale_j);
       }
     }
   }
@@ -223,7 +230,8 @@ TEST_CASE("cell polynomials: single patches (tensor, T-spline, not semi-standard
     Worst worst;
     const TSpline spline = random_tspline(80, dimension, 40 + dimension, TSplineAcceleration::CellPolynomials);
     std::mt19937 rng(dimension);
-    std::vector<Eigen::Vector3d> points = cell_polynomial_test::box_points(spline.domain_min(), spline.domain_max(), 600, rng);
+    std::vector<Eigen::Vector3d> points =
+        cell_polynomial_test::box_points(spline.domain_min(), spline.domain_max(), 600, rng);
     // On knot lines, where the half-open cell rule picks the cell.
     for (double u : spline.knot_lines(0)) points.emplace_back(u, spline.knot_lines(1)[1], 0.5);
     for (double w : spline.knot_lines(2)) points.emplace_back(0.3, spline.knot_lines(1).back(), w);
