@@ -13,6 +13,7 @@
 #include "core/common/error.h"
 #include "core/mesh/graph_distance.h"
 #include "core/mesh/mesh_geometry.h"
+#include "core/mesh/mesh_lists.h"
 #include "core/mesh/mesh_report.h"
 #include "core/polycube/cylinder_map.h"
 #include "core/polycube/t_shape_layout.h"
@@ -64,9 +65,7 @@ PieceMesh extract_piece(const SolidDecomposition& d, const SolidPiece& piece) {
   out.mesh.positions.resize(static_cast<int>(out.surface_vertex.size()), 3);
   for (std::size_t v = 0; v < out.surface_vertex.size(); ++v)
     out.mesh.positions.row(static_cast<int>(v)) = d.mesh.positions.row(out.surface_vertex[v]);
-  out.mesh.triangles.resize(static_cast<int>(tris.size()), 3);
-  for (std::size_t t = 0; t < tris.size(); ++t)
-    for (int k = 0; k < 3; ++k) out.mesh.triangles(static_cast<int>(t), k) = tris[t][k];
+  out.mesh.triangles = mesh::triangles_from(tris);
   for (const LoopSide& b : piece.boundary) {
     std::vector<int> ids;
     for (int v : d.loops[b.loop].vertices) {
@@ -108,11 +107,8 @@ CuboidSurface close_piece(const PieceMesh& piece, const SolidPiece& sp, const st
       s.surface_face.push_back(-1);
     }
   }
-  s.mesh.positions.resize(static_cast<int>(positions.size()), 3);
-  for (std::size_t v = 0; v < positions.size(); ++v) s.mesh.positions.row(static_cast<int>(v)) = positions[v].transpose();
-  s.mesh.triangles.resize(static_cast<int>(tris.size()), 3);
-  for (std::size_t t = 0; t < tris.size(); ++t)
-    for (int k = 0; k < 3; ++k) s.mesh.triangles(static_cast<int>(t), k) = tris[t][k];
+  s.mesh.positions = mesh::positions_from(positions);
+  s.mesh.triangles = mesh::triangles_from(tris);
   return s;
 }
 
@@ -224,11 +220,8 @@ CuboidSurface assemble_cuboid(const PieceMesh& pm, const TShapeCuboid& c, const 
       s.surface_face.push_back(-1);
     }
   }
-  s.mesh.positions.resize(static_cast<int>(positions.size()), 3);
-  for (std::size_t v = 0; v < positions.size(); ++v) s.mesh.positions.row(static_cast<int>(v)) = positions[v].transpose();
-  s.mesh.triangles.resize(static_cast<int>(tris.size()), 3);
-  for (std::size_t t = 0; t < tris.size(); ++t)
-    for (int k = 0; k < 3; ++k) s.mesh.triangles(static_cast<int>(t), k) = tris[t][k];
+  s.mesh.positions = mesh::positions_from(positions);
+  s.mesh.triangles = mesh::triangles_from(tris);
   const mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(s.mesh, "gpc " + part);
   const mesh::MeshReport report = mesh::analyze_mesh(hm);
   if (!report.closed || report.genus != 0 || !report.consistently_oriented)
@@ -468,11 +461,8 @@ bool merge_end_to_end(GpcConstruction& out, std::vector<Glue>& glues, std::size_
       merged.surface_face.push_back(s.surface_face[f]);
     }
   }
-  merged.mesh.positions.resize(static_cast<int>(positions.size()), 3);
-  for (std::size_t v = 0; v < positions.size(); ++v) merged.mesh.positions.row(static_cast<int>(v)) = positions[v].transpose();
-  merged.mesh.triangles.resize(static_cast<int>(tris.size()), 3);
-  for (std::size_t t = 0; t < tris.size(); ++t)
-    for (int k = 0; k < 3; ++k) merged.mesh.triangles(static_cast<int>(t), k) = tris[t][k];
+  merged.mesh.positions = mesh::positions_from(positions);
+  merged.mesh.triangles = mesh::triangles_from(tris);
   // The two may also touch along the surface: then the union is no sphere (or not even a
   // manifold) and they stay apart.
   std::optional<mesh::HalfedgeMesh> built;

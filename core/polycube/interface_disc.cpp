@@ -9,6 +9,7 @@
 
 #include "core/linalg/conjugate_gradient.h"
 #include "core/linalg/csr_matrix.h"
+#include "core/mesh/mesh_lists.h"
 
 namespace volspline::polycube {
 
@@ -37,9 +38,7 @@ InterfaceDisc triangulate_interface_disc(const mesh::Positions& loop_xyz) {
       tris.push_back({id(r, i), id(r + 1, i + 1), id(r + 1, i)});
     }
   for (int i = 0; i < m; ++i) tris.push_back({id(rings - 1, i), id(rings - 1, i + 1), id(rings, 0)});
-  disc.triangles.resize(static_cast<int>(tris.size()), 3);
-  for (std::size_t t = 0; t < tris.size(); ++t)
-    for (int k = 0; k < 3; ++k) disc.triangles(static_cast<int>(t), k) = tris[t][k];
+  disc.triangles = mesh::triangles_from(tris);
 
   // Harmonic interior (uniform weights, loop fixed).
   const int interior = total - m;

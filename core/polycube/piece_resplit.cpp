@@ -10,6 +10,7 @@
 #include "core/linalg/csr_matrix.h"
 #include "core/mesh/edge_weights.h"
 #include "core/mesh/graph_distance.h"
+#include "core/mesh/mesh_lists.h"
 #include "core/polycube/interface_disc.h"
 #include "core/polycube/level_set_split.h"
 #include "core/polycube/morse_function.h"
@@ -90,9 +91,7 @@ MergedPiece extract_merged(const SolidDecomposition& d, const mesh::HalfedgeMesh
   out.mesh.positions.resize(static_cast<int>(out.surface_vertex.size()), 3);
   for (std::size_t v = 0; v < out.surface_vertex.size(); ++v)
     out.mesh.positions.row(static_cast<int>(v)) = d.mesh.positions.row(out.surface_vertex[v]);
-  out.mesh.triangles.resize(static_cast<int>(tris.size()), 3);
-  for (std::size_t t = 0; t < tris.size(); ++t)
-    for (int k = 0; k < 3; ++k) out.mesh.triangles(static_cast<int>(t), k) = tris[t][k];
+  out.mesh.triangles = mesh::triangles_from(tris);
   return out;
 }
 
@@ -270,9 +269,7 @@ bool resplit_across_loop(SolidDecomposition& d, int loop, const ResplitOptions& 
       for (int k = 0; k < 3; ++k) tris[f][k] = global(split.mesh.triangles(t, k));
       c.faces[side[t]].push_back(f);
     }
-    c.mesh.triangles.resize(static_cast<int>(tris.size()), 3);
-    for (std::size_t f = 0; f < tris.size(); ++f)
-      for (int k = 0; k < 3; ++k) c.mesh.triangles(static_cast<int>(f), k) = tris[f][k];
+    c.mesh.triangles = mesh::triangles_from(tris);
     for (auto& list : c.faces) std::sort(list.begin(), list.end());
     for (int v : level_loop) c.loop.push_back(global(v));
     for (std::size_t i = 0; i < c.loop.size(); ++i)

@@ -12,6 +12,7 @@
 
 #include <Eigen/Geometry>
 
+#include "core/mesh/mesh_lists.h"
 #include "core/mesh/triangle_mesh.h"
 
 namespace volspline::test {
@@ -26,20 +27,9 @@ inline mesh::TriangleMesh make_mesh(const std::vector<double>& xyz, const std::v
   return mesh;
 }
 
-/// Triangle rows of vertex id triples.
-inline mesh::Triangles triangle_rows(const std::vector<std::array<int, 3>>& tris) {
-  mesh::Triangles rows(static_cast<int>(tris.size()), 3);
-  for (std::size_t t = 0; t < tris.size(); ++t) rows.row(static_cast<int>(t)) << tris[t][0], tris[t][1], tris[t][2];
-  return rows;
-}
-
 /// The mesh of a point list and vertex id triples into it.
 inline mesh::TriangleMesh mesh_of(const std::vector<Eigen::Vector3d>& points, const std::vector<std::array<int, 3>>& tris) {
-  mesh::TriangleMesh m;
-  m.positions.resize(static_cast<int>(points.size()), 3);
-  for (std::size_t v = 0; v < points.size(); ++v) m.positions.row(static_cast<int>(v)) = points[v].transpose();
-  m.triangles = triangle_rows(tris);
-  return m;
+  return {mesh::positions_from(points), mesh::triangles_from(tris)};
 }
 
 /// Corner tetrahedron, outward normals: V 4, E 6, F 4.

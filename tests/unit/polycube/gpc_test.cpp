@@ -11,6 +11,7 @@
 #include "core/io/gpc_json.h"
 #include "core/io/mesh_io.h"
 #include "core/mesh/halfedge_mesh.h"
+#include "core/mesh/mesh_lists.h"
 #include "core/mesh/mesh_report.h"
 #include "core/param/gpc_volumetric_map.h"
 #include "core/pipeline/gpc_job.h"
@@ -313,7 +314,7 @@ TEST_CASE("cylinder map: u runs from loop to loop, v around") {
     const int i = t / 24;  // 2 triangles per quad, 12 quads per ring
     if (i < 12) tris.push_back({torus.triangles(t, 0), torus.triangles(t, 1), torus.triangles(t, 2)});
   }
-  band.triangles = test::triangle_rows(tris);
+  band.triangles = mesh::triangles_from(tris);
   // Drop vertices no face uses by keeping them: HalfedgeMesh allows unreferenced vertices.
   const mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(band, "band");
   std::vector<int> a, b;
@@ -412,7 +413,7 @@ TEST_CASE("gpc job: a genus-0 blob is one cuboid laid out as mesh2spline does") 
     }
     tris.push_back({south, i1 * (nv - 1) + nv - 2, i * (nv - 1) + nv - 2});
   }
-  blob.triangles = test::triangle_rows(tris);
+  blob.triangles = mesh::triangles_from(tris);
   const pipeline::GpcResult r = pipeline::run_gpc(blob, "blob");
   CHECK(r.stats.genus == 0);
   CHECK(r.stats.cuboids == 1);
