@@ -267,6 +267,20 @@ class JoinRule {
   double tol_;
 };
 
+// A cuboid's local functions are the tensor products of its three chain knot vectors (u fastest):
+// the grid index of local function l, and its knots.
+std::array<int, 3> local_index3(const std::array<std::vector<double>, 3>& knots, int l) {
+  const int m0 = static_cast<int>(knots[0].size()) - 4, m1 = static_cast<int>(knots[1].size()) - 4;
+  return {l % m0, (l / m0) % m1, l / (m0 * m1)};
+}
+BlendingKnots local_blending(const std::array<std::vector<double>, 3>& knots, int l) {
+  const std::array<int, 3> j = local_index3(knots, l);
+  BlendingKnots out;
+  for (int a = 0; a < 3; ++a)
+    for (int q = 0; q < 5; ++q) out[a][q] = knots[a][j[a] + q];
+  return out;
+}
+
 struct UnionFind {
   std::vector<int> parent;
   explicit UnionFind(int n) : parent(static_cast<std::size_t>(n)) { std::iota(parent.begin(), parent.end(), 0); }
@@ -301,21 +315,12 @@ class Assembly {
   int total() const { return offsets_.back(); }
   const std::array<std::vector<double>, 3>& knots(int c) const { return knots_[c]; }
   int offset(int c) const { return offsets_[c]; }
-  std::array<int, 3> index3(int c, int l) const {
-    const int m0 = static_cast<int>(knots_[c][0].size()) - 4, m1 = static_cast<int>(knots_[c][1].size()) - 4;
-    return {l % m0, (l / m0) % m1, l / (m0 * m1)};
-  }
+  std::array<int, 3> index3(int c, int l) const { return local_index3(knots_[c], l); }
   int index1(int c, const std::array<int, 3>& j) const {
     const int m0 = static_cast<int>(knots_[c][0].size()) - 4, m1 = static_cast<int>(knots_[c][1].size()) - 4;
     return j[0] + m0 * (j[1] + m1 * j[2]);
   }
-  BlendingKnots blending(int c, int l) const {
-    const std::array<int, 3> j = index3(c, l);
-    BlendingKnots out;
-    for (int a = 0; a < 3; ++a)
-      for (int q = 0; q < 5; ++q) out[a][q] = knots_[c][a][j[a] + q];
-    return out;
-  }
+  BlendingKnots blending(int c, int l) const { return local_blending(knots_[c], l); }
 
   // Identifies copies of one function (across Continued faces) and the two sides' face functions
   // (across Clamped faces). Returns −1 on success, else the interface whose functions did not
@@ -447,17 +452,7 @@ struct GpcLevelBasis {
   std::vector<std::vector<std::pair<int, int>>> pieces;
   int count = 0;
 
-  std::array<int, 3> index3(int c, int l) const {
-    const int m0 = static_cast<int>(knots[c][0].size()) - 4, m1 = static_cast<int>(knots[c][1].size()) - 4;
-    return {l % m0, (l / m0) % m1, l / (m0 * m1)};
-  }
-  BlendingKnots blending(int c, int l) const {
-    const std::array<int, 3> j = index3(c, l);
-    BlendingKnots out;
-    for (int a = 0; a < 3; ++a)
-      for (int q = 0; q < 5; ++q) out[a][q] = knots[c][a][j[a] + q];
-    return out;
-  }
+  BlendingKnots blending(int c, int l) const { return local_blending(knots[c], l); }
   // Local function of cuboid c with knots k (to tol), −1 if none.
   int local_of(int c, const BlendingKnots& k, double tol) const {
     std::array<int, 3> j{};
