@@ -30,3 +30,13 @@ assert lo > 0, f"folded cell {lo}"
 print(g.GetNumberOfCells())
 PY
 expect 0 /usr/bin/python3 "$TMP/read_gpc_vtu.py" "$TMP/gt.vtu"
+# --hierarchical: T-spline splits past the uniform levels; the JSON holds them, eval reads it, and
+# the same input gives the same bytes.
+expect 0 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gh.json" --quiet --hierarchical --max-rms 0.003 --stats-json "$TMP/gh_stats.json"
+contains "$TMP/gh.json" "\"splits\""
+contains "$TMP/gh_stats.json" "\"knot_refinement\": \"hierarchical\""
+expect 0 "$BIN" eval "$TMP/gh.json" --cuboid 0 --uvw 0.1,0.05,0.05 --jacobian
+expect 0 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gh2.json" --quiet --hierarchical --max-rms 0.003
+same_bytes "$TMP/gh.json" "$TMP/gh2.json" "hierarchical GPC spline JSON differs between two runs"
+expect 2 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gh_bad.json" --quiet --hierarchical --hierarchy-depth 0
+contains "$TMP/err" "hierarchy_depth"
