@@ -25,6 +25,7 @@ int run_gpc(const std::vector<std::string>& argv) {
       {"no-untangle", "", "keep the harmonic grid's folds (the thesis's plain Eq. 3.1 map)"},
       {"no-padding", "", "the hex mesh without the padding layer under the surface (the cuboid grids alone)"},
       {"no-merge", "", "keep every T-shape arm, tube and cap its own cuboid (no merging across cuts)"},
+      {"level-set-cuts", "", "cut on the Morse function's level sets (default: move each cut to the shortest loop separating the same boundaries)"},
       {"limbs", "P", "limb ends become caps when their branch is at least P of the shape's graph diameter long (default 0.25 for genus > 0, off for genus 0; 0 = off)"},
   }, "accepted for scripts; the job runs on one thread (same output for any N)");
   const Args args = parse_args(argv, specs);
@@ -45,6 +46,7 @@ int run_gpc(const std::vector<std::string>& argv) {
   if (args.has("no-untangle")) options.grid.untangle = param::GpcGridOptions::Untangle::Off;
   if (args.has("no-padding")) options.grid.padding = param::GpcGridOptions::Padding::Off;
   if (args.has("no-merge")) options.merge_cuboids = false;
+  if (args.has("level-set-cuts")) options.cuts = polycube::CutPlacement::LevelSet;
   if (args.has("limbs")) {
     options.limb_persistence = args.get_double("limbs", 0.0);
     if (!(options.limb_persistence >= 0.0 && options.limb_persistence < 1.0))

@@ -30,6 +30,7 @@ pipeline::GpcOptions job_options_from_js(const val& o) {
                                                             : param::GpcGridOptions::Untangle::Off;
   options.snap = number_option(o, "snap", options.snap);
   options.merge_cuboids = bool_option(o, "merge_cuboids", options.merge_cuboids);
+  if (bool_option(o, "level_set_cuts", false)) options.cuts = polycube::CutPlacement::LevelSet;
   options.limb_persistence = number_option(o, "limb_persistence", options.limb_persistence);
   if (!(options.limb_persistence < 1.0))
     throw Error("option 'limb_persistence': expected a fraction in [0, 1) of the graph diameter, or negative (automatic)");

@@ -69,6 +69,7 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
   auto construct = [&](double limb_persistence) {
     polycube::DecompositionOptions d;
     d.snap = options.snap;
+    d.cuts = options.cuts;
     d.morse.limb_persistence = limb_persistence;
     decomposition = polycube::SolidDecomposition{};
     if (stats.genus > 0 || limb_persistence > 0.0) decomposition = polycube::decompose_solid(solid.mesh, stats.genus, d);
@@ -83,6 +84,13 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
       decomposition.pieces.push_back(piece);
     }
     stats.num_saddles = decomposition.num_saddles;
+    stats.tightened_cuts = decomposition.num_tightened_cuts;
+    stats.cut_length_rel = 0.0;
+    for (const polycube::CutLoop& l : decomposition.loops)
+      for (std::size_t i = 0; i < l.vertices.size(); ++i)
+        stats.cut_length_rel += (decomposition.mesh.positions.row(l.vertices[i]) -
+                                 decomposition.mesh.positions.row(l.vertices[(i + 1) % l.vertices.size()]))
+                                    .norm();
     stats.times_s["decompose"] = seconds_since(t0);
     progress.report("T-to-cube", 0.05);
     // A piece too coarse for its layout's disjoint paths is refined (at most twice) and retried.
@@ -105,6 +113,8 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
           polycube::check_interface_discs(decomposition.mesh, result.construction.discs, loop_ids);
       stats.cut_disc_intersections = embedding.num_intersections;
       stats.cut_discs_outside = embedding.num_outside;
+      stats.cut_disc_problem = embedding.first_problem;
+      stats.cut_disc_crossings = embedding.crossings;
       for (std::size_t k = 0; k < embedding.winding.size(); ++k)
         if (embedding.winding[k] < 0.5)
           throw polycube::DecompositionError("meridian check: the interface disc of cut " + std::to_string(k) +

@@ -9,6 +9,7 @@
 #include "core/param/gpc_volumetric_map.h"
 #include "core/common/progress.h"
 #include "core/polycube/gpc_builder.h"
+#include "core/polycube/solid_decomposition.h"
 
 namespace volspline::pipeline {
 
@@ -20,6 +21,9 @@ struct GpcOptions {
   param::GpcGridOptions grid;  ///< the volumetric grids (node budget, untangling)
   double snap = 0.05;          ///< level-set splitting snap, see split_at_level, in [0, 0.45)
   bool merge_cuboids = true;   ///< merge cuboids glued end to end across cuts (build_gpc)
+  /// Cuts on the Morse function's level sets, or moved to the shortest loops that separate the
+  /// same boundaries (tighten_cut_loops).
+  polycube::CutPlacement cuts = polycube::CutPlacement::Shortest;
   /// Limb ends become caps: see MorseFunctionOptions::limb_persistence (fraction of the graph
   /// diameter, 0 = off; negative = automatic: 0.25 for genus > 0, off for genus 0, whose blob
   /// stays one cuboid as in mesh2spline). If that construction fails the job falls back to two
@@ -49,6 +53,10 @@ struct GpcStats {
   int shared_nodes = 0;
   int cut_disc_intersections = 0;  ///< meridian certificate: disc–surface/disc–disc crossings (must be 0)
   int cut_discs_outside = 0;       ///< discs outside the solid (must be 0)
+  int tightened_cuts = 0;          ///< cuts moved off their level set to a shorter loop
+  double cut_length_rel = 0.0;     ///< summed length of the cuts over the bbox diagonal
+  std::vector<int> cut_disc_crossings;  ///< per cut, its disc's crossing triangle pairs
+  std::string cut_disc_problem;    ///< the first crossing or outside disc found, empty when embedded
   int num_saddles = 0;
   int limb_caps = 0;               ///< caps of the limb construction (0 if not used)
   std::string limb_fallback;       ///< why the limb construction was dropped (empty if not)

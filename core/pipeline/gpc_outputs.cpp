@@ -48,6 +48,12 @@ std::string gpc_stats_json(const GpcStats& s, const std::string& input) {
   j["shared_nodes"] = s.shared_nodes;
   j["cut_disc_intersections"] = s.cut_disc_intersections;
   j["cut_discs_outside"] = s.cut_discs_outside;
+  j["tightened_cuts"] = s.tightened_cuts;
+  j["cut_length_rel"] = s.cut_length_rel;
+  if (!s.cut_disc_problem.empty()) {
+    j["cut_disc_problem"] = s.cut_disc_problem;
+    j["cut_disc_crossings"] = s.cut_disc_crossings;
+  }
   j["saddles"] = s.num_saddles;
   j["limb_caps"] = s.limb_caps;
   if (!s.limb_fallback.empty()) j["limb_fallback"] = s.limb_fallback;

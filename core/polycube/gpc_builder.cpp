@@ -2,12 +2,14 @@
 #include "core/polycube/gpc_builder.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <functional>
 #include <limits>
 #include <map>
 #include <numeric>
 #include <optional>
+#include <set>
 #include <string>
 
 #include "core/common/error.h"
@@ -39,13 +41,47 @@ PieceMesh extract_piece(const SolidDecomposition& d, const SolidPiece& piece) {
     for (int v : d.loops[l].vertices) loop_of[v] = static_cast<int>(l);
   std::vector<int> sides_in_piece(d.loops.size(), 0);
   for (const LoopSide& b : piece.boundary) sides_in_piece[b.loop] |= 1 << b.side;
+  // A loop with both sides in the piece: the side of each face around its vertices, by turning
+  // around each loop vertex from the face left (0, below) or right (1) of a loop edge without
+  // crossing one. Topological, so it holds for loops that are not level sets (tighten_cut_loops).
+  std::map<int, int> face_side;
+  {
+    std::map<std::pair<int, int>, int> directed;  // (a, b) → the piece's face with halfedge a → b
+    for (int f : piece.faces)
+      for (int k = 0; k < 3; ++k) directed[{d.mesh.triangles(f, k), d.mesh.triangles(f, (k + 1) % 3)}] = f;
+    for (std::size_t l = 0; l < d.loops.size(); ++l) {
+      if (sides_in_piece[l] != 3) continue;
+      const std::vector<int>& lv = d.loops[l].vertices;
+      std::set<std::pair<int, int>> seam;
+      std::vector<std::pair<int, int>> stack;
+      for (std::size_t i = 0; i < lv.size(); ++i) {
+        const int a = lv[i], b = lv[(i + 1) % lv.size()];
+        seam.insert({std::min(a, b), std::max(a, b)});
+        for (const auto& [e, side] : {std::make_pair(std::make_pair(a, b), 0), std::make_pair(std::make_pair(b, a), 1)}) {
+          const auto it = directed.find(e);
+          if (it != directed.end() && face_side.emplace(it->second, side).second) stack.push_back({it->second, side});
+        }
+      }
+      while (!stack.empty()) {
+        const auto [f, side] = stack.back();
+        stack.pop_back();
+        for (int k = 0; k < 3; ++k) {
+          const int x = d.mesh.triangles(f, k), y = d.mesh.triangles(f, (k + 1) % 3);
+          if (loop_of[x] != static_cast<int>(l) && loop_of[y] != static_cast<int>(l)) continue;
+          if (seam.count({std::min(x, y), std::max(x, y)})) continue;
+          const auto it = directed.find({y, x});
+          if (it != directed.end() && face_side.emplace(it->second, side).second) stack.push_back({it->second, side});
+        }
+      }
+    }
+  }
   std::map<std::pair<int, int>, int> key_id;
   auto key_of = [&](int v, int f) {
     const int l = loop_of[v];
     if (l < 0 || sides_in_piece[l] != 3) return std::make_pair(v, -1);
-    double c = 0.0;
-    for (int k = 0; k < 3; ++k) c += d.value[d.mesh.triangles(f, k)];
-    return std::make_pair(v, c / 3.0 < d.loops[l].level ? 0 : 1);
+    const auto it = face_side.find(f);
+    assert(it != face_side.end());
+    return std::make_pair(v, it->second);
   };
   std::vector<std::array<int, 3>> tris;
   for (int f : piece.faces) {

@@ -114,6 +114,7 @@ double solid_angle(const Eigen::Vector3d& p, const Tri& t) {
 DiscEmbedding check_interface_discs(const mesh::TriangleMesh& surface, const std::vector<InterfaceDisc>& discs,
                                     const std::vector<std::vector<int>>& loop_ids) {
   DiscEmbedding out;
+  out.crossings.assign(discs.size(), 0);
   // All triangles in one list: surface first (vertex ids as they are), then each disc (loop
   // vertices mapped to their surface ids, interior vertices to fresh ids).
   std::vector<Tri> tris;
@@ -201,6 +202,7 @@ DiscEmbedding check_interface_discs(const mesh::TriangleMesh& surface, const std
               if (shared) continue;
               if (triangles_cross(tris[t], tris[s])) {
                 ++out.num_intersections;
+                ++out.crossings[owner[t]];
                 if (out.first_problem.empty())
                   out.first_problem = "the interface disc of cut " + std::to_string(owner[t]) + " crosses " +
                                       (owner[s] < 0 ? "the surface (face " + std::to_string(s) + ")"

@@ -31,6 +31,7 @@ struct DiscEmbedding {
   int num_intersections = 0;   ///< disc–surface and disc–disc triangle pairs that cross
   int num_outside = 0;         ///< discs whose centre has winding number < 1/2 (outside the solid)
   std::vector<double> winding; ///< per disc, the generalized winding number of its centre
+  std::vector<int> crossings;  ///< per disc, its triangle pairs that cross (with the surface or a later disc)
   std::string first_problem;   ///< empty when embedded
 };
 

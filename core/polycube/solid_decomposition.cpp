@@ -6,6 +6,7 @@
 #include <numeric>
 #include <set>
 
+#include "core/polycube/cut_tightening.h"
 #include "core/polycube/interface_disc.h"
 #include "core/polycube/level_set_split.h"
 #include "core/polycube/piece_resplit.h"
@@ -247,6 +248,7 @@ SolidDecomposition decompose_solid(const mesh::HalfedgeMesh& input, int genus,
                                why);
     ++out.num_resplit_cuts;
   }
+  if (options.cuts == CutPlacement::Shortest) out.num_tightened_cuts = tighten_cut_loops(out).num_tightened;
   return out;
 }
 

@@ -63,11 +63,19 @@ struct SolidDecomposition {
   int num_levels = 0;           ///< levels cut before merging
   int num_initial_pieces = 0;   ///< pieces before merging
   int num_resplit_cuts = 0;     ///< level-set cuts that failed the meridian certificate and were replaced
+  int num_tightened_cuts = 0;   ///< cuts moved off their level set to a shorter loop (CutPlacement::Shortest)
+};
+
+/// Where decompose_solid puts its cuts.
+enum class CutPlacement {
+  LevelSet,  ///< on the level sets of the Morse function (Algorithm 1 as written)
+  Shortest,  ///< moved to the shortest loops that separate the same boundaries (tighten_cut_loops)
 };
 
 /// Options of decompose_solid.
 struct DecompositionOptions {
   double snap = 0.05;  ///< see split_at_level, in [0, 0.45)
+  CutPlacement cuts = CutPlacement::Shortest;
   MorseFunctionOptions morse;  ///< the Morse function (limb poles: morse.limb_persistence)
 };
 

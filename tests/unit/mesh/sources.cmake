@@ -7,5 +7,6 @@ set(TEST_SOURCES
   edge_weights_test.cpp
   laplacian_test.cpp
   graph_distance_test.cpp
+  min_cut_test.cpp
   hex_quality_test.cpp
 )

@@ -2,6 +2,7 @@
 set(TEST_SOURCES
   cuboid_layout_test.cpp
   gpc_test.cpp
+  cut_tightening_test.cpp
   cube_faces_test.cpp
   surface_paths_test.cpp
 )
