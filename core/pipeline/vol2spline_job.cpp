@@ -8,6 +8,7 @@
 #include <Eigen/LU>
 
 #include "core/common/error.h"
+#include "core/io/number_text.h"
 #include "core/mesh/hex_quality.h"
 #include "core/pipeline/stage_timer.h"
 #include "core/spline/scattered_density_fitting.h"
@@ -32,6 +33,40 @@ void check_options(const Vol2SplineOptions& o) {
   if (o.initial_cells < 0 || o.initial_cells > 256) throw Error("vol2spline: initial_cells must be in [0, 256]");
   if (o.clusters != 0 && (o.clusters < 2 || o.clusters > 16)) throw Error("vol2spline: clusters must be 0 or in [2, 16]");
   if (o.threads < 1 || o.threads > 256) throw Error("vol2spline: threads must be in [1, 256]");
+}
+
+// The volume the stages work on, and the length `scale` that maps it back: world = origin +
+// direction · (scale · p). Its spacing is divided by the largest component (largest 1) and its
+// origin and direction are dropped, so a volume and its copy in other units or at another place
+// give the stages the same numbers: the classification's features, the Hessian frames and the
+// parameterization's operators scale with the spacing, and their thresholds do not.
+struct UnitVolume {
+  volume::Volume volume;
+  double scale = 1.0;
+};
+
+UnitVolume unit_volume_of(const volume::Volume& volume, const std::string& name) {
+  const Eigen::Vector3d& s = volume.spacing;
+  const auto values = [](const Eigen::Vector3d& v) {
+    std::string text = "(";
+    for (int a = 0; a < 3; ++a) {
+      io::append_number(text, v(a));
+      text += a < 2 ? ", " : ")";
+    }
+    return text;
+  };
+  if (!s.allFinite() || !(s.minCoeff() > 0.0))
+    throw Error("vol2spline: volume '" + name + "' has spacing " + values(s) + "; every voxel size must be a positive number");
+  if (s.minCoeff() < 1e-12 * s.maxCoeff())
+    throw Error("vol2spline: volume '" + name + "' has spacing " + values(s) +
+                ": voxel sizes more than 1e12 apart cannot be fitted together");
+  if (!volume.origin.allFinite() || !volume.direction.allFinite())
+    throw Error("vol2spline: volume '" + name + "' has an origin or direction that is not finite");
+  UnitVolume unit{volume, s.maxCoeff()};
+  unit.volume.spacing = s / unit.scale;
+  unit.volume.origin.setZero();
+  unit.volume.direction.setIdentity();
+  return unit;
 }
 
 // Smallest scaled Jacobian det J / (|J_u| |J_v| |J_w|) of the geometry (X, Y, Z) at the cell
@@ -159,14 +194,16 @@ spline::TSpline fit_density(const volume::Volume& volume, const spline::GridSamp
 
 }  // namespace
 
-Vol2SplineResult run_vol2spline(const volume::Volume& volume, const std::string& name,
+Vol2SplineResult run_vol2spline(const volume::Volume& input, const std::string& name,
                                 const Vol2SplineOptions& options, const Progress& progress) {
   check_options(options);
-  if (volume.nx < 2 || volume.ny < 2 || volume.nz < 2)
+  if (input.nx < 2 || input.ny < 2 || input.nz < 2)
     throw Error("vol2spline: volume '" + name + "' needs at least 2 voxels along every axis");
-  if (volume.samples.size() != volume.num_voxels())
-    throw Error("vol2spline: volume '" + name + "' has " + std::to_string(volume.samples.size()) +
-                " samples for " + std::to_string(volume.num_voxels()) + " voxels");
+  if (input.samples.size() != input.num_voxels())
+    throw Error("vol2spline: volume '" + name + "' has " + std::to_string(input.samples.size()) +
+                " samples for " + std::to_string(input.num_voxels()) + " voxels");
+  const UnitVolume unit = unit_volume_of(input, name);
+  const volume::Volume& volume = unit.volume;
   Vol2SplineStats stats;
   stats.voxels = volume.num_voxels();
   StageTimer timer(stats.times_s);
@@ -198,13 +235,13 @@ Vol2SplineResult run_vol2spline(const volume::Volume& volume, const std::string&
   stats.stop_reason = spline::fit_stop_reason_name(density.stop);
   stats.curve = density.curve;
   stats.min_scaled_jacobian = spline_min_scaled_jacobian(result_spline);
-  // Eq. 5.11's X, Y, Z in the file's world: an affine map of the control points is the same map of
-  // the spline (its basis sums to 1). Applied after the measures: a mirrored frame (det < 0, as
-  // LPS files have) would flip the Jacobian's sign without folding anything.
-  if (!volume.world_is_grid()) {
+  // Eq. 5.11's X, Y, Z in the file's units and world: an affine map of the control points is the
+  // same map of the spline (its basis sums to 1). Applied after the measures: a mirrored frame
+  // (det < 0, as LPS files have) would flip the Jacobian's sign without folding anything.
+  if (unit.scale != 1.0 || !input.world_is_grid()) {
     Eigen::MatrixXd points = result_spline.points();
     for (Eigen::Index i = 0; i < points.rows(); ++i)
-      points.row(i).head<3>() = volume.world_from_grid(points.row(i).head<3>().transpose()).transpose();
+      points.row(i).head<3>() = input.world_from_grid(unit.scale * points.row(i).head<3>().transpose()).transpose();
     result_spline.set_points(std::move(points));
   }
   timer.end_stage("measures");

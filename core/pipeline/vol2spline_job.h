@@ -79,8 +79,12 @@ struct Vol2SplineResult {
 /// frame constraints, frame smoothing (§5.2.2, Eq. 5.6), corners and field-aligned
 /// parameterization (§5.3), adaptive T-spline fit (Eq. 5.11, spline::run_hierarchical_fitting). With
 /// Vol2SplineParam::Identity and compute_frames off, only the fit runs. `name` is used in messages.
-/// Throws volspline::Error on bad options or a volume with a dimension < 2 (< 5 with frames);
-/// volspline::Cancelled if progress asks to stop.
+/// The stages run on a copy with the spacing divided by its largest component, without origin and
+/// direction, and the spline is mapped back: the same volume in other units or at another place
+/// gives the same control points and measures.
+/// Throws volspline::Error on bad options, a volume with a dimension < 2 (< 5 with frames), a
+/// spacing that is not positive and finite or whose components are more than 1e12 apart, or a
+/// non-finite origin or direction; volspline::Cancelled if progress asks to stop.
 Vol2SplineResult run_vol2spline(const volume::Volume& volume, const std::string& name,
                                 const Vol2SplineOptions& options, const Progress& progress = {});
 

@@ -2,6 +2,8 @@
 #include "core/pipeline/vol2spline_job.h"
 
 #include <cmath>
+#include <limits>
+#include <string>
 
 #include <doctest/doctest.h>
 
@@ -116,4 +118,70 @@ TEST_CASE("vol2spline keeps the volume's origin and mirrored direction in X, Y, 
   }
   CHECK(world.stats.min_scaled_jacobian == doctest::Approx(plain.stats.min_scaled_jacobian));
   CHECK(world.stats.density_rms_rel == plain.stats.density_rms_rel);
+}
+
+TEST_CASE("vol2spline does not depend on the volume's units or where it sits") {
+  // The same voxels with the spacing scaled by 1e-6, 1e6 and 1e9 and the origin moved by ±1e6:
+  // the job runs on the unit-spacing copy, so the counts are equal and the relative measures
+  // agree to 1e-9, for the plain fit and for the frame stages (whose Hessian feature scales with
+  // 1 / spacing² and falls below the classification's round-off threshold at spacing 1e9).
+  for (const pipeline::Vol2SplineParam param : {pipeline::Vol2SplineParam::Identity, pipeline::Vol2SplineParam::Aligned}) {
+    const bool aligned = param == pipeline::Vol2SplineParam::Aligned;
+    CAPTURE(aligned);
+    const volume::Volume base = ellipsoid(12);
+    pipeline::Vol2SplineOptions options;
+    options.param = param;
+    options.max_rms_rel = 0.002;
+    options.max_control_points = 2000;
+    options.initial_cells = 2;
+    options.max_levels = 2;
+    const pipeline::Vol2SplineResult reference = pipeline::run_vol2spline(base, "ellipsoid", options);
+    REQUIRE(reference.stats.levels >= 1);  // the refinement's marking is part of what must not move
+    struct Variant {
+      double scale;
+      double shift;
+    };
+    for (const Variant variant : {Variant{1e-6, 0.0}, Variant{1e6, 0.0}, Variant{1e9, 0.0}, Variant{1.0, 1e6}, Variant{1e6, -1e6}}) {
+      CAPTURE(variant.scale);
+      CAPTURE(variant.shift);
+      volume::Volume moved = base;
+      moved.spacing *= variant.scale;
+      moved.origin.setConstant(variant.shift);
+      const pipeline::Vol2SplineResult r = pipeline::run_vol2spline(moved, "moved ellipsoid", options);
+      CHECK(r.stats.control_points == reference.stats.control_points);
+      CHECK(r.stats.levels == reference.stats.levels);
+      CHECK(r.stats.clusters == reference.stats.clusters);
+      CHECK(r.stats.constraints == reference.stats.constraints);
+      CHECK(r.stats.density_rms_rel == doctest::Approx(reference.stats.density_rms_rel).epsilon(1e-9));
+      CHECK(r.stats.density_max_rel == doctest::Approx(reference.stats.density_max_rel).epsilon(1e-9));
+      CHECK(r.stats.frame_smoothness_final == doctest::Approx(reference.stats.frame_smoothness_final).epsilon(1e-9));
+      CHECK(r.stats.min_scaled_jacobian == doctest::Approx(reference.stats.min_scaled_jacobian).epsilon(1e-9));
+      // X, Y, Z in the volume's own units and place; the density unchanged.
+      const Eigen::Vector3d uvw = 0.37 * reference.spline.domain_max() + 0.63 * reference.spline.domain_min();
+      const Eigen::VectorXd f = r.spline.evaluate(uvw), g = reference.spline.evaluate(uvw);
+      const Eigen::Vector3d expected = g.head<3>() * variant.scale + Eigen::Vector3d::Constant(variant.shift);
+      CHECK((f.head<3>() - expected).cwiseAbs().maxCoeff() <= 1e-9 * (variant.scale * 22.0 + std::abs(variant.shift)));
+      CHECK(f(3) == doctest::Approx(g(3)).epsilon(1e-9));
+    }
+  }
+}
+
+TEST_CASE("vol2spline refuses a spacing it cannot normalize") {
+  const auto message = [](const Eigen::Vector3d& spacing) {
+    volume::Volume v = ellipsoid(6);
+    v.spacing = spacing;
+    try {
+      pipeline::run_vol2spline(v, "bad.nrrd", {});
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  CHECK(message(Eigen::Vector3d(1, 0, 1)).find("'bad.nrrd' has spacing (1, 0, 1); every voxel size must be a positive number") !=
+        std::string::npos);
+  CHECK(message(Eigen::Vector3d(1, std::numeric_limits<double>::infinity(), 1)).find("positive number") != std::string::npos);
+  CHECK(message(Eigen::Vector3d(1e-300, 1, 1e300)).find("more than 1e12 apart") != std::string::npos);
+  volume::Volume v = ellipsoid(6);
+  v.origin.x() = std::numeric_limits<double>::quiet_NaN();
+  CHECK_THROWS_WITH_AS(pipeline::run_vol2spline(v, "bad.nrrd", {}), doctest::Contains("origin or direction that is not finite"), Error);
 }
