@@ -17,12 +17,14 @@ namespace volspline::param {
 
 CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
                                             const polycube::CuboidLayout& layout,
-                                            const CuboidSurfaceMapOptions& options) {
+                                            const CuboidSurfaceMapOptions& options,
+                                            const Progress& progress) {
   if (!(options.tolerance > 0.0 && options.tolerance < 1.0) ||
       !(options.balance_tolerance >= options.tolerance && options.balance_tolerance < 1.0))
     throw Error("cuboid surface map: `tolerance` must be in (0, 1) and `balance_tolerance` in [`tolerance`, 1)");
   if (options.area_balance_iterations < 0 || options.area_balance_iterations > 20)
     throw Error("cuboid surface map: `area_balance_iterations` must be in [0, 20]");
+  progress.report("surface map", 0.0);
   const int n = mesh.num_vertices();
   CuboidSurfaceMap map;
   map.uvw = mesh::Positions::Zero(n, 3);
@@ -113,8 +115,11 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
     system.a = linalg::CsrMatrix::from_arrays(m, m, std::move(offsets), std::move(cols), std::move(values));
   }
 
+  const double num_solves = polycube::num_cube_faces * (options.area_balance_iterations + 1.0);
+  int solves_done = 0;
   auto solve = [&](const std::vector<double>& weight, double tolerance) {
     for (int face = 0; face < polycube::num_cube_faces; ++face) {
+      progress.report("surface map", solves_done++ / num_solves);
       const std::vector<int>& interior = face_interior[face];
       const int m = static_cast<int>(interior.size());
       if (m == 0) continue;
@@ -211,6 +216,7 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
     solve(weight, round_tolerance(iteration + 1));
   }
 
+  progress.report("surface map", 1.0);
   int first_flipped = -1;
   for (int f = 0; f < mesh.num_faces(); ++f) {
     const int face = layout.face_region[f];

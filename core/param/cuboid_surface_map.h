@@ -3,6 +3,7 @@
 
 #include <vector>
 
+#include "core/common/progress.h"
 #include "core/mesh/halfedge_mesh.h"
 #include "core/polycube/cube_faces.h"
 #include "core/polycube/cuboid_layout.h"
@@ -57,9 +58,11 @@ using polycube::cube_face_point;
 /// poly-edges get the same parameters from both sides, so the 6 maps glue continuously.
 /// Throws volspline::Error on options out of range, and naming the mesh, the cube face and the
 /// first bad triangle if the map is not bijective (flipped or degenerate triangles, e.g. cotan
-/// weights on a bad mesh).
+/// weights on a bad mesh); volspline::Cancelled if progress asks to stop.
+/// progress: "surface map" with the fraction of face solves done (6 per balancing round + 1).
 CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
                                             const polycube::CuboidLayout& layout,
-                                            const CuboidSurfaceMapOptions& options = {});
+                                            const CuboidSurfaceMapOptions& options = {},
+                                            const Progress& progress = {});
 
 }  // namespace volspline::param

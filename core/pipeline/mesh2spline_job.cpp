@@ -56,9 +56,17 @@ void check_options(const Mesh2SplineOptions& o) {
   if (o.measure_samples < 8 || o.measure_samples > 512) fail("`measure_samples` must be in [8, 512]");
 }
 
+// A stage's own fractions reported as [lo, hi] of the job's; cancellation passes through.
+Progress job_share(const Progress& progress, double lo, double hi) {
+  return Progress([&progress, lo, hi](const std::string& stage, double fraction) {
+    progress.report(stage, lo + (hi - lo) * fraction);
+    return true;
+  });
+}
+
 // The validated, outward-oriented half-edge mesh; throws on anything mesh2spline refuses.
-mesh::HalfedgeMesh validated_mesh(const mesh::TriangleMesh& input, const std::string& name) {
-  SolidMesh solid = validate_solid_mesh(input, name, "mesh2spline");
+mesh::HalfedgeMesh validated_mesh(const mesh::TriangleMesh& input, const std::string& name, const Progress& progress) {
+  SolidMesh solid = validate_solid_mesh(input, name, "mesh2spline", progress);
   if (solid.report.genus != 0)
     throw Error("mesh '" + name + "': genus " + std::to_string(solid.report.genus) +
                 "; mesh2spline maps the solid to one cuboid and needs genus 0 (volspline gpc builds the "
@@ -460,12 +468,8 @@ void untangle_fit(spline::TSpline& ts, const Samples& samples, double diagonal, 
   // while the untangler and the measures evaluate whole lattices: per-cell polynomials pay.
   ts.use_cell_polynomials();
   // The untangler's passes report within the job's untangle share and honour cancellation.
-  const Progress untangle_progress([&progress](const std::string& stage, double fraction) {
-    progress.report(stage, 0.7 + 0.05 * fraction);
-    return true;
-  });
   const spline::SplineUntangleResult untangled =
-      spline::untangle_spline(ts, samples.uvw, samples.xyz, {}, untangle_progress);
+      spline::untangle_spline(ts, samples.uvw, samples.xyz, {}, job_share(progress, 0.7, 0.75));
   stats.negative_jacobian_fraction_fit = double(untangled.initial_negative) / untangled.scanned;
   stats.untangled_control_points = untangled.free_functions;
   if (untangled.free_functions > 0) set_fit_errors(sample_errors(ts, samples), diagonal, stats);
@@ -565,14 +569,14 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
   // Every stage works in a unit box (centred, longest side in [0.5, 1)): absolute tolerances
   // then mean the same for any position and unit; the spline is mapped back at the end.
   const mesh::UnitBox box = mesh::unit_box_of(input, name);
-  const mesh::HalfedgeMesh hm = validated_mesh(box.to_unit(input), name);
+  const mesh::HalfedgeMesh hm = validated_mesh(box.to_unit(input), name, job_share(progress, 0.0, 0.05));
   const double diagonal = bbox_diagonal(hm, name);
   timer.end_stage("validate");
 
   progress.report("cuboid layout", 0.05);
   polycube::CuboidLayoutOptions layout_options;
   layout_options.corners = options.corners;
-  const polycube::CuboidLayout layout = polycube::compute_cuboid_layout(hm, layout_options);
+  const polycube::CuboidLayout layout = polycube::compute_cuboid_layout(hm, layout_options, job_share(progress, 0.05, 0.1));
   std::copy(layout.corners.begin(), layout.corners.end(), stats.corners.begin());
   stats.min_corner_distance_rel = layout.min_corner_distance_rel;
   const Eigen::Vector3d dims = cuboid_dims(hm, layout);
@@ -587,7 +591,7 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
   // (README) as they are; on its meshes (tens of thousands of vertices) the savings are small.
   map_options.solver = param::SurfaceSolver::IncompleteCholesky;
   map_options.balance_tolerance = map_options.tolerance;
-  const param::CuboidSurfaceMap surface_map = param::compute_cuboid_surface_map(hm, layout, map_options);
+  const param::CuboidSurfaceMap surface_map = param::compute_cuboid_surface_map(hm, layout, map_options, job_share(progress, 0.1, 0.2));
   stats.flipped_triangles = surface_map.num_flipped;
   const param::CuboidSurfaceLocator locator(hm, surface_map);
   timer.end_stage("surface_map");

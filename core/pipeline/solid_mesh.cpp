@@ -5,9 +5,13 @@
 
 namespace volspline::pipeline {
 
-SolidMesh validate_solid_mesh(const mesh::TriangleMesh& input, const std::string& name, const std::string& job) {
+SolidMesh validate_solid_mesh(const mesh::TriangleMesh& input, const std::string& name, const std::string& job,
+                              const Progress& progress) {
+  progress.report("validate", 0.0);
   mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(input, name);
+  progress.report("validate", 0.5);
   mesh::MeshReport r = mesh::analyze_mesh(hm);
+  progress.report("validate", 0.8);
   const std::string prefix = "mesh '" + name + "': ";
   if (!r.closed)
     throw Error(prefix + "not closed (" + std::to_string(r.num_boundary_edges) + " boundary edges); " + job +
@@ -27,6 +31,7 @@ SolidMesh validate_solid_mesh(const mesh::TriangleMesh& input, const std::string
     hm = mesh::HalfedgeMesh::build(flipped, name);
     r = mesh::analyze_mesh(hm);
   }
+  progress.report("validate", 1.0);
   return SolidMesh{std::move(hm), r};
 }
 

@@ -14,6 +14,7 @@
 #include <Eigen/Dense>
 
 #include "core/common/error.h"
+#include "core/common/progress.h"
 #include "core/mesh/mesh_geometry.h"
 #include "core/polycube/surface_paths.h"
 
@@ -182,7 +183,8 @@ bool extremal_corners(const VertexCells& cells, const Eigen::Vector3d& centre, c
   return static_cast<int>(distinct.size()) == num_cube_corners;
 }
 
-Corners automatic_corners(const mesh::HalfedgeMesh& mesh, bool nearest) {
+// progress: "cuboid layout" with the fraction of candidate frames tried.
+Corners automatic_corners(const mesh::HalfedgeMesh& mesh, bool nearest, const Progress& progress) {
   // Area-weighted moments make the frame independent of the sampling density.
   const std::vector<double> areas = mesh::face_areas(mesh);
   std::vector<double> vertex_weight(mesh.num_vertices(), 0.0);
@@ -230,7 +232,9 @@ Corners automatic_corners(const mesh::HalfedgeMesh& mesh, bool nearest) {
   const VertexCells cells(mesh);
   Corners best{};
   double best_score = -1.0;
-  for (const Eigen::Matrix3d& start : frames) {
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    progress.report("cuboid layout", double(k) / frames.size());
+    const Eigen::Matrix3d& start = frames[k];
     Corners current;
     if (!extremal_corners(cells, centre, start, extent, nearest, current)) continue;
     double score = min_pair_distance(mesh, current);
@@ -379,7 +383,9 @@ bool trace_layout(const mesh::HalfedgeMesh& mesh, const std::vector<double>& len
 
 // Traces the poly-edges for the given corners, trying the band along each cube axis (longest
 // first); false with the reasons if none works.
-bool layout_with_corners(const mesh::HalfedgeMesh& mesh, CuboidLayout& layout, std::string* why) {
+// progress: "cuboid layout" with the fraction of band axes tried.
+bool layout_with_corners(const mesh::HalfedgeMesh& mesh, CuboidLayout& layout, std::string* why,
+                         const Progress& progress) {
   const Eigen::Vector3d lo = mesh.positions().colwise().minCoeff();
   const Eigen::Vector3d hi = mesh.positions().colwise().maxCoeff();
   const double diagonal = (hi - lo).norm();
@@ -395,7 +401,9 @@ bool layout_with_corners(const mesh::HalfedgeMesh& mesh, CuboidLayout& layout, s
                    [&](int a, int b) { return axis_length[a] > axis_length[b]; });
   const std::vector<double> length = mesh::edge_lengths(mesh);
   std::string reasons;
-  for (int axis : order) {
+  for (int k = 0; k < 3; ++k) {
+    progress.report("cuboid layout", k / 3.0);
+    const int axis = order[k];
     CuboidLayout attempt = layout;
     std::string reason;
     if (trace_layout(mesh, length, length, axis, {}, attempt, &reason)) {
@@ -422,17 +430,28 @@ bool complete_cuboid_layout(const mesh::HalfedgeMesh& mesh, int band_axis,
 }
 
 CuboidLayout compute_cuboid_layout(const mesh::HalfedgeMesh& mesh,
-                                   const CuboidLayoutOptions& options) {
+                                   const CuboidLayoutOptions& options, const Progress& progress) {
   const std::string name = "mesh '" + mesh.source_name() + "'";
+  // The fraction of [lo, hi] that a step reports, as a fraction of the whole layout.
+  const auto share = [&progress](double lo, double hi) {
+    return Progress([&progress, lo, hi](const std::string& stage, double fraction) {
+      progress.report(stage, lo + (hi - lo) * fraction);
+      return true;
+    });
+  };
   if (options.corners.empty()) {
     // Extremal corners first; the box-corner choice is the fallback when their paths cannot be
-    // laid out (e.g. corners on long limbs).
+    // laid out (e.g. corners on long limbs). The first try has most of the bar: it usually works.
     std::string reasons;
     for (bool nearest : {false, true}) {
+      const double lo = nearest ? 0.9 : 0.0, hi = nearest ? 1.0 : 0.9;
       CuboidLayout layout;
-      layout.corners = automatic_corners(mesh, nearest);
+      layout.corners = automatic_corners(mesh, nearest, share(lo, lo + 0.6 * (hi - lo)));
       std::string why;
-      if (layout_with_corners(mesh, layout, &why)) return layout;
+      if (layout_with_corners(mesh, layout, &why, share(lo + 0.6 * (hi - lo), hi))) {
+        progress.report("cuboid layout", 1.0);
+        return layout;
+      }
       reasons += (reasons.empty() ? "" : "; ") + why;
     }
     throw Error(name + ": cannot lay out a cuboid: " + reasons + " (try other corners: `corners`)");
@@ -458,8 +477,9 @@ CuboidLayout compute_cuboid_layout(const mesh::HalfedgeMesh& mesh,
     throw Error(name + ": corners are in mirrored (left-handed) order; corner c must sit at "
                 "(c&1, c>>1&1, c>>2&1) of a right-handed box");
   std::string why;
-  if (!layout_with_corners(mesh, layout, &why))
+  if (!layout_with_corners(mesh, layout, &why, progress))
     throw Error(name + ": cannot lay out a cuboid: " + why + " (try other corners: `corners`)");
+  progress.report("cuboid layout", 1.0);
   return layout;
 }
 

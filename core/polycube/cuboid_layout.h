@@ -4,6 +4,7 @@
 #include <array>
 #include <vector>
 
+#include "core/common/progress.h"
 #include "core/mesh/halfedge_mesh.h"
 
 namespace volspline::polycube {
@@ -51,11 +52,13 @@ struct CuboidLayoutOptions {
 /// Poly-edges: Dijkstra shortest paths, made disjoint by forbidding used vertices: first the
 /// two loops around the ends of the longest cube axis, then the 4 long edges inside the annulus
 /// between the loops, so the 12 paths always cut the sphere into 6 disks in cube order.
+/// progress: "cuboid layout" with the fraction done (candidate frames, then band axes tried).
 /// Preconditions: a closed, consistently oriented, connected genus-0 mesh (checked by caller).
 /// Throws volspline::Error naming the mesh when user corners are invalid (wrong count, out of
-/// range, repeated, mirrored order) or when no valid layout is found.
+/// range, repeated, mirrored order) or when no valid layout is found; volspline::Cancelled if
+/// progress asks to stop.
 CuboidLayout compute_cuboid_layout(const mesh::HalfedgeMesh& mesh,
-                                   const CuboidLayoutOptions& options = {});
+                                   const CuboidLayoutOptions& options = {}, const Progress& progress = {});
 
 /// Completes a layout whose 8 corners are set (layout.corners): the 4 poly-edges around each end
 /// face of `band_axis` (cube faces 2·band_axis and 2·band_axis + 1) first, then the 4 edges along

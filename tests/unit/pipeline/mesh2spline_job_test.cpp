@@ -2,6 +2,9 @@
 #include "core/pipeline/mesh2spline_job.h"
 
 #include <limits>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <doctest/doctest.h>
 
@@ -198,4 +201,50 @@ TEST_CASE("mesh2spline's untangling reports its passes and honours cancellation"
   CHECK_THROWS_AS(pipeline::run_mesh2spline(test::cube_sphere(6), "sphere", options, stop_in_untangling), Cancelled);
   REQUIRE(!stages.empty());
   CHECK(stages.back() == "untangle pass 1");
+}
+
+TEST_CASE("mesh2spline reports fractions inside validation, layout and the surface map, and stops in each") {
+  // Their shares of the job: validate [0, 0.05], cuboid layout [0.05, 0.1], surface map [0.1, 0.2].
+  struct Share {
+    std::string stage;
+    double lo, hi;
+    int min_inside;  // reports strictly inside the share: validation has 2 steps, the layout 39
+  };                 // candidate frames after the first, the surface map 5 faces after the first
+  const std::vector<Share> shares = {{"validate", 0.0, 0.05, 2}, {"cuboid layout", 0.05, 0.1, 20}, {"surface map", 0.1, 0.2, 5}};
+  pipeline::Mesh2SplineOptions options;
+  options.max_levels = 0;
+  options.measure_samples = 8;
+  std::vector<std::pair<std::string, double>> reports;
+  const Progress record([&reports](const std::string& stage, double fraction) {
+    reports.emplace_back(stage, fraction);
+    return true;
+  });
+  pipeline::run_mesh2spline(test::cube_sphere(6), "sphere", options, record);
+  double previous = 0.0;
+  for (const auto& report : reports) {
+    if (report.first == "volumetric map") break;
+    CAPTURE(report.first);
+    CHECK(report.second >= previous);  // the bar never runs backwards through these stages
+    previous = report.second;
+  }
+  for (const Share& share : shares) {
+    CAPTURE(share.stage);
+    int inside = 0;
+    for (const auto& [stage, fraction] : reports) {
+      if (stage != share.stage) continue;
+      CHECK(fraction >= share.lo);
+      CHECK(fraction <= share.hi);
+      if (fraction > share.lo && fraction < share.hi) ++inside;
+    }
+    CHECK(inside >= share.min_inside);
+    // Cancelled at the stage's second report, i.e. inside the stage, not at the next one.
+    int seen = 0;
+    std::string last;
+    const Progress stop([&](const std::string& stage, double) {
+      last = stage;
+      return !(stage == share.stage && ++seen == 2);
+    });
+    CHECK_THROWS_AS(pipeline::run_mesh2spline(test::cube_sphere(6), "sphere", options, stop), Cancelled);
+    CHECK(last == share.stage);
+  }
 }
