@@ -35,10 +35,9 @@ void remove_temporaries_and_die(int signal) {
   std::raise(signal);
 }
 
+// Installed by every OutputFiles, not once per process: whatever replaced the handlers since
+// (a test harness, a library) would otherwise leave the temporaries of this one behind.
 void install_handlers() {
-  static bool installed = false;
-  if (installed) return;
-  installed = true;
   struct sigaction action {};
   action.sa_handler = remove_temporaries_and_die;
   sigemptyset(&action.sa_mask);

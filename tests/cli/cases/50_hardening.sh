@@ -52,6 +52,7 @@ if [ "$(id -u)" = 0 ] && mknod "$TMP/o/null" c 1 3 2>/dev/null && mknod "$TMP/o/
   expect 1 "$BIN" "${M[@]}" -o "$TMP/o/full.json" --stats-json "$TMP/o/full"
   contains "$TMP/err" "$TMP/o/full"
   if [ ! -e "$TMP/o/full.json" ]; then ok; else bad "-o was written although --stats-json failed"; fi
+  if [ -z "$(ls -A "$TMP/o" | grep 'tmp-volspline-')" ]; then ok; else bad "temporaries left after a failed write: $(ls -A "$TMP/o")"; fi
   if [ -c "$TMP/o/full" ]; then ok; else bad "--stats-json onto a character device replaced it"; fi
 fi
 # Outputs equal to an input or to each other are refused by resolved path, before any work.
