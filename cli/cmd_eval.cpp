@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <optional>
 #include <sstream>
+#include <string>
 
 #include "cli/args.h"
 #include "cli/commands.h"
@@ -43,6 +44,13 @@ int run_eval(const std::vector<std::string>& argv) {
     if (args.has("cuboid") && args.get_int("cuboid", 0) != 0)
       throw UsageError("--cuboid: '" + path + "' is a one-cuboid spline (only --cuboid 0)");
   }
+  // All values first, printed together: a refused point prints nothing, not the points before it.
+  std::string output;
+  char number[32];
+  const auto append = [&](double x, bool first) {
+    std::snprintf(number, sizeof(number), first ? "%.17g" : " %.17g", x);
+    output += number;
+  };
   for (const std::string& text : args.get_all("uvw")) {
     Eigen::Vector3d uvw;
     std::istringstream in(text);
@@ -53,18 +61,19 @@ int run_eval(const std::vector<std::string>& argv) {
     const Eigen::VectorXd value = gpc ? gpc->evaluate(cuboid, uvw) : single->evaluate(uvw);
     if (!value.allFinite())
       throw Error("spline '" + path + "': F(" + text + ") is not finite (weights or points too large)");
-    for (int d = 0; d < value.size(); ++d) std::printf(d ? " %.17g" : "%.17g", value(d));
-    std::printf("\n");
+    for (int d = 0; d < value.size(); ++d) append(value(d), d == 0);
+    output += '\n';
     if (args.has("jacobian")) {
       const Eigen::MatrixXd jac = gpc ? gpc->jacobian(cuboid, uvw) : single->jacobian(uvw);
       if (!jac.allFinite())
         throw Error("spline '" + path + "': the Jacobian at " + text + " is not finite");
       for (int a = 0; a < 3; ++a) {
-        for (int d = 0; d < jac.rows(); ++d) std::printf(d ? " %.17g" : "%.17g", jac(d, a));
-        std::printf("\n");
+        for (int d = 0; d < jac.rows(); ++d) append(jac(d, a), d == 0);
+        output += '\n';
       }
     }
   }
+  std::fputs(output.c_str(), stdout);
   return 0;
 }
 

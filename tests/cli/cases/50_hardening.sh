@@ -21,6 +21,13 @@ contains "$TMP/err" "outside the range of doubles"
 spline_one '[0,1,2,3,4]' 1e308 '[1e308,2,3]'
 expect 2 "$BIN" eval "$TMP/h.json" --uvw 2,2,2
 contains "$TMP/err" "overflows"
+# Finite values whose Jacobian overflows (1.7e307 times a derivative near 1 / 0.001): refused, and
+# nothing printed, not even the point before it (finite there).
+printf '{"format":"volspline-tspline","version":1,"dimension":3,"functions":[{"knots":[[0,0.001,0.002,0.003,0.004],[0,1,2,3,4],[0,1,2,3,4]],"weight":1e307,"point":[1.7,1,1]}]}' > "$TMP/h.json"
+expect 0 "$BIN" eval "$TMP/h.json" --uvw 0.00001,2,2 --jacobian
+expect 2 "$BIN" eval "$TMP/h.json" --uvw 0.00001,2,2 --uvw 0.0015,2,2 --jacobian
+contains "$TMP/err" "the Jacobian at 0.0015,2,2 is not finite"
+if [ ! -s "$TMP/out" ]; then ok; else bad "eval printed values before refusing a point: $(head -c 200 "$TMP/out")"; fi
 # glTF whose extras nest 20,000 deep: refused before tinygltf's recursive parse.
 python3 -c "import sys; d=20000; sys.stdout.write('{\"asset\":{\"version\":\"2.0\"},\"extras\":' + '['*d + ']'*d + '}')" > "$TMP/deep.gltf"
 expect 2 "$BIN" info "$TMP/deep.gltf"
