@@ -48,6 +48,8 @@ M2S = ['mesh2spline', '{in}', '-o', 'out/m.json', '--vtk', 'out/m.vtu', '--glb',
 LENS = ['lens', '{in}', '-o', 'out/l.png', '--grid', '16', '--stats-json', 'out/l.json', '--quiet']
 V2S = ['vol2spline', '{in}', '-o', 'out/v.json', '--vtk', 'out/v.vtu', '--max-levels', '1', '--quiet']
 EVAL = ['eval', '{in}', '--uvw', '0.5,0.5,0.5', '--jacobian']
+GPC = ['gpc', '{in}', '-o', 'out/g.json', '--glb', 'out/g.glb', '--vtk', 'out/g.vtu', '--stats-json', 'out/g_stats.json',
+       '--grid-nodes', '2000', '--quiet']
 
 # Meshes: every format, mutated, with lying counts and extreme coordinates.
 tetra_off = b'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n'
@@ -91,6 +93,11 @@ for depth in (600, 5000, 20000, 100000):
     add('gltf-deep', 'deep%d.gltf' % depth, b'{"asset":{"version":"2.0"},"extras":' + b'[' * depth + b']' * depth + b'}', INFO, M2S)
 add('gltf-uri', 'uri.gltf', b'{"asset":{"version":"2.0"},"buffers":[{"uri":"/dev/zero","byteLength":100}]}', INFO)
 add('gltf-uri', 'uri2.gltf', b'{"asset":{"version":"2.0"},"buffers":[{"uri":"../../../../etc/passwd","byteLength":100}]}', INFO)
+
+# Genus 1 (mesh2spline's multi-cuboid route), mutated; every mesh case above also through gpc.
+torus_off = read(os.path.join(DATA, 'meshes', 'torus.off'))
+for i, d in enumerate([torus_off] + mutate(torus_off, 12)): add('torus', 'tor%d.off' % i, d, M2S)
+cases += [(name, filename, data, GPC) for name, filename, data, argv in list(cases) if argv is M2S]
 
 # Images: PNG and JPEG headers, truncations, DHT overflow, size claims; lens on each.
 png = read(os.path.join(SRC, 'tests', 'fuzz', 'corpus', 'image', 'rgba.png'))
