@@ -37,12 +37,21 @@ int node_faces(const std::array<int, 3>& n, const std::array<int, 3>& ijk) {
   return faces;
 }
 
+// A step's own fractions reported as [lo, hi] of the map's; cancellation passes through.
+Progress share_of(const Progress& progress, double lo, double hi) {
+  return Progress([&progress, lo, hi](const std::string& stage, double fraction) {
+    progress.report(stage, lo + (hi - lo) * fraction);
+    return true;
+  });
+}
+
 // The padded hex mesh pm untangled with only the surface held, the nodes inside an exposed cube
 // face sliding on it, then improved around its poor hexes. root, offset, total: the grid node
 // identification of compute_gpc_volumetric_map (rows of pm below total that are not roots are
-// unused). Returns the nodes the untanglers moved.
+// unused). Returns the nodes the untanglers moved. progress: the untanglers' steps, held then sliding.
 int untangle_padded_mesh(const polycube::GpcConstruction& construction, const std::vector<int>& root,
-                         const std::vector<int>& offset, int total, const GpcGridOptions& options, HexMesh& pm) {
+                         const std::vector<int>& offset, int total, const GpcGridOptions& options, HexMesh& pm,
+                         const Progress& progress) {
   const polycube::GpcDomain& domain = construction.domain;
   const int nc = static_cast<int>(domain.cuboids.size());
   int untangled = 0;
@@ -102,13 +111,14 @@ int untangle_padded_mesh(const polycube::GpcConstruction& construction, const st
   };
   HexGridUntangleOptions held_options;
   held_options.rounds = 1;
-  untangled += untangle_hex_mesh(pm.hexes, held, pm.xyz, {}, held_options).free_nodes;
+  untangled += untangle_hex_mesh(pm.hexes, held, pm.xyz, {}, held_options, nullptr, share_of(progress, 0.0, 0.5)).free_nodes;
   const int held_count = hex_mesh_quality(pm).num_inverted;
   if (held_count > 0) {
     const mesh::Positions held_result = pm.xyz;
     HexGridUntangleOptions slide_options;
     slide_options.rounds = 1;
-    untangled += untangle_hex_mesh(pm.hexes, fixed, pm.xyz, {}, slide_options, &sliding).free_nodes;
+    untangled +=
+        untangle_hex_mesh(pm.hexes, fixed, pm.xyz, {}, slide_options, &sliding, share_of(progress, 0.5, 1.0)).free_nodes;
     if (hex_mesh_quality(pm).num_inverted > held_count) pm.xyz = held_result;
   }
   const HexMeshQuality untangled_quality = hex_mesh_quality(pm);
@@ -353,7 +363,9 @@ GpcVolumetricMap compute_gpc_volumetric_map(polycube::GpcConstruction& construct
         const int r = root[offset[c] + id];
         fixed[id] = on_surface[r] || copies[r] > 1;
       }
-      out.untangled_nodes += untangle_hex_grid(grid.nodes, fixed, grid.xyz).free_nodes;
+      out.untangled_nodes +=
+          untangle_hex_grid(grid.nodes, fixed, grid.xyz, {}, share_of(progress, 0.45 + 0.15 * c / nc, 0.45 + 0.15 * (c + 1) / nc))
+              .free_nodes;
       check(grid);
       for (int id = 0; id < count; ++id) xyz.row(root[offset[c] + id]) = grid.xyz.row(id);
     }
@@ -395,7 +407,7 @@ GpcVolumetricMap compute_gpc_volumetric_map(polycube::GpcConstruction& construct
     for (int r = 0; r < total; ++r) glued[r] = root[r] == r && copies[r] > 1 && !on_surface[r];
     HexGridUntangleOptions global;
     global.rounds = 1;
-    out.untangled_nodes += untangle_hex_mesh(hexes, fixed, xyz, glued, global).free_nodes;
+    out.untangled_nodes += untangle_hex_mesh(hexes, fixed, xyz, glued, global, nullptr, share_of(progress, 0.6, 0.7)).free_nodes;
     for (int c = 0; c < nc; ++c) {
       GpcCuboidGrid& grid = out.grids[c];
       for (int id = 0; id < offset[c + 1] - offset[c]; ++id) grid.xyz.row(id) = xyz.row(root[offset[c] + id]);
@@ -411,7 +423,8 @@ GpcVolumetricMap compute_gpc_volumetric_map(polycube::GpcConstruction& construct
     progress.report("padding", 0.7);
     out.hex_mesh = pad_hex_mesh(xyz, hexes, hex_cuboid, surface_faces, options.padding_depth);
     if (options.untangle == GpcGridOptions::Untangle::On)
-      out.untangled_nodes += untangle_padded_mesh(construction, root, offset, total, options, out.hex_mesh);
+      out.untangled_nodes +=
+          untangle_padded_mesh(construction, root, offset, total, options, out.hex_mesh, share_of(progress, 0.7, 0.95));
   } else {
     out.hex_mesh.xyz = xyz;
     out.hex_mesh.hexes = hexes;

@@ -237,14 +237,15 @@ class Energy {
 // most folds open in the first steps, and the remaining steps sharpen the barrier around a few.
 // `region` holds the first step's free region on entry; `first_region` gets it.
 // count_inverted(seeds) counts the folded movable corners (and marks their hexes' nodes in
-// *seeds if not null); dilate(region, rings) grows a node set.
+// *seeds if not null); dilate(region, rings) grows a node set. Reports before each step as the
+// fraction (round · max_steps + step) / (rounds · max_steps).
 template <class CountInverted, class Dilate>
 void continuation_round(const std::vector<std::array<int, 8>>& hex_nodes, const std::vector<Corner>& corners,
                         const std::vector<char>& fixed, mesh::Positions& xyz, double h,
                         const HexGridUntangleOptions& options, int rings, std::vector<char>& region,
                         std::vector<char>& is_free, std::vector<char>& first_region, HexGridUntangleReport& report,
-                        const CountInverted& count_inverted, const Dilate& dilate,
-                        const SlidingNodes* sliding = nullptr) {
+                        const CountInverted& count_inverted, const Dilate& dilate, const SlidingNodes* sliding,
+                        int round, const Progress& progress) {
   const int total = static_cast<int>(xyz.rows());
   std::unique_ptr<Energy> energy;
   UntangleProblem problem;
@@ -252,6 +253,7 @@ void continuation_round(const std::vector<std::array<int, 8>>& hex_nodes, const 
   double eps = 0.0, previous_eps = 0.0, e_prev = 0.0, best_d_min = -std::numeric_limits<double>::infinity();
   int stalled = 0, best_count = std::numeric_limits<int>::max(), count_stalled = 0, count = 1;
   for (int step = 0; step < options.max_steps; ++step) {
+    progress.report("grid untangling", double(round * options.max_steps + step) / (options.rounds * options.max_steps));
     if (step > 0 && count > 0) {
       std::fill(region.begin(), region.end(), 0);
       count_inverted(&region);
@@ -315,7 +317,8 @@ void continuation_round(const std::vector<std::array<int, 8>>& hex_nodes, const 
 }  // namespace
 
 HexGridUntangleReport untangle_hex_grid(const std::array<int, 3>& n, const std::vector<char>& fixed,
-                                        mesh::Positions& xyz, const HexGridUntangleOptions& options) {
+                                        mesh::Positions& xyz, const HexGridUntangleOptions& options,
+                                        const Progress& progress) {
   assert(n[0] >= 2 && n[1] >= 2 && n[2] >= 2);
   assert(static_cast<int>(fixed.size()) == n[0] * n[1] * n[2] && xyz.rows() == n[0] * n[1] * n[2]);
   assert(options.rings >= 1 && options.max_steps >= 1 && options.max_inner >= 1);
@@ -379,7 +382,7 @@ HexGridUntangleReport untangle_hex_grid(const std::array<int, 3>& n, const std::
     // folds open in the first steps, and the remaining steps sharpen the barrier around a few.
     std::vector<char> first_region;
     continuation_round(hex_nodes, corners, fixed, xyz, h, options, rings, region, is_free, first_region, report,
-                       count_inverted, dilate);
+                       count_inverted, dilate, nullptr, round, progress);
     std::fill(region.begin(), region.end(), 0);
     report.final_inverted = count_inverted(&region);
     // A larger region helps only folds that the region's border held: those with a movable node
@@ -406,7 +409,7 @@ HexGridUntangleReport untangle_hex_grid(const std::array<int, 3>& n, const std::
 HexGridUntangleReport untangle_hex_mesh(const std::vector<std::array<int, 8>>& hexes, const std::vector<char>& fixed,
                                         mesh::Positions& xyz, const std::vector<char>& near,
                                         const HexGridUntangleOptions& options,
-                                        const SlidingNodes* sliding) {
+                                        const SlidingNodes* sliding, const Progress& progress) {
   assert(static_cast<Eigen::Index>(fixed.size()) == xyz.rows());
   assert(options.rings >= 1 && options.max_steps >= 1 && options.max_inner >= 1);
   HexGridUntangleReport report;
@@ -463,7 +466,7 @@ HexGridUntangleReport untangle_hex_mesh(const std::vector<std::array<int, 8>>& h
     dilate(region, rings);
     std::vector<char> first_region;
     continuation_round(hexes, corners, fixed, xyz, h, options, rings, region, is_free, first_region, report,
-                       count_inverted, dilate, sliding);
+                       count_inverted, dilate, sliding, round, progress);
     report.final_inverted = count_inverted(nullptr);
   }
   return report;

@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include "core/common/progress.h"
 #include "core/mesh/triangle_mesh.h"
 
 namespace volspline::param {
@@ -55,8 +56,11 @@ struct HexGridUntangleReport {
 /// (c>>1&1), k + (c>>2&1)); its Jacobian has the three hex edges leaving it along +axis
 /// orientation, as mesh::hex_min_scaled_jacobian. nodes: n0, n1, n2 ≥ 2; xyz: (n0·n1·n2)×3 in the
 /// order of grid_node_index, changed in place; fixed: one flag per node.
+/// progress: "grid untangling" before every ε step, the fraction of rounds × max_steps done;
+/// throws volspline::Cancelled there if it asks to stop (xyz then holds the last step's nodes).
 HexGridUntangleReport untangle_hex_grid(const std::array<int, 3>& nodes, const std::vector<char>& fixed,
-                                        mesh::Positions& xyz, const HexGridUntangleOptions& options = {});
+                                        mesh::Positions& xyz, const HexGridUntangleOptions& options = {},
+                                        const Progress& progress = {});
 
 /// untangle_hex_grid on hexes that need not form one grid (the cuboid grids of a generalized
 /// poly-cube with their glued nodes shared): hexes[h] lists hex h's 8 node ids, node q at offset
@@ -65,10 +69,11 @@ HexGridUntangleReport untangle_hex_grid(const std::array<int, 3>& nodes, const s
 /// folds within options.rings hexes of a flagged node are worked on (and counted in the report).
 /// sliding (or null): nodes that are not fixed and flagged there stay on their surface or curve,
 /// at the projection of where the optimizer puts them, their gradient taken in the tangent space.
+/// progress: as untangle_hex_grid.
 HexGridUntangleReport untangle_hex_mesh(const std::vector<std::array<int, 8>>& hexes, const std::vector<char>& fixed,
                                         mesh::Positions& xyz, const std::vector<char>& near = {},
                                         const HexGridUntangleOptions& options = {},
-                                        const SlidingNodes* sliding = nullptr);
+                                        const SlidingNodes* sliding = nullptr, const Progress& progress = {});
 
 /// Raises the quality of a fold-free hex mesh: at most `iterations` L-BFGS iterations on the
 /// energy of untangle_hex_mesh at ε = 1e-8 over every node that is not fixed (sliding nodes as

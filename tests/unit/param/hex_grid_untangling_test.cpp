@@ -1,6 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "core/param/hex_grid_untangling.h"
 
+#include <array>
+#include <string>
+#include <vector>
+
 #include <doctest/doctest.h>
 
 #include "core/mesh/hex_quality.h"
@@ -89,4 +93,42 @@ TEST_CASE("hex grid untangling gives up on a fold no interior placement can open
   mesh::Positions again = start;
   param::untangle_hex_grid({n, n, n}, fixed, again);
   CHECK(again == xyz);
+}
+
+TEST_CASE("hex grid untangling reports its steps and stops when asked") {
+  const int n = 5;
+  std::vector<char> fixed;
+  mesh::Positions folded = lattice(n, fixed);
+  folded(param::grid_node_index({n, n, n}, 1, 2, 2), 0) = 0.8;
+  // Every step reports "grid untangling" with a fraction of rounds × max_steps, increasing.
+  std::vector<double> fractions;
+  const Progress record([&fractions](const std::string& stage, double fraction) {
+    CHECK(stage == "grid untangling");
+    fractions.push_back(fraction);
+    return true;
+  });
+  mesh::Positions xyz = folded;
+  const param::HexGridUntangleOptions options;
+  const param::HexGridUntangleReport report = param::untangle_hex_grid({n, n, n}, fixed, xyz, options, record);
+  CHECK(report.final_inverted == 0);
+  REQUIRE(!fractions.empty());
+  CHECK(fractions.front() == 0.0);
+  for (std::size_t i = 1; i < fractions.size(); ++i) CHECK(fractions[i] > fractions[i - 1]);
+  CHECK(fractions.back() < 1.0);
+  // The same grid as hexes of a mesh, cancelled at the second step: Cancelled, the fixed nodes kept.
+  std::vector<std::array<int, 8>> hexes;
+  for (int k = 0; k + 1 < n; ++k)
+    for (int j = 0; j + 1 < n; ++j)
+      for (int i = 0; i + 1 < n; ++i) {
+        std::array<int, 8> hex;
+        for (int q = 0; q < 8; ++q) hex[q] = param::grid_node_index({n, n, n}, i + (q & 1), j + ((q >> 1) & 1), k + ((q >> 2) & 1));
+        hexes.push_back(hex);
+      }
+  int reports = 0;
+  const Progress stop([&reports](const std::string&, double) { return ++reports < 2; });
+  xyz = folded;
+  CHECK_THROWS_AS(param::untangle_hex_mesh(hexes, fixed, xyz, {}, options, nullptr, stop), Cancelled);
+  CHECK(reports == 2);
+  for (int id = 0; id < n * n * n; ++id)
+    if (fixed[id]) CHECK(xyz.row(id) == folded.row(id));
 }
