@@ -295,19 +295,23 @@ CutTightening tighten_cut_loops(SolidDecomposition& d) {
   std::vector<char> changed(d.pieces.size(), 0);
   for (std::size_t l = 0; l < d.loops.size(); ++l) {
     CutLoop& loop = d.loops[l];
-    std::vector<std::pair<int, char>> below;
+    const DiscEmbedding before = check_loop_disc(d.mesh, loop.vertices);
     // The whole two pieces first; where their shortest separator is several loops (around two
-    // boundaries apart), bands of shrinking width around the cut.
+    // boundaries apart), bands of shrinking width around the cut. A tube closed on itself is cut
+    // open along its loop: any essential loop of the annulus is a meridian.
     const double length = loop_length(d.mesh, loop.vertices);
+    std::vector<double> radii{kInfinity, 0.5 * length, 0.25 * length, 0.125 * length, 0.0625 * length};
+    if (loop.piece[0] == loop.piece[1]) radii = {kInfinity};
     std::vector<double> distance;
     std::vector<int> tight;
-    for (double radius : {kInfinity, 0.5 * length, 0.25 * length, 0.125 * length, 0.0625 * length}) {
+    std::vector<std::pair<int, char>> below;
+    for (double radius : radii) {
       if (!std::isinf(radius) && distance.empty())
         distance = mesh::graph_distances(hm, loop.vertices).distance;
       if (std::isinf(radius)) distance.assign(hm.num_vertices(), 0.0);
       tight = shortest_loop(hm, d, face_piece, vertex_loop, static_cast<int>(l), distance, radius, quantum, below);
       if (std::isinf(radius)) distance.clear();
-      if (!tight.empty() || loop.piece[0] == loop.piece[1]) break;
+      if (!tight.empty()) break;
     }
     if (tight.empty()) continue;
     const int a = loop.piece[0], b = loop.piece[1];
@@ -318,7 +322,6 @@ CutTightening tighten_cut_loops(SolidDecomposition& d) {
           !planar_with_loops(hm, candidate, b, static_cast<int>(d.pieces[b].boundary.size())))
         continue;
     }
-    const DiscEmbedding before = check_loop_disc(d.mesh, loop.vertices);
     const DiscEmbedding after = check_loop_disc(d.mesh, tight);
     if (after.num_outside > 0 || after.num_intersections > before.num_intersections) continue;
     face_piece = std::move(candidate);

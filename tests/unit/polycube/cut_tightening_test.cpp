@@ -33,7 +33,7 @@ double total_cut_length(const polycube::SolidDecomposition& d) {
 
 }  // namespace
 
-TEST_CASE("cut tightening: a wavy cut around a torus's tube becomes a straight meridian") {
+TEST_CASE("cut tightening: a wavy cut between two tubes of a torus becomes a straight meridian") {
   const int nu = 32, nv = 16;
   const double r = 0.35, pi = 3.14159265358979323846;
   polycube::SolidDecomposition d;
@@ -42,26 +42,59 @@ TEST_CASE("cut tightening: a wavy cut around a torus's tube becomes a straight m
   d.value.assign(d.mesh.num_vertices(), 0.0);
   d.parent_face.resize(d.mesh.num_faces());
   std::iota(d.parent_face.begin(), d.parent_face.end(), 0);
-  // Vertex (i, j) = i·nv + j. Around the tube once: four diagonal steps, straight on, then back
-  // along the ring j = 0; isotopic to a meridian, one tube closed on itself.
-  polycube::CutLoop wavy;
-  for (int j = 0; j < nv; ++j) wavy.vertices.push_back(std::min(j, 4) * nv + j);
-  for (int i = 4; i >= 1; --i) wavy.vertices.push_back(i * nv);
-  wavy.piece = {0, 0};
-  d.loops.push_back(wavy);
-  polycube::SolidPiece tube;
-  tube.faces.resize(d.mesh.num_faces());
-  std::iota(tube.faces.begin(), tube.faces.end(), 0);
-  tube.boundary = {{0, 0}, {0, 1}};
-  tube.kind = polycube::PieceKind::Tube;
-  d.pieces.push_back(tube);
+  // Vertex (i, j) = i·nv + j. Cut 0 goes around the tube once with four diagonal steps, straight
+  // on, then back along the ring j = 0 (isotopic to a meridian); cut 1 is the meridian i = 16.
+  std::vector<int> wavy, straight;
+  for (int j = 0; j < nv; ++j) wavy.push_back(std::min(j, 4) * nv + j);
+  for (int i = 4; i >= 1; --i) wavy.push_back(i * nv);
+  for (int j = 0; j < nv; ++j) straight.push_back(16 * nv + j);
+  // The two tubes: faces connected without crossing a cut edge.
+  const mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(d.mesh, "torus");
+  std::set<std::pair<int, int>> cut_edges;
+  for (const auto* loop : {&wavy, &straight})
+    for (std::size_t k = 0; k < loop->size(); ++k) {
+      const int a = (*loop)[k], b = (*loop)[(k + 1) % loop->size()];
+      cut_edges.insert({std::min(a, b), std::max(a, b)});
+    }
+  std::vector<int> tube(hm.num_faces(), -1);
+  for (int seed = 0, count = 0; seed < hm.num_faces(); ++seed) {
+    if (tube[seed] >= 0) continue;
+    std::vector<int> stack{seed};
+    tube[seed] = count;
+    while (!stack.empty()) {
+      const int f = stack.back();
+      stack.pop_back();
+      for (int h : hm.face_halfedges(f)) {
+        const int a = hm.halfedge_source(h), b = hm.halfedge_vertex(h);
+        const int g = hm.halfedge_face(hm.halfedge_twin(h));
+        if (cut_edges.count({std::min(a, b), std::max(a, b)}) || tube[g] >= 0) continue;
+        tube[g] = count;
+        stack.push_back(g);
+      }
+    }
+    ++count;
+  }
+  REQUIRE(*std::max_element(tube.begin(), tube.end()) == 1);
+  d.pieces.resize(2);
+  for (int f = 0; f < hm.num_faces(); ++f) d.pieces[tube[f]].faces.push_back(f);
+  for (const auto* loop : {&wavy, &straight}) {
+    polycube::CutLoop c;
+    c.vertices = *loop;
+    for (int h : hm.vertex_outgoing((*loop)[0]))
+      if (hm.halfedge_vertex(h) == (*loop)[1]) c.piece = {tube[hm.halfedge_face(h)], tube[hm.halfedge_face(hm.halfedge_twin(h))]};
+    const int id = static_cast<int>(d.loops.size());
+    d.pieces[c.piece[0]].boundary.push_back({id, 0});
+    d.pieces[c.piece[1]].boundary.push_back({id, 1});
+    d.loops.push_back(c);
+  }
+  for (polycube::SolidPiece& p : d.pieces) p.kind = polycube::PieceKind::Tube;
 
   const double meridian = nv * 2.0 * r * std::sin(pi / nv);
-  REQUIRE(loop_length(d.mesh, wavy.vertices) > 1.3 * meridian);
+  REQUIRE(loop_length(d.mesh, wavy) > 1.3 * meridian);
   const polycube::CutTightening t = polycube::tighten_cut_loops(d);
   CHECK(t.num_tightened == 1);
-  CHECK(t.length_after == doctest::Approx(meridian).epsilon(1e-12));
-  // One ring i = const, every j once, consecutive j along the loop.
+  CHECK(t.length_after == doctest::Approx(2.0 * meridian).epsilon(1e-12));
+  // One ring i = const near the wavy cut, every j once; the straight cut is where it was.
   const std::vector<int>& loop = d.loops[0].vertices;
   REQUIRE(static_cast<int>(loop.size()) == nv);
   std::set<int> rings, js;
@@ -71,11 +104,14 @@ TEST_CASE("cut tightening: a wavy cut around a torus's tube becomes a straight m
   }
   CHECK(rings.size() == 1);
   CHECK(static_cast<int>(js.size()) == nv);
-  // Its disc is a meridian disc: inside, no crossing. The mesh had no chord to split.
+  CHECK(d.loops[1].vertices == straight);
+  // Its disc is a meridian disc: inside, no crossing. No chord to split; every face in one tube,
+  // each tube an annulus.
   const polycube::DiscEmbedding e = polycube::check_loop_disc(d.mesh, loop);
   CHECK(e.num_outside == 0);
   CHECK(e.num_intersections == 0);
   CHECK(d.mesh.num_faces() == 2 * nu * nv);
+  CHECK(d.pieces[0].faces.size() + d.pieces[1].faces.size() == static_cast<std::size_t>(2 * nu * nv));
 }
 
 TEST_CASE("cut tightening: a two-hole solid keeps its pieces and loops, with shorter or equal cuts") {
