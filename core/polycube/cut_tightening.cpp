@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <map>
 #include <queue>
@@ -42,15 +43,12 @@ bool planar_with_loops(const mesh::HalfedgeMesh& hm, const std::vector<int>& fac
   return static_cast<long>(verts.size()) - edges2 / 2 + faces == 2 - loops;
 }
 
-// Marks the faces of `piece` on a shortest dual path (face centroids) from the faces touching
-// loop `from` to those touching loop `to`, so that the two boundaries form one terminal.
+// Marks the faces of `piece` on a shortest dual path (face centroids) from a face with
+// `is_seed` to one with `is_target`, crossing no edge in `blocked` (undirected vertex pairs), so
+// that two boundaries form one terminal.
 void mark_joining_path(const mesh::HalfedgeMesh& hm, const std::vector<int>& face_piece, int piece,
-                       const std::vector<int>& vertex_loop, int from, int to, std::vector<char>& mark) {
-  auto touches = [&](int f, int loop) {
-    for (int v : hm.face_vertices(f))
-      if (vertex_loop[v] == loop) return true;
-    return false;
-  };
+                       const std::function<bool(int)>& is_seed, const std::function<bool(int)>& is_target,
+                       const std::set<std::pair<int, int>>& blocked, std::vector<char>& mark) {
   auto centroid = [&](int f) {
     Eigen::RowVector3d c = Eigen::RowVector3d::Zero();
     for (int v : hm.face_vertices(f)) c += hm.positions().row(v);
@@ -61,7 +59,7 @@ void mark_joining_path(const mesh::HalfedgeMesh& hm, const std::vector<int>& fac
   using Item = std::pair<double, int>;
   std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
   for (int f = 0; f < hm.num_faces(); ++f)
-    if (face_piece[f] == piece && touches(f, from)) {
+    if (face_piece[f] == piece && is_seed(f)) {
       dist[f] = 0.0;
       queue.push({0.0, f});
     }
@@ -69,12 +67,14 @@ void mark_joining_path(const mesh::HalfedgeMesh& hm, const std::vector<int>& fac
     const auto [df, f] = queue.top();
     queue.pop();
     if (df > dist[f]) continue;
-    if (touches(f, to)) {
+    if (is_target(f)) {
       for (int g = f; g >= 0; g = pred[g]) mark[g] = 1;
       return;
     }
-    for (int g : hm.face_faces(f)) {
-      if (g < 0 || face_piece[g] != piece) continue;
+    for (int h : hm.face_halfedges(f)) {
+      const int g = hm.halfedge_face(hm.halfedge_twin(h));
+      const int u = hm.halfedge_source(h), v = hm.halfedge_vertex(h);
+      if (g < 0 || face_piece[g] != piece || blocked.count({std::min(u, v), std::max(u, v)})) continue;
       const double dg = df + (centroid(f) - centroid(g)).norm();
       if (dg < dist[g]) {
         dist[g] = dg;
@@ -109,13 +109,43 @@ std::vector<int> shortest_loop(const mesh::HalfedgeMesh& hm, const SolidDecompos
   // Two other loops on one side are joined by a path of that side's faces: the terminals are
   // then connected, the minimum cut is one loop, and it stays disjoint from the path as the cut
   // is, so it is isotopic to the cut (not a loop around each boundary apart).
+  // A loop with both sides on one side (a handle through that piece) is two boundaries: the
+  // union is cut open along it and its two sides are joined the same way; otherwise the pair of
+  // parallel copies of it around its band would be a shorter separator.
   std::vector<char> joined(hm.num_faces(), 0);
+  std::set<std::pair<int, int>> open_edges;  // undirected edges of such loops
   if (!self)
     for (int p : {a, b}) {
       std::vector<int> others;
       for (const LoopSide& s : d.pieces[p].boundary)
         if (s.loop != l && std::find(others.begin(), others.end(), s.loop) == others.end()) others.push_back(s.loop);
-      if (others.size() == 2) mark_joining_path(hm, face_piece, p, vertex_loop, others[0], others[1], joined);
+      auto touches = [&](int f, int m) {
+        for (int v : hm.face_vertices(f))
+          if (vertex_loop[v] == m) return true;
+        return false;
+      };
+      if (others.size() == 2) {
+        mark_joining_path(hm, face_piece, p, [&](int f) { return touches(f, others[0]); },
+                          [&](int f) { return touches(f, others[1]); }, {}, joined);
+      } else if (others.size() == 1 && d.loops[others[0]].piece[0] == d.loops[others[0]].piece[1]) {
+        const std::vector<int>& mv = d.loops[others[0]].vertices;
+        std::set<std::pair<int, int>> directed, blocked;
+        for (std::size_t i = 0; i < mv.size(); ++i) {
+          const int x = mv[i], y = mv[(i + 1) % mv.size()];
+          directed.insert({x, y});
+          blocked.insert({std::min(x, y), std::max(x, y)});
+        }
+        auto on_side = [&](int f, bool left) {
+          for (int h : hm.face_halfedges(f)) {
+            const int u = hm.halfedge_source(h), v = hm.halfedge_vertex(h);
+            if (left ? directed.count({u, v}) : directed.count({v, u})) return true;
+          }
+          return false;
+        };
+        mark_joining_path(hm, face_piece, p, [&](int f) { return on_side(f, true); },
+                          [&](int f) { return on_side(f, false); }, blocked, joined);
+        open_edges.insert(blocked.begin(), blocked.end());
+      }
     }
   // The region: both pieces, or their band within `radius` of the loop (then its rim on each side
   // is a terminal too, so that the loop can move but not shrink onto another boundary).
@@ -159,6 +189,7 @@ std::vector<int> shortest_loop(const mesh::HalfedgeMesh& hm, const SolidDecompos
       if (!self && joined[f]) (face_piece[f] == a ? to_source : to_sink) = true;
       if (node[g] < 0 || g < f) continue;
       if (self && (seam.count({u, v}) || seam.count({v, u}))) continue;  // cut open along the loop
+      if (open_edges.count({std::min(u, v), std::max(u, v)})) continue;
       const double c = on_other_loop(u) || on_other_loop(v)
                            ? kInfinity
                            : std::max(quantum, quantum * std::round((hm.positions().row(u) - hm.positions().row(v)).norm() / quantum));
