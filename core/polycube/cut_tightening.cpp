@@ -327,6 +327,11 @@ CutTightening tighten_cut_loops(SolidDecomposition& d) {
   for (std::size_t l = 0; l < d.loops.size(); ++l) {
     CutLoop& loop = d.loops[l];
     const DiscEmbedding before = check_loop_disc(d.mesh, loop.vertices);
+    // The cut of a tube closed on itself is the only cut of its one cuboid, whose cross-section it
+    // sets (the 4 poly-edges across are its quarters): moved to the tube's thinnest place it would
+    // squeeze the whole tube, so it stays unless its disc crosses the surface.
+    if (loop.piece[0] == loop.piece[1] && d.pieces[loop.piece[0]].boundary.size() == 2 && before.num_intersections == 0)
+      continue;
     // The whole two pieces first; where their shortest separator is several loops (around two
     // boundaries apart), bands of shrinking width around the cut. A tube closed on itself is cut
     // open along its loop: any essential loop of the annulus is a meridian.

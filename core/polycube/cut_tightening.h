@@ -22,6 +22,8 @@ struct CutTightening {
 /// leaves both pieces with their boundary loops, so the decomposition's topology is kept. A new
 /// loop is taken only when it is one simple loop, the pieces stay planar, and its interface disc
 /// is no worse under the meridian certificate (check_loop_disc: inside, no more crossings).
+/// The cut of a tube closed on itself (its one cuboid's only cut, which sets its cross-section)
+/// stays unless its disc crosses the surface.
 /// Cuts are visited in order and each sees the ones moved before it (deterministic).
 /// A moved loop is no longer a level set: CutLoop::level keeps the level it was cut at.
 CutTightening tighten_cut_loops(SolidDecomposition& decomposition);
