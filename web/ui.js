@@ -168,7 +168,7 @@ const LABELS = {
   frame_smoothness_initial: 'frame smoothness before (Eq. 5.6)', frame_smoothness_final: 'frame smoothness after (Eq. 5.6)',
   t_shapes: 'T-shapes', ill_points: 'ill-points (Type 1)', interface_gap_rel: 'glued-face gap (÷ bbox diagonal)',
   grid_nodes: 'grid nodes', surface_vertices: 'surface vertices (refined along the cuts)',
-  cut_disc_intersections: 'cut-disc crossings (meridian check, 0)', limb_caps: 'limb caps',
+  cut_disc_intersections: 'cut-disc crossings (meridian check, 0)', tightened_cuts: 'cuts moved to the shortest loop', limb_caps: 'limb caps',
   limb_fallback: 'limb construction dropped because', time_validate_s: 'validate (s)',
   time_decompose_s: 'decompose (s)', time_t_to_cube_s: 'T-to-cube (s)', time_volumetric_map_s: 'volumetric map (s)',
 };

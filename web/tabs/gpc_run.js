@@ -18,7 +18,7 @@ export const gpcRun = {
       ['interfaces', s.interfaces], ['ill_points', s.ill_points], ['flipped_triangles', s.flipped_triangles],
       ['grid_inverted_hexes', s.grid_inverted_hexes], ['grid_min_scaled_jacobian', fmt(s.grid_min_scaled_jacobian, 3)],
       ['interface_gap_rel', fmt(s.interface_gap_rel, 3)], ['grid_nodes', s.grid_nodes], ['surface_vertices', s.surface_vertices],
-      ['cut_disc_intersections', s.cut_disc_intersections],
+      ['cut_disc_intersections', s.cut_disc_intersections], ['tightened_cuts', s.tightened_cuts],
       ...('limb_caps' in s ? [['limb_caps', s.limb_caps]] : []), ...(s.limb_fallback ? [['limb_fallback', s.limb_fallback]] : []),
       ...['validate', 'decompose', 't_to_cube', 'volumetric_map'].filter((k) => k in t).map((k) => [`time_${k}_s`, fmt(t[k], 3)]),
       ['time_s', fmt(t.total, 3)], ['worker_ms', fmt(r.ms_worker, 4)],
