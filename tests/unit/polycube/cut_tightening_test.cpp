@@ -32,6 +32,27 @@ double total_cut_length(const polycube::SolidDecomposition& d) {
   return s;
 }
 
+// The shortest cuts keep the level-set decomposition's pieces, are no longer, bound discs inside
+// the solid, and leave every face in one piece of a closed surface of the same genus.
+void check_same_topology(const polycube::SolidDecomposition& a, const polycube::SolidDecomposition& b, int genus) {
+  REQUIRE(a.pieces.size() == b.pieces.size());
+  REQUIRE(a.loops.size() == b.loops.size());
+  for (std::size_t p = 0; p < a.pieces.size(); ++p) CHECK(a.pieces[p].kind == b.pieces[p].kind);
+  CHECK(total_cut_length(b) <= total_cut_length(a) + 1e-12);
+  for (const polycube::CutLoop& l : b.loops) {
+    const polycube::DiscEmbedding e = polycube::check_loop_disc(b.mesh, l.vertices);
+    CHECK(e.num_outside == 0);
+    CHECK(e.num_intersections == 0);
+  }
+  std::vector<int> count(b.mesh.num_faces(), 0);
+  for (const polycube::SolidPiece& p : b.pieces)
+    for (int f : p.faces) ++count[f];
+  CHECK(std::count(count.begin(), count.end(), 1) == b.mesh.num_faces());
+  const mesh::MeshReport r = mesh::analyze_mesh(mesh::HalfedgeMesh::build(b.mesh, "tightened"));
+  CHECK(r.closed);
+  CHECK(r.genus == genus);
+}
+
 }  // namespace
 
 TEST_CASE("cut tightening: a wavy cut between two tubes of a torus becomes a straight meridian") {
@@ -126,23 +147,7 @@ TEST_CASE("cut tightening: a two-hole solid keeps its pieces and loops, with sho
   level_set.cuts = polycube::CutPlacement::LevelSet;
   const polycube::SolidDecomposition a = polycube::decompose_solid(hm, 2, level_set);
   const polycube::SolidDecomposition b = polycube::decompose_solid(hm, 2);
-  REQUIRE(a.pieces.size() == b.pieces.size());
-  REQUIRE(a.loops.size() == b.loops.size());
-  for (std::size_t p = 0; p < a.pieces.size(); ++p) CHECK(a.pieces[p].kind == b.pieces[p].kind);
-  CHECK(total_cut_length(b) <= total_cut_length(a) + 1e-12);
-  for (const polycube::CutLoop& l : b.loops) {
-    const polycube::DiscEmbedding e = polycube::check_loop_disc(b.mesh, l.vertices);
-    CHECK(e.num_outside == 0);
-    CHECK(e.num_intersections == 0);
-  }
-  // Every face in one piece, and the surface is still the closed genus-2 surface.
-  std::vector<int> count(b.mesh.num_faces(), 0);
-  for (const polycube::SolidPiece& p : b.pieces)
-    for (int f : p.faces) ++count[f];
-  CHECK(std::count(count.begin(), count.end(), 1) == b.mesh.num_faces());
-  const mesh::MeshReport r = mesh::analyze_mesh(mesh::HalfedgeMesh::build(b.mesh, "tightened"));
-  CHECK(r.closed);
-  CHECK(r.genus == 2);
+  check_same_topology(a, b, 2);
 }
 
 TEST_CASE("cut tightening: a sheared three-hole slab keeps its topology with shorter, embedded cuts") {
@@ -157,16 +162,7 @@ TEST_CASE("cut tightening: a sheared three-hole slab keeps its topology with sho
   // The shear tilts the bars against the Morse function's level sets: some cuts straighten.
   CHECK(b.num_tightened_cuts >= 1);
   CHECK(total_cut_length(b) < 0.99 * total_cut_length(a));
-  REQUIRE(a.pieces.size() == b.pieces.size());
-  for (std::size_t p = 0; p < a.pieces.size(); ++p) CHECK(a.pieces[p].kind == b.pieces[p].kind);
-  CHECK(total_cut_length(b) <= total_cut_length(a) + 1e-12);
-  for (const polycube::CutLoop& l : b.loops) {
-    const polycube::DiscEmbedding e = polycube::check_loop_disc(b.mesh, l.vertices);
-    CHECK(e.num_outside == 0);
-  }
-  const mesh::MeshReport r = mesh::analyze_mesh(mesh::HalfedgeMesh::build(b.mesh, "tightened"));
-  CHECK(r.closed);
-  CHECK(r.genus == 3);
+  check_same_topology(a, b, 3);
   // The whole construction runs on the moved cuts: every disc embedded, bijective surface maps.
   pipeline::GpcOptions o;
   o.grid.target_nodes = 2000;
