@@ -7,6 +7,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <optional>
 #include <queue>
 #include <set>
 
@@ -326,12 +327,15 @@ CutTightening tighten_cut_loops(SolidDecomposition& d) {
   std::vector<char> changed(d.pieces.size(), 0);
   for (std::size_t l = 0; l < d.loops.size(); ++l) {
     CutLoop& loop = d.loops[l];
-    const DiscEmbedding before = check_loop_disc(d.mesh, loop.vertices);
+    // The certificate of the cut as it is, computed once and only where needed (it scans the surface).
+    std::optional<DiscEmbedding> before;
     // The cut of a tube closed on itself is the only cut of its one cuboid, whose cross-section it
     // sets (the 4 poly-edges across are its quarters): moved to the tube's thinnest place it would
     // squeeze the whole tube, so it stays unless its disc crosses the surface.
-    if (loop.piece[0] == loop.piece[1] && d.pieces[loop.piece[0]].boundary.size() == 2 && before.num_intersections == 0)
-      continue;
+    if (loop.piece[0] == loop.piece[1] && d.pieces[loop.piece[0]].boundary.size() == 2) {
+      before = check_loop_disc(d.mesh, loop.vertices);
+      if (before->num_intersections == 0) continue;
+    }
     // The whole two pieces first; where their shortest separator is several loops (around two
     // boundaries apart), bands of shrinking width around the cut. A tube closed on itself is cut
     // open along its loop: any essential loop of the annulus is a meridian.
@@ -359,7 +363,8 @@ CutTightening tighten_cut_loops(SolidDecomposition& d) {
         continue;
     }
     const DiscEmbedding after = check_loop_disc(d.mesh, tight);
-    if (after.num_outside > 0 || after.num_intersections > before.num_intersections) continue;
+    if (!before) before = check_loop_disc(d.mesh, loop.vertices);
+    if (after.num_outside > 0 || after.num_intersections > before->num_intersections) continue;
     face_piece = std::move(candidate);
     for (int v : loop.vertices) vertex_loop[v] = -1;
     for (int v : tight) vertex_loop[v] = static_cast<int>(l);
