@@ -2,8 +2,8 @@
 // View of the lens result. The lens is rendered with WebGL2 (the flattened mesh at output pixel
 // positions, textured with the input image) into an off-screen canvas covering only the box of the
 // triangles that move content, then copied into the visible 2D canvas (`canvas`, image resolution)
-// over the undeformed image; outside the box the deformation is the identity. The ROI circle is a
-// small 2D canvas (`ring`) moved with a CSS transform.
+// over the undeformed image; outside the box the deformation is the identity. Each lens (a circle
+// or a rectangle) is outlined on its own small 2D canvas (a ring) moved with a CSS transform.
 // Why: without a GPU (SwiftShader, headless Chromium) a frame costs the pixels WebGL renders and
 // reads back plus the screen area the compositor redraws. Here both are the lens box: a 2D canvas
 // reports only the rectangles drawn into it as damaged, a WebGL canvas always the whole canvas. The
@@ -12,8 +12,8 @@
 // reads the solved mesh's displacement field (rendered once per solve) instead of its triangles.
 // (The same frame computed in JavaScript measured no faster under SwiftShader, and its cost grows
 // with the box on the main thread, where a GPU's is nil.)
-// Pointer input on `overlay` (an empty element over both) moves the ROI (drag inside) or resizes it
-// (drag its rim); every change calls onChange(roi, live) so the page can re-run the job.
+// Pointer input on `overlay` (an empty element over both) selects a lens and moves it (drag inside)
+// or resizes it (drag its rim); every change calls onChange(live) so the page can re-run the job.
 import { VERTEX, FRAGMENT, DISPLACEMENT_FRAGMENT, DISPLACEMENT_VERTEX, SHIFT_VERTEX, SHIFT_FRAGMENT } from './shaders/lens_shaders.js';
 import { createProgram } from './gl_util.js';
 
@@ -28,10 +28,12 @@ const MARGIN = 3;
 const SIZE_STEP = 64;
 
 export class LensView {
-  /// `canvas` the visible 2D canvas, `ring` a 2D canvas for the ROI circle, `overlay` the element
-  /// receiving pointer input; all children of one positioned element (see the file comment).
+  /// `canvas` the visible 2D canvas, `ring` a 2D canvas for the first lens's outline (copied for the
+  /// others), `overlay` the element receiving pointer input; all children of one positioned element
+  /// (see the file comment).
   constructor({ canvas, ring, overlay }, onChange) {
-    Object.assign(this, { canvas, ring, overlay, onChange });
+    Object.assign(this, { canvas, overlay, onChange });
+    this.rings = [ring];
     this.stack = overlay.parentElement;
     this.context = canvas.getContext('2d', { alpha: false });  // opaque: the compositor need not blend it
     this.pristine = document.createElement('canvas');  // the undeformed image
@@ -103,9 +105,12 @@ export class LensView {
     this.texture = gl.createTexture();
     this.count = 0;
     this.image = null;
-    this.roi = null;
+    // The lenses, input pixels: {shape: 'circle', cx, cy, r} or {shape: 'rect', cx, cy, w, h}.
+    this.rois = [];
+    this.active = 0;       // the lens that keys and the page's controls act on
+    this.original = false; // show the undeformed image (the before/after toggle)
+    this.onSelect = null;  // called when a pointer press selects another lens
     this.rect = null;      // image rectangle [x, y, width, height] of the lens box on screen
-    this.ringDrawn = null; // {r, scale, dpr} the ring canvas was drawn for
     this.scale = 1;        // CSS pixels per image pixel
     ring.style.visibility = 'hidden';
     // The layers' CSS placement depends on the displayed size: follow it.
@@ -151,7 +156,7 @@ export class LensView {
     gl.bindBuffer(gl.ARRAY_BUFFER, this.backgroundBuffer);
     gl.bufferData(gl.ARRAY_BUFFER, new Float32Array([0, 0, w, 0, w, h, 0, 0, w, h, 0, h]), gl.STATIC_DRAW);
     this.rect = null;
-    this.ringDrawn = null;
+    for (const ring of this.rings) ring.drawn = null;
     this.mesh = null;
     this.field = null;
     this.layout();
@@ -270,8 +275,21 @@ export class LensView {
     return [x, y, w, h];
   }
 
-  /// Sets the ROI circle {cx, cy, r} (input pixels) without calling onChange.
-  setRoi(roi) { this.roi = { ...roi }; this.placeRing(); }
+  /// The selected lens.
+  get roi() { return this.rois[this.active]; }
+
+  /// Sets the lenses (see the constructor) and the selected one without calling onChange.
+  setRois(rois, active = 0) {
+    this.rois = rois.map((r) => ({ ...r }));
+    this.active = Math.max(0, Math.min(active, rois.length - 1));
+    this.placeRing();
+  }
+
+  /// Before/after: `on` shows the undeformed image (the lens outlines stay), off the lens again.
+  setOriginal(on) {
+    this.original = on;
+    this.draw();
+  }
 
   /// Moves the ring at the next animation frame.
   requestOverlay() { this.ringDirty = true; this.requestDraw(); }
@@ -279,6 +297,11 @@ export class LensView {
   draw() {
     if (!this.image) return;
     const ctx = this.context;
+    if (this.original) {
+      ctx.drawImage(this.pristine, 0, 0);
+      this.rect = null;
+      return;
+    }
     // The previous box goes back to the undeformed image; the new box is drawn over it in the same
     // task, so the page never shows the gap.
     if (this.rect) {
@@ -396,41 +419,88 @@ export class LensView {
     this.placeRing();
   }
 
-  /// The ROI circle: drawn in device pixels into a canvas just large enough, redrawn only when the
-  /// radius or the scale changes; a move is a CSS transform.
+  /// The lens outlines: each drawn in device pixels into a canvas just large enough, redrawn only
+  /// when its shape, size, selection or the scale changes; a move is a CSS transform.
   placeRing() {
-    const ring = this.ring;
-    if (!this.roi || !this.image) { ring.style.visibility = 'hidden'; return; }
     const s = this.scale, dpr = window.devicePixelRatio || 1;
-    const pad = 8;  // CSS pixels around the circle: the line and the handle dot
-    const half = this.roi.r * s + pad;  // CSS pixels from the centre to the canvas edge
-    const d = this.ringDrawn;
-    if (!d || d.r !== this.roi.r || d.scale !== s || d.dpr !== dpr) {
-      const side = Math.ceil(2 * half * dpr);
-      ring.width = ring.height = side;
-      ring.style.width = ring.style.height = `${side / dpr}px`;
-      const ctx = ring.getContext('2d');
-      ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
-      ctx.clearRect(0, 0, side, side);
-      const c = side / dpr / 2, r = this.roi.r * s;
-      ctx.lineWidth = 2;
-      ctx.setLineDash([6, 4]);
-      ctx.strokeStyle = 'rgba(255, 200, 0, 0.9)';
-      ctx.beginPath();
-      ctx.arc(c, c, r, 0, 2 * Math.PI);
-      ctx.stroke();
-      ctx.setLineDash([]);
-      ctx.fillStyle = 'rgba(255, 200, 0, 0.9)';
-      ctx.beginPath();
-      ctx.arc(c + r, c, 5, 0, 2 * Math.PI);
-      ctx.fill();
-      this.ringDrawn = { r: this.roi.r, scale: s, dpr };
+    while (this.rings.length < this.rois.length) {
+      const ring = this.rings[0].cloneNode(false);
+      ring.removeAttribute('id');
+      ring.drawn = null;
+      this.rings[this.rings.length - 1].after(ring);
+      this.rings.push(ring);
     }
-    // At whole device pixels: a fractional offset would make the compositor resample the line.
-    const c = parseFloat(ring.style.width) / 2;
-    const snap = (v) => Math.round(v * dpr) / dpr;
-    ring.style.transform = `translate(${snap(this.roi.cx * s - c)}px, ${snap(this.roi.cy * s - c)}px)`;
-    ring.style.visibility = 'visible';
+    this.rings.forEach((ring, i) => {
+      const roi = this.rois[i];
+      if (!roi || !this.image) { ring.style.visibility = 'hidden'; return; }
+      const pad = 8;  // CSS pixels around the outline: the line and the handle dot
+      const [hw, hh] = roi.shape === 'rect' ? [roi.w / 2, roi.h / 2] : [roi.r, roi.r];
+      const key = `${roi.shape} ${hw} ${hh} ${s} ${dpr} ${i === this.active}`;
+      if (ring.drawn !== key) {
+        const width = Math.ceil(2 * (hw * s + pad) * dpr), height = Math.ceil(2 * (hh * s + pad) * dpr);
+        ring.width = width;
+        ring.height = height;
+        ring.style.width = `${width / dpr}px`;
+        ring.style.height = `${height / dpr}px`;
+        const ctx = ring.getContext('2d');
+        ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
+        ctx.clearRect(0, 0, width, height);
+        const cx = width / dpr / 2, cy = height / dpr / 2, a = hw * s, b = hh * s;
+        // The selected lens in yellow, the others in white.
+        const colour = i === this.active ? 'rgba(255, 200, 0, 0.9)' : 'rgba(255, 255, 255, 0.75)';
+        ctx.lineWidth = 2;
+        ctx.setLineDash([6, 4]);
+        ctx.strokeStyle = colour;
+        ctx.beginPath();
+        if (roi.shape === 'rect') ctx.rect(cx - a, cy - b, 2 * a, 2 * b);
+        else ctx.arc(cx, cy, a, 0, 2 * Math.PI);
+        ctx.stroke();
+        ctx.setLineDash([]);
+        ctx.fillStyle = colour;
+        ctx.beginPath();
+        ctx.arc(cx + a, cy, 5, 0, 2 * Math.PI);
+        ctx.fill();
+        ring.drawn = key;
+      }
+      // At whole device pixels: a fractional offset would make the compositor resample the line.
+      const ox = parseFloat(ring.style.width) / 2, oy = parseFloat(ring.style.height) / 2;
+      const snap = (v) => Math.round(v * dpr) / dpr;
+      ring.style.transform = `translate(${snap(roi.cx * s - ox)}px, ${snap(roi.cy * s - oy)}px)`;
+      ring.style.visibility = 'visible';
+    });
+  }
+
+  /// What a press at image point (x, y) grabs on lens `roi`, `grab` pixels from its rim:
+  /// {mode: 'resize', x, y (the dimensions it changes)}, {mode: 'move'} or null.
+  static grabbed(roi, x, y, grab) {
+    if (roi.shape === 'rect') {
+      const dx = Math.abs(x - roi.cx), dy = Math.abs(y - roi.cy), hw = roi.w / 2, hh = roi.h / 2;
+      const nearX = Math.abs(dx - hw) <= grab && dy <= hh + grab, nearY = Math.abs(dy - hh) <= grab && dx <= hw + grab;
+      if (nearX || nearY) return { mode: 'resize', x: nearX, y: nearY };
+      return dx < hw && dy < hh ? { mode: 'move' } : null;
+    }
+    const d = Math.hypot(x - roi.cx, y - roi.cy);
+    if (Math.abs(d - roi.r) <= grab) return { mode: 'resize', x: true, y: true };
+    return d < roi.r ? { mode: 'move' } : null;
+  }
+
+  /// The lens under image point (x, y): the selected one first, then the newest. {index, ...grabbed}.
+  pick(x, y, grab) {
+    const order = [this.active, ...this.rois.map((_, i) => this.rois.length - 1 - i).filter((i) => i !== this.active)];
+    for (const index of order) {
+      const g = this.rois[index] && LensView.grabbed(this.rois[index], x, y, grab);
+      if (g) return { index, ...g };
+    }
+    return null;
+  }
+
+  /// Scales the selected lens by `factor` (at least 4 pixels, at most half the image's shorter side
+  /// for a circle's radius, the image's side for a rectangle's).
+  static resized(roi, width, height, factor) {
+    if (roi.shape === 'rect') {
+      return { ...roi, w: Math.max(8, Math.min(width, roi.w * factor)), h: Math.max(8, Math.min(height, roi.h * factor)) };
+    }
+    return { ...roi, r: Math.max(4, Math.min(0.5 * Math.min(width, height), roi.r * factor)) };
   }
 
   /// Input pixel coordinates of a pointer event; `rect` is the overlay's client rectangle.
@@ -441,65 +511,74 @@ export class LensView {
   installControls() {
     const o = this.overlay;
     let drag = null;
+    const grabAt = (rect) => 10 * this.image.width / rect.width;
     o.addEventListener('pointerdown', (e) => {
-      if (!this.image || !this.roi) return;
+      if (!this.image || !this.rois.length) return;
       // Read once per drag: reading the layout at every move would force a style update per event.
       const rect = o.getBoundingClientRect();
       const [x, y] = this.toImage(e, rect);
-      const d = Math.hypot(x - this.roi.cx, y - this.roi.cy);
-      const grab = 10 * this.image.width / rect.width;
-      if (Math.abs(d - this.roi.r) <= grab) drag = { mode: 'resize', rect };
-      else if (d < this.roi.r) drag = { mode: 'move', rect, dx: this.roi.cx - x, dy: this.roi.cy - y };
-      else return;
+      const hit = this.pick(x, y, grabAt(rect));
+      if (!hit) return;
+      if (hit.index !== this.active) {
+        this.active = hit.index;
+        this.placeRing();
+        this.onSelect?.(hit.index);
+      }
+      const roi = this.roi;
+      drag = { ...hit, rect, dx: roi.cx - x, dy: roi.cy - y };
       o.setPointerCapture(e.pointerId);
       e.preventDefault();
     });
     o.addEventListener('pointermove', (e) => {
-      if (!this.image || !this.roi) return;
+      if (!this.image || !this.rois.length) return;
       if (!drag) {
         const rect = o.getBoundingClientRect();
         const [x, y] = this.toImage(e, rect);
-        const d = Math.hypot(x - this.roi.cx, y - this.roi.cy);
-        const grab = 10 * this.image.width / rect.width;
-        const cursor = Math.abs(d - this.roi.r) <= grab ? 'ew-resize' : d < this.roi.r ? 'move' : 'default';
+        const hit = this.pick(x, y, grabAt(rect));
+        const cursor = !hit ? 'default' : hit.mode === 'move' ? 'move'
+          : hit.x && hit.y && this.rois[hit.index].shape === 'rect' ? 'nwse-resize' : hit.x ? 'ew-resize' : hit.y ? 'ns-resize' : 'ew-resize';
         if (o.style.cursor !== cursor) o.style.cursor = cursor;
         return;
       }
       const [x, y] = this.toImage(e, drag.rect);
       const { width, height } = this.image;
+      const roi = this.roi;
       if (drag.mode === 'move') {
-        this.roi.cx = Math.min(width - 1, Math.max(1, x + drag.dx));
-        this.roi.cy = Math.min(height - 1, Math.max(1, y + drag.dy));
+        roi.cx = Math.min(width - 1, Math.max(1, x + drag.dx));
+        roi.cy = Math.min(height - 1, Math.max(1, y + drag.dy));
+      } else if (roi.shape === 'rect') {
+        if (drag.x) roi.w = Math.max(8, Math.min(width, 2 * Math.abs(x - roi.cx)));
+        if (drag.y) roi.h = Math.max(8, Math.min(height, 2 * Math.abs(y - roi.cy)));
       } else {
-        this.roi.r = Math.max(4, Math.min(0.5 * Math.min(width, height), Math.hypot(x - this.roi.cx, y - this.roi.cy)));
+        roi.r = Math.max(4, Math.min(0.5 * Math.min(width, height), Math.hypot(x - roi.cx, y - roi.cy)));
       }
       this.requestOverlay();
-      this.onChange({ ...this.roi }, true);
+      this.onChange(true);
     });
     const end = () => {
-      if (drag) { drag = null; this.onChange({ ...this.roi }, false); }
+      if (drag) { drag = null; this.onChange(false); }
     };
     o.addEventListener('pointerup', end);
     o.addEventListener('pointercancel', end);
-    // Keyboard: arrows move the lens by 2 % of the image (shift: 10 %), + and − resize it; the
-    // job runs once per key press, like a released drag.
+    // Keyboard: arrows move the selected lens by 2 % of the image (shift: 10 %), + and − resize it;
+    // the job runs once per key press, like a released drag.
     o.addEventListener('keydown', (e) => {
-      if (!this.image || !this.roi) return;
+      if (!this.image || !this.rois.length) return;
       const { width, height } = this.image;
       const step = (e.shiftKey ? 0.1 : 0.02) * Math.max(width, height);
       const moves = { ArrowLeft: [-step, 0], ArrowRight: [step, 0], ArrowUp: [0, -step], ArrowDown: [0, step] };
+      const roi = this.roi;
       if (moves[e.key]) {
-        this.roi.cx = Math.min(width - 1, Math.max(1, this.roi.cx + moves[e.key][0]));
-        this.roi.cy = Math.min(height - 1, Math.max(1, this.roi.cy + moves[e.key][1]));
+        roi.cx = Math.min(width - 1, Math.max(1, roi.cx + moves[e.key][0]));
+        roi.cy = Math.min(height - 1, Math.max(1, roi.cy + moves[e.key][1]));
       } else if (e.key === '+' || e.key === '=' || e.key === '-' || e.key === '−') {
-        const grow = e.key === '+' || e.key === '=' ? 1.1 : 1 / 1.1;
-        this.roi.r = Math.max(4, Math.min(0.5 * Math.min(width, height), this.roi.r * grow));
+        Object.assign(roi, LensView.resized(roi, width, height, e.key === '+' || e.key === '=' ? 1.1 : 1 / 1.1));
       } else {
         return;
       }
       e.preventDefault();
       this.requestOverlay();
-      this.onChange({ ...this.roi }, false);
+      this.onChange(false);
     });
   }
 }

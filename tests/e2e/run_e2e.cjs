@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Browser end-to-end tests: serves a built site on a free 127.0.0.1 port and drives Debian's
 // Chromium headless with playwright-core. Builds nothing itself.
-// usage: node tests/e2e/run_e2e.cjs SITE_DIR [--shared-data DIR] [--artifacts DIR] [--chromium PATH]
+// usage: node tests/e2e/run_e2e.cjs SITE_DIR [--shared-data DIR] [--artifacts DIR] [--chromium PATH] [--only PARTS]
 //   SITE_DIR     the assembled site (build/wasm/site)
 //   --shared-data  folder with images/ used when the site bundles no sample image (default ../shared/data)
 //   --artifacts  where screenshots go (default tests/artifacts)
@@ -19,6 +19,9 @@ const siteDir = args.find((a, i) => !a.startsWith('--') && (i === 0 || !args[i -
 const sharedData = path.resolve(option('--shared-data', path.join(repo, '../shared/data')));
 const artifacts = path.resolve(option('--artifacts', path.join(repo, 'tests/artifacts')));
 const chromiumPath = option('--chromium', '/usr/bin/chromium');
+// --only mesh,lens,a11y runs those parts alone (the mesh part includes the volume tab).
+const only = option('--only', '');
+const want = (part) => !only || only.split(',').includes(part);
 if (!siteDir || !fs.existsSync(path.join(siteDir, 'index.html'))) {
   console.error('usage: node tests/e2e/run_e2e.cjs SITE_DIR [--shared-data DIR] [--artifacts DIR]');
   console.log('0 passed, 1 failed');
@@ -650,6 +653,98 @@ async function volumeSlices(page) {
   for (const k of ['nx', 'ny', 'nz']) await page.fill('#volume-' + k, '');
 }
 
+// Lens tab with several lenses (#24 item 15): a second circle and a rectangle are added, each
+// magnifies with no flipped triangle; keys and drags act on the selected lens (a rectangle's side
+// changes its width); the before/after toggle shows the undeformed image; α and grid explain
+// themselves in tooltips; removing a lens re-runs with the others.
+async function lensRegions(page) {
+  const lensCount = (n) => page.waitForFunction((k) => window.volspline.lensTab.result?.rois.length === k && !window.volspline.lensTab.running && !window.volspline.jobs.busy, n, { timeout: 60000 }).catch(() => {});
+  const result = () => page.evaluate(() => JSON.parse(JSON.stringify(window.volspline.lensTab.result)));
+  // Pixels of the shown image that differ from the undeformed one, inside box [x0, y0, x1, y1].
+  const changed = (box) => page.evaluate((b) => {
+    const v = window.volspline.lensTab.view;
+    const [x0, y0, x1, y1] = b.map(Math.round);
+    const a = v.canvas.getContext('2d').getImageData(x0, y0, x1 - x0, y1 - y0).data;
+    const p = v.pristine.getContext('2d').getImageData(x0, y0, x1 - x0, y1 - y0).data;
+    let n = 0;
+    for (let i = 0; i < a.length; i += 4) if (Math.abs(a[i] - p[i]) + Math.abs(a[i + 1] - p[i + 1]) + Math.abs(a[i + 2] - p[i + 2]) > 6) n++;
+    return n / (a.length / 4);
+  }, box);
+  const img = await page.evaluate(() => ({ ...window.volspline.lensTab.view.image }));
+  const whole = [0, 0, img.width, img.height];
+
+  await page.click('#lens-add-circle');
+  await lensCount(2);
+  let r = await result();
+  check(r.rois.length === 2 && r.stats.magnification_per_roi.length === 2 && r.stats.magnification_per_roi.every((m) => m > 1.3) && r.stats.flipped_triangles === 0,
+        `a second lens: both magnify (${r.stats.magnification_per_roi.map((m) => m.toFixed(2))}), flipped ${r.stats.flipped_triangles}`);
+  await page.click('#lens-add-rect');
+  await lensCount(3);
+  r = await result();
+  const rect = r.rois[2];
+  const per = r.stats.magnification_per_roi;
+  check(rect.shape === 'rect' && per.length === 3 && per.every((m) => m > 1.3) && r.stats.flipped_triangles === 0,
+        `a rectangular lens: ${JSON.stringify(rect.values.map(Math.round))}, magnification per lens ${per.map((m) => m.toFixed(2))}, flipped ${r.stats.flipped_triangles}`);
+  const [rx, ry, rw, rh] = rect.values;
+  const inRect = await changed([rx, ry, rx + rw, ry + rh]);
+  check(inRect > 0.2, `the rectangle's content is magnified on screen (${(100 * inRect).toFixed(0)} % of its pixels changed)`);
+  const menu = await page.$$eval('#lens-active option', (os) => os.map((o) => o.textContent));
+  check(menu.length === 3 && /rectangle/.test(menu[2]) && (await page.inputValue('#lens-active')) === '2', `the lens menu lists the three lenses, the new one selected (${menu.join(', ')})`);
+  await page.screenshot({ path: path.join(artifacts, 'lens-regions.png') });
+
+  // Keys move the selected lens (the rectangle); its right side dragged widens it.
+  const unmoved = r.rois[0].values.join();
+  await page.focus('#lens-overlay');
+  await page.keyboard.press('ArrowLeft');
+  await page.waitForFunction((x) => window.volspline.lensTab.result.rois[2].values[0] < x - 1 && !window.volspline.lensTab.running, rx, { timeout: 30000 }).catch(() => {});
+  r = await result();
+  check(r.rois[2].values[0] < rx - 1 && r.rois[0].values.join() === unmoved, `ArrowLeft moves the selected rectangle (x ${rx.toFixed(0)} -> ${r.rois[2].values[0].toFixed(0)})`);
+  const sel = await page.evaluate(() => ({ ...window.volspline.lensTab.roi }));
+  const box = await page.locator('#lens-overlay').boundingBox();
+  const sx = (x) => box.x + x / img.width * box.width, sy = (y) => box.y + y / img.height * box.height;
+  await page.mouse.move(sx(sel.cx + sel.w / 2), sy(sel.cy));
+  await page.mouse.down();
+  await page.mouse.move(sx(sel.cx + sel.w / 2 + 0.06 * img.width), sy(sel.cy), { steps: 4 });
+  await page.mouse.up();
+  await idle(page);
+  const widened = await page.evaluate(() => ({ ...window.volspline.lensTab.roi }));
+  check(widened.w > sel.w + 0.05 * img.width && Math.abs(widened.h - sel.h) < 1e-9, `dragging the rectangle's side widens it (w ${sel.w.toFixed(0)} -> ${widened.w.toFixed(0)}, h ${sel.h.toFixed(0)} kept)`);
+  // The menu selects the first lens for the keys.
+  await page.selectOption('#lens-active', '0');
+  const first = await page.evaluate(() => ({ ...window.volspline.lensTab.rois[0] }));
+  await page.focus('#lens-overlay');
+  await page.keyboard.press('+');
+  await page.waitForFunction((rr) => window.volspline.lensTab.result.rois[0].values[2] > rr + 0.5 && !window.volspline.lensTab.running, first.r, { timeout: 30000 }).catch(() => {});
+  r = await result();
+  check(r.rois[0].values[2] > first.r + 0.5, `the menu selects lens 1 and + grows it (r ${first.r.toFixed(1)} -> ${r.rois[0].values[2].toFixed(1)})`);
+
+  // Before/after.
+  await idle(page);
+  const after = await changed(whole);
+  await page.click('#lens-before');
+  await page.waitForTimeout(100);
+  const original = await changed(whole);
+  check(after > 0.02 && original === 0 && (await page.getAttribute('#lens-before', 'aria-pressed')) === 'true',
+        `"show original" shows the undeformed image (${(100 * after).toFixed(1)} % -> ${(100 * original).toFixed(1)} % of pixels changed)`);
+  await page.screenshot({ path: path.join(artifacts, 'lens-before.png') });
+  await page.click('#lens-before');
+  await page.waitForTimeout(100);
+  const again = await changed(whole);
+  check(Math.abs(again - after) < 1e-9, `pressed again, the lenses are back (${(100 * again).toFixed(1)} %)`);
+
+  // Tooltips.
+  const tips = await page.evaluate(() => ['lens-alpha', 'lens-grid'].map((id) => document.getElementById(id).closest('label').title));
+  check(/conformal/.test(tips[0]) && /rigid/.test(tips[0]) && /triangle mesh/.test(tips[1]) && /time/.test(tips[1]), `α and grid have tooltips ("${tips[0].slice(0, 40)}…", "${tips[1].slice(0, 40)}…")`);
+
+  // Remove the selected lens (lens 1): two remain, the job re-ran with them.
+  await page.click('#lens-remove');
+  await lensCount(2);
+  r = await result();
+  check(r.rois.length === 2 && r.rois[1].shape === 'rect' && r.stats.magnification_per_roi.length === 2, `remove leaves the other two lenses (${r.rois.map((x) => x.shape)})`);
+  await page.click('#lens-remove');
+  await lensCount(1);
+  check((await page.evaluate(() => document.getElementById('lens-remove').disabled)), 'the last lens cannot be removed');
+}
 
 // Accessibility and small screens: axe-core (npm) finds no serious or critical violation on any
 // tab, desktop and 390 px wide; at 390 px nothing is wider than the window and the lens image
@@ -738,256 +833,261 @@ async function main() {
     check(await page.evaluate(() => self.crossOriginIsolated), 'the page is cross-origin isolated (cancel through a shared flag)');
     const available = await page.evaluate(() => window.volspline.jobs.ready().then((r) => r.jobs));
 
-    // --- mesh tab: a sample from the menu
-    const meshSamples = await page.$$eval('#mesh-samples option', (os) => os.map((o) => o.value).filter(Boolean));
-    check(meshSamples.some((v) => v.endsWith('torus.off')), 'the samples menu lists the bundled meshes');
-    await page.selectOption('#mesh-samples', meshSamples.find((v) => v.endsWith('torus.off')));
-    const genus = await waitStat(page, 'mesh-stats', 'genus');
-    const vertices = Number(await stat(page, 'mesh-stats', 'vertices'));
-    check(genus === '1' && vertices > 100, `torus.off stats: genus ${genus}, ${vertices} vertices`);
-    check((await stat(page, 'mesh-stats', 'closed')) === 'yes', 'torus.off is closed');
-    const torusLevels = await page.evaluate(() => document.getElementById('mesh-levels').value);
-    check(torusLevels === '', `genus 1: the levels setting shows auto, the CLI's default for genus > 0 (${JSON.stringify(torusLevels)})`);
-    await page.waitForTimeout(200);
-    const meshPixels = await canvasContent(page, '#mesh-canvas');
-    check(meshPixels.differ > 0.05 && meshPixels.colours > 10, `mesh canvas is not blank (${(100 * meshPixels.differ).toFixed(1)} % drawn, ${meshPixels.colours} colours)`);
-    // Orbit: a drag changes the picture.
-    const box = await page.locator('#mesh-canvas').boundingBox();
-    await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
-    await page.mouse.down();
-    await page.mouse.move(box.x + box.width / 2 + 120, box.y + box.height / 2 + 40, { steps: 8 });
-    await page.mouse.up();
-    await page.waitForTimeout(200);
-    const rotated = await canvasContent(page, '#mesh-canvas');
-    check(Math.abs(rotated.differ - meshPixels.differ) > 1e-4 || rotated.colours !== meshPixels.colours, 'dragging orbits the view');
-    await page.screenshot({ path: path.join(artifacts, 'mesh-torus.png') });
+    if (want('mesh')) {
+      // --- mesh tab: a sample from the menu
+      const meshSamples = await page.$$eval('#mesh-samples option', (os) => os.map((o) => o.value).filter(Boolean));
+      check(meshSamples.some((v) => v.endsWith('torus.off')), 'the samples menu lists the bundled meshes');
+      await page.selectOption('#mesh-samples', meshSamples.find((v) => v.endsWith('torus.off')));
+      const genus = await waitStat(page, 'mesh-stats', 'genus');
+      const vertices = Number(await stat(page, 'mesh-stats', 'vertices'));
+      check(genus === '1' && vertices > 100, `torus.off stats: genus ${genus}, ${vertices} vertices`);
+      check((await stat(page, 'mesh-stats', 'closed')) === 'yes', 'torus.off is closed');
+      const torusLevels = await page.evaluate(() => document.getElementById('mesh-levels').value);
+      check(torusLevels === '', `genus 1: the levels setting shows auto, the CLI's default for genus > 0 (${JSON.stringify(torusLevels)})`);
+      await page.waitForTimeout(200);
+      const meshPixels = await canvasContent(page, '#mesh-canvas');
+      check(meshPixels.differ > 0.05 && meshPixels.colours > 10, `mesh canvas is not blank (${(100 * meshPixels.differ).toFixed(1)} % drawn, ${meshPixels.colours} colours)`);
+      // Orbit: a drag changes the picture.
+      const box = await page.locator('#mesh-canvas').boundingBox();
+      await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+      await page.mouse.down();
+      await page.mouse.move(box.x + box.width / 2 + 120, box.y + box.height / 2 + 40, { steps: 8 });
+      await page.mouse.up();
+      await page.waitForTimeout(200);
+      const rotated = await canvasContent(page, '#mesh-canvas');
+      check(Math.abs(rotated.differ - meshPixels.differ) > 1e-4 || rotated.colours !== meshPixels.colours, 'dragging orbits the view');
+      await page.screenshot({ path: path.join(artifacts, 'mesh-torus.png') });
 
-    // --- mesh tab: malformed upload shows the core's message; the page keeps working
-    await page.setInputFiles('#mesh-file', { name: 'broken.off', mimeType: 'application/octet-stream', buffer: Buffer.from('OFF\n4 2 0\n0 0 0\n1 0 0\n') });
-    await page.waitForFunction(() => !document.getElementById('error').hidden, null, { timeout: 20000 }).catch(() => {});
-    const meshError = await errorText(page);
-    check(/broken\.off/.test(meshError), `a malformed mesh shows an error naming the file: "${meshError}"`);
-    await page.screenshot({ path: path.join(artifacts, 'mesh-error.png') });
-    await page.selectOption('#mesh-samples', meshSamples.find((v) => v.endsWith('cube.off')));
-    const cubeVertices = await waitStat(page, 'mesh-stats', 'vertices', (v) => v === '8');
-    check(cubeVertices === '8' && (await errorText(page)) === '', 'after the error a sample still loads (cube: 8 vertices) and the error is cleared');
-    const cubeLevels = await page.evaluate(() => document.getElementById('mesh-levels').value);
-    check(cubeLevels === '4', `genus 0: the levels setting is back at the CLI's default for genus 0 (${cubeLevels})`);
+      // --- mesh tab: malformed upload shows the core's message; the page keeps working
+      await page.setInputFiles('#mesh-file', { name: 'broken.off', mimeType: 'application/octet-stream', buffer: Buffer.from('OFF\n4 2 0\n0 0 0\n1 0 0\n') });
+      await page.waitForFunction(() => !document.getElementById('error').hidden, null, { timeout: 20000 }).catch(() => {});
+      const meshError = await errorText(page);
+      check(/broken\.off/.test(meshError), `a malformed mesh shows an error naming the file: "${meshError}"`);
+      await page.screenshot({ path: path.join(artifacts, 'mesh-error.png') });
+      await page.selectOption('#mesh-samples', meshSamples.find((v) => v.endsWith('cube.off')));
+      const cubeVertices = await waitStat(page, 'mesh-stats', 'vertices', (v) => v === '8');
+      check(cubeVertices === '8' && (await errorText(page)) === '', 'after the error a sample still loads (cube: 8 vertices) and the error is cleared');
+      const cubeLevels = await page.evaluate(() => document.getElementById('mesh-levels').value);
+      check(cubeLevels === '4', `genus 0: the levels setting is back at the CLI's default for genus 0 (${cubeLevels})`);
 
-    if (available.includes('mesh2spline')) {
-      await meshToSpline(page);
-    } else {
-      check(false, 'mesh2spline is in the worker\'s job list');
-    }
-    if (available.includes('gpc')) {
-      await meshGpc(page);
-      await meshGpcSpline(page);
-    } else {
-      check(false, 'gpc is in the worker\'s job list');
-    }
-    if (available.includes('loadVolume')) {
-      await volumeSlices(page);
-    } else {
-      check(false, 'loadVolume is in the worker\'s job list');
+      if (available.includes('mesh2spline')) {
+        await meshToSpline(page);
+      } else {
+        check(false, 'mesh2spline is in the worker\'s job list');
+      }
+      if (available.includes('gpc')) {
+        await meshGpc(page);
+        await meshGpcSpline(page);
+      } else {
+        check(false, 'gpc is in the worker\'s job list');
+      }
+      if (available.includes('loadVolume')) {
+        await volumeSlices(page);
+      } else {
+        check(false, 'loadVolume is in the worker\'s job list');
+      }
     }
     await page.click('#tab-mesh');
 
-    // --- lens tab
-    await page.click('#tab-lens');
-    const imageSamples = await page.$$eval('#lens-samples option', (os) => os.map((o) => o.value).filter(Boolean));
-    if (imageSamples.length) {
-      await page.selectOption('#lens-samples', imageSamples[0]);
-    } else {
-      const fallback = path.join(sharedData, 'images/camera.png');
-      console.log('note: the site bundles no sample image; uploading ' + fallback);
-      await page.setInputFiles('#lens-file', fallback);
-    }
-    const magnification = Number(await waitStat(page, 'lens-stats', 'magnification_center'));
-    await idle(page);
-    const lensStats = async () => page.evaluate(() => ({ ...window.volspline.lensTab.result.stats }));
-    let s = await lensStats();
-    check(Math.abs(magnification - 2) < 0.5, `metric lens magnification near the wanted 2: ${magnification}`);
-    check(s.flipped_triangles === 0 && s.iterations > 0 && Number.isFinite(s.distortion_sum) && s.distortion_sum > 0,
-          `metric lens stats sane (flipped ${s.flipped_triangles}, iterations ${s.iterations}, distortion_sum ${s.distortion_sum})`);
-    // What is on screen (the canvas under the ring and the overlay), not a canvas's buffer.
-    const lensPixels = await screenContent(page, '.lens-stack');
-    check(lensPixels.differ > 0.05 && lensPixels.colours > 4, `lens view is not blank (${(100 * lensPixels.differ).toFixed(1)} % differ, ${lensPixels.colours} colours)`);
-    const lensCanvas = await canvasContent(page, '#lens-canvas');
-    const lensRect = await page.evaluate(() => window.volspline.lensTab.view.rect);
-    check(lensCanvas.differ > 0.05 && lensRect && lensRect[2] > 0, `lens canvas is not blank, the lens box is drawn (${(100 * lensCanvas.differ).toFixed(1)} % differ, box ${JSON.stringify(lensRect)})`);
-    await page.screenshot({ path: path.join(artifacts, 'lens-metric.png') });
-
-    // Drag the lens: live re-runs with the calibrated height; measure the update rate.
-    const overlay = await page.locator('#lens-overlay').boundingBox();
-    const roi0 = await page.evaluate(() => ({ ...window.volspline.lensTab.roi }));
-    const img = await page.evaluate(() => ({ ...window.volspline.lensTab.view.image }));
-    const toPage = (x, y) => [overlay.x + x / img.width * overlay.width, overlay.y + y / img.height * overlay.height];
-    await page.evaluate(() => { window.volspline.lensTab.frameMs = []; window.volspline.lensTab.frameLog = []; });
-    let [px, py] = toPage(roi0.cx, roi0.cy);
-    await page.mouse.move(px, py);
-    await page.mouse.down();
-    const t0 = Date.now();
-    for (let k = 1; k <= 60; k++) {
-      await page.mouse.move(px + k * 2, py + k);
-      await page.waitForTimeout(16);
-    }
-    // Before the release a live frame is on screen: drawn from the solved lens's displacement field,
-    // it must look like the translated mesh drawn triangle by triangle. Not bit-equal: the field is
-    // read bilinearly at a sub-pixel offset, exact only where the map is affine over the 4 texels,
-    // so pixels along triangle edges on sharp image edges differ by a few levels (seen: 115 of
-    // 102400 by more than 2, at most 5).
-    await page.waitForFunction(() => !window.volspline.lensTab.running && !window.volspline.lensTab.view.next, null, { timeout: 30000 });
-    const paths = await page.evaluate(() => window.volspline.lensTab.view.compareLivePaths());
-    check(paths !== null && paths.differ <= 0.01 * paths.pixels && paths.maxDiff <= 32,
-          `a live frame drawn from the displacement field matches the translated mesh (${JSON.stringify(paths)})`);
-    await page.mouse.up();
-    const dragMs = Date.now() - t0;
-    await idle(page);
-    const roi1 = await page.evaluate(() => ({ ...window.volspline.lensTab.roi }));
-    const frames = await page.evaluate(() => [...window.volspline.lensTab.frameMs]);
-    s = await lensStats();
-    check(roi1.cx > roi0.cx + 20 && roi1.cy > roi0.cy + 10, `dragging moves the lens (${roi0.cx.toFixed(0)},${roi0.cy.toFixed(0)} -> ${roi1.cx.toFixed(0)},${roi1.cy.toFixed(0)})`);
-    check(frames.length >= 3, `the lens re-ran live while dragging (${frames.length} frames in ${dragMs} ms)`);
-    check(s.flipped_triangles === 0 && s.ms_calibration === 0, 'live runs reuse the calibrated height and fold nothing');
-    // While dragging, moves are answered by translating the solved lens; the release solves in full.
-    const liveLog = await page.evaluate(() => window.volspline.lensTab.frameLog.map((f) => f.translated));
-    const released = await page.evaluate(() => window.volspline.lensTab.lastRun?.stats.translated);
-    check(liveLog.filter(Boolean).length >= 1 && released === false,
-          `drag frames translated the solved lens (${liveLog.filter(Boolean).length} of ${liveLog.length}), the release re-solved in full`);
-    const sorted = [...frames].sort((a, b) => a - b);
-    const medianMs = sorted.length ? sorted[sorted.length >> 1] : NaN;
-    notes.push(`lens drag (grid ${await page.inputValue('#lens-grid')}): median frame ${medianMs.toFixed(1)} ms = ${(1000 / medianMs).toFixed(1)} fps over ${frames.length} frames; per run ms_total ${s.ms_total.toFixed(1)}`);
-
-    // Resize by dragging the rim.
-    [px, py] = toPage(roi1.cx + roi1.r, roi1.cy);
-    await page.mouse.move(px, py);
-    await page.mouse.down();
-    await page.mouse.move(px + 30, py, { steps: 5 });
-    await page.mouse.up();
-    await idle(page);
-    const roi2 = await page.evaluate(() => ({ ...window.volspline.lensTab.roi }));
-    check(roi2.r > roi1.r + 5, `dragging the rim resizes the lens (r ${roi1.r.toFixed(1)} -> ${roi2.r.toFixed(1)})`);
-
-    // Frame time while dragging, measured with the input faster than the lens can follow: the mouse
-    // button is pressed through Playwright, then the page itself moves the pointer every 8 ms
-    // for 3 s (Playwright's own moves are paced by its round trips, ~100 ms each). The frame
-    // time is the median interval between displayed live results. Printed, never asserted.
-    const roiD = await page.evaluate(() => ({ ...window.volspline.lensTab.roi }));
-    [px, py] = toPage(roiD.cx, roiD.cy);
-    await page.mouse.move(px, py);
-    await page.mouse.down();
-    const live = await page.evaluate(async ([x0, y0]) => {
-      const { lensTab } = window.volspline;
-      lensTab.frameMs = [];
-      const overlayEl = document.getElementById('lens-overlay');
-      const first = lensTab.result;
-      const seen = [];
-      const t0 = performance.now();
-      let moves = 0;
-      await new Promise((resolve) => {
-        // A timer, not requestAnimationFrame: under the software renderer the page's animation
-        // frames slow down with the drawing itself, which would pace the input, not the lens.
-        const timer = setInterval(() => {
-          const t = performance.now() - t0;
-          if (lensTab.result !== seen[seen.length - 1]?.result && lensTab.result !== first)
-            seen.push({ result: lensTab.result, at: performance.now() });
-          if (t > 3000) { clearInterval(timer); resolve(); return; }
-          const dx = 60 * Math.sin(t / 500), dy = 30 * Math.sin(t / 350);  // a wobble around the start
-          overlayEl.dispatchEvent(new PointerEvent('pointermove', { clientX: x0 + dx, clientY: y0 + dy, pointerId: 1, pointerType: 'mouse', buttons: 1, bubbles: true }));
-          moves++;
-        }, 8);
-      });
-      const totals = seen.map((f) => f.result.stats.ms_total);
-      return { moves, frames: [...lensTab.frameMs], totals };
-    }, [px, py]);
-    await page.mouse.up();
-    await idle(page);
-    const med = (a) => { const b = [...a].sort((x, y) => x - y); return b.length ? b[b.length >> 1] : NaN; };
-    const frameMedian = med(live.frames.slice(1));  // the first interval includes the press
-    check(live.frames.length >= 3, `saturated drag re-ran live (${live.frames.length} frames for ${live.moves} pointer moves in 3 s)`);
-    notes.push(`lens drag saturated (grid ${await page.inputValue('#lens-grid')}): median frame ${frameMedian.toFixed(1)} ms = ${(1000 / frameMedian).toFixed(1)} fps over ${live.frames.length} frames (${live.moves} pointer moves); median core ms_total ${med(live.totals).toFixed(1)} ms`);
-    const timing = await page.evaluate(() => document.getElementById('lens-timing')?.textContent ?? null);
-    if (timing !== null) check(/last run [\d.]+ ms/.test(timing) && /frame [\d.]+ ms/.test(timing), `the page shows the run and frame times: "${timing}"`);
-    await page.screenshot({ path: path.join(artifacts, 'lens-drag.png') });
-
-    // α re-run time at the calibrated height (the slider's 'change' event, one run each).
-    const alphaRuns = await page.evaluate(async () => {
-      const { lensTab, jobs } = window.volspline;
-      const slider = document.getElementById('lens-alpha');
-      const out = [];
-      for (const a of ['0.25', '0.5', '0.75', '0.1', '0.6', '0']) {
-        const before = lensTab.result;
-        const t = performance.now();
-        slider.value = a;
-        slider.dispatchEvent(new Event('change'));
-        while (lensTab.result === before || lensTab.running || jobs.busy) await new Promise((r) => setTimeout(r, 2));
-        out.push({ wall: performance.now() - t, total: lensTab.result.stats.ms_total, factorize: lensTab.result.stats.ms_factorize });
+    if (want('lens')) {
+      // --- lens tab
+      await page.click('#tab-lens');
+      const imageSamples = await page.$$eval('#lens-samples option', (os) => os.map((o) => o.value).filter(Boolean));
+      if (imageSamples.length) {
+        await page.selectOption('#lens-samples', imageSamples[0]);
+      } else {
+        const fallback = path.join(sharedData, 'images/camera.png');
+        console.log('note: the site bundles no sample image; uploading ' + fallback);
+        await page.setInputFiles('#lens-file', fallback);
       }
-      return out;
-    });
-    check(alphaRuns.length === 6, 'the α slider re-runs the flattening');
-    notes.push(`α re-run (grid 100, calibrated height): median core ms_total ${med(alphaRuns.map((r) => r.total)).toFixed(1)} ms, ms_factorize ${med(alphaRuns.map((r) => r.factorize)).toFixed(2)} ms, slider-to-result ${med(alphaRuns.map((r) => r.wall)).toFixed(1)} ms`);
+      const magnification = Number(await waitStat(page, 'lens-stats', 'magnification_center'));
+      await idle(page);
+      const lensStats = async () => page.evaluate(() => ({ ...window.volspline.lensTab.result.stats }));
+      let s = await lensStats();
+      check(Math.abs(magnification - 2) < 0.5, `metric lens magnification near the wanted 2: ${magnification}`);
+      check(s.flipped_triangles === 0 && s.iterations > 0 && Number.isFinite(s.distortion_sum) && s.distortion_sum > 0,
+            `metric lens stats sane (flipped ${s.flipped_triangles}, iterations ${s.iterations}, distortion_sum ${s.distortion_sum})`);
+      // What is on screen (the canvas under the ring and the overlay), not a canvas's buffer.
+      const lensPixels = await screenContent(page, '.lens-stack');
+      check(lensPixels.differ > 0.05 && lensPixels.colours > 4, `lens view is not blank (${(100 * lensPixels.differ).toFixed(1)} % differ, ${lensPixels.colours} colours)`);
+      const lensCanvas = await canvasContent(page, '#lens-canvas');
+      const lensRect = await page.evaluate(() => window.volspline.lensTab.view.rect);
+      check(lensCanvas.differ > 0.05 && lensRect && lensRect[2] > 0, `lens canvas is not blank, the lens box is drawn (${(100 * lensCanvas.differ).toFixed(1)} % differ, box ${JSON.stringify(lensRect)})`);
+      await page.screenshot({ path: path.join(artifacts, 'lens-metric.png') });
 
-    // α slider re-runs the flattening.
-    await page.locator('#lens-alpha').fill('1');
-    await page.waitForFunction(() => window.volspline.lensTab.result?.options.alpha === 1, null, { timeout: 30000 }).catch(() => {});
-    await idle(page);
-    s = await lensStats();
-    check((await page.evaluate(() => window.volspline.lensTab.result.options.alpha)) === 1 && s.flipped_triangles === 0,
-          `α = 1 (conformal) re-runs: distortion_sum ${s.distortion_sum.toFixed(3)}, magnification ${s.magnification_center.toFixed(3)}, flipped ${s.flipped_triangles}`);
-    await page.screenshot({ path: path.join(artifacts, 'lens-alpha1.png') });
-    await page.locator('#lens-alpha').fill('0');
-    await page.waitForFunction(() => window.volspline.lensTab.result?.options.alpha === 0, null, { timeout: 30000 }).catch(() => {});
-    await idle(page);
+      // Drag the lens: live re-runs with the calibrated height; measure the update rate.
+      const overlay = await page.locator('#lens-overlay').boundingBox();
+      const roi0 = await page.evaluate(() => ({ ...window.volspline.lensTab.roi }));
+      const img = await page.evaluate(() => ({ ...window.volspline.lensTab.view.image }));
+      const toPage = (x, y) => [overlay.x + x / img.width * overlay.width, overlay.y + y / img.height * overlay.height];
+      await page.evaluate(() => { window.volspline.lensTab.frameMs = []; window.volspline.lensTab.frameLog = []; });
+      let [px, py] = toPage(roi0.cx, roi0.cy);
+      await page.mouse.move(px, py);
+      await page.mouse.down();
+      const t0 = Date.now();
+      for (let k = 1; k <= 60; k++) {
+        await page.mouse.move(px + k * 2, py + k);
+        await page.waitForTimeout(16);
+      }
+      // Before the release a live frame is on screen: drawn from the solved lens's displacement field,
+      // it must look like the translated mesh drawn triangle by triangle. Not bit-equal: the field is
+      // read bilinearly at a sub-pixel offset, exact only where the map is affine over the 4 texels,
+      // so pixels along triangle edges on sharp image edges differ by a few levels (seen: 115 of
+      // 102400 by more than 2, at most 5).
+      await page.waitForFunction(() => !window.volspline.lensTab.running && !window.volspline.lensTab.view.next, null, { timeout: 30000 });
+      const paths = await page.evaluate(() => window.volspline.lensTab.view.compareLivePaths());
+      check(paths !== null && paths.differ <= 0.01 * paths.pixels && paths.maxDiff <= 32,
+            `a live frame drawn from the displacement field matches the translated mesh (${JSON.stringify(paths)})`);
+      await page.mouse.up();
+      const dragMs = Date.now() - t0;
+      await idle(page);
+      const roi1 = await page.evaluate(() => ({ ...window.volspline.lensTab.roi }));
+      const frames = await page.evaluate(() => [...window.volspline.lensTab.frameMs]);
+      s = await lensStats();
+      check(roi1.cx > roi0.cx + 20 && roi1.cy > roi0.cy + 10, `dragging moves the lens (${roi0.cx.toFixed(0)},${roi0.cy.toFixed(0)} -> ${roi1.cx.toFixed(0)},${roi1.cy.toFixed(0)})`);
+      check(frames.length >= 3, `the lens re-ran live while dragging (${frames.length} frames in ${dragMs} ms)`);
+      check(s.flipped_triangles === 0 && s.ms_calibration === 0, 'live runs reuse the calibrated height and fold nothing');
+      // While dragging, moves are answered by translating the solved lens; the release solves in full.
+      const liveLog = await page.evaluate(() => window.volspline.lensTab.frameLog.map((f) => f.translated));
+      const released = await page.evaluate(() => window.volspline.lensTab.lastRun?.stats.translated);
+      check(liveLog.filter(Boolean).length >= 1 && released === false,
+            `drag frames translated the solved lens (${liveLog.filter(Boolean).length} of ${liveLog.length}), the release re-solved in full`);
+      const sorted = [...frames].sort((a, b) => a - b);
+      const medianMs = sorted.length ? sorted[sorted.length >> 1] : NaN;
+      notes.push(`lens drag (grid ${await page.inputValue('#lens-grid')}): median frame ${medianMs.toFixed(1)} ms = ${(1000 / medianMs).toFixed(1)} fps over ${frames.length} frames; per run ms_total ${s.ms_total.toFixed(1)}`);
 
-    // Baselines one click away.
-    for (const method of ['fisheye', 'bifocal', 'zoom']) {
-      await page.check(`input[name="lens-method"][value="${method}"]`);
-      await page.waitForFunction((m) => window.volspline.lensTab.result?.options.method === m, method, { timeout: 30000 }).catch(() => {});
+      // Resize by dragging the rim.
+      [px, py] = toPage(roi1.cx + roi1.r, roi1.cy);
+      await page.mouse.move(px, py);
+      await page.mouse.down();
+      await page.mouse.move(px + 30, py, { steps: 5 });
+      await page.mouse.up();
+      await idle(page);
+      const roi2 = await page.evaluate(() => ({ ...window.volspline.lensTab.roi }));
+      check(roi2.r > roi1.r + 5, `dragging the rim resizes the lens (r ${roi1.r.toFixed(1)} -> ${roi2.r.toFixed(1)})`);
+
+      // Frame time while dragging, measured with the input faster than the lens can follow: the mouse
+      // button is pressed through Playwright, then the page itself moves the pointer every 8 ms
+      // for 3 s (Playwright's own moves are paced by its round trips, ~100 ms each). The frame
+      // time is the median interval between displayed live results. Printed, never asserted.
+      const roiD = await page.evaluate(() => ({ ...window.volspline.lensTab.roi }));
+      [px, py] = toPage(roiD.cx, roiD.cy);
+      await page.mouse.move(px, py);
+      await page.mouse.down();
+      const live = await page.evaluate(async ([x0, y0]) => {
+        const { lensTab } = window.volspline;
+        lensTab.frameMs = [];
+        const overlayEl = document.getElementById('lens-overlay');
+        const first = lensTab.result;
+        const seen = [];
+        const t0 = performance.now();
+        let moves = 0;
+        await new Promise((resolve) => {
+          // A timer, not requestAnimationFrame: under the software renderer the page's animation
+          // frames slow down with the drawing itself, which would pace the input, not the lens.
+          const timer = setInterval(() => {
+            const t = performance.now() - t0;
+            if (lensTab.result !== seen[seen.length - 1]?.result && lensTab.result !== first)
+              seen.push({ result: lensTab.result, at: performance.now() });
+            if (t > 3000) { clearInterval(timer); resolve(); return; }
+            const dx = 60 * Math.sin(t / 500), dy = 30 * Math.sin(t / 350);  // a wobble around the start
+            overlayEl.dispatchEvent(new PointerEvent('pointermove', { clientX: x0 + dx, clientY: y0 + dy, pointerId: 1, pointerType: 'mouse', buttons: 1, bubbles: true }));
+            moves++;
+          }, 8);
+        });
+        const totals = seen.map((f) => f.result.stats.ms_total);
+        return { moves, frames: [...lensTab.frameMs], totals };
+      }, [px, py]);
+      await page.mouse.up();
+      await idle(page);
+      const med = (a) => { const b = [...a].sort((x, y) => x - y); return b.length ? b[b.length >> 1] : NaN; };
+      const frameMedian = med(live.frames.slice(1));  // the first interval includes the press
+      check(live.frames.length >= 3, `saturated drag re-ran live (${live.frames.length} frames for ${live.moves} pointer moves in 3 s)`);
+      notes.push(`lens drag saturated (grid ${await page.inputValue('#lens-grid')}): median frame ${frameMedian.toFixed(1)} ms = ${(1000 / frameMedian).toFixed(1)} fps over ${live.frames.length} frames (${live.moves} pointer moves); median core ms_total ${med(live.totals).toFixed(1)} ms`);
+      const timing = await page.evaluate(() => document.getElementById('lens-timing')?.textContent ?? null);
+      if (timing !== null) check(/last run [\d.]+ ms/.test(timing) && /frame [\d.]+ ms/.test(timing), `the page shows the run and frame times: "${timing}"`);
+      await page.screenshot({ path: path.join(artifacts, 'lens-drag.png') });
+
+      // α re-run time at the calibrated height (the slider's 'change' event, one run each).
+      const alphaRuns = await page.evaluate(async () => {
+        const { lensTab, jobs } = window.volspline;
+        const slider = document.getElementById('lens-alpha');
+        const out = [];
+        for (const a of ['0.25', '0.5', '0.75', '0.1', '0.6', '0']) {
+          const before = lensTab.result;
+          const t = performance.now();
+          slider.value = a;
+          slider.dispatchEvent(new Event('change'));
+          while (lensTab.result === before || lensTab.running || jobs.busy) await new Promise((r) => setTimeout(r, 2));
+          out.push({ wall: performance.now() - t, total: lensTab.result.stats.ms_total, factorize: lensTab.result.stats.ms_factorize });
+        }
+        return out;
+      });
+      check(alphaRuns.length === 6, 'the α slider re-runs the flattening');
+      notes.push(`α re-run (grid 100, calibrated height): median core ms_total ${med(alphaRuns.map((r) => r.total)).toFixed(1)} ms, ms_factorize ${med(alphaRuns.map((r) => r.factorize)).toFixed(2)} ms, slider-to-result ${med(alphaRuns.map((r) => r.wall)).toFixed(1)} ms`);
+
+      // α slider re-runs the flattening.
+      await page.locator('#lens-alpha').fill('1');
+      await page.waitForFunction(() => window.volspline.lensTab.result?.options.alpha === 1, null, { timeout: 30000 }).catch(() => {});
       await idle(page);
       s = await lensStats();
-      const m = Number(await stat(page, 'lens-stats', 'magnification_center'));
-      check((await stat(page, 'lens-stats', 'method')) === method && s.iterations === 0 && m > 1.2,
-            `${method} baseline shown (magnification_center ${m.toFixed(3)})`);
-      await page.screenshot({ path: path.join(artifacts, `lens-${method}.png`) });
+      check((await page.evaluate(() => window.volspline.lensTab.result.options.alpha)) === 1 && s.flipped_triangles === 0,
+            `α = 1 (conformal) re-runs: distortion_sum ${s.distortion_sum.toFixed(3)}, magnification ${s.magnification_center.toFixed(3)}, flipped ${s.flipped_triangles}`);
+      await page.screenshot({ path: path.join(artifacts, 'lens-alpha1.png') });
+      await page.locator('#lens-alpha').fill('0');
+      await page.waitForFunction(() => window.volspline.lensTab.result?.options.alpha === 0, null, { timeout: 30000 }).catch(() => {});
+      await idle(page);
+
+      // Baselines one click away.
+      for (const method of ['fisheye', 'bifocal', 'zoom']) {
+        await page.check(`input[name="lens-method"][value="${method}"]`);
+        await page.waitForFunction((m) => window.volspline.lensTab.result?.options.method === m, method, { timeout: 30000 }).catch(() => {});
+        await idle(page);
+        s = await lensStats();
+        const m = Number(await stat(page, 'lens-stats', 'magnification_center'));
+        check((await stat(page, 'lens-stats', 'method')) === method && s.iterations === 0 && m > 1.2,
+              `${method} baseline shown (magnification_center ${m.toFixed(3)})`);
+        await page.screenshot({ path: path.join(artifacts, `lens-${method}.png`) });
+      }
+      await page.check('input[name="lens-method"][value="metric"]');
+      await idle(page);
+
+      // Download PNG: the core renders, the browser saves a real PNG.
+      const [downloadEvent] = await Promise.all([page.waitForEvent('download', { timeout: 60000 }), page.click('#lens-download-png')]);
+      const pngPath = path.join(artifacts, 'lens-download.png');
+      await downloadEvent.saveAs(pngPath);
+      const png = fs.readFileSync(pngPath);
+      check(png.length > 1000 && png.slice(1, 4).toString() === 'PNG', `Download PNG gives a PNG (${png.length} bytes)`);
+
+      // Cancel: a slow job (grid 400, recalibration) is stopped and the worker keeps working.
+      const cancelled = await page.evaluate(async () => {
+        const { jobs, lensTab } = window.volspline;
+        const { cx, cy, r } = lensTab.roi;
+        const p = jobs.run('lens', { key: lensTab.key, rois: [{ shape: 'circle', values: [cx, cy, r] }], options: { grid: 400, magnification: 3.3 } });
+        setTimeout(() => jobs.cancel(), 100);
+        const t = performance.now();
+        const r1 = await p;
+        return { message: r1.message, ok: r1.ok, ms: performance.now() - t };
+      });
+      check(cancelled.ok === false && cancelled.message === 'cancelled', `Cancel stops a running job (${cancelled.message} after ${cancelled.ms.toFixed(0)} ms)`);
+
+      // Malformed image: the core's message, then the page still works.
+      await page.setInputFiles('#lens-file', { name: 'broken.png', mimeType: 'image/png', buffer: Buffer.from('\x89PNG\r\n\x1a\nnot really') });
+      await page.waitForFunction(() => !document.getElementById('error').hidden, null, { timeout: 20000 }).catch(() => {});
+      const lensError = await errorText(page);
+      check(/broken\.png/.test(lensError), `a malformed image shows an error naming the file: "${lensError}"`);
+      await page.screenshot({ path: path.join(artifacts, 'lens-error.png') });
+      await page.locator('#lens-magnification').fill('2.5');
+      await page.waitForFunction(() => window.volspline.lensTab.result?.options.magnification === 2.5, null, { timeout: 60000 }).catch(() => {});
+      await idle(page);
+      s = await lensStats();
+      check(Math.abs(s.magnification_center - 2.5) < 0.6 && s.flipped_triangles === 0,
+            `after the error the lens still runs (magnification 2.5 -> measured ${s.magnification_center.toFixed(3)})`);
+      await page.screenshot({ path: path.join(artifacts, 'lens-after-error.png') });
+      await lensRegions(page);
     }
-    await page.check('input[name="lens-method"][value="metric"]');
-    await idle(page);
 
-    // Download PNG: the core renders, the browser saves a real PNG.
-    const [downloadEvent] = await Promise.all([page.waitForEvent('download', { timeout: 60000 }), page.click('#lens-download-png')]);
-    const pngPath = path.join(artifacts, 'lens-download.png');
-    await downloadEvent.saveAs(pngPath);
-    const png = fs.readFileSync(pngPath);
-    check(png.length > 1000 && png.slice(1, 4).toString() === 'PNG', `Download PNG gives a PNG (${png.length} bytes)`);
-
-    // Cancel: a slow job (grid 400, recalibration) is stopped and the worker keeps working.
-    const cancelled = await page.evaluate(async () => {
-      const { jobs, lensTab } = window.volspline;
-      const { cx, cy, r } = lensTab.roi;
-      const p = jobs.run('lens', { key: lensTab.key, rois: [{ shape: 'circle', values: [cx, cy, r] }], options: { grid: 400, magnification: 3.3 } });
-      setTimeout(() => jobs.cancel(), 100);
-      const t = performance.now();
-      const r1 = await p;
-      return { message: r1.message, ok: r1.ok, ms: performance.now() - t };
-    });
-    check(cancelled.ok === false && cancelled.message === 'cancelled', `Cancel stops a running job (${cancelled.message} after ${cancelled.ms.toFixed(0)} ms)`);
-
-    // Malformed image: the core's message, then the page still works.
-    await page.setInputFiles('#lens-file', { name: 'broken.png', mimeType: 'image/png', buffer: Buffer.from('\x89PNG\r\n\x1a\nnot really') });
-    await page.waitForFunction(() => !document.getElementById('error').hidden, null, { timeout: 20000 }).catch(() => {});
-    const lensError = await errorText(page);
-    check(/broken\.png/.test(lensError), `a malformed image shows an error naming the file: "${lensError}"`);
-    await page.screenshot({ path: path.join(artifacts, 'lens-error.png') });
-    await page.locator('#lens-magnification').fill('2.5');
-    await page.waitForFunction(() => window.volspline.lensTab.result?.options.magnification === 2.5, null, { timeout: 60000 }).catch(() => {});
-    await idle(page);
-    s = await lensStats();
-    check(Math.abs(s.magnification_center - 2.5) < 0.6 && s.flipped_triangles === 0,
-          `after the error the lens still runs (magnification 2.5 -> measured ${s.magnification_center.toFixed(3)})`);
-    await page.screenshot({ path: path.join(artifacts, 'lens-after-error.png') });
-
-    await accessibility(browser, origin);
+    if (want('a11y')) await accessibility(browser, origin);
 
     check(foreign.length === 0, 'no request leaves 127.0.0.1' + (foreign.length ? ': ' + foreign.join(' ') : ''));
     check(pageErrors.length === 0, 'no uncaught page errors' + (pageErrors.length ? ': ' + pageErrors.join(' | ') : ''));

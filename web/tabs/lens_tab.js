@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// The Lens tab: open an image, drag or resize the lens, α, magnification, grid and method
-// controls re-run the job live, timing and stats readouts, PNG and JSON downloads.
+// The Lens tab: open an image, add circular and rectangular lenses, drag or resize each, α,
+// magnification, grid and method controls re-run the job live, a before/after toggle, timing and
+// stats readouts, PNG and JSON downloads.
 import { $, jobs, runJob, showError, clearError, download, acceptFiles, fillStats, fmt } from '../ui.js';
 import { LensView } from '../lens_view.js';
 
@@ -9,12 +10,23 @@ export const lensTab = {
   key: null,          // worker-side image key
   generation: 0,      // worker generation the image was sent to (a restarted worker lost it)
   bytes: null, name: null,
-  roi: null,
   calibrated: null,   // {magnification, grid, height}: reuse h0 while only the ROI or α changes
   pending: false, running: false,
   lastFrame: 0, frameMs: [],  // intervals between live results shown (the frame time while dragging)
   frameLog: [],               // per live result: {ms (interval or 0), ms_total, ms_worker}; read by the e2e test
   result: null,
+
+  /// The lenses, input pixels ({shape: 'circle', cx, cy, r} or {shape: 'rect', cx, cy, w, h}), and
+  /// the selected one; the view holds them, since pointer and keys edit them there.
+  get rois() { return this.view.rois; },
+  get roi() { return this.view.roi; },
+
+  /// The lenses as the core takes them: circle cx, cy, r; rect x, y, w, h (top-left corner).
+  coreRois() {
+    return this.rois.map((r) => (r.shape === 'rect'
+      ? { shape: 'rect', values: [r.cx - r.w / 2, r.cy - r.h / 2, r.w, r.h] }
+      : { shape: 'circle', values: [r.cx, r.cy, r.r] }));
+  },
 
   options() {
     return {
@@ -32,11 +44,52 @@ export const lensTab = {
     if (!r.ok) { if (r.message !== 'cancelled') showError(r.message); return; }
     Object.assign(this, { key, bytes, name, generation: jobs.generation, calibrated: null, frameMs: [], reuses: 0 });
     const { width, height } = r.image;
-    this.roi = { cx: width / 2, cy: height / 2, r: Math.max(4, Math.round(Math.min(width, height) / 6)) };
     this.view.setImage(r.image);
-    this.view.setRoi(this.roi);
+    this.view.setRois([{ shape: 'circle', cx: width / 2, cy: height / 2, r: Math.max(4, Math.round(Math.min(width, height) / 6)) }]);
+    this.showLensList();
     $('lens-hint').hidden = true;
     this.update(false);
+  },
+
+  /// Adds a lens of `shape` ('circle' or 'rect') where it is farthest from the others, selects it.
+  addLens(shape) {
+    if (!this.key) return;
+    const { width, height } = this.view.image;
+    const size = Math.max(4, Math.round(Math.min(width, height) / 8));
+    const spots = [];
+    for (const fy of [0.25, 0.5, 0.75]) for (const fx of [0.25, 0.5, 0.75]) spots.push([fx * width, fy * height]);
+    const room = ([x, y]) => Math.min(...this.rois.map((r) => Math.hypot(x - r.cx, y - r.cy)));
+    const [cx, cy] = spots.reduce((best, p) => (room(p) > room(best) ? p : best));
+    const roi = shape === 'rect' ? { shape, cx, cy, w: 2 * size, h: Math.round(1.4 * size) } : { shape, cx, cy, r: size };
+    this.view.setRois([...this.rois, roi], this.rois.length);
+    this.lensesChanged();
+  },
+
+  removeLens() {
+    if (this.rois.length < 2) return;
+    const rois = this.rois.filter((_, i) => i !== this.view.active);
+    this.view.setRois(rois, Math.min(this.view.active, rois.length - 1));
+    this.lensesChanged();
+  },
+
+  /// After a lens was added or removed: the height h0 is calibrated again for the new set.
+  lensesChanged() {
+    this.calibrated = null;
+    this.showLensList();
+    this.update(false);
+  },
+
+  /// The lens menu (which lens the keys and Remove act on) and the Remove button's state.
+  showLensList() {
+    const select = $('lens-active');
+    select.replaceChildren(...this.rois.map((r, i) => {
+      const option = document.createElement('option');
+      option.value = String(i);
+      option.textContent = `lens ${i + 1} (${r.shape === 'rect' ? 'rectangle' : 'circle'})`;
+      return option;
+    }));
+    select.value = String(this.view.active);
+    $('lens-remove').disabled = this.rois.length < 2;
   },
 
   /// Re-runs the job with the current controls; while a run is in flight only the latest request
@@ -63,14 +116,14 @@ export const lensTab = {
       const options = { ...o, render: false, ...(this.live ? { mode: 'live' } : {}) };
       const c = this.calibrated;
       if (o.method === 'metric' && c && c.magnification === o.magnification && c.grid === o.grid) options.height = c.height;
-      const roi = { ...this.roi };
+      const rois = this.coreRois();
       // The same request as the one on screen (e.g. the release after a drag) is not re-run.
-      const request = JSON.stringify([this.key, this.generation, roi, options]);
+      const request = JSON.stringify([this.key, this.generation, rois, options]);
       if (request === this.lastRequest && this.lastRun) {
         if (!this.live) { this.showTiming(this.lastRun); this.showStats(this.lastRun.stats, o.method); }
         return;
       }
-      const r = await runJob('lens', { key: this.key, rois: [{ shape: 'circle', values: [roi.cx, roi.cy, roi.r] }], options }, { quiet: this.live });
+      const r = await runJob('lens', { key: this.key, rois, options }, { quiet: this.live });
       if (!r.ok) { this.lastRequest = null; if (r.message !== 'cancelled') showError(r.message); return; }
       this.lastRequest = request;
       this.lastRun = r;
@@ -79,7 +132,7 @@ export const lensTab = {
       // next request: the frame time is max(core, drawing), not their sum.
       this.view.setMesh(r.positions, r.texture, r.triangles);
       this.shownLive = this.live ? r : null;
-      this.result = { image: this.name, roi, options: { ...o, height: r.stats.height || undefined }, stats: r.stats };
+      this.result = { image: this.name, rois, options: { ...o, height: r.stats.height || undefined }, stats: r.stats };
       // While dragging, the text readouts are refreshed at most every 200 ms (layout is not free).
       const now = performance.now();
       if (!this.live || now - (this.lastText ?? 0) > 200) {
@@ -130,6 +183,7 @@ export const lensTab = {
     const rows = [
       ['method', method], ['magnification_center', fmt(s.magnification_center)],
       ['magnification_requested', fmt(s.magnification_requested)], ['magnification_limited', s.magnification_limited ? 'yes' : 'no'],
+      ...(s.magnification_per_roi.length > 1 ? [['magnification_per_roi', s.magnification_per_roi.map((m) => fmt(m, 3)).join(', ')]] : []),
       ['distortion_sum', fmt(s.distortion_sum)], ['distortion_max', fmt(s.distortion_max)],
       ['distortion_max_focus', fmt(s.distortion_max_focus)],
       ['flipped_triangles', s.flipped_triangles], ['iterations', s.iterations], ['converged', s.converged ? 'yes' : 'no'],
@@ -143,8 +197,9 @@ export const lensTab = {
   },
 };
 try {
-  lensTab.view = new LensView({ canvas: $('lens-canvas'), ring: $('lens-ring'), overlay: $('lens-overlay') }, (roi, live) => { lensTab.roi = roi; lensTab.update(live); });
+  lensTab.view = new LensView({ canvas: $('lens-canvas'), ring: $('lens-ring'), overlay: $('lens-overlay') }, (live) => lensTab.update(live));
   lensTab.view.onFrame = () => lensTab.onFrame();
+  lensTab.view.onSelect = () => lensTab.showLensList();
 } catch (e) {
   showError(e.message);
 }
@@ -154,6 +209,15 @@ for (const id of ['lens-alpha', 'lens-magnification']) {
   $(id).addEventListener('change', () => lensTab.update(false));
 }
 $('lens-grid').addEventListener('change', () => lensTab.update(false));
+$('lens-add-circle').addEventListener('click', () => lensTab.addLens('circle'));
+$('lens-add-rect').addEventListener('click', () => lensTab.addLens('rect'));
+$('lens-remove').addEventListener('click', () => lensTab.removeLens());
+$('lens-active').addEventListener('change', () => { lensTab.view.active = Number($('lens-active').value); lensTab.view.placeRing(); });
+$('lens-before').addEventListener('click', () => {
+  const on = $('lens-before').getAttribute('aria-pressed') !== 'true';
+  $('lens-before').setAttribute('aria-pressed', String(on));
+  lensTab.view.setOriginal(on);
+});
 for (const radio of document.querySelectorAll('input[name="lens-method"]')) radio.addEventListener('change', () => lensTab.update(false));
 $('lens-download-json').addEventListener('click', () => {
   download(JSON.stringify(lensTab.result, null, 2) + '\n', lensTab.name.replace(/\.[^.]*$/, '') + '.lens.json', 'application/json');
@@ -164,8 +228,7 @@ $('lens-download-png').addEventListener('click', async () => {
   const c = lensTab.calibrated;
   const options = { ...o };
   if (o.method === 'metric' && c && c.magnification === o.magnification && c.grid === o.grid) options.height = c.height;
-  const { cx, cy, r } = lensTab.roi;
-  const result = await runJob('lensPng', { key: lensTab.key, rois: [{ shape: 'circle', values: [cx, cy, r] }], options });
+  const result = await runJob('lensPng', { key: lensTab.key, rois: lensTab.coreRois(), options });
   if (!result.ok) { if (result.message !== 'cancelled') showError(result.message); return; }
   download(result.bytes, lensTab.name.replace(/\.[^.]*$/, '') + `.${o.method}.png`, 'image/png');
 });
