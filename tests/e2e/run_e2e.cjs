@@ -1033,10 +1033,16 @@ async function main() {
       s = await lensStats();
       check((await page.evaluate(() => window.volspline.lensTab.result.options.alpha)) === 1 && s.flipped_triangles === 0,
             `α = 1 (conformal) re-runs: distortion_sum ${s.distortion_sum.toFixed(3)}, magnification ${s.magnification_center.toFixed(3)}, flipped ${s.flipped_triangles}`);
+      // #24 item 9: the page says why α = 1 barely magnifies, and the line goes at α = 0.
+      const why = await page.evaluate(() => { const e = document.getElementById('lens-limit'); return e.hidden ? '' : e.textContent; });
+      check(s.magnification_center < 1.2 && /α = 1/.test(why) && /conformal/.test(why) && /lower α magnifies more/.test(why),
+            `α = 1: the page says why the lens barely magnifies ("${why.slice(0, 90)}…")`);
       await page.screenshot({ path: path.join(artifacts, 'lens-alpha1.png') });
       await page.locator('#lens-alpha').fill('0');
       await page.waitForFunction(() => window.volspline.lensTab.result?.options.alpha === 0, null, { timeout: 30000 }).catch(() => {});
       await idle(page);
+      const gone = await page.evaluate(() => document.getElementById('lens-limit').hidden);
+      check(gone, 'α = 0: the lens reaches the request and the line is gone');
 
       // Baselines one click away.
       for (const method of ['fisheye', 'bifocal', 'zoom']) {

@@ -5,6 +5,26 @@
 import { $, jobs, runJob, showError, clearError, download, acceptFiles, fillStats, fmt } from '../ui.js';
 import { LensView } from '../lens_view.js';
 
+/// Why a metric lens stays below the magnification asked.
+export const LensNotes = {
+  /// '' when the lens reaches the request (within 3 %, the core's magnification_limited margin).
+  shortfall(s, method, alpha) {
+    if (method !== 'metric' || !(s.magnification_center < 0.97 * s.magnification_requested)) return '';
+    const asked = `magnification ${fmt(s.magnification_requested, 3)} asked, ${fmt(s.magnification_center, 3)} here`;
+    // Eq. 6.8 blends the rigid and the conformal metric's scale; the conformal one lets every
+    // triangle of the lifted lens shrink freely, so its extra area is no longer spread out over
+    // the image: with the border pinned the flattening stays close to the identity.
+    if (alpha > 0) {
+      return `${asked}: α = ${alpha} blends in the conformal metric, which keeps angles but not lengths, so the lens's ` +
+        'raised surface is flattened back toward the image instead of being spread out; a lower α magnifies more (α = 0 fully)';
+    }
+    // A request above what the fold-free lens reaches here is answered with the largest clean lens.
+    const perLens = s.magnification_per_roi.length > 1 ? ` (per lens ${s.magnification_per_roi.map((m) => fmt(m, 3)).join(', ')})` : '';
+    if (s.magnification_limited) return `magnification ${fmt(s.magnification_requested, 3)} asked: at most ${fmt(s.magnification_center, 3)}${perLens} here without folding the image`;
+    return '';
+  },
+};
+
 export const lensTab = {
   view: null,
   key: null,          // worker-side image key
@@ -120,7 +140,7 @@ export const lensTab = {
       // The same request as the one on screen (e.g. the release after a drag) is not re-run.
       const request = JSON.stringify([this.key, this.generation, rois, options]);
       if (request === this.lastRequest && this.lastRun) {
-        if (!this.live) { this.showTiming(this.lastRun); this.showStats(this.lastRun.stats, o.method); }
+        if (!this.live) { this.showTiming(this.lastRun); this.showStats(this.lastRun.stats, o); }
         return;
       }
       const r = await runJob('lens', { key: this.key, rois, options }, { quiet: this.live });
@@ -138,7 +158,7 @@ export const lensTab = {
       if (!this.live || now - (this.lastText ?? 0) > 200) {
         this.lastText = now;
         this.showTiming(r);
-        this.showStats(r.stats, o.method);
+        this.showStats(r.stats, o);
       }
       $('lens-download-png').disabled = $('lens-download-json').disabled = false;
     } finally {
@@ -172,13 +192,11 @@ export const lensTab = {
     $('lens-timing').textContent = text;
   },
 
-  showStats(s, method) {
-    // A request above what the fold-free lens reaches here is answered with the largest clean lens.
+  /// The stats table and, when the lens stays below the request, the line saying why.
+  showStats(s, { method, alpha }) {
     const limit = $('lens-limit');
-    limit.hidden = !s.magnification_limited;
-    limit.textContent = s.magnification_limited
-      ? `magnification ${fmt(s.magnification_requested, 3)} asked: at most ${fmt(s.magnification_center, 3)} here without folding the image`
-      : '';
+    limit.textContent = LensNotes.shortfall(s, method, alpha);
+    limit.hidden = !limit.textContent;
     const median = (a) => { const b = [...a].sort((x, y) => x - y); return b.length ? b[b.length >> 1] : 0; };
     const rows = [
       ['method', method], ['magnification_center', fmt(s.magnification_center)],
