@@ -229,6 +229,24 @@ async function meshToSpline(page) {
   await page.waitForTimeout(200);
   await page.screenshot({ path: path.join(artifacts, 'mesh-sphere-cut-u.png') });
   check((await page.evaluate(() => window.volspline.meshTab.result.cut.axis)) === 0, 'the cut axis menu switches the cut to u');
+  // The camera turns to the cut-away side: its eye lies toward the removed part of the boundary
+  // (its centroid beyond the cut), within 60° of that direction.
+  const facing = await page.evaluate(() => {
+    const { view, result } = window.volspline.meshTab;
+    const b = view.boundarySamples, c = result.cut;
+    const m = [0, 0, 0], centre = [0, 0, 0];
+    let n = 0;
+    for (let i = 0; i < b.positions.length / 3; i++) {
+      if (b.uvw[3 * i + c.axis] <= c.position + 0.05) continue;
+      for (let k = 0; k < 3; k++) m[k] += b.positions[3 * i + k];
+      n++;
+    }
+    for (let i = 0; i < c.positions.length / 3; i++) for (let k = 0; k < 3; k++) centre[k] += c.positions[3 * i + k] / (c.positions.length / 3);
+    const d = m.map((x, k) => x / n - centre[k]);
+    const e = view.eye().map((x, k) => x - view.camera.target[k]);
+    return (d[0] * e[0] + d[1] * e[1] + d[2] * e[2]) / Math.hypot(...d) / Math.hypot(...e);
+  });
+  check(facing > 0.5, `the camera looks at the cut from the cut-away side (cos ${facing.toFixed(2)} between the eye and the removed part)`);
 
   // Downloads: JSON, GLB, VTU, stats.
   const save = async (button, file) => {
@@ -1090,6 +1108,19 @@ async function main() {
       check(Math.abs(s.magnification_center - 2.5) < 0.6 && s.flipped_triangles === 0,
             `after the error the lens still runs (magnification 2.5 -> measured ${s.magnification_center.toFixed(3)})`);
       await page.screenshot({ path: path.join(artifacts, 'lens-after-error.png') });
+      // #24 item 7: a request above the fold-free lens is answered with the largest clean lens, and
+      // the page says "at most M here" with the measured M.
+      await page.locator('#lens-magnification').fill('6');
+      await page.waitForFunction(() => window.volspline.lensTab.result?.options.magnification === 6, null, { timeout: 60000 }).catch(() => {});
+      await idle(page);
+      s = await lensStats();
+      const limitText = await page.evaluate(() => { const e = document.getElementById('lens-limit'); return e.hidden ? '' : e.textContent; });
+      check(s.magnification_limited && s.flipped_triangles === 0 && s.magnification_center > 2 &&
+            limitText.includes(`at most ${Number(s.magnification_center.toPrecision(3))} here`),
+            `magnification 6 asked: ${s.magnification_center.toFixed(3)} reached (limited ${s.magnification_limited}, h0 ${s.height.toFixed(3)}), flipped ${s.flipped_triangles}, the page says "${limitText}"`);
+      await page.locator('#lens-magnification').fill('2.5');
+      await page.waitForFunction(() => window.volspline.lensTab.result?.options.magnification === 2.5, null, { timeout: 60000 }).catch(() => {});
+      await idle(page);
       await lensRegions(page);
     }
 

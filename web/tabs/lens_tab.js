@@ -30,7 +30,7 @@ export const lensTab = {
   key: null,          // worker-side image key
   generation: 0,      // worker generation the image was sent to (a restarted worker lost it)
   bytes: null, name: null,
-  calibrated: null,   // {magnification, grid, height}: reuse h0 while only the ROI or α changes
+  calibrated: null,   // {magnification, grid, height, limited}: reuse h0 while only the ROI or α changes
   pending: false, running: false,
   lastFrame: 0, frameMs: [],  // intervals between live results shown (the frame time while dragging)
   frameLog: [],               // per live result: {ms (interval or 0), ms_total, ms_worker}; read by the e2e test
@@ -147,7 +147,13 @@ export const lensTab = {
       if (!r.ok) { this.lastRequest = null; if (r.message !== 'cancelled') showError(r.message); return; }
       this.lastRequest = request;
       this.lastRun = r;
-      if (o.method === 'metric' && !options.height) this.calibrated = { magnification: o.magnification, grid: o.grid, height: r.stats.height };
+      if (o.method === 'metric' && !options.height) {
+        this.calibrated = { magnification: o.magnification, grid: o.grid, height: r.stats.height, limited: r.stats.magnification_limited };
+      } else if (options.height && c.limited) {
+        // The core says "limited" only when it calibrated: a run at the calibrated height of a
+        // limited request is limited alike.
+        r.stats.magnification_limited = true;
+      }
       // Drawn at the next animation frame (onFrame below), while the worker already computes the
       // next request: the frame time is max(core, drawing), not their sum.
       this.view.setMesh(r.positions, r.texture, r.triangles);
