@@ -11,16 +11,20 @@
 #include "cli/output_files.h"
 #include "cli/progress_bar.h"
 #include "cli/stage_times_json.h"
+#include "core/io/bezier_extraction_json.h"
 #include "core/io/bezier_vtu_writer.h"
 #include "core/io/file_bytes.h"
+#include "core/io/gismo_xml_writer.h"
 #include "core/io/glb_lines_writer.h"
 #include "core/io/mesh_io.h"
+#include "core/io/mfem_mesh_writer.h"
 #include "core/io/spline_json.h"
 #include "core/io/vtu_writer.h"
 #include "core/io/gpc_spline_io.h"
 #include "core/pipeline/gpc_mesh2spline.h"
 #include "core/pipeline/mesh2spline_job.h"
 #include "core/pipeline/solid_mesh.h"
+#include "core/spline/bspline_multipatch.h"
 
 namespace volspline::cli {
 
@@ -69,6 +73,10 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
   files.stage(output, io::serialize_gpc_spline_json(result.spline));
   if (args.has("vtk")) files.stage(args.get("vtk"), io::serialize_gpc_spline_vtu(result.spline, vtk_cells > 0 ? vtk_cells : 24));
   if (args.has("glb")) files.stage(args.get("glb"), io::serialize_gpc_spline_glb(result.spline));
+  if (args.has("gismo"))
+    files.stage(args.get("gismo"), io::serialize_gismo_xml(spline::multipatch_from_gpc_spline(result.spline)));
+  if (args.has("mfem")) files.stage(args.get("mfem"), io::serialize_mfem_mesh(spline::vertex_based_multipatch(result.spline)));
+  if (args.has("bezier")) files.stage(args.get("bezier"), io::serialize_bezier_extraction_json(result.spline));
   const pipeline::Mesh2SplineStats& s = result.stats;
   if (args.has("stats-json")) {
     nlohmann::ordered_json j = fit_stats_json(s, path, "grid");
@@ -131,6 +139,9 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
       {"vtk", "OUT.vtu", "the spline as VTK Bézier hexahedra (exact, one per knot-line cell) with the certified scaled_jacobian_min per cell"},
       {"vtk-linear", "N", "write --vtk as straight hexes sampled on an N^3 lattice instead (tools without Bézier cells)"},
       {"glb", "OUT.glb", "boundary surface of the spline with iso-parameter lines"},
+      {"gismo", "OUT.xml", "G+Smo XML: a multipatch of TensorBSpline3 volumes (one per cuboid, exact) with interfaces and boundary"},
+      {"mfem", "OUT.mesh", "MFEM NURBS mesh (patches form) of the same tensor B-spline patches"},
+      {"bezier", "OUT.json", "the Bézier extraction operator per cell (control points, weights, per-cell extraction matrices)"},
       {"max-rms", "R", "stop refining at rms_rel <= R (fraction of the bbox diagonal; default 0.002)"},
       {"max-surface-error", "R", "also refine until every surface sample is within R of the mesh (fraction of the bbox diagonal; default 0.005; genus > 0: only if given)"},
       {"max-control-points", "N", "no refinement beyond N control points (default 50000)"},
@@ -194,7 +205,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
   files.input(path);
   if (args.has("corners")) files.input(args.get("corners"));
   files.output("-o", output);
-  for (const char* flag : {"vtk", "glb", "stats-json"})
+  for (const char* flag : {"vtk", "glb", "gismo", "mfem", "bezier", "stats-json"})
     if (args.has(flag)) files.output(std::string("--") + flag, args.get(flag));
   if (args.has("corners")) options.corners = read_corner_ids(args.get("corners"));
 
@@ -219,6 +230,12 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
     }
   }
   if (args.has("glb")) files.stage(args.get("glb"), io::serialize_spline_glb(result.spline));
+  if (args.has("gismo") || args.has("mfem")) {
+    const spline::BsplineMultipatch patches = spline::multipatch_from_tspline(result.spline);
+    if (args.has("gismo")) files.stage(args.get("gismo"), io::serialize_gismo_xml(patches));
+    if (args.has("mfem")) files.stage(args.get("mfem"), io::serialize_mfem_mesh(patches));
+  }
+  if (args.has("bezier")) files.stage(args.get("bezier"), io::serialize_bezier_extraction_json(result.spline));
   const pipeline::Mesh2SplineStats& s = result.stats;
   if (args.has("stats-json")) {
     nlohmann::ordered_json j = fit_stats_json(s, path, fit);

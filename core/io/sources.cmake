@@ -19,6 +19,9 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/volume_vtu_writer.cpp
   ${CMAKE_CURRENT_LIST_DIR}/vtk_xml_writer.cpp
   ${CMAKE_CURRENT_LIST_DIR}/bezier_vtu_writer.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/bezier_extraction_json.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/gismo_xml_writer.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/mfem_mesh_writer.cpp
   ${CMAKE_CURRENT_LIST_DIR}/volume_vti_writer.cpp
   ${CMAKE_CURRENT_LIST_DIR}/glb_container.cpp
   ${CMAKE_CURRENT_LIST_DIR}/glb_lines_writer.cpp

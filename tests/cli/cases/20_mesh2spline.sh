@@ -31,6 +31,14 @@ contains "$TMP/err" "Jacobian repair target"
 # certified cell with a non-positive scaled Jacobian at VTK's Gauss points; --vtk-linear hexes.
 expect 0 /usr/bin/python3 "$SRC/tests/cli/check_bezier_vtu.py" "$BIN" "$TMP/s.json" "$TMP/s.vtu" --gauss
 contains "$TMP/out" "check_bezier_vtu: ok"
+# The analysis exports (G+Smo XML, MFEM NURBS mesh, Bézier extraction JSON) read back by an
+# independent Python reader: every format evaluates to eval's values at random points.
+expect 0 "$BIN" mesh2spline "$DATA/meshes/sphere.off" -o "$TMP/s2.json" --gismo "$TMP/s.xml" --mfem "$TMP/s.mesh" --bezier "$TMP/s_bez.json" --quiet
+same_bytes "$TMP/s.json" "$TMP/s2.json" "the exports changed the spline"
+expect 0 /usr/bin/python3 "$SRC/tests/cli/check_iga_exports.py" "$BIN" "$TMP/s.json" --gismo "$TMP/s.xml" --mfem "$TMP/s.mesh" --bezier "$TMP/s_bez.json"
+contains "$TMP/out" "check_iga_exports: ok"
+contains "$TMP/s.xml" "<Geometry type=\"TensorBSpline3\" id=\"0\">"
+contains "$TMP/s.mesh" "MFEM NURBS mesh v1.0"
 expect 0 "$BIN" mesh2spline "$DATA/meshes/cube.off" -o "$TMP/c.json" --vtk "$TMP/c.vtu" --vtk-linear 6 --quiet
 contains "$TMP/c.vtu" "NumberOfCells=\"216\""
 expect 2 "$BIN" mesh2spline "$DATA/meshes/cube.off" -o "$TMP/c.json" --vtk "$TMP/c.vtu" --vtk-linear 0 --quiet

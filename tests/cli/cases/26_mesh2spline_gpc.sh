@@ -36,7 +36,13 @@ expect 0 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gh.json" --quiet -
 contains "$TMP/gh.json" "\"splits\""
 contains "$TMP/gh_stats.json" "\"knot_refinement\": \"hierarchical\""
 expect 0 "$BIN" eval "$TMP/gh.json" --cuboid 0 --uvw 0.1,0.05,0.05 --jacobian
-expect 0 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gh2.json" --quiet --hierarchical --max-rms 0.003
+expect 0 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gh2.json" --quiet --hierarchical --max-rms 0.003 --gismo "$TMP/gh.xml" --mfem "$TMP/gh.mesh" --bezier "$TMP/gh_bez.json"
+# The exports of a GPC spline: one G+Smo patch glued to itself; MFEM's vertex-based topology
+# needs the tube in thirds (27 patches); all read back and evaluated by an independent reader.
+expect 0 /usr/bin/python3 "$SRC/tests/cli/check_iga_exports.py" "$BIN" "$TMP/gh.json" --gismo "$TMP/gh.xml" --mfem "$TMP/gh.mesh" --bezier "$TMP/gh_bez.json" --samples 100
+contains "$TMP/out" "check_iga_exports: ok"
+contains "$TMP/out" "G+Smo: 1 interfaces, 4 boundary sides"
+contains "$TMP/out" "MFEM: 27 patches"
 same_bytes "$TMP/gh.json" "$TMP/gh2.json" "hierarchical GPC spline JSON differs between two runs"
 expect 2 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gh_bad.json" --quiet --hierarchical --hierarchy-depth 0
 contains "$TMP/err" "hierarchy_depth"
