@@ -23,7 +23,7 @@ const char* kUsage =
     "Turns discrete 3D data into volumetric (trivariate) splines.\n"
     "\n"
     "commands:\n"
-    "  info FILE          mesh facts: counts, closed, manifold, components, genus, bounding box\n"
+    "  info FILE          mesh facts (counts, closed, manifold, genus, bounding box) or volume facts\n"
     "  gpc MESH           closed solid of any genus -> generalized poly-cube domain (thesis ch. 3)\n"
     "  mesh2spline MESH   closed genus-0 triangle mesh -> trivariate T-spline (thesis ch. 3, 4)\n"
     "  eval SPLINE        evaluate a spline JSON file at --uvw u,v,w\n"
