@@ -45,6 +45,23 @@ nlohmann::ordered_json fit_stats_json(const pipeline::Mesh2SplineStats& s, const
   return j;
 }
 
+// The det J certificate's keys (both kinds of job, after the fit keys).
+void add_certificate_json(nlohmann::ordered_json& j, const pipeline::Mesh2SplineStats& s) {
+  j["jacobian_certified_fraction"] = s.jacobian_certified_fraction;
+  j["det_j_lower_bound_rel"] = s.det_j_lower_bound_rel;
+  j["certificate_cells"] = s.certificate_cells;
+  nlohmann::ordered_json uncertified = nlohmann::ordered_json::array();
+  for (const spline::UncertifiedCell& u : s.uncertified_cells) {
+    uncertified.push_back({{"cuboid", u.cuboid},
+                           {"cell", u.cell},
+                           {"uvw_min", {u.uvw_min[0], u.uvw_min[1], u.uvw_min[2]}},
+                           {"uvw_max", {u.uvw_max[0], u.uvw_max[1], u.uvw_max[2]}},
+                           {"status", u.bound.status == spline::JacobianCellStatus::Negative ? "negative" : "undecided"},
+                           {"det_j_lower_bound_rel", u.bound.det_j_lower_bound_rel}});
+  }
+  j["uncertified_cells"] = uncertified;
+}
+
 // A solid of genus > 0: one spline over its generalized poly-cube (run_gpc_mesh2spline).
 void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& input, const std::string& path,
                                  const pipeline::Mesh2SplineOptions& m, int vtk_cells, OutputFiles& files) {
@@ -85,6 +102,7 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
     for (const auto& l : s.level_history)
       history.push_back({{"control_points", l.control_points}, {"rms_rel", l.rms_rel}, {"surface_max_rel", l.surface_max_rel}});
     j["level_history"] = history;
+    add_certificate_json(j, s);
     j["min_scaled_jacobian"] = s.min_scaled_jacobian;
     j["negative_jacobian_fraction"] = s.negative_jacobian_fraction;
     j["jacobian_samples"] = s.jacobian_samples;
@@ -111,8 +129,10 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
   if (!args.has("quiet"))
     std::fprintf(stderr,
                  "mesh2spline: genus %d, %d cuboids, %d control points, %d levels, rms_rel %.3g, hausdorff_rel %.3g, "
-                 "min scaled Jacobian %.3g at the Gauss points, interface gap %.3g\n",
-                 s.genus, s.cuboids, s.control_points, s.levels, s.rms_rel, s.hausdorff_rel, s.min_scaled_jacobian,
+                 "certified fold-free cells %.4g %% (%zu not), min scaled Jacobian %.3g at the Gauss points, "
+                 "interface gap %.3g\n",
+                 s.genus, s.cuboids, s.control_points, s.levels, s.rms_rel, s.hausdorff_rel,
+                 100.0 * s.jacobian_certified_fraction, s.uncertified_cells.size(), s.min_scaled_jacobian,
                  s.interface_gap_rel);
 }
 
@@ -239,19 +259,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
   const pipeline::Mesh2SplineStats& s = result.stats;
   if (args.has("stats-json")) {
     nlohmann::ordered_json j = fit_stats_json(s, path, fit);
-    j["jacobian_certified_fraction"] = s.jacobian_certified_fraction;
-    j["det_j_lower_bound_rel"] = s.det_j_lower_bound_rel;
-    j["certificate_cells"] = s.certificate_cells;
-    nlohmann::ordered_json uncertified = nlohmann::ordered_json::array();
-    for (const spline::UncertifiedCell& u : s.uncertified_cells) {
-      uncertified.push_back({{"cuboid", u.cuboid},
-                             {"cell", u.cell},
-                             {"uvw_min", {u.uvw_min[0], u.uvw_min[1], u.uvw_min[2]}},
-                             {"uvw_max", {u.uvw_max[0], u.uvw_max[1], u.uvw_max[2]}},
-                             {"status", u.bound.status == spline::JacobianCellStatus::Negative ? "negative" : "undecided"},
-                             {"det_j_lower_bound_rel", u.bound.det_j_lower_bound_rel}});
-    }
-    j["uncertified_cells"] = uncertified;
+    add_certificate_json(j, s);
     j["min_scaled_jacobian"] = s.min_scaled_jacobian;
     j["negative_jacobian_fraction"] = s.negative_jacobian_fraction;
     j["jacobian_samples"] = s.jacobian_samples;

@@ -99,8 +99,8 @@ val fit_stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name
   return out;
 }
 
-val stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name, const std::string& fit) {
-  val out = fit_stats_to_js(s, name, fit);
+// The det J certificate's keys (both kinds of job, as the CLI's add_certificate_json).
+void add_certificate_to_js(val& out, const pipeline::Mesh2SplineStats& s) {
   out.set("jacobian_certified_fraction", s.jacobian_certified_fraction);
   out.set("det_j_lower_bound_rel", s.det_j_lower_bound_rel);
   out.set("certificate_cells", s.certificate_cells);
@@ -118,6 +118,11 @@ val stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name, co
     uncertified.call<void>("push", cell);
   }
   out.set("uncertified_cells", uncertified);
+}
+
+val stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name, const std::string& fit) {
+  val out = fit_stats_to_js(s, name, fit);
+  add_certificate_to_js(out, s);
   out.set("min_scaled_jacobian", s.min_scaled_jacobian);
   out.set("jacobian_samples", double(s.jacobian_samples));
   out.set("negative_jacobian_fraction", s.negative_jacobian_fraction);
@@ -210,6 +215,7 @@ val gpc_stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name
     history.call<void>("push", level);
   }
   out.set("level_history", history);
+  add_certificate_to_js(out, s);
   out.set("min_scaled_jacobian", s.min_scaled_jacobian);
   out.set("negative_jacobian_fraction", s.negative_jacobian_fraction);
   out.set("jacobian_samples", double(s.jacobian_samples));

@@ -178,6 +178,12 @@ JacobianCellBound certify_bezier_cell(const BezierCell& cell, const JacobianCert
 }
 
 JacobianCertificate certify_jacobian(const TSpline& spline, const JacobianCertificateOptions& options, int cuboid) {
+  return certify_jacobian_in_box(spline, spline.domain_min(), spline.domain_max(), options, cuboid);
+}
+
+JacobianCertificate certify_jacobian_in_box(const TSpline& spline, const Eigen::Vector3d& box_min,
+                                            const Eigen::Vector3d& box_max, const JacobianCertificateOptions& options,
+                                            int cuboid) {
   if (spline.dimension() != 3)
     throw Error("Jacobian certificate: the spline has dimension " + std::to_string(spline.dimension()) +
                 ", expected 3 (geometry)");
@@ -185,12 +191,18 @@ JacobianCertificate certify_jacobian(const TSpline& spline, const JacobianCertif
   if (!(options.rounding_rel >= 0 && options.rounding_rel <= 1e-6))
     throw Error("Jacobian certificate: rounding_rel must be in [0, 1e-6]");
   JacobianCertificate out;
-  out.cells = spline.num_cells();
-  out.cell_bound_rel.resize(out.cells);
-  for (int c = 0; c < out.cells; ++c) {
+  for (int c = 0; c < spline.num_cells(); ++c) {
+    const std::array<int, 3> k = spline.cell_index(c);
+    bool inside = true;
+    for (int a = 0; a < 3; ++a) {
+      const double tol = 1e-9 * (box_max[a] - box_min[a]);
+      inside = inside && spline.knot_lines(a)[k[a]] >= box_min[a] - tol && spline.knot_lines(a)[k[a] + 1] <= box_max[a] + tol;
+    }
+    if (!inside) continue;
     const BezierCell bezier = extract_bezier_cell(spline, c);
     const JacobianCellBound bound = certify_bezier_cell(bezier, options);
-    out.cell_bound_rel[c] = bound.det_j_lower_bound_rel;
+    ++out.cells;
+    out.cell_bound_rel.push_back(bound.det_j_lower_bound_rel);
     out.det_j_lower_bound_rel = std::min(out.det_j_lower_bound_rel, bound.det_j_lower_bound_rel);
     if (bound.status == JacobianCellStatus::Certified) {
       ++out.certified_cells;

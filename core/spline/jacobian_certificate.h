@@ -97,4 +97,11 @@ struct JacobianCertificate {
 JacobianCertificate certify_jacobian(const TSpline& spline, const JacobianCertificateOptions& options = {},
                                      int cuboid = 0);
 
+/// certify_jacobian on the cells inside the box [box_min, box_max] only (to 1e-9 of its size),
+/// e.g. a GPC patch's cuboid box (its cells beyond a Continued face are the neighbour's);
+/// cell_bound_rel then lists those cells in cell order. Throws like certify_jacobian.
+JacobianCertificate certify_jacobian_in_box(const TSpline& spline, const Eigen::Vector3d& box_min,
+                                            const Eigen::Vector3d& box_max,
+                                            const JacobianCertificateOptions& options = {}, int cuboid = 0);
+
 }  // namespace volspline::spline

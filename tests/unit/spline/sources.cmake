@@ -16,6 +16,7 @@ set(TEST_SOURCES
   grouped_gram_test.cpp
   bezier_extraction_test.cpp
   bspline_multipatch_test.cpp
+  gpc_jacobian_certificate_test.cpp
   jacobian_certificate_test.cpp
   hierarchical_fitting_test.cpp
   boundary_tessellation_test.cpp

@@ -1,0 +1,18 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include "core/spline/gpc_spline.h"
+#include "core/spline/jacobian_certificate.h"
+
+namespace volspline::spline {
+
+/// The det J certificate (certify_bezier_cell, DESIGN §6) of every knot-line cell inside every
+/// cuboid's box of a geometric GPC spline (D = 3): each cuboid's patch is one TSpline whose cells
+/// beyond the box (where a face is Continued) are the neighbour's, so they are skipped. cells,
+/// certified_cells, jacobian_certified_fraction and det_j_lower_bound_rel cover all cuboids;
+/// uncertified cells name their cuboid, their patch cell id and box in that cuboid's
+/// coordinates; cell_bound_rel lists the in-box cells' bounds cuboid by cuboid in cell order.
+/// Throws volspline::Error if the dimension is not 3 or options are invalid.
+JacobianCertificate certify_gpc_jacobian(const GpcSpline& spline, const JacobianCertificateOptions& options = {});
+
+}  // namespace volspline::spline
