@@ -24,11 +24,13 @@ const WIREFRAME_MAX_TRIANGLES = 20000;
 const MOTION_SCALE = 0.5;
 // While the camera moves, a triangle layer above MOTION_TRIANGLES is drawn from a coarse copy of
 // about that many triangles, a point layer above MOTION_POINTS from every k-th point, and a line
-// layer above MOTION_SEGMENTS not at all. SwiftShader draws ~2 µs per triangle: 4000 keep a
-// frame near 10 ms.
+// layer above MOTION_SEGMENTS from its polylines with every other vertex dropped (until at most
+// that many segments), or not at all if its segments do not chain. SwiftShader draws ~2 µs per
+// triangle: 4000 keep a frame near 10 ms; the iso-lines of armadillo's spline (10k segments)
+// cost as much as its boundary.
 const MOTION_TRIANGLES = 4000;
 const MOTION_POINTS = 4000;
-const MOTION_SEGMENTS = 12000;
+const MOTION_SEGMENTS = 4000;
 // A wheel step counts as motion for this long (ms), so zooming draws coarse frames too.
 const WHEEL_SETTLE_MS = 250;
 // The layers of a mesh2spline result and of a gpc result: showing one drops the other.
@@ -81,7 +83,10 @@ export class MeshView {
     const count = indices ? indices.length : positions.length / 3;
     if (mode === 'triangles' && count / 3 > MOTION_TRIANGLES) layer.motion = this.upload(coarseTriangles(data, MOTION_TRIANGLES));
     else if (mode === 'points' && count > MOTION_POINTS) layer.motion = this.upload(everyKthPoint(data, Math.ceil(count / MOTION_POINTS)));
-    else if (mode === 'lines' && count / 2 > MOTION_SEGMENTS) layer.motion = 'hide';
+    else if (mode === 'lines' && count / 2 > MOTION_SEGMENTS) {
+      const coarse = coarseLines(data, MOTION_SEGMENTS);
+      layer.motion = coarse ? this.upload(coarse) : 'hide';
+    }
     this.layers[name] = layer;
     this.requestDraw();
   }
@@ -550,6 +555,32 @@ export function coarseTriangles({ positions, uvw, scalar, colours, indices }, ta
 }
 
 /// Every k-th point of a point layer, with its attributes.
+/// A coarse copy of a non-indexed line layer (vertex pairs) with at most `target` segments: where a
+/// segment starts at the end of the one before, the two become one (their shared vertex dropped),
+/// repeated until the count is reached; attributes follow their vertices. Null if the layer is
+/// indexed or its segments do not chain enough.
+export function coarseLines({ positions, uvw, scalar, colours, indices }, target) {
+  if (indices) return null;
+  let layer = { positions, uvw, scalar, colours };
+  const same = (p, a, b) => p[3 * a] === p[3 * b] && p[3 * a + 1] === p[3 * b + 1] && p[3 * a + 2] === p[3 * b + 2];
+  while (layer.positions.length / 6 > target) {
+    const p = layer.positions, segments = p.length / 6;
+    const keep = [];  // vertex ids of the coarse copy, two per segment
+    for (let s = 0; s < segments; s++) {
+      if (s + 1 < segments && same(p, 2 * s + 1, 2 * s + 2)) { keep.push(2 * s, 2 * s + 3); s++; } else keep.push(2 * s, 2 * s + 1);
+    }
+    if (keep.length === 2 * segments) return null;
+    const pick = (data, size) => {
+      if (!data) return null;
+      const out = new Float32Array(keep.length * size);
+      keep.forEach((v, i) => { for (let k = 0; k < size; k++) out[size * i + k] = data[size * v + k]; });
+      return out;
+    };
+    layer = { positions: pick(layer.positions, 3), uvw: pick(layer.uvw, 3), scalar: pick(layer.scalar, 1), colours: pick(layer.colours, 3) };
+  }
+  return { ...layer, indices: null, mode: 'lines' };
+}
+
 function everyKthPoint({ positions, uvw, scalar, colours }, k) {
   const pick = (data, size) => {
     if (!data) return null;

@@ -202,6 +202,27 @@ async function meshToSpline(page) {
   });
   check(lod.motion !== null && lod.motion <= 4000 && lod.motion < lod.full, `while the camera moves the boundary draws ${lod.motion} of its ${lod.full} triangles`);
   check(lod.tabDraws === 0, `switching to the Lens tab and back draws no frame (${lod.tabDraws} drawn)`);
+  // While moving, a line layer above 4000 segments is drawn from its polylines with every other
+  // vertex dropped (armadillo's spline: 10k segments of iso-lines cost as much as its boundary).
+  const lines = await page.evaluate(async () => {
+    const { coarseLines } = await import('./mesh_view.js');
+    const n = 10000, positions = new Float32Array(6 * n), uvw = new Float32Array(6 * n);
+    const at = (i) => [Math.cos(2 * Math.PI * i / n), Math.sin(2 * Math.PI * i / n), 0];
+    for (let s = 0; s < n; s++) { positions.set([...at(s), ...at(s + 1)], 6 * s); uvw.set([s / n, 0, 0, (s + 1) / n, 0, 0], 6 * s); }
+    const c = coarseLines({ positions, uvw }, 4000);
+    let onCircle = 0, chained = 0;
+    for (let v = 0; v < c.positions.length / 3; v++) {
+      const k = Math.round(c.uvw[3 * v] * n);
+      const [x, y] = at(k);
+      if (Math.abs(c.positions[3 * v] - x) < 1e-6 && Math.abs(c.positions[3 * v + 1] - y) < 1e-6) onCircle++;
+    }
+    for (let s = 0; s + 1 < c.positions.length / 6; s++) if (c.positions[6 * s + 3] === c.positions[6 * s + 6] && c.positions[6 * s + 4] === c.positions[6 * s + 7]) chained++;
+    // Separate segments (no shared ends) cannot be merged.
+    const apart = coarseLines({ positions: new Float32Array(Array.from({ length: 6 * 5000 }, (_, i) => i)) }, 4000);
+    return { segments: c.positions.length / 6, vertices: c.positions.length / 3, onCircle, chained, apart };
+  });
+  check(lines.segments === 2500 && lines.onCircle === lines.vertices && lines.chained === lines.segments - 1 && lines.apart === null,
+        `a 10000-segment polyline's motion copy has ${lines.segments} chained segments on its vertices (uvw kept); unchained segments get none`);
 
   // View buttons: axis views, fit, screenshot.
   await page.selectOption('#mesh-view-axis', '+x');
