@@ -55,4 +55,19 @@ module.exports = function (vs, { check, sourceDir, fs, path }) {
   bad(text('v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n'), 'fin.obj', /fin\.obj/, 'non-manifold edge');
   const again = vs.meshInfo(sample('cube.off'), 'cube.off');
   check(again.ok && again.vertices === 8, 'meshInfo still works after errors');
+
+  // glTF as real tools write it (#24 item 3): a non-indexed primitive (each triangle its own three
+  // vertices) is welded into one closed solid; Draco and meshopt files are refused naming the
+  // extension, as the native reader does.
+  const testMesh = (name) => new Uint8Array(fs.readFileSync(path.join(sourceDir, 'tests/data/meshes', name)));
+  const welded = vs.meshInfo(testMesh('tetra_unindexed.gltf'), 'tetra_unindexed.gltf');
+  check(welded.ok && welded.vertices === 4 && welded.closed && welded.components === 1 && welded.genus === 0,
+        `non-indexed glTF welds to a closed tetrahedron (${welded.vertices} vertices, closed ${welded.closed}) ${welded.message || ''}`);
+  const draco = vs.meshInfo(testMesh('draco_flagged.gltf'), 'draco_flagged.gltf');
+  check(!draco.ok && /draco_flagged\.gltf: meshes compressed with KHR_draco_mesh_compression are not supported/.test(draco.message),
+        'a Draco glTF is refused naming the extension: ' + JSON.stringify(draco.message));
+  const meshopt = text('{"extensionsUsed":["EXT_meshopt_compression"],' + new TextDecoder().decode(testMesh('tetra_unindexed.gltf')).trim().slice(1));
+  const refused = vs.meshInfo(meshopt, 'm.gltf');
+  check(!refused.ok && /m\.gltf: meshes compressed with EXT_meshopt_compression are not supported/.test(refused.message),
+        'a meshopt glTF is refused naming the extension: ' + JSON.stringify(refused.message));
 };
