@@ -75,6 +75,7 @@ val cut_to_js(const SplineCut& cut, int axis, double position) {
   out.set("positions", float32_array(cut.xyz.data(), cut.xyz.size()));
   out.set("triangles", uint32_array(cut.triangles.data(), cut.triangles.size()));
   out.set("scaled_jacobian", float32_array(cut.scaled_jacobian.data(), cut.scaled_jacobian.size()));
+  out.set("uvw", float32_array(cut.uvw.data(), cut.uvw.size()));
   out.set("min_scaled_jacobian", cut.min_scaled_jacobian);
   return out;
 }
@@ -247,6 +248,7 @@ val gpc_cut_to_js(const spline::GpcSplineCut& cut, int axis, double position) {
   out.set("triangles", uint32_array(cut.triangles.data(), cut.triangles.size()));
   out.set("scaled_jacobian", float32_array(cut.scaled_jacobian.data(), cut.scaled_jacobian.size()));
   out.set("cuboid", uint32_array(cut.cuboid.data(), cut.cuboid.size()));
+  out.set("uvw", float32_array(cut.uvw.data(), cut.uvw.size()));
   out.set("min_scaled_jacobian", cut.min_scaled_jacobian);
   return out;
 }

@@ -48,7 +48,9 @@ SplineCut spline_cut(const spline::TSpline& spline, int axis, double t, int samp
       // The cut is the plane uvw[axis] = t: the low face of that axis moved to t.
       Eigen::Vector3d unit = polycube::cube_face_point(2 * axis, double(i) / (m - 1), double(j) / (m - 1));
       unit(axis) = t;
-      spline.evaluate_with_jacobian(domain_point(spline, unit), spline::TSplineForm::SemiStandard, value, jacobian);
+      const Eigen::Vector3d uvw = domain_point(spline, unit);
+      spline.evaluate_with_jacobian(uvw, spline::TSplineForm::SemiStandard, value, jacobian);
+      for (int d = 0; d < 3; ++d) out.uvw.push_back(static_cast<float>(uvw[d]));
       for (int d = 0; d < 3; ++d) out.xyz.push_back(static_cast<float>(value[d]));
       const Eigen::Map<const Eigen::Matrix3d> J(jacobian);  // column a = ∂F/∂uvw_a
       const double scale = J.col(0).norm() * J.col(1).norm() * J.col(2).norm();

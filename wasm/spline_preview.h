@@ -29,6 +29,7 @@ struct SplineCut {
   std::vector<float> xyz;                  ///< samples² points F(uvw) with uvw[axis] fixed
   std::vector<std::uint32_t> triangles;    ///< 3 ids per triangle
   std::vector<float> scaled_jacobian;      ///< per point det J / (|J_u| |J_v| |J_w|), in [−1, 1]
+  std::vector<float> uvw;                  ///< per point its parameters in the spline's domain, 3 floats
   float min_scaled_jacobian = 1;           ///< smallest of scaled_jacobian
 };
 

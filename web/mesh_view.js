@@ -43,7 +43,7 @@ const PASTEL_WEIGHT = 0.6;
 const pastel = (colours) => colours.map((c) => PASTEL_WEIGHT * c + (1 - PASTEL_WEIGHT) * 0.85);
 
 /// Legend colours of the scaled Jacobian (CSS), matching the shader.
-export const QUALITY_GRADIENT = 'linear-gradient(to right, rgb(242,115,26) 0%, rgb(250,217,51) 33%, rgb(77,191,89) 67%, rgb(51,102,217) 100%)';
+export const QUALITY_GRADIENT = 'linear-gradient(to right, rgb(217,26,26) 0%, rgb(217,26,26) 12%, rgb(242,115,26) 12%, rgb(250,217,51) 33%, rgb(77,191,89) 67%, rgb(51,102,217) 100%)';
 
 export class MeshView {
   /// `canvas`: the element to draw into. Throws an Error if WebGL2 is unavailable.
@@ -190,7 +190,7 @@ export class MeshView {
   setCut(cut) {
     const turn = cut && (!this.cut || this.cut.axis !== cut.axis);
     this.cut = cut ? { axis: cut.axis, position: cut.position } : null;
-    this.setLayer('cut', cut ? { positions: cut.positions, scalar: cut.scaled_jacobian, indices: cut.triangles } : {});
+    this.setLayer('cut', cut ? { positions: cut.positions, scalar: cut.display ?? cut.scaled_jacobian, indices: cut.triangles } : {});
     if (turn) this.faceCut(cut);
   }
 

@@ -31,6 +31,7 @@ GpcSplineCut gpc_spline_cut(const GpcSpline& spline, int axis, double t, int sam
         out.scaled_jacobian.push_back(q);
         out.min_scaled_jacobian = std::min(out.min_scaled_jacobian, q);
         out.cuboid.push_back(static_cast<std::uint32_t>(c));
+        for (int d = 0; d < 3; ++d) out.uvw.push_back(static_cast<float>(unit[d] * size[d]));
       }
     append_lattice_triangles(out.triangles, base, m, false);
   }

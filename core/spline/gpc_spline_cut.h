@@ -13,6 +13,7 @@ namespace volspline::spline {
 struct GpcSplineCut {
   std::vector<float> xyz;                ///< samples² points F(uvw) per cuboid, 3 floats each, model units
   std::vector<std::uint32_t> cuboid;     ///< the cuboid of each point
+  std::vector<float> uvw;                ///< per point its local coordinates in that cuboid, 3 floats
   std::vector<std::uint32_t> triangles;  ///< 3 point ids per triangle
   std::vector<float> scaled_jacobian;    ///< per point, mesh::scaled_jacobian of F's Jacobian, in [−1, 1]
   float min_scaled_jacobian = 1;         ///< smallest of scaled_jacobian (1 if there are none)

@@ -15,6 +15,34 @@ const QUALITY_LATTICE = 24;
 // The CLI's surface error target (fraction of the bbox diagonal): the verdict's Hausdorff target.
 const SURFACE_TARGET = 0.005;
 const DISTANCE_GRADIENT = 'linear-gradient(to right, rgb(224,230,242) 0%, rgb(250,184,64) 50%, rgb(204,26,26) 100%)';
+// The cut as drawn: its scaled Jacobian, with every point inside a cell the det J certificate
+// does not certify (stats.uncertified_cells: cuboid and uvw box) shown as a fold (−1, red), so
+// the cut, the stats and the VTU's scaled_jacobian_min tell the same cells. Sets cut.display and
+// cut.uncertified_points.
+function markUncertified(cut, stats) {
+  const cells = stats?.uncertified_cells ?? [];
+  const display = Float32Array.from(cut.scaled_jacobian);
+  let marked = 0;
+  if (cells.length && cut.uvw) {
+    for (let k = 0; k < display.length; k++) {
+      const cuboid = cut.cuboid ? cut.cuboid[k] : 0;
+      const inside = cells.some((c) => c.cuboid === cuboid && [0, 1, 2].every((a) => {
+        const tol = 1e-6 * Math.max(1, Math.abs(c.uvw_max[a]));
+        return cut.uvw[3 * k + a] >= c.uvw_min[a] - tol && cut.uvw[3 * k + a] <= c.uvw_max[a] + tol;
+      }));
+      if (inside) { display[k] = -1; marked++; }
+    }
+  }
+  cut.display = display;
+  cut.uncertified_points = marked;
+}
+
+// The det J certificate's stats rows (both kinds of spline).
+function certificateRows(s) {
+  return [['jacobian_certified_fraction', fmt(s.jacobian_certified_fraction, 6)], ['det_j_lower_bound_rel', fmt(s.det_j_lower_bound_rel, 3)],
+    ['certificate_cells', s.certificate_cells], ['uncertified_cells', (s.uncertified_cells ?? []).length]];
+}
+
 // The cut's colours (mesh_shaders.js quality()) for q in (0, 1], as CSS.
 function qualityColour(q) {
   const stops = [[0, [0.95, 0.45, 0.1]], [0.33, [0.98, 0.85, 0.2]], [0.67, [0.3, 0.75, 0.35]], [1, [0.2, 0.4, 0.85]]];
@@ -132,6 +160,7 @@ export const meshTab = {
     }
     this.clearResults();
     this.result = { ...r, options };
+    if (r.cut) markUncertified(r.cut, r.stats);
     // A GPC spline's JSON has no single-patch anchors (no lattice); its control points carry
     // their anchors in control_uvw.
     const gpc = r.domain === 'gpc';
@@ -239,7 +268,20 @@ export const meshTab = {
     if (q && q.folded.length) where.push(`${q.folded.length / 3} of ${q.samples} lattice points`);
     if (cut && cut.min_scaled_jacobian <= 0) where.push(`the cut (min scaled Jacobian ${fmt(cut.min_scaled_jacobian, 3)})`);
     const minQ = Math.min(s.min_scaled_jacobian, q ? q.min_scaled_jacobian : 1);
-    const certified = Number.isFinite(s.jacobian_certified_fraction) ? `; ${pct(s.jacobian_certified_fraction)} of the cells certified fold-free` : '';
+    // The headline is the det J certificate: every cell certified, or the cells it does not.
+    const uncertified = s.uncertified_cells ?? [];
+    let certified = '';
+    if (Number.isFinite(s.jacobian_certified_fraction)) {
+      if (!uncertified.length) {
+        certified = `; certified fold-free (all ${s.certificate_cells} cells)`;
+      } else {
+        const box = (c) => `cuboid ${c.cuboid} cell ${c.cell} uvw [${c.uvw_min.map((x) => fmt(x, 3)).join(', ')}]–[${c.uvw_max.map((x) => fmt(x, 3)).join(', ')}] (${c.status})`;
+        const more = uncertified.length > 3 ? ` and ${uncertified.length - 3} more` : '';
+        certified = `; ${uncertified.length} of ${s.certificate_cells} cells not certified fold-free: ${uncertified.slice(0, 3).map(box).join('; ')}${more}`;
+        if (cut?.uncertified_points) where.push(`the cut (${cut.uncertified_points} points in uncertified cells)`);
+        else if (uncertified.some((c) => c.status === 'negative')) where.push('the uncertified cells (det J < 0 proven)');
+      }
+    }
     let kind, text;
     if (where.length) {
       kind = 'folds';
@@ -268,6 +310,7 @@ export const meshTab = {
         ['rms_rel', fmt(s.rms_rel, 3)], ['max_rel', fmt(s.max_rel, 3)],
         ['hausdorff_rel', fmt(s.hausdorff_rel, 3)], ['rms_geo_rel', fmt(s.rms_geo_rel, 3)],
         ['control_points', s.control_points], ['levels', s.levels],
+        ...certificateRows(s),
         ['min_scaled_jacobian', fmt(s.min_scaled_jacobian, 3)], ['negative_jacobian_fraction', fmt(s.negative_jacobian_fraction, 3)],
         ['lattice_negative_fraction', fmt(s.lattice_negative_fraction, 3)],
         ['semi_standard_max_error', fmt(s.semi_standard_max_error, 3)],
@@ -285,6 +328,7 @@ export const meshTab = {
       ['fit', s.fit], ['rms_rel', fmt(s.rms_rel, 3)], ['max_rel', fmt(s.max_rel, 3)],
       ['hausdorff_rel', fmt(s.hausdorff_rel, 3)], ['rms_geo_rel', fmt(s.rms_geo_rel, 3)],
       ['control_points', s.control_points], ['levels', s.levels], ['cuboids', s.cuboids],
+      ...certificateRows(s),
       ['min_scaled_jacobian', fmt(s.min_scaled_jacobian, 3)], ['negative_jacobian_fraction', fmt(s.negative_jacobian_fraction, 3)],
       ['semi_standard_max_error', fmt(s.semi_standard_max_error, 3)], ['flipped_triangles', s.flipped_triangles],
       ['grid_inverted_hexes', s.grid_inverted_hexes], ['grid_min_scaled_jacobian', fmt(s.grid_min_scaled_jacobian, 3)],
@@ -305,6 +349,7 @@ export const meshTab = {
       const { cut_axis: axis, cut_position: position } = this.options();
       const r = await runJob('splineCut', { json: this.result.spline_json.slice(), axis, position, samples: 41 }, { quiet: true });
       if (!r.ok) { if (r.message !== 'cancelled') showError(r.message); return; }
+      markUncertified(r, this.result.stats);
       this.result.cut = r;
       this.view?.setCut(r);
       const td = document.querySelector('#mesh-stats td[data-key="cut_min_scaled_jacobian"]');

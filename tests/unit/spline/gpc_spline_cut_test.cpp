@@ -28,6 +28,7 @@ TEST_CASE("gpc spline cut: each cuboid's plane at its own parameter, scaled Jaco
       const GpcSplineCut cut = gpc_spline_cut(spline, axis, t, m);
       REQUIRE(cut.xyz.size() == 2 * m * m * 3);
       CHECK(cut.cuboid.size() == 2 * m * m);
+      REQUIRE(cut.uvw.size() == 2 * m * m * 3);
       CHECK(cut.scaled_jacobian.size() == 2 * m * m);
       CHECK(cut.triangles.size() == 2 * (m - 1) * (m - 1) * 6);
       CHECK(std::all_of(cut.triangles.begin(), cut.triangles.end(), [&](std::uint32_t i) { return i < 2 * m * m; }));
@@ -42,6 +43,8 @@ TEST_CASE("gpc spline cut: each cuboid's plane at its own parameter, scaled Jaco
             uvw(axis) = t;
             const Eigen::Vector3d x = boxes[c].placement.apply(uvw.cwiseProduct(cuboid_size(d, c)));
             worst = std::max(worst, (x - Eigen::Vector3d(cut.xyz[3 * k], cut.xyz[3 * k + 1], cut.xyz[3 * k + 2])).norm());
+            // Its local coordinates, for the browser's uncertified-cell test.
+            worst = std::max(worst, (uvw.cwiseProduct(cuboid_size(d, c)) - Eigen::Vector3d(cut.uvw[3 * k], cut.uvw[3 * k + 1], cut.uvw[3 * k + 2])).norm());
           }
       CHECK(worst <= 1e-6);
       // A rotation everywhere: scaled Jacobian 1 (floats: 1e-6).
