@@ -159,6 +159,14 @@ async function meshToSpline(page) {
   if (quality) {
     check(quality.verdict === 'good' && /^Fit within target/.test(quality.text) && /no folds/.test(quality.text),
           `verdict line for the sphere (rms ${(100 * stats.rms_rel).toFixed(3)} % ≤ 0.2 %, no folds): "${quality.text}"`);
+    // The certificate is the headline: all cells certified, or the verdict names those that are not.
+    const uncertified = stats.uncertified_cells.length;
+    check(uncertified === 0 ? quality.text.includes(`certified fold-free (all ${stats.certificate_cells} cells)`)
+                            : quality.text.includes(`${uncertified} of ${stats.certificate_cells} cells not certified fold-free: cuboid 0 cell`),
+          `the verdict gives the det J certificate (${uncertified} of ${stats.certificate_cells} cells not certified): "${quality.text}"`);
+    check(Number(await stat(page, 'mesh-stats', 'certificate_cells')) === stats.certificate_cells &&
+          Number(await stat(page, 'mesh-stats', 'uncertified_cells')) === uncertified && (await stat(page, 'mesh-stats', 'jacobian_certified_fraction')) !== null,
+          `the stats panel shows the certificate (${stats.jacobian_certified_fraction} of ${stats.certificate_cells} cells)`);
     check(quality.samples === 24 ** 3 && quality.total === quality.samples && quality.bars === 20 && quality.histogramShown && quality.folded === 0,
           `scaled-Jacobian histogram: ${quality.bars} bars over ${quality.total} lattice points, ${quality.folded} folded`);
     check(quality.distances === quality.boundaryVertices && quality.maxDistance < 0.05 && quality.boundaryColoured,
@@ -438,6 +446,23 @@ async function meshGpcSpline(page) {
   check((await errorText(page)) === '' && r.cuboids.join() === '0' && r.cut > 0, `no error; the boundary is tagged with cuboid 0 and the cut has ${r.cut} points`);
   const verdict = await page.evaluate(() => document.getElementById('mesh-verdict').dataset.verdict);
   check(['good', 'poor', 'folds'].includes(verdict), `the verdict line is shown (${verdict})`);
+  // The GPC certificate: the stats name the uncertified cells with their cuboid, the verdict
+  // names them, and the cut draws every point inside one as a fold (red), as the VTU would.
+  const cert = await page.evaluate(() => {
+    const m = window.volspline.meshTab.result, c = m.cut;
+    let red = 0, foldedUnmarked = 0;
+    for (let k = 0; k < c.display.length; k++) {
+      if (c.display[k] === -1) red++;
+      if (c.scaled_jacobian[k] < -1e-3 && c.display[k] > 0) foldedUnmarked++;  // det J = 0 may touch a certified cell
+    }
+    return { n: m.stats.uncertified_cells.length, cells: m.stats.certificate_cells, first: m.stats.uncertified_cells[0],
+      marked: c.uncertified_points, red, foldedUnmarked, text: document.getElementById('mesh-verdict').textContent,
+      legend: document.querySelector('#mesh-legend div').textContent };
+  });
+  check(cert.cells > 0 && cert.red === cert.marked && cert.foldedUnmarked === 0 && /not certified/.test(cert.legend) &&
+        (cert.n === 0 ? cert.text.includes('certified fold-free (all') && cert.marked === 0
+                      : cert.first.cuboid === 0 && cert.text.includes(`${cert.n} of ${cert.cells} cells not certified fold-free: cuboid 0 cell ${cert.first.cell}`)),
+        `GPC certificate in the page: ${cert.n} of ${cert.cells} cells not certified, ${cert.marked} cut points drawn as folds: "${cert.text}"`);
   const histogram = await page.evaluate(() => ({ shown: !document.getElementById('mesh-histogram').hidden, caption: document.getElementById('mesh-histogram-caption').textContent,
     bars: document.querySelectorAll('#mesh-histogram-svg rect').length, distance: !!window.volspline.meshTab.result.quality?.boundary_distance_rel }));
   check(histogram.shown && histogram.bars > 0 && /scaled Jacobian at 24³ points/.test(histogram.caption) && !histogram.distance,
