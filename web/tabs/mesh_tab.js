@@ -278,8 +278,9 @@ export const meshTab = {
         const box = (c) => `cuboid ${c.cuboid} cell ${c.cell} uvw [${c.uvw_min.map((x) => fmt(x, 3)).join(', ')}]–[${c.uvw_max.map((x) => fmt(x, 3)).join(', ')}] (${c.status})`;
         const more = uncertified.length > 3 ? ` and ${uncertified.length - 3} more` : '';
         certified = `; ${uncertified.length} of ${s.certificate_cells} cells not certified fold-free: ${uncertified.slice(0, 3).map(box).join('; ')}${more}`;
-        if (cut?.uncertified_points) where.push(`the cut (${cut.uncertified_points} points in uncertified cells)`);
-        else if (uncertified.some((c) => c.status === 'negative')) where.push('the uncertified cells (det J < 0 proven)');
+        const negative = uncertified.filter((c) => c.status === 'negative').length;
+        if (negative) where.push(`${negative} cells (proven by the certificate)`);
+        if (cut?.uncertified_points) certified += `. The cut draws its ${cut.uncertified_points} points in those cells red`;
       }
     }
     let kind, text;
