@@ -14,8 +14,10 @@
 #include "core/linalg/csr_matrix.h"
 #include "core/param/cuboid_surface_locator.h"
 #include "core/param/hex_grid_untangling.h"
+#include "core/param/hex_min_quality.h"
 #include "core/param/surface_distance.h"
 #include "core/mesh/hex_quality.h"
+#include "core/mesh/surface_creases.h"
 #include "core/param/volumetric_grid_map.h"
 
 namespace volspline::param {
@@ -45,10 +47,78 @@ Progress share_of(const Progress& progress, double lo, double hi) {
   });
 }
 
+// Surface triangles whose normals differ by more than this (about 75°) across an edge make a
+// crease: a cube's edge (90°) is one, the noise of a scanned or coarse smooth surface is not.
+constexpr double kCreaseAngleRad = 1.3;
+
+// The solid's surface as one triangle soup: the surface triangles of every cuboid's mesh.
+mesh::TriangleMesh whole_surface(const polycube::GpcConstruction& construction) {
+  int nv = 0, nt = 0;
+  for (const polycube::CuboidSurface& cs : construction.surfaces) {
+    nv += cs.mesh.num_vertices();
+    for (int t = 0; t < cs.mesh.num_faces(); ++t) nt += cs.surface_face[t] >= 0;
+  }
+  mesh::TriangleMesh whole;
+  whole.positions.resize(nv, 3);
+  whole.triangles.resize(nt, 3);
+  int v0 = 0, t0 = 0;
+  for (const polycube::CuboidSurface& cs : construction.surfaces) {
+    whole.positions.middleRows(v0, cs.mesh.num_vertices()) = cs.mesh.positions;
+    for (int t = 0; t < cs.mesh.num_faces(); ++t)
+      if (cs.surface_face[t] >= 0) whole.triangles.row(t0++) = cs.mesh.triangles.row(t).array() + v0;
+    v0 += cs.mesh.num_vertices();
+  }
+  return whole;
+}
+
+// The last stage of the padded mesh: every surface node slides on the whole surface, poly-edge
+// and corner nodes too, unless the surface has a crease there. A poly-edge is a line of the
+// parameterization, not of the smooth surface, and a padding hex whose surface quad has a
+// poly-edge side is only as good as the angles that side makes. Folds left are untangled once
+// more this way, then the least scaled Jacobian is raised (raise_min_scaled_jacobian).
+// unused: rows of pm that are no node. Returns the nodes the untangler moved.
+int slide_and_raise(const polycube::GpcConstruction& construction, const std::vector<char>& unused,
+                    const GpcGridOptions& options, HexMesh& pm, const Progress& progress) {
+  const int rows = static_cast<int>(pm.xyz.rows());
+  const mesh::TriangleMesh whole = whole_surface(construction);
+  const SurfaceDistance surface(whole);
+  const std::vector<char> crease = mesh::crease_triangles(whole, kCreaseAngleRad);
+  std::vector<int> near_face(rows, -1);
+  std::vector<char> fixed(rows);
+  SlidingNodes sliding;
+  sliding.slides.assign(rows, 0);
+  for (int r = 0; r < rows; ++r) {
+    if (pm.on_surface[r] && !unused[r]) surface.closest_point(pm.xyz.row(r).transpose(), nullptr, &near_face[r]);
+    fixed[r] = unused[r] || (pm.on_surface[r] && crease[near_face[r]]);
+    sliding.slides[r] = !fixed[r] && pm.on_surface[r];
+  }
+  // Each node's last triangle bounds its next search (the optimizers move it a little).
+  sliding.project = [&](int r, const Eigen::Vector3d& p, Eigen::Matrix3d* tangent) {
+    Eigen::Vector3d normal;
+    const Eigen::Vector3d q = surface.closest_point(p, &normal, &near_face[r]);
+    if (tangent) *tangent = Eigen::Matrix3d::Identity() - normal * normal.transpose();
+    return q;
+  };
+  int untangled = 0;
+  const int folded = hex_mesh_quality(pm).num_inverted;
+  if (folded > 0) {
+    const mesh::Positions before = pm.xyz;
+    HexGridUntangleOptions untangle;
+    untangle.rounds = 1;
+    untangled = untangle_hex_mesh(pm.hexes, fixed, pm.xyz, {}, untangle, &sliding, share_of(progress, 0.0, 0.4)).free_nodes;
+    if (hex_mesh_quality(pm).num_inverted > folded) pm.xyz = before;
+  }
+  MinQualityOptions quality;
+  quality.target = options.min_quality_target;
+  quality.max_sweeps = options.min_quality_sweeps;
+  raise_min_scaled_jacobian(pm.hexes, fixed, pm.xyz, quality, &sliding, share_of(progress, 0.4, 1.0));
+  return untangled;
+}
+
 // The padded hex mesh pm untangled with only the surface held, the nodes inside an exposed cube
-// face sliding on it, then improved around its poor hexes. root, offset, total: the grid node
+// face sliding on it, improved around its poor hexes, then slide_and_raise. root, offset, total: the grid node
 // identification of compute_gpc_volumetric_map (rows of pm below total that are not roots are
-// unused). Returns the nodes the untanglers moved. progress: the untanglers' steps, held then sliding.
+// unused). Returns the nodes the untanglers moved. progress: the untanglers' steps and the quality sweeps.
 int untangle_padded_mesh(const polycube::GpcConstruction& construction, const std::vector<int>& root,
                          const std::vector<int>& offset, int total, const GpcGridOptions& options, HexMesh& pm,
                          const Progress& progress) {
@@ -111,14 +181,14 @@ int untangle_padded_mesh(const polycube::GpcConstruction& construction, const st
   };
   HexGridUntangleOptions held_options;
   held_options.rounds = 1;
-  untangled += untangle_hex_mesh(pm.hexes, held, pm.xyz, {}, held_options, nullptr, share_of(progress, 0.0, 0.5)).free_nodes;
+  untangled += untangle_hex_mesh(pm.hexes, held, pm.xyz, {}, held_options, nullptr, share_of(progress, 0.0, 0.3)).free_nodes;
   const int held_count = hex_mesh_quality(pm).num_inverted;
   if (held_count > 0) {
     const mesh::Positions held_result = pm.xyz;
     HexGridUntangleOptions slide_options;
     slide_options.rounds = 1;
     untangled +=
-        untangle_hex_mesh(pm.hexes, fixed, pm.xyz, {}, slide_options, &sliding, share_of(progress, 0.5, 1.0)).free_nodes;
+        untangle_hex_mesh(pm.hexes, fixed, pm.xyz, {}, slide_options, &sliding, share_of(progress, 0.3, 0.6)).free_nodes;
     if (hex_mesh_quality(pm).num_inverted > held_count) pm.xyz = held_result;
   }
   const HexMeshQuality untangled_quality = hex_mesh_quality(pm);
@@ -146,6 +216,11 @@ int untangle_padded_mesh(const polycube::GpcConstruction& construction, const st
     const HexMeshQuality improved = hex_mesh_quality(pm);
     if (improved.num_inverted > 0 || improved.min_scaled_jacobian < untangled_quality.min_scaled_jacobian)
       pm.xyz = before;
+  }
+  if (options.min_quality_sweeps > 0) {
+    std::vector<char> unused(rows, 0);
+    for (int r = 0; r < total; ++r) unused[r] = root[r] != r;
+    untangled += slide_and_raise(construction, unused, options, pm, share_of(progress, 0.6, 1.0));
   }
   return untangled;
 }

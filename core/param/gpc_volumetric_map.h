@@ -25,6 +25,10 @@ struct GpcGridOptions {
   enum class Padding { Off, On } padding = Padding::On;
   double padding_depth = 0.5;  ///< pad_hex_mesh's depth, in (0, 1)
   int quality_iterations = 100;  ///< improve_hex_mesh on the padded mesh once fold-free (0: off)
+  /// raise_min_scaled_jacobian on the padded mesh, every surface node sliding on the whole surface
+  /// except at creases: its hexes below this corner scaled Jacobian are worked on, in (−1, 1]
+  double min_quality_target = 0.3;
+  int min_quality_sweeps = 300;  ///< its sweeps at most (0: off, the padded mesh as improve_hex_mesh leaves it)
 };
 
 /// The grid of one cuboid: node (i, j, k) at row i + n0·(j + n1·k), parameter (i/(n0−1), …).
@@ -65,7 +69,7 @@ struct GpcVolumetricMap {
 /// hexes are then untangled per cuboid (untangle_hex_grid) with the shared nodes held, and the
 /// folds left over all cuboids at once (untangle_hex_mesh) with the shared nodes free.
 /// Writes the node counts into construction.domain.cuboids[c].nodes. `progress` hears the phases
-/// ('surface map', 'volumetric map', 'grid untangling', 'padding') with the fraction of this map done.
+/// ('surface map', 'volumetric map', 'grid untangling', 'padding', 'grid quality') with the fraction of this map done.
 /// Throws polycube::DecompositionError naming the cuboid if a surface map is not bijective;
 /// volspline::Cancelled if progress asks to stop.
 GpcVolumetricMap compute_gpc_volumetric_map(polycube::GpcConstruction& construction, double bbox_diagonal,

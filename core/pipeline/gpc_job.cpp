@@ -31,6 +31,10 @@ void check_options(const GpcOptions& o) {
   if (!(o.grid.padding_depth > 0.0 && o.grid.padding_depth < 1.0)) fail("grid.padding_depth must be in (0, 1)");
   if (o.grid.quality_iterations < 0 || o.grid.quality_iterations > 100000)
     fail("grid.quality_iterations must be in [0, 100000]");
+  if (!(o.grid.min_quality_target > -1.0 && o.grid.min_quality_target <= 1.0))
+    fail("grid.min_quality_target must be in (-1, 1]");
+  if (o.grid.min_quality_sweeps < 0 || o.grid.min_quality_sweeps > 100000)
+    fail("grid.min_quality_sweeps must be in [0, 100000]");
 }
 
 }  // namespace

@@ -277,7 +277,12 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
     progress.report(stage == "done" ? "domain built" : stage, 0.6 * fraction);
     return true;
   });
-  const GpcResult gpc = run_gpc(mesh, name, options.gpc, gpc_progress);
+  // The fit samples every hex-mesh node at its grid parameter, so the surface nodes must stay
+  // where the surface maps put them: the last quality stage of the hex mesh, which slides them
+  // over the whole surface, is left out here.
+  GpcOptions gpc_options = options.gpc;
+  gpc_options.grid.min_quality_sweeps = 0;
+  const GpcResult gpc = run_gpc(mesh, name, gpc_options, gpc_progress);
   timer.end_stage("gpc");
   const polycube::GpcDomain& domain = gpc.construction.domain;
   stats.genus = gpc.stats.genus;

@@ -69,7 +69,8 @@ struct GpcMesh2SplineResult {
 /// mesh2spline over a generalized poly-cube (thesis §3.5, ch. 4): run_gpc (decomposition,
 /// T-to-cube, surface and volumetric maps of every cuboid), then one cubic spline over all
 /// cuboids (spline::GpcSpline: C² across regular interfaces, C⁰ at ill-points) fitted by least
-/// squares to the volumetric map's hex mesh nodes and the surface vertices (fit_gpc_spline),
+/// squares to the volumetric map's hex mesh nodes (without the grid.min_quality_sweeps stage,
+/// whose surface nodes leave their surface-map parameters) and the surface vertices (fit_gpc_spline),
 /// its knots refined (by the misfit or uniformly, options.refinement) until rms_rel ≤
 /// max_rms_rel and every surface sample is within max_surface_error_rel, then untangled and
 /// measured.

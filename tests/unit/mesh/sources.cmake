@@ -9,4 +9,5 @@ set(TEST_SOURCES
   graph_distance_test.cpp
   min_cut_test.cpp
   hex_quality_test.cpp
+  surface_creases_test.cpp
 )

@@ -6,5 +6,6 @@ set(TEST_SOURCES
   hex_grid_untangling_test.cpp
   barrier_untangling_test.cpp
   hex_padding_test.cpp
+  hex_min_quality_test.cpp
   cuboid_surface_locator_test.cpp
 )

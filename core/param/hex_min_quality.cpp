@@ -1,0 +1,225 @@
+// SPDX-License-Identifier: MIT
+#include "core/param/hex_min_quality.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+
+#include "core/mesh/hex_quality.h"
+
+namespace volspline::param {
+
+namespace {
+
+// Corners whose scaled Jacobian lies this close above the least one join the ascent direction,
+// so that a move does not trade the worst corner for its runner-up.
+constexpr double kNearActive = 0.02;
+// A move is taken only if it raises the least value by more than this (round-off guard).
+constexpr double kMinGain = 1e-9;
+// A sweep works on the hexes within this much of the least value (and below target).
+constexpr double kBand = 0.1;
+// Accepted moves of one node per visit.
+constexpr int kStepsPerVisit = 4;
+// The sweeps stop once the least value has not risen by kStallGain for kStallSweeps sweeps.
+constexpr double kStallGain = 1e-3;
+constexpr int kStallSweeps = 20;
+
+// One corner of one hex that a node's position changes: hex h's corner c, and which of the
+// corner's 4 nodes the node is (0: the corner itself, a + 1: its neighbour along axis a).
+struct Touch {
+  int hex;
+  int corner;
+  int role;
+};
+
+// Edge a of corner c of a hex, pointing along +axis (mesh::hex_min_scaled_jacobian's convention).
+Eigen::Vector3d corner_edge(const std::array<int, 8>& hex, const mesh::Positions& xyz, int c, int a) {
+  const int o = c ^ (1 << a);
+  const Eigen::Vector3d d = (xyz.row(hex[o]) - xyz.row(hex[c])).transpose();
+  return (c >> a & 1) ? Eigen::Vector3d(-d) : d;
+}
+
+// Scaled Jacobian of a corner and, if asked, its gradient with respect to the node in `role`.
+double corner_value(const std::array<int, 8>& hex, const mesh::Positions& xyz, int c, int role,
+                    Eigen::Vector3d* gradient) {
+  const std::array<Eigen::Vector3d, 3> e = {corner_edge(hex, xyz, c, 0), corner_edge(hex, xyz, c, 1),
+                                            corner_edge(hex, xyz, c, 2)};
+  const std::array<double, 3> l2 = {e[0].squaredNorm(), e[1].squaredNorm(), e[2].squaredNorm()};
+  const double length2 = l2[0] * l2[1] * l2[2];
+  if (!(length2 > 0.0)) {
+    if (gradient) gradient->setZero();
+    return -1.0;
+  }
+  const double inv_length = 1.0 / std::sqrt(length2);
+  const Eigen::Vector3d cofactor0 = e[1].cross(e[2]);
+  const double value = e[0].dot(cofactor0) * inv_length;
+  if (gradient) {
+    // ∂SJ/∂e_a = (e_b × e_c)/L − SJ e_a/|e_a|²; e_a = ±(x_neighbour − x_corner).
+    auto d_edge = [&](int a) -> Eigen::Vector3d {
+      const Eigen::Vector3d cofactor = a == 0 ? cofactor0 : a == 1 ? e[2].cross(e[0]) : e[0].cross(e[1]);
+      return cofactor * inv_length - (value / l2[a]) * e[a];
+    };
+    auto sign = [&](int a) { return (c >> a & 1) ? -1.0 : 1.0; };
+    if (role == 0) {
+      *gradient = -(sign(0) * d_edge(0) + sign(1) * d_edge(1) + sign(2) * d_edge(2));
+    } else {
+      const int a = role - 1;
+      *gradient = sign(a) * d_edge(a);
+    }
+  }
+  return value;
+}
+
+// The least-norm point of the convex hull of g (Frank–Wolfe with exact line search): the
+// steepest ascent direction of the least of the functions whose gradients they are.
+Eigen::Vector3d least_norm_point(const std::vector<Eigen::Vector3d>& g) {
+  std::size_t start = 0;
+  for (std::size_t i = 1; i < g.size(); ++i)
+    if (g[i].squaredNorm() < g[start].squaredNorm()) start = i;
+  Eigen::Vector3d d = g[start];
+  for (int it = 0; it < 64; ++it) {
+    std::size_t best = 0;
+    for (std::size_t i = 1; i < g.size(); ++i)
+      if (g[i].dot(d) < g[best].dot(d)) best = i;
+    const Eigen::Vector3d diff = d - g[best];
+    const double gap = diff.dot(d);
+    if (gap <= 1e-14 * std::max(1.0, d.squaredNorm())) break;
+    const double t = std::clamp(gap / diff.squaredNorm(), 0.0, 1.0);
+    d -= t * diff;
+  }
+  return d;
+}
+
+}  // namespace
+
+MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>& hexes, const std::vector<char>& fixed,
+                                           mesh::Positions& xyz, const MinQualityOptions& options,
+                                           const SlidingNodes* sliding, const Progress& progress) {
+  assert(static_cast<Eigen::Index>(fixed.size()) == xyz.rows());
+  if (!(options.target > -1.0 && options.target <= 1.0) || options.max_sweeps < 1 || !(options.first_step > 0.0) ||
+      options.first_step > 1.0 || options.halvings < 0)
+    throw Error("MinQualityOptions: target in (-1, 1], max_sweeps >= 1, first_step in (0, 1], halvings >= 0");
+  const int n = static_cast<int>(xyz.rows());
+  // Per node, the corners its position changes: in each of its hexes its own corner and the
+  // corners of its three neighbours along the hex's edges.
+  std::vector<int> touch_begin(n + 1, 0);
+  for (const auto& hex : hexes)
+    for (int v : hex) touch_begin[v + 1] += 4;
+  for (int v = 0; v < n; ++v) touch_begin[v + 1] += touch_begin[v];
+  std::vector<Touch> touches(touch_begin[n]);
+  {
+    std::vector<int> fill(touch_begin.begin(), touch_begin.end() - 1);
+    for (std::size_t h = 0; h < hexes.size(); ++h)
+      for (int q = 0; q < 8; ++q) {
+        const int v = hexes[h][q];
+        touches[fill[v]++] = {static_cast<int>(h), q, 0};
+        for (int a = 0; a < 3; ++a) touches[fill[v]++] = {static_cast<int>(h), q ^ (1 << a), a + 1};
+      }
+  }
+  auto hex_value = [&](std::size_t h) {
+    std::array<Eigen::Vector3d, 8> x;
+    for (int q = 0; q < 8; ++q) x[q] = xyz.row(hexes[h][q]).transpose();
+    return mesh::hex_min_scaled_jacobian(x);
+  };
+  // True if every corner the node changes is above `floor` (stops at the first that is not).
+  auto star_above = [&](int v, double floor) {
+    for (int t = touch_begin[v]; t < touch_begin[v + 1]; ++t)
+      if (!(corner_value(hexes[touches[t].hex], xyz, touches[t].corner, touches[t].role, nullptr) > floor)) return false;
+    return true;
+  };
+  auto census = [&](double* least) {
+    int below = 0;
+    *least = 1.0;
+    for (std::size_t h = 0; h < hexes.size(); ++h) {
+      const double q = hex_value(h);
+      *least = std::min(*least, q);
+      if (q < options.target) ++below;
+    }
+    return below;
+  };
+
+  MinQualityReport report;
+  report.below_before = census(&report.min_before);
+  std::vector<double> value(hexes.size());
+  for (std::size_t h = 0; h < hexes.size(); ++h) value[h] = hex_value(h);
+  std::vector<char> work(n);
+  std::vector<Eigen::Vector3d> gradients;
+  std::vector<std::pair<double, Eigen::Vector3d>> corners;  // value and gradient of a node's corners
+  double best = report.min_before;
+  int stalled = 0;
+  for (int sweep = 0; sweep < options.max_sweeps; ++sweep) {
+    // The free nodes of the hexes within kBand of the least value (and below target), in id
+    // order: the sweeps raise the least value rather than spread over every hex below target.
+    const double least_now = *std::min_element(value.begin(), value.end());
+    if (least_now > best + kStallGain) {
+      best = least_now;
+      stalled = 0;
+    } else if (++stalled > kStallSweeps) {
+      break;
+    }
+    const double band = std::min(options.target, least_now + kBand);
+    std::fill(work.begin(), work.end(), 0);
+    bool any = false;
+    for (std::size_t h = 0; h < hexes.size(); ++h)
+      if (value[h] < band)
+        for (int v : hexes[h])
+          if (!fixed[v]) work[v] = 1, any = true;
+    if (!any) break;
+    int moves = 0;
+    for (int v = 0; v < n; ++v) {
+      if (!work[v]) continue;
+      bool moved_here = false;
+      for (int visit = 0; visit < kStepsPerVisit; ++visit) {
+        // The least value over the node's corners and the gradients of the near-least ones.
+        double least = std::numeric_limits<double>::infinity();
+        double shortest2 = std::numeric_limits<double>::infinity();
+        corners.clear();
+        for (int t = touch_begin[v]; t < touch_begin[v + 1]; ++t) {
+          const Touch& touch = touches[t];
+          Eigen::Vector3d g;
+          const double corner = corner_value(hexes[touch.hex], xyz, touch.corner, touch.role, &g);
+          corners.push_back({corner, g});
+          least = std::min(least, corner);
+          if (touch.role > 0)
+            shortest2 = std::min(shortest2, corner_edge(hexes[touch.hex], xyz, touch.corner, touch.role - 1).squaredNorm());
+        }
+        if (least >= band) break;
+        const double shortest = std::sqrt(shortest2);
+        Eigen::Matrix3d tangent = Eigen::Matrix3d::Identity();
+        const bool slides = sliding && sliding->slides[v];
+        const Eigen::Vector3d x0 = xyz.row(v).transpose();
+        if (slides) sliding->project(v, x0, &tangent);
+        gradients.clear();
+        for (const auto& [corner, g] : corners)
+          if (corner <= least + kNearActive) gradients.push_back(tangent * g);
+        Eigen::Vector3d direction = least_norm_point(gradients);
+        const double norm = direction.norm();
+        if (!(norm > 1e-12) || !(shortest > 0.0) || !std::isfinite(shortest)) break;
+        direction /= norm;
+        double step = options.first_step * shortest;
+        bool moved = false;
+        for (int k = 0; k <= options.halvings && !moved; ++k, step *= 0.5) {
+          const Eigen::Vector3d trial = x0 + step * direction;
+          const Eigen::Vector3d p = slides ? sliding->project(v, trial, nullptr) : trial;
+          xyz.row(v) = p.transpose();
+          moved = star_above(v, least + kMinGain);
+          if (!moved) xyz.row(v) = x0.transpose();
+        }
+        if (!moved) break;
+        ++moves;
+        moved_here = true;
+      }
+      if (moved_here)
+        for (int t = touch_begin[v]; t < touch_begin[v + 1]; t += 4) value[touches[t].hex] = hex_value(touches[t].hex);
+    }
+    report.sweeps = sweep + 1;
+    report.moves += moves;
+    progress.report("grid quality", static_cast<double>(sweep + 1) / options.max_sweeps);
+    if (moves == 0) break;
+  }
+  report.below_after = census(&report.min_after);
+  return report;
+}
+
+}  // namespace volspline::param

@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "core/common/progress.h"
+#include "core/mesh/triangle_mesh.h"
+#include "core/param/hex_grid_untangling.h"
+
+namespace volspline::param {
+
+/// Options of raise_min_scaled_jacobian.
+struct MinQualityOptions {
+  double target = 0.3;    ///< work on the hexes whose corner scaled Jacobian is below this, in (−1, 1]
+  int max_sweeps = 60;    ///< Gauss–Seidel sweeps over the worked-on nodes, ≥ 1
+  double first_step = 0.3;  ///< first trial step, fraction of the node's shortest hex edge, in (0, 1]
+  int halvings = 7;       ///< the step is halved at most this often before a node is left, ≥ 0
+};
+
+/// Outcome of raise_min_scaled_jacobian.
+struct MinQualityReport {
+  double min_before = 1.0;  ///< least corner scaled Jacobian of the hexes before
+  double min_after = 1.0;   ///< and after (never lower)
+  int below_before = 0;     ///< hexes below options.target before
+  int below_after = 0;      ///< and after
+  int sweeps = 0;
+  int moves = 0;            ///< accepted node moves
+};
+
+/// Raises the least corner scaled Jacobian (mesh::hex_min_scaled_jacobian) of a hex mesh, such as
+/// the volumetric map's (§3.4.2, where the thesis only checks every hex), by optimization-based
+/// smoothing (Freitag and Plassmann 2000): each free node of a hex below
+/// `target` moves, one at a time, along the steepest ascent of the least scaled Jacobian over the
+/// corners of its hexes (the least-norm point of the convex hull of the near-least corners'
+/// gradients), by the longest trial step that raises that least value; sliding nodes move in their
+/// tangent plane and are projected back. A move only raises the least value over the hexes it
+/// touches, so the mesh's least value never falls and a folded corner never appears where none
+/// was. Deterministic: nodes in id order, no randomness.
+/// hexes[h]: 8 node ids, node q at offset (q&1, q>>1&1, q>>2&1); fixed: one flag per node;
+/// xyz changed in place. sliding (or null): as untangle_hex_mesh.
+/// progress: "grid quality" after every sweep with the fraction of max_sweeps done; throws
+/// volspline::Cancelled there if it asks to stop.
+MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>& hexes, const std::vector<char>& fixed,
+                                           mesh::Positions& xyz, const MinQualityOptions& options = {},
+                                           const SlidingNodes* sliding = nullptr, const Progress& progress = {});
+
+}  // namespace volspline::param
