@@ -24,6 +24,7 @@ int run_gpc(const std::vector<std::string>& argv) {
       {"grid-nodes", "N", "about N volumetric grid nodes over all cuboids (default 24000)"},
       {"no-untangle", "", "keep the harmonic grid's folds (the thesis's plain Eq. 3.1 map)"},
       {"no-padding", "", "the hex mesh without the padding layer under the surface (the cuboid grids alone)"},
+      {"quality-sweeps", "N", "sweeps of the last stage, which raises the hex mesh's least scaled Jacobian with every surface node sliding on the surface (default 300; 0 = off)"},
       {"no-merge", "", "keep every T-shape arm, tube and cap its own cuboid (no merging across cuts)"},
       {"level-set-cuts", "", "cut on the Morse function's level sets (default: move each cut to the shortest loop separating the same boundaries)"},
       {"limbs", "P", "limb ends become caps when their branch is at least P of the shape's graph diameter long (default 0.25 for genus > 0, off for genus 0; 0 = off)"},
@@ -45,6 +46,7 @@ int run_gpc(const std::vector<std::string>& argv) {
   options.grid.target_nodes = args.get_int("grid-nodes", options.grid.target_nodes);
   if (args.has("no-untangle")) options.grid.untangle = param::GpcGridOptions::Untangle::Off;
   if (args.has("no-padding")) options.grid.padding = param::GpcGridOptions::Padding::Off;
+  options.grid.min_quality_sweeps = args.get_int("quality-sweeps", options.grid.min_quality_sweeps);
   if (args.has("no-merge")) options.merge_cuboids = false;
   if (args.has("level-set-cuts")) options.cuts = polycube::CutPlacement::LevelSet;
   if (args.has("limbs")) {

@@ -50,6 +50,8 @@ Progress share_of(const Progress& progress, double lo, double hi) {
 // Surface triangles whose normals differ by more than this (about 75°) across an edge make a
 // crease: a cube's edge (90°) is one, the noise of a scanned or coarse smooth surface is not.
 constexpr double kCreaseAngleRad = 1.3;
+// Rounds of slide_and_raise while folds are left.
+constexpr int kSlideRounds = 3;
 
 // The solid's surface as one triangle soup: the surface triangles of every cuboid's mesh.
 mesh::TriangleMesh whole_surface(const polycube::GpcConstruction& construction) {
@@ -74,8 +76,10 @@ mesh::TriangleMesh whole_surface(const polycube::GpcConstruction& construction) 
 // The last stage of the padded mesh: every surface node slides on the whole surface, poly-edge
 // and corner nodes too, unless the surface has a crease there. A poly-edge is a line of the
 // parameterization, not of the smooth surface, and a padding hex whose surface quad has a
-// poly-edge side is only as good as the angles that side makes. Folds left are untangled once
-// more this way, then the least scaled Jacobian is raised (raise_min_scaled_jacobian).
+// poly-edge side is only as good as the angles that side makes. The least scaled Jacobian is
+// raised (raise_min_scaled_jacobian); folds it leaves are untangled once more with this sliding
+// and the least value raised again, for a few rounds (untangling first would undo what the
+// first raise can reach).
 // unused: rows of pm that are no node. Returns the nodes the untangler moved.
 int slide_and_raise(const polycube::GpcConstruction& construction, const std::vector<char>& unused,
                     const GpcGridOptions& options, HexMesh& pm, const Progress& progress) {
@@ -99,19 +103,24 @@ int slide_and_raise(const polycube::GpcConstruction& construction, const std::ve
     if (tangent) *tangent = Eigen::Matrix3d::Identity() - normal * normal.transpose();
     return q;
   };
-  int untangled = 0;
-  const int folded = hex_mesh_quality(pm).num_inverted;
-  if (folded > 0) {
-    const mesh::Positions before = pm.xyz;
-    HexGridUntangleOptions untangle;
-    untangle.rounds = 1;
-    untangled = untangle_hex_mesh(pm.hexes, fixed, pm.xyz, {}, untangle, &sliding, share_of(progress, 0.0, 0.4)).free_nodes;
-    if (hex_mesh_quality(pm).num_inverted > folded) pm.xyz = before;
-  }
   MinQualityOptions quality;
   quality.target = options.min_quality_target;
   quality.max_sweeps = options.min_quality_sweeps;
-  raise_min_scaled_jacobian(pm.hexes, fixed, pm.xyz, quality, &sliding, share_of(progress, 0.4, 1.0));
+  // Rounds of raise, then untangle what stays folded (kept if no worse), then raise again.
+  int untangled = 0;
+  for (int round = 0; round < kSlideRounds; ++round) {
+    const double lo = double(round) / kSlideRounds, hi = double(round + 1) / kSlideRounds;
+    raise_min_scaled_jacobian(pm.hexes, fixed, pm.xyz, quality, &sliding, share_of(progress, lo, lo + 0.7 * (hi - lo)));
+    const int folded = hex_mesh_quality(pm).num_inverted;
+    if (folded == 0) break;
+    const mesh::Positions before = pm.xyz;
+    HexGridUntangleOptions untangle;
+    untangle.rounds = 1;
+    untangled += untangle_hex_mesh(pm.hexes, fixed, pm.xyz, {}, untangle, &sliding,
+                                   share_of(progress, lo + 0.7 * (hi - lo), hi)).free_nodes;
+    if (hex_mesh_quality(pm).num_inverted > folded) pm.xyz = before;
+    if (round + 1 == kSlideRounds) raise_min_scaled_jacobian(pm.hexes, fixed, pm.xyz, quality, &sliding);
+  }
   return untangled;
 }
 
