@@ -88,7 +88,9 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
   bar.finish();
   const std::string output = args.get("output");
   files.stage(output, io::serialize_gpc_spline_json(result.spline));
-  if (args.has("vtk")) files.stage(args.get("vtk"), io::serialize_gpc_spline_vtu(result.spline, vtk_cells > 0 ? vtk_cells : 24));
+  if (args.has("vtk"))
+    files.stage(args.get("vtk"), vtk_cells > 0 ? io::serialize_gpc_spline_vtu(result.spline, vtk_cells)
+                                               : io::serialize_gpc_bezier_vtu(result.spline));
   if (args.has("glb")) files.stage(args.get("glb"), io::serialize_gpc_spline_glb(result.spline));
   if (args.has("gismo"))
     files.stage(args.get("gismo"), io::serialize_gismo_xml(spline::multipatch_from_gpc_spline(result.spline)));

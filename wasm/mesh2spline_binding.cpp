@@ -7,6 +7,7 @@
 
 #include "core/common/error.h"
 #include "core/io/glb_lines_writer.h"
+#include "core/io/bezier_vtu_writer.h"
 #include "core/io/gpc_spline_io.h"
 #include "core/io/gpc_writers.h"
 #include "core/io/mesh_io.h"
@@ -263,7 +264,8 @@ val gpc_mesh2spline(const mesh::TriangleMesh& input, const std::string& name, co
   const int cut_axis = integer_option(options, "cut_axis", 2, 0, 2);
   const double cut_position = number_option(options, "cut_position", 0.5);
   const int cut_samples = integer_option(options, "cut_samples", 41, 2, 257);
-  const int vtu_cells = integer_option(options, "vtu_cells", 24, 1, 64);
+  // VTU: the exact Bézier cells, or straight hexes on a vtu_cells lattice when that is given.
+  const int vtu_cells = has_option(options, "vtu_cells") ? integer_option(options, "vtu_cells", 24, 1, 64) : 0;
   const bool outputs = bool_option(options, "outputs", true);
   std::optional<pipeline::GpcMesh2SplineResult> run;
   try {
@@ -317,7 +319,8 @@ val gpc_mesh2spline(const mesh::TriangleMesh& input, const std::string& name, co
   if (outputs) {
     out.set("spline_json", bytes_to_js(io::serialize_gpc_spline_json(result.spline)));
     out.set("glb", bytes_to_js(io::serialize_gpc_spline_glb(result.spline)));
-    out.set("vtu", bytes_to_js(io::serialize_gpc_spline_vtu(result.spline, vtu_cells)));
+    out.set("vtu", bytes_to_js(vtu_cells > 0 ? io::serialize_gpc_spline_vtu(result.spline, vtu_cells)
+                                              : io::serialize_gpc_bezier_vtu(result.spline)));
   }
   return out;
 }
@@ -332,7 +335,7 @@ val mesh2spline(const val& bytes, const std::string& name, const val& options, c
     const int cut_axis = integer_option(options, "cut_axis", 2, 0, 2);
     const double cut_position = number_option(options, "cut_position", 0.5);
     const int cut_samples = integer_option(options, "cut_samples", 41, 2, 257);
-    const int vtu_cells = integer_option(options, "vtu_cells", 24, 1, 64);
+    const int vtu_cells = has_option(options, "vtu_cells") ? integer_option(options, "vtu_cells", 24, 1, 64) : 0;
     const bool outputs = bool_option(options, "outputs", true);
     check_cut(cut_axis, cut_position, cut_samples);
 
@@ -363,7 +366,8 @@ val mesh2spline(const val& bytes, const std::string& name, const val& options, c
     if (outputs) {
       out.set("spline_json", bytes_to_js(io::serialize_spline_json(result.spline)));
       out.set("glb", bytes_to_js(io::serialize_spline_glb(result.spline)));
-      out.set("vtu", bytes_to_js(io::serialize_spline_vtu(result.spline, {vtu_cells, vtu_cells, vtu_cells})));
+      out.set("vtu", bytes_to_js(vtu_cells > 0 ? io::serialize_spline_vtu(result.spline, {vtu_cells, vtu_cells, vtu_cells})
+                                                : io::serialize_bezier_vtu(result.spline)));
     }
     return out;
   });

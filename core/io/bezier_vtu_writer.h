@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "core/spline/gpc_spline.h"
 #include "core/spline/tspline.h"
 
 namespace volspline::io {
@@ -26,7 +27,9 @@ struct BezierVtuOptions {
 /// VTK_BEZIER_HEXAHEDRON cells (type 79), one per knot-line cell, each its exact 4×4×4 Bernstein
 /// net (spline::extract_bezier_cell), so VTK draws and evaluates the spline itself. Points lie on
 /// the global Bézier lattice (3·cells + 1 per axis): neighbouring cells share their face nets.
-/// Cell data: `HigherOrderDegrees` (3, 3, 3), `cuboid`, `scaled_jacobian_min` (the certified
+/// Cell data: `HigherOrderDegrees` (3, 3, 3), `cuboid`, `uvw_min` and `uvw_max` (the cell's
+/// parameter box: VTK's parametric (r, s, t) maps to uvw_min + (r, s, t) ⊙ (uvw_max − uvw_min)),
+/// `scaled_jacobian_min` (the certified
 /// lower bound of the scaled Jacobian, spline::certify_jacobian; negative where not certified,
 /// and then a fold indicator, not a bound;
 /// D = 3 only). Point data: `density` (D = 4) and, in the rational form, `RationalWeights`. In the
@@ -34,6 +37,12 @@ struct BezierVtuOptions {
 /// binary data, zlib-compressed where available. Precondition: D is 3 or 4.
 std::string serialize_bezier_vtu(const spline::TSpline& spline, const BezierVtuOptions& options = {},
                                  const std::vector<double>* cell_scaled_jacobian_min = nullptr);
+
+/// A geometric GPC spline (D = 3) the same way: the knot-line cells inside every cuboid's box
+/// (its patch's cells beyond a Continued face are the neighbour's), each cuboid on its own
+/// Bézier lattice (glued faces carry equal nets, not shared points), cell data `cuboid` and
+/// `scaled_jacobian_min` from spline::certify_jacobian_in_box. options.cuboid is not used.
+std::string serialize_gpc_bezier_vtu(const spline::GpcSpline& spline, const BezierVtuOptions& options = {});
 
 /// Writes serialize_bezier_vtu atomically (the certificate is computed for D = 3). Throws
 /// volspline::Error naming the path on failure.

@@ -59,19 +59,29 @@ def main():
     degrees = grid.GetCellData().GetArray("HigherOrderDegrees")
     if degrees is None or set(array_values(degrees)) != {3}:
         fail("HigherOrderDegrees missing or not (3, 3, 3)")
-    for name in ("cuboid",):
+    for name in ("cuboid", "uvw_min", "uvw_max"):
         if grid.GetCellData().GetArray(name) is None:
             fail("cell data '%s' missing" % name)
 
     spline = json.load(open(spline_path))
-    # The knot-line grid of the spline: cell c of the VTU is TSpline cell c (u fastest).
-    lines = []
-    for a in range(3):
-        values = sorted({k for f in spline["functions"] for k in f["knots"][a]})
-        lines.append(values)
-    nc = [len(l) - 1 for l in lines]
-    if nc[0] * nc[1] * nc[2] != cells:
-        fail("%d cells, the spline's knot-line grid has %d" % (cells, nc[0] * nc[1] * nc[2]))
+    gpc = spline.get("format") == "volspline-gpc-spline"
+    # Every cell's parameter box (cell data uvw_min, uvw_max) and cuboid.
+    box_lo = array_values(grid.GetCellData().GetArray("uvw_min"))
+    box_hi = array_values(grid.GetCellData().GetArray("uvw_max"))
+    cuboid_of = array_values(grid.GetCellData().GetArray("cuboid"))
+    if not gpc:
+        # The knot-line grid of the spline: cell c of the VTU is TSpline cell c (u fastest).
+        lines = []
+        for a in range(3):
+            values = sorted({k for f in spline["functions"] for k in f["knots"][a]})
+            lines.append(values)
+        nc = [len(l) - 1 for l in lines]
+        if nc[0] * nc[1] * nc[2] != cells:
+            fail("%d cells, the spline's knot-line grid has %d" % (cells, nc[0] * nc[1] * nc[2]))
+        for c in range(0, cells, max(1, cells // 50)):
+            k = [c % nc[0], (c // nc[0]) % nc[1], c // (nc[0] * nc[1])]
+            if any(box_lo[3 * c + a] != lines[a][k[a]] or box_hi[3 * c + a] != lines[a][k[a] + 1] for a in range(3)):
+                fail("cell %d: uvw_min/uvw_max are not its knot-line box" % c)
     bounds = grid.GetBounds()
     diagonal = ((bounds[1] - bounds[0]) ** 2 + (bounds[3] - bounds[2]) ** 2 + (bounds[5] - bounds[4]) ** 2) ** 0.5
 
@@ -80,17 +90,21 @@ def main():
     for _ in range(samples):
         c = rng.randrange(cells)
         p = [rng.random(), rng.random(), rng.random()]
-        k = [c % nc[0], (c // nc[0]) % nc[1], c // (nc[0] * nc[1])]
-        uvw = [lines[a][k[a]] + p[a] * (lines[a][k[a] + 1] - lines[a][k[a]]) for a in range(3)]
+        uvw = [box_lo[3 * c + a] + p[a] * (box_hi[3 * c + a] - box_lo[3 * c + a]) for a in range(3)]
         queries.append((c, p, uvw))
-    command = [binary, "eval", spline_path]
-    for _, _, uvw in queries:
-        command += ["--uvw", "%.17g,%.17g,%.17g" % tuple(uvw)]
-    out = subprocess.run(command, check=True, capture_output=True, text=True).stdout.split("\n")
+    out = [None] * len(queries)
+    for cuboid in sorted({cuboid_of[c] for c, _, _ in queries}):
+        picked = [q for q, (c, _, _) in enumerate(queries) if cuboid_of[c] == cuboid]
+        command = [binary, "eval", spline_path] + (["--cuboid", str(cuboid)] if gpc else [])
+        for q in picked:
+            command += ["--uvw", "%.17g,%.17g,%.17g" % tuple(queries[q][2])]
+        lines_out = subprocess.run(command, check=True, capture_output=True, text=True).stdout.split("\n")
+        for q, line in zip(picked, lines_out):
+            out[q] = line
     # D = 4 (vol2spline): the density is point data on the same Bézier net, interpolated by VTK
     # with the cell's own weights (Bernstein basis).
     density = grid.GetPointData().GetArray("density")
-    if spline["dimension"] == 4 and density is None:
+    if spline.get("dimension", 3) == 4 and density is None:
         fail("point data 'density' missing for a 4-dimensional spline")
     density_range = None
     worst = 0.0
@@ -102,7 +116,7 @@ def main():
         weights = [0.0] * cell.GetNumberOfPoints()
         cell.EvaluateLocation(vtk.mutable(0), p, x, weights)
         worst = max(worst, max(abs(x[d] - expected[d]) for d in range(3)) / diagonal)
-        if spline["dimension"] == 4:
+        if spline.get("dimension", 3) == 4:
             if density_range is None:
                 density_range = max(density.GetRange()[1] - density.GetRange()[0], 1e-300)
             value = sum(weights[n] * density.GetValue(cell.GetPointId(n)) for n in range(len(weights)))
@@ -110,7 +124,7 @@ def main():
     print("check_bezier_vtu: %d cells, %d random points, max |VTK - eval| / diagonal = %.3g" % (cells, samples, worst))
     if worst > 1e-12:
         fail("VTK's evaluation differs from volspline eval by %.3g of the diagonal" % worst)
-    if spline["dimension"] == 4:
+    if spline.get("dimension", 3) == 4:
         print("check_bezier_vtu: density: max |VTK - eval| / range of the net = %.3g" % worst_density)
         if worst_density > 1e-12:
             fail("VTK's density differs from volspline eval by %.3g of the range" % worst_density)

@@ -1,5 +1,5 @@
 # mesh2spline on a solid of genus > 0: one spline over the GPC; JSON, eval --cuboid, VTU, GLB, stats.
-expect 0 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gt.json" --vtk "$TMP/gt.vtu" --glb "$TMP/gt.glb" --stats-json "$TMP/gt_stats.json" --quiet
+expect 0 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gt.json" --vtk "$TMP/gt.vtu" --vtk-linear 24 --glb "$TMP/gt.glb" --stats-json "$TMP/gt_stats.json" --quiet
 contains "$TMP/gt.json" "\"format\": \"volspline-gpc-spline\""
 has_keys "$TMP/gt_stats.json" rms_rel hausdorff_rel control_points min_scaled_jacobian negative_jacobian_fraction lattice_negative_fraction semi_standard_max_error genus t_shapes cuboids ill_points interface_gap_rel interface_normal_jump_deg times_s
 contains "$TMP/gt_stats.json" "\"genus\": 1"
@@ -40,7 +40,10 @@ expect 0 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gh.json" --quiet -
 contains "$TMP/gh.json" "\"splits\""
 contains "$TMP/gh_stats.json" "\"knot_refinement\": \"hierarchical\""
 expect 0 "$BIN" eval "$TMP/gh.json" --cuboid 0 --uvw 0.1,0.05,0.05 --jacobian
-expect 0 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gh2.json" --quiet --hierarchical --max-rms 0.003 --gismo "$TMP/gh.xml" --mfem "$TMP/gh.mesh" --bezier "$TMP/gh_bez.json"
+expect 0 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gh2.json" --quiet --hierarchical --max-rms 0.003 --gismo "$TMP/gh.xml" --mfem "$TMP/gh.mesh" --bezier "$TMP/gh_bez.json" --vtk "$TMP/gh.vtu"
+# --vtk of a GPC spline: the Bézier cells of every cuboid box, read by VTK, equal to eval --cuboid.
+expect 0 /usr/bin/python3 "$SRC/tests/cli/check_bezier_vtu.py" "$BIN" "$TMP/gh.json" "$TMP/gh.vtu" --samples 100 --gauss
+contains "$TMP/out" "check_bezier_vtu: ok"
 # The exports of a GPC spline: one G+Smo patch glued to itself; MFEM's vertex-based topology
 # needs the tube in thirds (27 patches); all read back and evaluated by an independent reader.
 expect 0 /usr/bin/python3 "$SRC/tests/cli/check_iga_exports.py" "$BIN" "$TMP/gh.json" --gismo "$TMP/gh.xml" --mfem "$TMP/gh.mesh" --bezier "$TMP/gh_bez.json" --samples 100
