@@ -57,7 +57,13 @@ std::array<int, 4> cube_face_edges(int face) {
 
 namespace {
 
+// Corner sets tried, best first, for each of the two corner rules before giving up.
+constexpr int kCornerCandidates = 6;
+
 using Corners = std::array<int, num_cube_corners>;
+
+// Corner c of the unit cube, at (c&1, c>>1&1, c>>2&1).
+Eigen::Vector3d corner_offset(int c) { return Eigen::Vector3d(c & 1, c >> 1 & 1, c >> 2 & 1); }
 
 Eigen::Vector3d corner_signs(int c) {
   return Eigen::Vector3d((c & 1) ? 1.0 : -1.0, ((c >> 1) & 1) ? 1.0 : -1.0,
@@ -183,8 +189,10 @@ bool extremal_corners(const VertexCells& cells, const Eigen::Vector3d& centre, c
   return static_cast<int>(distinct.size()) == num_cube_corners;
 }
 
-// progress: "cuboid layout" with the fraction of candidate frames tried.
-Corners automatic_corners(const mesh::HalfedgeMesh& mesh, bool nearest, const Progress& progress) {
+// Candidate corner sets, best first: the corners farthest apart (no slivers) first, ties in the
+// order of the frames, each set once. progress: "cuboid layout" with the fraction of candidate
+// frames tried.
+std::vector<Corners> automatic_corners(const mesh::HalfedgeMesh& mesh, bool nearest, const Progress& progress) {
   // Area-weighted moments make the frame independent of the sampling density.
   const std::vector<double> areas = mesh::face_areas(mesh);
   std::vector<double> vertex_weight(mesh.num_vertices(), 0.0);
@@ -230,8 +238,7 @@ Corners automatic_corners(const mesh::HalfedgeMesh& mesh, bool nearest, const Pr
       frames.push_back(pca * Eigen::AngleAxisd(angle * degree, axis).toRotationMatrix());
   }
   const VertexCells cells(mesh);
-  Corners best{};
-  double best_score = -1.0;
+  std::vector<std::pair<double, Corners>> candidates;
   for (std::size_t k = 0; k < frames.size(); ++k) {
     progress.report("cuboid layout", double(k) / frames.size());
     const Eigen::Matrix3d& start = frames[k];
@@ -253,14 +260,17 @@ Corners automatic_corners(const mesh::HalfedgeMesh& mesh, bool nearest, const Pr
       current = next;
       score = next_score;
     }
-    if (score > best_score) {
-      best_score = score;
-      best = current;
-    }
+    bool seen = false;
+    for (const auto& candidate : candidates) seen = seen || candidate.second == current;
+    if (!seen) candidates.push_back({score, current});
   }
-  if (best_score < 0.0)
+  if (candidates.empty())
     throw Error("mesh '" + mesh.source_name() + "': cannot find 8 distinct cuboid corners");
-  return best;
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<Corners> out;
+  for (const auto& candidate : candidates) out.push_back(candidate.second);
+  return out;
 }
 
 // Traces the 12 poly-edges with the loops around the ends of `long_axis`; false on failure
@@ -376,6 +386,24 @@ bool trace_layout(const mesh::HalfedgeMesh& mesh, const std::vector<double>& len
       return false;
     }
   }
+  // Orientation: along every poly-edge, from its first corner to its second, the cube face on
+  // the left (outward normal) must be the region left of the path on the outward-oriented
+  // surface. Extremal corners of a non-convex shape can give a mirrored layout that passes every
+  // test above and whose every face map flips.
+  for (int e = 0; e < num_cube_edges; ++e) {
+    const auto ends = cube_edge_corners(e);
+    const Eigen::Vector3d d = corner_offset(ends[1]) - corner_offset(ends[0]);
+    const auto& path = layout.poly_edges[e];
+    int h = mesh.edge_halfedge(edge_between(mesh, path[0], path[1]));
+    if (mesh.halfedge_source(h) != path[0]) h = mesh.halfedge_twin(h);
+    const int left = region_face[component[mesh.halfedge_face(h)]];
+    const Eigen::Vector3d normal = (left % 2 ? 1.0 : -1.0) * Eigen::Vector3d::Unit(left / 2);
+    const Eigen::Vector3d centre = 0.5 * Eigen::Vector3d::Ones() + 0.5 * normal;
+    if (normal.cross(d).dot(centre - corner_offset(ends[0])) <= 0.0) {
+      *why = "the layout is mirrored against the surface's orientation";
+      return false;
+    }
+  }
   layout.face_region.resize(mesh.num_faces());
   for (int f = 0; f < mesh.num_faces(); ++f) layout.face_region[f] = region_face[component[f]];
   return true;
@@ -442,17 +470,24 @@ CuboidLayout compute_cuboid_layout(const mesh::HalfedgeMesh& mesh,
   if (options.corners.empty()) {
     // Extremal corners first; the box-corner choice is the fallback when their paths cannot be
     // laid out (e.g. corners on long limbs). The first try has most of the bar: it usually works.
+    // The corner sets of the other frames follow, best first, up to kCornerCandidates: which
+    // set lays out depends on the pose (a limb may block the first set's band in one rotation).
     std::string reasons;
     for (bool nearest : {false, true}) {
       const double lo = nearest ? 0.9 : 0.0, hi = nearest ? 1.0 : 0.9;
-      CuboidLayout layout;
-      layout.corners = automatic_corners(mesh, nearest, share(lo, lo + 0.6 * (hi - lo)));
-      std::string why;
-      if (layout_with_corners(mesh, layout, &why, share(lo + 0.6 * (hi - lo), hi))) {
-        progress.report("cuboid layout", 1.0);
-        return layout;
+      const std::vector<Corners> candidates = automatic_corners(mesh, nearest, share(lo, lo + 0.6 * (hi - lo)));
+      const int tries = std::min(static_cast<int>(candidates.size()), kCornerCandidates);
+      const double from = lo + 0.6 * (hi - lo), step = 0.4 * (hi - lo) / tries;
+      for (int k = 0; k < tries; ++k) {
+        CuboidLayout layout;
+        layout.corners = candidates[k];
+        std::string why;
+        if (layout_with_corners(mesh, layout, &why, share(from + k * step, from + (k + 1) * step))) {
+          progress.report("cuboid layout", 1.0);
+          return layout;
+        }
+        if (k == 0) reasons += (reasons.empty() ? "" : "; ") + why;
       }
-      reasons += (reasons.empty() ? "" : "; ") + why;
     }
     throw Error(name + ": cannot lay out a cuboid: " + reasons + " (try other corners: `corners`)");
   }

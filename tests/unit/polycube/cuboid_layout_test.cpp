@@ -141,3 +141,18 @@ TEST_CASE("complete_cuboid_layout: given corners give the shortest paths, prescr
     for (const auto& path : layout.poly_edges) CHECK(path.size() == 5);
   }
 }
+
+TEST_CASE("complete_cuboid_layout: a mirrored corner order is refused (its face maps would all flip)") {
+  const auto m = mesh::HalfedgeMesh::build(test::subdivided_cube(4), "cube");
+  const polycube::CuboidLayout automatic = polycube::compute_cuboid_layout(m);
+  // Corner c takes the vertex of corner c^1: the box mirrored along its first axis. Every region
+  // is still one face's disc bounded by that face's 4 poly-edges.
+  polycube::CuboidLayout mirrored;
+  for (int c = 0; c < polycube::num_cube_corners; ++c) mirrored.corners[c] = automatic.corners[c ^ 1];
+  std::string why;
+  CHECK_FALSE(polycube::complete_cuboid_layout(m, 2, {}, mirrored, &why));
+  CHECK(why.find("mirrored") != std::string::npos);
+  polycube::CuboidLayout layout;
+  layout.corners = automatic.corners;
+  CHECK(polycube::complete_cuboid_layout(m, 2, {}, layout, &why));
+}
