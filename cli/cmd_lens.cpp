@@ -164,6 +164,7 @@ int run_lens(const std::vector<std::string>& argv_in) {
     j["iterations"] = s.iterations;
     j["converged"] = s.converged;
     j["height"] = s.height;
+    j["height_scale_per_roi"] = s.height_scale_per_roi;
     j["baseline_parameter"] = s.baseline_parameter;
     j["alpha"] = options.alpha;
     j["grid"] = options.grid;

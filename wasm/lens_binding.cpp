@@ -94,6 +94,15 @@ pipeline::LensOptions lens_options_from_js(const val& o) {
   else throw Error("option 'boundary': unknown '" + boundary + "' (pinned, square)");
   options.magnification = number_option(o, "magnification", options.magnification);
   options.height = number_option(o, "height", options.height);
+  if (!o.isUndefined() && !o.isNull() && !o["height_scale"].isUndefined()) {
+    const val scales = o["height_scale"];
+    if (!scales.isArray()) throw Error("option 'height_scale': expected an array of numbers, one per ROI");
+    const int n = scales["length"].as<int>();
+    for (int i = 0; i < n; ++i) {
+      if (!scales[i].isNumber()) throw Error("option 'height_scale': entry " + std::to_string(i) + " is not a number");
+      options.height_scale.push_back(scales[i].as<double>());
+    }
+  }
   options.alpha = number_option(o, "alpha", options.alpha);
   const auto integer = [&](const char* key, int fallback) {
     const double x = number_option(o, key, fallback);
@@ -123,6 +132,9 @@ val stats_to_js(const pipeline::LensStats& s) {
   val per_roi = val::array();
   for (double m : s.magnification_per_roi) per_roi.call<void>("push", m);
   out.set("magnification_per_roi", per_roi);
+  val scales = val::array();
+  for (double x : s.height_scale_per_roi) scales.call<void>("push", x);
+  out.set("height_scale_per_roi", scales);
   out.set("flipped_triangles", s.flipped_triangles);
   out.set("magnification_requested", s.magnification_requested);
   out.set("magnification_limited", s.magnification_limited);

@@ -158,7 +158,7 @@ const LABELS = {
   certificate_cells: 'cells certified or not', uncertified_cells: 'cells not certified', negative_jacobian_fraction: 'folded fraction (det J ≤ 0)',
   grid_inverted_hexes: 'inverted grid hexes', grid_min_scaled_jacobian: 'grid min scaled Jacobian',
   cut_min_scaled_jacobian: 'cut min scaled Jacobian', time_s: 'core time (s)', worker_ms: 'worker time (ms)',
-  magnification_center: 'magnification at the centre', magnification_per_roi: 'magnification per lens', magnification_requested: 'magnification asked',
+  magnification_center: 'magnification at the centre', magnification_per_roi: 'magnification per lens', height_scale_per_roi: 'height per lens (÷ h0)', magnification_requested: 'magnification asked',
   magnification_limited: 'limited by the fold-free guard', distortion_sum: 'distortion Σ (Eq. 6.9)',
   distortion_max: 'distortion max (0..1)', distortion_max_focus: 'distortion max in the focus (0..1)',
   flipped_triangles: 'flipped triangles', ms_per_iteration: 'per iteration (ms)', ms_total: 'total (ms)',

@@ -53,11 +53,14 @@ double lens_profile(double d) {
   return (std::exp(-0.5 * x * x / (kSigma * kSigma)) - floor) / (1.0 - floor);
 }
 
-double lens_height(const std::vector<RoiField>& rois, double height_rel, double x, double y) {
+double lens_height(const std::vector<RoiField>& rois, double height_rel, const std::vector<double>& height_scale,
+                   double x, double y) {
   double h = 0;
-  for (const RoiField& roi : rois) {
+  for (std::size_t i = 0; i < rois.size(); ++i) {
+    const RoiField& roi = rois[i];
     const double d = roi.axis_distance(x, y);
-    if (d < 1.0) h = std::max(h, height_rel * roi.inscribed_radius() * lens_profile(d));
+    const double scale = height_scale.empty() ? 1.0 : height_scale[i];
+    if (d < 1.0) h = std::max(h, height_rel * scale * roi.inscribed_radius() * lens_profile(d));
   }
   return h;
 }
@@ -73,7 +76,7 @@ LensMesh build_lens_mesh(const std::vector<RoiField>& rois, int width, int heigh
     }
     m.in_roi[v] = in && !m.pinned[v];
     if (options.pin_context == LensMeshOptions::PinContext::On && !near) m.pinned[v] = 1;
-    m.xyz(v, 2) = m.pinned[v] ? 0.0 : lens_height(rois, options.height_rel, x, y);
+    m.xyz(v, 2) = m.pinned[v] ? 0.0 : lens_height(rois, options.height_rel, options.height_scale, x, y);
   };
   for (int v = 0; v < m.xyz.rows(); ++v) classify(v);
 

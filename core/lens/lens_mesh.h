@@ -12,6 +12,7 @@ namespace volspline::lens {
 struct LensMeshOptions {
   int grid = 100;              ///< grid vertices along the longer image side (≥ 4)
   double height_rel = 1.0;     ///< lens height h0, in units of each ROI's inscribed radius (> 0)
+  std::vector<double> height_scale;  ///< per ROI: its height is height_rel × height_scale[i] (> 0); empty: 1 each
   double band_rel = 0.75;      ///< width of the free context band around each ROI, in ROI equivalent radii
   double stretch_max = 1.5;    ///< split edges whose 3D length exceeds this multiple of their planar length
   int subdivision_levels = 2;  ///< at most this many rounds of edge splitting
@@ -37,8 +38,10 @@ LensMesh build_grid(int width, int height, int grid);
 /// bump, 1 on the axis, 0 (with nearly zero slope) on the boundary.
 double lens_profile(double d);
 
-/// Lens height at (x, y): the largest h0·r·profile(d) over the ROIs (r their inscribed radius), pixels.
-double lens_height(const std::vector<RoiField>& rois, double height_rel, double x, double y);
+/// Lens height at (x, y): the largest h0·s·r·profile(d) over the ROIs (r their inscribed radius, s
+/// their height_scale entry, 1 if `height_scale` is empty), pixels.
+double lens_height(const std::vector<RoiField>& rois, double height_rel, const std::vector<double>& height_scale,
+                   double x, double y);
 
 /// §6.3.1: lifts the grid to the lens heights, marks ROI vertices, pins the border (and, with
 /// pin_context, everything beyond the context band) and splits over-stretched edges (step 3).

@@ -42,6 +42,10 @@ struct LensOptions {
   LensMethod method = LensMethod::Metric;
   double magnification = 2.0;  ///< wanted linear magnification at each ROI centre, in (1, 16]
   double height = 0.0;         ///< > 0: lens height h0 in ROI inscribed radii (metric only, skips the calibration); ≤ 50
+  /// Metric with height > 0: each ROI's height relative to h0 (one entry per ROI, each in (0, 10]),
+  /// as stats.height_scale_per_roi reports it; empty: 1 each. A calibrated run with several ROIs
+  /// chooses them itself.
+  std::vector<double> height_scale;
   double alpha = 0.0;          ///< Eq. 6.8 blend in [0, 1]: 0 rigid, 1 conformal
   int grid = 100;              ///< grid vertices along the longer image side, in [4, 2000]
   LensBoundary boundary = LensBoundary::Pinned;
@@ -76,6 +80,7 @@ struct LensStats {
   bool converged = true;
   bool translated = false;         ///< LensMode::Live answered by moving an earlier run's deformation (its stats)
   double height = 0;               ///< lens height h0 used, in ROI inscribed radii (metric)
+  std::vector<double> height_scale_per_roi;  ///< each ROI's height relative to h0 (metric; 1 each for one ROI)
   double baseline_parameter = 0;   ///< the baselines' magnification parameter after calibration
   int vertices = 0;                ///< output mesh vertices
   int triangles = 0;               ///< output mesh triangles

@@ -2,6 +2,7 @@
 #include "core/pipeline/lens_session.h"
 
 #include <algorithm>
+#include <numeric>
 #include <chrono>
 #include <cmath>
 #include <deque>
@@ -53,6 +54,7 @@ struct Deformation {
 struct MeshKey {
   int width = 0, height = 0, grid = 0;
   double h0 = 0, band = 0;
+  std::vector<double> height_scale;  // per ROI, relative to h0 (empty: 1 each)
   LensBoundary boundary = LensBoundary::Pinned;
   std::vector<lens::Roi> rois;
 };
@@ -70,7 +72,7 @@ bool same_rois(const std::vector<lens::Roi>& a, const std::vector<lens::Roi>& b)
 
 bool same_mesh(const MeshKey& a, const MeshKey& b) {
   return a.width == b.width && a.height == b.height && a.grid == b.grid && a.h0 == b.h0 && a.band == b.band &&
-         a.boundary == b.boundary && same_rois(a.rois, b.rois);
+         a.height_scale == b.height_scale && a.boundary == b.boundary && same_rois(a.rois, b.rois);
 }
 
 // A lens mesh ready to flatten: texture, start positions and the factorized Eq. 6.3 matrix.
@@ -89,7 +91,8 @@ struct CalibrationKey {
   MeshKey mesh;  // h0 unused
   double magnification = 0, height = 0, alpha = 0, tol_rel = 0;
   int max_iterations = 0;
-  double h0 = 0;  // the answer
+  double h0 = 0;  // the answer, with each ROI's height relative to it
+  std::vector<double> height_scale;
 };
 
 bool same_calibration(const CalibrationKey& a, const CalibrationKey& b) {
@@ -110,6 +113,7 @@ std::shared_ptr<const PreparedMesh> prepare_mesh(const std::vector<lens::RoiFiel
   lens::LensMeshOptions mesh_options;
   mesh_options.grid = key.grid;
   mesh_options.height_rel = key.h0;
+  mesh_options.height_scale = key.height_scale;
   mesh_options.band_rel = key.band;
   mesh_options.pin_context = key.boundary == LensBoundary::Pinned ? lens::LensMeshOptions::PinContext::On
                                                                   : lens::LensMeshOptions::PinContext::Off;
@@ -172,6 +176,11 @@ std::vector<double> magnifications(const Deformation& d, const std::vector<lens:
   for (const lens::RoiField& roi : rois)
     out.push_back(lens::measure_magnification(d.positions, d.texture, d.grid_triangles, roi.centre(), measure_radius(roi)));
   return out;
+}
+
+// Per-ROI height scales: `scale`, or 1 each if it is empty.
+std::vector<double> scales_per_roi(const std::vector<double>& scale, std::size_t num_rois) {
+  return scale.empty() ? std::vector<double>(num_rois, 1.0) : scale;
 }
 
 double mean(const std::vector<double>& values) {
@@ -275,6 +284,11 @@ void validate(const LensInput& input, const LensOptions& o) {
   if (!(o.tol_rel > 0.0 && o.tol_rel < 1.0)) bad("lens: tol_rel must be in (0, 1), got " + std::to_string(o.tol_rel));
   if (o.max_iterations < 1 || o.max_iterations > 100000)
     bad("lens: max_iterations must be in [1, 100000], got " + std::to_string(o.max_iterations));
+  if (!o.height_scale.empty() && o.height_scale.size() != input.rois.size())
+    bad("lens: `height_scale` needs one entry per ROI (" + std::to_string(input.rois.size()) + "), got " +
+        std::to_string(o.height_scale.size()));
+  for (double x : o.height_scale)
+    if (!(x > 0.0 && x <= 10.0)) bad("lens: `height_scale` entries must be in (0, 10], got " + std::to_string(x));
   for (const lens::Roi& roi : input.rois) lens::validate_roi(roi, input.image.width, input.image.height);
 }
 
@@ -322,6 +336,69 @@ void refine_on_final_grid(RunAt&& run_at, const std::vector<lens::RoiField>& roi
     h0 = h1;
   }
   s.ms_calibration += ms_since(t_fix);
+}
+
+// Several ROIs share h0, but at one height an elongated ROI (a ridge-shaped lens) magnifies less
+// than a round one: each ROI's height gets its own log–log secant steps toward the request, as far
+// as it goes without a fold (first step with slope 1, the
+// per-ROI slope measured on camera.png for circles and rectangles being 0.8–1.1; then each ROI's
+// own secant). A step that folds is halved for the lenses it raised. At most kEqualizeRuns runs;
+// a fold-free run replaces the kept one if no lens lies farther from the request (beyond the
+// calibration tolerance) and the lenses lie closer in sum. `scale` (per ROI, relative to
+// h0, empty: 1 each) is what run_at builds with; the largest is kept at 1, so h0 stays the
+// tallest lens's height.
+template <class RunAt>
+void equalize_lenses(RunAt&& run_at, const std::vector<lens::RoiField>& rois, const LensOptions& options,
+                     const Progress& progress, Deformation& d, double& h0, std::vector<double>& scale, LensStats& s) {
+  constexpr int kEqualizeRuns = 5;
+  const auto t_equalize = Clock::now();
+  const auto log_of = [](double m) { return std::log(std::max(m, 1e-6)); };
+  const std::size_t n = rois.size();
+  const std::vector<double> m0 = magnifications(d, rois);
+  const double lt = std::log(options.magnification);
+  const auto errors = [&](const std::vector<double>& m) {
+    std::vector<double> e(m.size());
+    for (std::size_t i = 0; i < m.size(); ++i) e[i] = std::abs(lt - log_of(m[i]));
+    return e;
+  };
+  const auto sum = [](const std::vector<double>& e) { return std::accumulate(e.begin(), e.end(), 0.0); };
+  // Better: no lens moves farther from the request (beyond the calibration tolerance), the sum closer.
+  const auto better = [&](const std::vector<double>& e, const std::vector<double>& best) {
+    for (std::size_t i = 0; i < e.size(); ++i)
+      if (e[i] > std::max(best[i], kCalibrationTolRel)) return false;
+    return sum(e) < sum(best);
+  };
+  std::vector<double> best_error = errors(m0);
+  std::vector<double> best_scale = scales_per_roi(scale, n), slope(n, 1.0), lh(n), lm(n);
+  for (std::size_t i = 0; i < n; ++i) lh[i] = std::log(h0 * best_scale[i]), lm[i] = log_of(m0[i]);
+  std::vector<double> next(n);
+  for (std::size_t i = 0; i < n; ++i) next[i] = lh[i] + std::clamp((lt - lm[i]) / slope[i], -0.7, 0.7);
+  for (int run = 0; run < kEqualizeRuns && *std::max_element(best_error.begin(), best_error.end()) > kCalibrationTolRel; ++run) {
+    const double tallest = *std::max_element(next.begin(), next.end());
+    const double h = std::exp(tallest);
+    scale.resize(n);
+    for (std::size_t i = 0; i < n; ++i) scale[i] = std::exp(next[i] - tallest);
+    Deformation trial = run_at(options.grid, h, progress);
+    if (flipped(trial) > 0) {
+      for (std::size_t i = 0; i < n; ++i)
+        if (next[i] > lh[i]) next[i] = lh[i] + 0.5 * (next[i] - lh[i]);
+      continue;
+    }
+    const std::vector<double> m = magnifications(trial, rois);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (std::abs(next[i] - lh[i]) > 1e-3) slope[i] = std::clamp((log_of(m[i]) - lm[i]) / (next[i] - lh[i]), 0.2, 5.0);
+      lh[i] = next[i], lm[i] = log_of(m[i]);
+      next[i] = lh[i] + std::clamp((lt - lm[i]) / slope[i], -0.7, 0.7);
+    }
+    if (better(errors(m), best_error)) {
+      best_error = errors(m);
+      best_scale = scale;
+      d = std::move(trial);
+      h0 = h;
+    }
+  }
+  scale = best_scale;
+  s.ms_calibration += ms_since(t_equalize);
 }
 
 // A baseline lens (fisheye, bifocal, zoom) on the plain grid, its parameter searched so that the
@@ -427,6 +504,7 @@ struct LensSession::Cache {
     base.width = input.image.width, base.height = input.image.height, base.band = options.band,
     base.boundary = options.boundary;
     base.rois = input.rois;
+    base.height_scale = options.height_scale;
     const auto run_at = [&](int grid, double h, const Progress& p) {
       MeshKey key = base;
       key.grid = grid;
@@ -444,6 +522,8 @@ struct LensSession::Cache {
       // The same request was answered before: its final h0 gives the same deformation at once.
       ++counters.calibration_reuses;
       s.height = known->h0;
+      base.height_scale = known->height_scale;
+      s.height_scale_per_roi = scales_per_roi(base.height_scale, rois.size());
       return run_at(options.grid, known->h0, progress);
     }
     double h0 = options.height;
@@ -458,9 +538,13 @@ struct LensSession::Cache {
     Deformation d = fold_free_run(run_at, options, h0, progress);
     if (calibration_slope > 0 && options.grid > kCalibrationGrid)
       refine_on_final_grid(run_at, rois, options, calibration_slope, progress, d, h0, s);
+    if (calibration_slope > 0 && rois.size() > 1)
+      equalize_lenses(run_at, rois, options, progress, d, h0, base.height_scale, s);
     s.height = h0;
+    s.height_scale_per_roi = scales_per_roi(base.height_scale, rois.size());
     ++counters.calibrations;
     request.h0 = h0;
+    request.height_scale = base.height_scale;
     calibrations.push_front(std::move(request));
     if (calibrations.size() > kMaxCalibrations) calibrations.pop_back();
     return d;
@@ -497,8 +581,10 @@ LensResult LensSession::run(const LensInput& input, const LensOptions& options, 
                             lens_clear_of_border(input.rois, rois, width, height, options.grid, options.band);
   if (options.mode == LensMode::Live && translatable && cache_->base) {
     const TranslationBase& base = *cache_->base;
-    const bool same_height = options.height == base.options.height ||
-                             (options.height > 0 && options.height == base.result.stats.height);
+    const bool same_height = (options.height == base.options.height ||
+                              (options.height > 0 && options.height == base.result.stats.height)) &&
+                             (options.height_scale == base.options.height_scale ||
+                              (!options.height_scale.empty() && options.height_scale == base.result.stats.height_scale_per_roi));
     const std::optional<Eigen::Vector2d> offset =
         base.width == width && base.height == height && same_height &&
                 same_deformation_options(base.options, options)

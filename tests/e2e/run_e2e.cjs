@@ -749,6 +749,11 @@ async function lensRegions(page) {
   const per = r.stats.magnification_per_roi;
   check(rect.shape === 'rect' && per.length === 3 && per.every((m) => m > 1.3) && r.stats.flipped_triangles === 0,
         `a rectangular lens: ${JSON.stringify(rect.values.map(Math.round))}, magnification per lens ${per.map((m) => m.toFixed(2))}, flipped ${r.stats.flipped_triangles}`);
+  // Each lens gets its own height (the rectangle, a ridge, magnifies less at one height): the
+  // circles no longer overshoot the 2.5 asked while the rectangle is raised.
+  const scales = r.stats.height_scale_per_roi;
+  check(scales.length === 3 && Math.max(...scales) === 1 && Math.min(...scales) < 1 && per.every((m) => m < 2.5 * 1.05),
+        `each lens its own height (÷ h0: ${scales.map((x) => x.toFixed(2))}), none above the request`);
   const [rx, ry, rw, rh] = rect.values;
   const inRect = await changed([rx, ry, rx + rw, ry + rh]);
   check(inRect > 0.2, `the rectangle's content is magnified on screen (${(100 * inRect).toFixed(0)} % of its pixels changed)`);
@@ -762,7 +767,8 @@ async function lensRegions(page) {
   await page.keyboard.press('ArrowLeft');
   await page.waitForFunction((x) => window.volspline.lensTab.result.rois[2].values[0] < x - 1 && !window.volspline.lensTab.running, rx, { timeout: 30000 }).catch(() => {});
   r = await result();
-  check(r.rois[2].values[0] < rx - 1 && r.rois[0].values.join() === unmoved, `ArrowLeft moves the selected rectangle (x ${rx.toFixed(0)} -> ${r.rois[2].values[0].toFixed(0)})`);
+  check(r.rois[2].values[0] < rx - 1 && r.rois[0].values.join() === unmoved && r.stats.ms_calibration === 0 && r.stats.height_scale_per_roi.join() === scales.join(),
+        `ArrowLeft moves the selected rectangle (x ${rx.toFixed(0)} -> ${r.rois[2].values[0].toFixed(0)}), each lens keeps its height, no recalibration`);
   const sel = await page.evaluate(() => ({ ...window.volspline.lensTab.roi }));
   const box = await page.locator('#lens-overlay').boundingBox();
   const sx = (x) => box.x + x / img.width * box.width, sy = (y) => box.y + y / img.height * box.height;

@@ -30,7 +30,7 @@ export const lensTab = {
   key: null,          // worker-side image key
   generation: 0,      // worker generation the image was sent to (a restarted worker lost it)
   bytes: null, name: null,
-  calibrated: null,   // {magnification, grid, height, limited}: reuse h0 while only the ROI or α changes
+  calibrated: null,   // {magnification, grid, height, scales, limited}: reuse h0 and each lens's height while only the lenses' places and sizes or α change
   pending: false, running: false,
   lastFrame: 0, frameMs: [],  // intervals between live results shown (the frame time while dragging)
   frameLog: [],               // per live result: {ms (interval or 0), ms_total, ms_worker}; read by the e2e test
@@ -135,7 +135,7 @@ export const lensTab = {
       // 'live'); the release runs the full job, so what stays on screen is a full result.
       const options = { ...o, render: false, ...(this.live ? { mode: 'live' } : {}) };
       const c = this.calibrated;
-      if (o.method === 'metric' && c && c.magnification === o.magnification && c.grid === o.grid) options.height = c.height;
+      if (o.method === 'metric' && c && c.magnification === o.magnification && c.grid === o.grid) Object.assign(options, { height: c.height, height_scale: c.scales });
       const rois = this.coreRois();
       // The same request as the one on screen (e.g. the release after a drag) is not re-run.
       const request = JSON.stringify([this.key, this.generation, rois, options]);
@@ -148,7 +148,8 @@ export const lensTab = {
       this.lastRequest = request;
       this.lastRun = r;
       if (o.method === 'metric' && !options.height) {
-        this.calibrated = { magnification: o.magnification, grid: o.grid, height: r.stats.height, limited: r.stats.magnification_limited };
+        this.calibrated = { magnification: o.magnification, grid: o.grid, height: r.stats.height, scales: r.stats.height_scale_per_roi,
+                            limited: r.stats.magnification_limited };
       } else if (options.height && c.limited) {
         // The core says "limited" only when it calibrated: a run at the calibrated height of a
         // limited request is limited alike.
@@ -158,7 +159,7 @@ export const lensTab = {
       // next request: the frame time is max(core, drawing), not their sum.
       this.view.setMesh(r.positions, r.texture, r.triangles);
       this.shownLive = this.live ? r : null;
-      this.result = { image: this.name, rois, options: { ...o, height: r.stats.height || undefined }, stats: r.stats };
+      this.result = { image: this.name, rois, options: { ...o, height: r.stats.height || undefined, height_scale: r.stats.height_scale_per_roi }, stats: r.stats };
       // While dragging, the text readouts are refreshed at most every 200 ms (layout is not free).
       const now = performance.now();
       if (!this.live || now - (this.lastText ?? 0) > 200) {
@@ -251,7 +252,7 @@ $('lens-download-png').addEventListener('click', async () => {
   const o = lensTab.options();
   const c = lensTab.calibrated;
   const options = { ...o };
-  if (o.method === 'metric' && c && c.magnification === o.magnification && c.grid === o.grid) options.height = c.height;
+  if (o.method === 'metric' && c && c.magnification === o.magnification && c.grid === o.grid) Object.assign(options, { height: c.height, height_scale: c.scales });
   const result = await runJob('lensPng', { key: lensTab.key, rois: lensTab.coreRois(), options });
   if (!result.ok) { if (result.message !== 'cancelled') showError(result.message); return; }
   download(result.bytes, lensTab.name.replace(/\.[^.]*$/, '') + `.${o.method}.png`, 'image/png');

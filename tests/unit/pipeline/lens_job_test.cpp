@@ -108,6 +108,12 @@ TEST_CASE("bad options and inputs name the problem") {
   o = {};
   o.band = 0;
   fails(o, "band must be in");
+  o = {};
+  o.height = 1;
+  o.height_scale = {1.0, 1.0};
+  fails(o, "`height_scale` needs one entry per ROI (1), got 2");
+  o.height_scale = {0.0};
+  fails(o, "`height_scale` entries must be in (0, 10]");
   CHECK_THROWS_WITH_AS(run_lens(input_with(checkerboard(64, 64, 4), {}), LensOptions{}), doctest::Contains("at least one ROI"), Error);
   CHECK_THROWS_WITH_AS(run_lens(input_with(checkerboard(64, 64, 4), {"circle:300,30,5"}), LensOptions{}),
                        doctest::Contains("outside the 64x64 image"), Error);
@@ -175,4 +181,44 @@ TEST_CASE("metric lens: no exported triangle turned over against the texture at 
     // Either the request is reached (within 3 %) or the result says it is limited.
     CHECK((r.stats.magnification_center >= 0.97 * m) != r.stats.magnification_limited);
   }
+}
+
+TEST_CASE("metric lens with a circle and a rectangle: each lens gets its own height, as close to the request as it goes") {
+  // At one height the elongated rectangle (a ridge) magnifies less than the circle; the job scales
+  // each lens's height, so the circle no longer overshoots and the rectangle comes closer.
+  const LensInput in = input_with(circles(256, 256), {"circle:75,75,30", "rect:143,152,64,45"});
+  LensOptions o;
+  o.grid = 50;
+  o.render = pipeline::LensOptions::Render::Off;
+  const LensResult r = run_lens(in, o);
+  const LensStats& s = r.stats;
+  REQUIRE(s.height_scale_per_roi.size() == 2);
+  REQUIRE(s.magnification_per_roi.size() == 2);
+  INFO("magnification per ROI " << s.magnification_per_roi[0] << ", " << s.magnification_per_roi[1] << "; height scales "
+                                << s.height_scale_per_roi[0] << ", " << s.height_scale_per_roi[1] << "; h0 " << s.height);
+  CHECK(s.flipped_triangles == 0);
+  CHECK(s.height_scale_per_roi[1] == 1.0);  // the rectangle is the taller lens
+  CHECK(s.height_scale_per_roi[0] < 0.95);
+  // Both lenses at the rectangle's height (the calibration's h0 shared, as before per-ROI heights):
+  // the farthest lens lies farther from the request.
+  LensOptions same = o;
+  same.height = s.height;
+  const LensStats t = run_lens(in, same).stats;
+  const auto worst = [](const LensStats& x) {
+    double w = 0;
+    for (double m : x.magnification_per_roi) w = std::max(w, std::abs(std::log(m / 2.0)));
+    return w;
+  };
+  CHECK(worst(s) < worst(t));
+  CHECK(std::abs(std::log(s.magnification_per_roi[0] / 2.0)) < 0.05);
+  // The height and the scales reported reproduce the run (what the page sends while dragging).
+  LensOptions again = o;
+  again.height = s.height;
+  again.height_scale = s.height_scale_per_roi;
+  const LensResult r2 = run_lens(in, again);
+  CHECK((r2.positions.array() == r.positions.array()).all());
+  CHECK(r2.stats.magnification_per_roi == s.magnification_per_roi);
+  // One ROI: no scaling.
+  const LensStats one = run_lens(input_with(circles(256, 256), {"circle:75,75,30"}), o).stats;
+  CHECK(one.height_scale_per_roi == std::vector<double>{1.0});
 }
