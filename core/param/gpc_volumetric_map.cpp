@@ -86,14 +86,14 @@ int slide_and_raise(const polycube::GpcConstruction& construction, const std::ve
   const int rows = static_cast<int>(pm.xyz.rows());
   const mesh::TriangleMesh whole = whole_surface(construction);
   const SurfaceDistance surface(whole);
-  const std::vector<char> crease = mesh::crease_triangles(whole, kCreaseAngleRad);
+  const mesh::SurfaceCreases creases(whole, kCreaseAngleRad);
   std::vector<int> near_face(rows, -1);
   std::vector<char> fixed(rows);
   SlidingNodes sliding;
   sliding.slides.assign(rows, 0);
   for (int r = 0; r < rows; ++r) {
     if (pm.on_surface[r] && !unused[r]) surface.closest_point(pm.xyz.row(r).transpose(), nullptr, &near_face[r]);
-    fixed[r] = unused[r] || (pm.on_surface[r] && crease[near_face[r]]);
+    fixed[r] = unused[r] || (pm.on_surface[r] && creases.triangle_near_crease(near_face[r]));
     sliding.slides[r] = !fixed[r] && pm.on_surface[r];
   }
   // Each node's last triangle bounds its next search (the optimizers move it a little).
