@@ -119,7 +119,8 @@ int slide_and_raise(const polycube::GpcConstruction& construction, const std::ve
     untangled += untangle_hex_mesh(pm.hexes, fixed, pm.xyz, {}, untangle, &sliding,
                                    share_of(progress, lo + 0.7 * (hi - lo), hi)).free_nodes;
     if (hex_mesh_quality(pm).num_inverted > folded) pm.xyz = before;
-    if (round + 1 == kSlideRounds) raise_min_scaled_jacobian(pm.hexes, fixed, pm.xyz, quality, &sliding);
+    if (round + 1 == kSlideRounds)
+      raise_min_scaled_jacobian(pm.hexes, fixed, pm.xyz, quality, &sliding, share_of(progress, 1.0, 1.0));
   }
   return untangled;
 }
