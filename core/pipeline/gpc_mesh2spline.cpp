@@ -419,11 +419,7 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
 
   // DESIGN §6: the Bernstein certificate of det J on every cell of every cuboid.
   progress.report("certificate", 0.97);
-  spline::JacobianCertificate certificate = spline::certify_gpc_jacobian(fitted);
-  stats.jacobian_certified_fraction = certificate.jacobian_certified_fraction;
-  stats.det_j_lower_bound_rel = certificate.det_j_lower_bound_rel;
-  stats.certificate_cells = certificate.cells;
-  stats.uncertified_cells = std::move(certificate.uncertified);
+  record_certificate(stats, spline::certify_gpc_jacobian(fitted));
   timer.end_stage("certificate");
 
   // Back to model units: Σ B_i ≡ 1, so mapping the control points maps F.

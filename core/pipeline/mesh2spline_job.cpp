@@ -510,11 +510,7 @@ void measure(const spline::TSpline& ts, const mesh::HalfedgeMesh& hm, const para
   timer.end_stage("measures");
 
   progress.report("certificate", 0.8);
-  spline::JacobianCertificate certificate = spline::certify_jacobian(ts);
-  stats.jacobian_certified_fraction = certificate.jacobian_certified_fraction;
-  stats.det_j_lower_bound_rel = certificate.det_j_lower_bound_rel;
-  stats.certificate_cells = certificate.cells;
-  stats.uncertified_cells = std::move(certificate.uncertified);
+  record_certificate(stats, spline::certify_jacobian(ts));
   timer.end_stage("certificate");
 }
 
@@ -558,6 +554,13 @@ void compare_uniform(const Eigen::Vector3d& dims, const param::CuboidSurfaceLoca
 }
 
 }  // namespace
+
+void record_certificate(Mesh2SplineStats& stats, spline::JacobianCertificate certificate) {
+  stats.jacobian_certified_fraction = certificate.jacobian_certified_fraction;
+  stats.det_j_lower_bound_rel = certificate.det_j_lower_bound_rel;
+  stats.certificate_cells = certificate.cells;
+  stats.uncertified_cells = std::move(certificate.uncertified);
+}
 
 Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::string& name,
                                   const Mesh2SplineOptions& options, const Progress& progress) {

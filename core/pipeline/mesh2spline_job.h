@@ -107,6 +107,10 @@ struct Mesh2SplineStats {
   std::vector<std::pair<std::string, double>> times_s;  ///< per stage, seconds, in run order
 };
 
+/// Puts a det J certificate (DESIGN §6) into the stats: jacobian_certified_fraction,
+/// det_j_lower_bound_rel, certificate_cells, uncertified_cells (moved out of `certificate`).
+void record_certificate(Mesh2SplineStats& stats, spline::JacobianCertificate certificate);
+
 /// Result of the mesh2spline job.
 struct Mesh2SplineResult {
   spline::TSpline spline;  ///< domain [0,1]³, semi-standard, geometry (D = 3)
