@@ -128,21 +128,21 @@ MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>
       if (!(corner_value(hexes[touches[t].hex], xyz, touches[t].corner, touches[t].role, nullptr) > floor)) return false;
     return true;
   };
+  // Every hex's least corner value, kept up to date as nodes move.
+  std::vector<double> value(hexes.size());
+  for (std::size_t h = 0; h < hexes.size(); ++h) value[h] = hex_value(h);
   auto census = [&](double* least) {
-    int below = 0;
     *least = 1.0;
-    for (std::size_t h = 0; h < hexes.size(); ++h) {
-      const double q = hex_value(h);
+    int below = 0;
+    for (const double q : value) {
       *least = std::min(*least, q);
-      if (q < options.target) ++below;
+      below += q < options.target;
     }
     return below;
   };
 
   MinQualityReport report;
   report.below_before = census(&report.min_before);
-  std::vector<double> value(hexes.size());
-  for (std::size_t h = 0; h < hexes.size(); ++h) value[h] = hex_value(h);
   std::vector<char> work(n);
   std::vector<Eigen::Vector3d> gradients;
   std::vector<std::pair<double, Eigen::Vector3d>> corners;  // value and gradient of a node's corners
