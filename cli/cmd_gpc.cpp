@@ -27,7 +27,7 @@ int run_gpc(const std::vector<std::string>& argv) {
       {"quality-sweeps", "N", "sweeps of the last stage, which raises the hex mesh's least scaled Jacobian with every surface node sliding on the surface (default 300; 0 = off)"},
       {"no-merge", "", "keep every T-shape arm, tube and cap its own cuboid (no merging across cuts)"},
       {"level-set-cuts", "", "cut on the Morse function's level sets (default: move each cut to the shortest loop separating the same boundaries)"},
-      {"limbs", "P", "limb ends become caps when their branch is at least P of the shape's graph diameter long (default 0.25 for genus > 0, off for genus 0; 0 = off)"},
+      {"limbs", "P", "limb ends become caps when their branch is at least P of the shape's graph diameter long (default 0.15; 0 = off; a genus-0 blob has no limb and stays one cuboid)"},
   }, "accepted for scripts; the job runs on one thread (same output for any N)");
   const Args args = parse_args(argv, specs);
   if (print_help_if_asked(args, "volspline gpc MESH -o DOMAIN.json [options]",

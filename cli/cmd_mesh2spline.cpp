@@ -83,6 +83,7 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
   options.surface_weight = args.get_double("surface-weight", options.surface_weight);
   options.measure_lattice = args.get_int("measure-lattice", options.measure_lattice);
   options.threads = args.get_int("threads", 1);
+  if (args.has("limbs")) options.gpc.limb_persistence = args.get_double("limbs", 0.0);
   ProgressBar bar(!args.has("quiet"));
   const pipeline::GpcMesh2SplineResult result = pipeline::run_gpc_mesh2spline(input, path, options, bar.progress());
   bar.finish();
@@ -169,6 +170,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
       {"max-control-points", "N", "no refinement beyond N control points (default 50000)"},
       {"max-levels", "L", "refinement levels after level 0 (default 4; genus > 0: knot refinements, default 14)"},
       {"fit", "grid|meshless", "grid: volumetric grid map + fit (§3.4.2); meshless: §4.3.2 (default grid)"},
+      {"limbs", "P", "limb ends become caps when their branch is at least P of the shape's graph diameter long; genus 0: P > 0 sends the solid through the GPC as genus > 0 (default: 0.15 for genus > 0, off for genus 0)"},
       {"corners", "FILE", "8 corner vertex ids (cube corner c at (c&1, c>>1&1, c>>2&1)); default automatic"},
       {"weights", "meanvalue|cotan", "surface map weights (default meanvalue)"},
       {"area-balance", "N", "stretch-reweighting rounds of the surface map, 0 = plain Floater map (default 4)"},
@@ -235,7 +237,11 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
   if (args.has("vtk-linear") && (vtk_linear < 1 || vtk_linear > 512))
     throw UsageError("--vtk-linear must be in 1..512, got " + std::to_string(vtk_linear));
   const mesh::TriangleMesh input = io::read_mesh(path);
-  if (solid_genus(input, path) > 0) {
+  if (args.has("limbs")) {
+    const double p = args.get_double("limbs", 0.0);
+    if (!(p >= 0.0 && p < 1.0)) throw UsageError("--limbs expects a fraction in [0, 1)");
+  }
+  if (solid_genus(input, path) > 0 || (args.has("limbs") && args.get_double("limbs", 0.0) > 0.0)) {
     run_gpc_mesh2spline_command(args, input, path, options, vtk_linear, files);
     return 0;
   }

@@ -126,31 +126,71 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
                                              std::to_string(embedding.winding[k]) + " at its centre)");
     }
   };
-  // Limbs first (their ends become caps); where that construction fails, the two-pole one.
-  const double limb_persistence =
-      options.limb_persistence >= 0.0 ? options.limb_persistence : (stats.genus > 0 ? 0.25 : 0.0);
-  if (limb_persistence > 0.0 && options.corners.empty()) {
-    try {
-      construct(limb_persistence);
-      stats.limb_caps = static_cast<int>(result.construction.domain.caps);
-    } catch (const polycube::DecompositionError& e) {
-      stats.limb_fallback = e.what();
-      construct(0.0);
-    }
-  } else {
-    construct(0.0);
-  }
-  stats.times_s["t_to_cube"] = seconds_since(t0);
-
-  t0 = Clock::now();
-  progress.report("volumetric map", 0.15);
   // The map's phases are the rest of the job (the T-to-cube stages took the first 15 %).
   const Progress map_progress([&](const std::string& stage, double fraction) {
     progress.report(stage, 0.15 + 0.85 * fraction);
     return true;
   });
-  result.map = param::compute_gpc_volumetric_map(result.construction, 1.0, options.grid, map_progress);
-  stats.times_s["volumetric_map"] = seconds_since(t0);
+  auto map_volume = [&] {
+    t0 = Clock::now();
+    progress.report("volumetric map", 0.15);
+    result.map = param::compute_gpc_volumetric_map(result.construction, 1.0, options.grid, map_progress);
+    stats.times_s["volumetric_map"] += seconds_since(t0);
+  };
+  // Limbs first (their ends become caps); where that construction fails, or its hex mesh keeps
+  // more folds than the two-pole one's, the two-pole one (a genus-0 solid: one cuboid).
+  const double limb_persistence = options.limb_persistence >= 0.0 ? options.limb_persistence : kDefaultLimbPersistence;
+  if (limb_persistence > 0.0 && options.corners.empty()) {
+    bool built = false;
+    try {
+      construct(limb_persistence);
+      stats.limb_caps = static_cast<int>(result.construction.domain.caps);
+      built = true;
+    } catch (const polycube::DecompositionError& e) {
+      stats.limb_fallback = e.what();
+      construct(0.0);
+    }
+    stats.times_s["t_to_cube"] = seconds_since(t0);
+    map_volume();
+    if (built && stats.limb_caps > 0 && result.map.grid_inverted_hexes > 0 &&
+        options.grid.untangle != param::GpcGridOptions::Untangle::Off) {
+      // The map of a limb's cap can fold where its end is detailed (claws, fingers); the
+      // two-pole construction is mapped too and the better hex mesh kept (folds left by an
+      // untangler turned off say nothing of the construction).
+      const GpcStats limbs_stats = stats;
+      polycube::GpcConstruction limbs_construction = std::move(result.construction);
+      param::GpcVolumetricMap limbs_map = std::move(result.map);
+      polycube::SolidDecomposition limbs_decomposition = std::move(decomposition);
+      t0 = Clock::now();
+      bool two_pole = true;
+      try {
+        construct(0.0);
+      } catch (const polycube::DecompositionError&) {
+        two_pole = false;
+      }
+      stats.times_s["t_to_cube"] += seconds_since(t0);
+      if (two_pole) map_volume();
+      const bool better = two_pole && (result.map.grid_inverted_hexes < limbs_map.grid_inverted_hexes ||
+                                       (result.map.grid_inverted_hexes == limbs_map.grid_inverted_hexes &&
+                                        result.map.grid_min_scaled_jacobian > limbs_map.grid_min_scaled_jacobian));
+      if (better) {
+        stats.limb_fallback = "the limb construction's hex mesh has " + std::to_string(limbs_map.grid_inverted_hexes) +
+                              " inverted hexes, the two-pole one's " + std::to_string(result.map.grid_inverted_hexes);
+        stats.limb_caps = 0;
+      } else {
+        const std::map<std::string, double> times = stats.times_s;
+        result.construction = std::move(limbs_construction);
+        result.map = std::move(limbs_map);
+        decomposition = std::move(limbs_decomposition);
+        stats = limbs_stats;
+        stats.times_s = times;
+      }
+    }
+  } else {
+    construct(0.0);
+    stats.times_s["t_to_cube"] = seconds_since(t0);
+    map_volume();
+  }
 
   // Back to model units.
   auto to_model = [&](mesh::Positions& p) { p = (p * diagonal).rowwise() + centre; };

@@ -23,6 +23,8 @@ namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr double kMinGain = 0.95;  // a new loop must be at least 5 % shorter
+// A cap's cut moves only off a diagonal level set: to a loop at least 15 % shorter (see kCapBand).
+constexpr double kCapGain = 0.85;
 
 double loop_length(const mesh::TriangleMesh& m, const std::vector<int>& loop) {
   double s = 0.0;
@@ -102,10 +104,11 @@ std::vector<int> shortest_loop(const mesh::HalfedgeMesh& hm, const SolidDecompos
   bool has_a = false, has_b = false;
   if (!self) {
     for (const LoopSide& s : d.pieces[a].boundary)
-      if (s.loop != l) has_a = other_a[s.loop] = 1;
+      if (s.loop != l) has_a = (other_a[s.loop] = 1);
     for (const LoopSide& s : d.pieces[b].boundary)
-      if (s.loop != l) has_b = other_b[s.loop] = 1;
-    if (!has_a || !has_b) return {};
+      if (s.loop != l) has_b = (other_b[s.loop] = 1);
+    // A cap's side has no other loop: only a band's rim on that side can be its terminal.
+    if ((!has_a || !has_b) && std::isinf(radius)) return {};
   }
   // Two other loops on one side are joined by a path of that side's faces: the terminals are
   // then connected, the minimum cut is one loop, and it stays disjoint from the path as the cut
@@ -203,7 +206,7 @@ std::vector<int> shortest_loop(const mesh::HalfedgeMesh& hm, const SolidDecompos
   const double length = cut.solve(source, sink);
   // A loop only a little shorter stays where it is: the level set is smoother than an edge path,
   // and on a symmetric shape many loops tie within rounding.
-  if (!(length < kMinGain * loop_length(d.mesh, loop.vertices))) return {};
+  if (!(length < (has_a && has_b ? kMinGain : kCapGain) * loop_length(d.mesh, loop.vertices))) return {};
   const std::vector<char>& side = cut.source_side();
   // The cut's edges, directed with the source side on the left; one simple loop or nothing.
   std::vector<int> next(hm.num_vertices(), -1);
@@ -342,6 +345,14 @@ CutTightening tighten_cut_loops(SolidDecomposition& d) {
     const double length = loop_length(d.mesh, loop.vertices);
     std::vector<double> radii{kInfinity, 0.5 * length, 0.25 * length, 0.125 * length, 0.0625 * length};
     if (loop.piece[0] == loop.piece[1]) radii = {kInfinity};
+    // A cap's side holds no other loop: its terminal is the band's rim, since in the whole cap the
+    // shortest loop would shrink onto the limb's end. A level set through the thick junction where
+    // a limb meets the body runs diagonally (2-3 times the limb's cross-section on armadillo's hips
+    // and shoulders); in a band a quarter of its length wide the shortest loop is the
+    // cross-section at the junction, where a wider band lets it slide along the limb to its
+    // narrowest place (a wrist), shortening the cap and leaving the limb's base to the T-shape.
+    const bool cap = d.pieces[loop.piece[0]].boundary.size() == 1 || d.pieces[loop.piece[1]].boundary.size() == 1;
+    if (cap) radii = {0.25 * length, 0.125 * length, 0.0625 * length};
     std::vector<double> distance;
     std::vector<int> tight;
     std::vector<std::pair<int, char>> below;

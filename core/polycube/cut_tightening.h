@@ -17,7 +17,9 @@ struct CutTightening {
 /// cross the surface. Here every cut between two pieces that each hold another boundary loop
 /// (or a tube closed on itself) moves to the shortest loop along mesh edges of the two pieces
 /// that separates the same boundary loops: a minimum cut of the dual graph with edge lengths as
-/// capacities, edges touching another cut uncuttable. In the planar union of the two pieces every
+/// capacities, edges touching another cut uncuttable. The cut of a cap (a limb's end) moves to
+/// the shortest loop within a band a quarter of its length wide around it, whose rim on the
+/// cap's side is the cap's terminal. In the planar union of the two pieces every
 /// such loop bounds a disc in the solid (the union with its other cuts' discs bounds a ball) and
 /// leaves both pieces with their boundary loops, so the decomposition's topology is kept. A new
 /// loop is taken only when it is one simple loop, the pieces stay planar, and its interface disc

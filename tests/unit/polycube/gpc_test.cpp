@@ -581,10 +581,22 @@ TEST_CASE("limbs: the three ends of a T-shaped solid become caps around one T-sh
   }
   CHECK(caps == 3);
   CHECK(tshapes == 1);
-  // Without limbs the blob stays one cuboid; with them the job cuts the three limbs off.
-  pipeline::GpcOptions on = without_untangling();
-  on.limb_persistence = 0.25;
-  const pipeline::GpcResult r = pipeline::run_gpc(make_t_solid(3), "T", on);
+  // Every cap's cut is a cross-section of its bar (a rounded voxel square: perimeter about 4
+  // voxels), not a loop running diagonally through the junction (a 45° loop: 2 + 2√2 = 4.83).
+  const double voxel = (t.positions().col(0).maxCoeff() - t.positions().col(0).minCoeff()) / 7.0;
+  for (const auto& loop : e.loops) {
+    const bool cap = e.pieces[loop.piece[0]].kind == polycube::PieceKind::Cap ||
+                     e.pieces[loop.piece[1]].kind == polycube::PieceKind::Cap;
+    REQUIRE(cap);
+    double length = 0.0;
+    for (std::size_t i = 0; i < loop.vertices.size(); ++i)
+      length += (e.mesh.positions.row(loop.vertices[i]) -
+                 e.mesh.positions.row(loop.vertices[(i + 1) % loop.vertices.size()])).norm();
+    CHECK(length > 3.4 * voxel);
+    CHECK(length < 4.4 * voxel);
+  }
+  // By default the job cuts the three limbs off; with limbs off the solid stays one cuboid.
+  const pipeline::GpcResult r = pipeline::run_gpc(make_t_solid(3), "T", without_untangling());
   CHECK(r.stats.limb_fallback == "");
   CHECK(r.stats.limb_caps == 3);
   CHECK(r.stats.t_shapes == 1);
@@ -592,7 +604,9 @@ TEST_CASE("limbs: the three ends of a T-shaped solid become caps around one T-sh
   CHECK(r.stats.flipped_triangles == 0);
   CHECK(r.stats.interface_gap_rel <= 1e-12);
   CHECK(r.stats.cut_discs_outside == 0);
-  const pipeline::GpcResult blob = pipeline::run_gpc(make_t_solid(3), "T", without_untangling());
+  pipeline::GpcOptions off = without_untangling();
+  off.limb_persistence = 0.0;
+  const pipeline::GpcResult blob = pipeline::run_gpc(make_t_solid(3), "T", off);
   CHECK(blob.stats.cuboids == 1);
 }
 
