@@ -70,10 +70,11 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
   // poles). A genus-0 solid without limbs is not cut: the blob is one cuboid on the unrefined
   // surface, as mesh2spline maps it.
   polycube::SolidDecomposition decomposition;
-  auto construct = [&](double limb_persistence) {
+  auto construct = [&](double limb_persistence, bool tighten_caps) {
     polycube::DecompositionOptions d;
     d.snap = options.snap;
     d.cuts = options.cuts;
+    d.tighten_caps = tighten_caps;
     d.morse.limb_persistence = limb_persistence;
     decomposition = polycube::SolidDecomposition{};
     if (stats.genus > 0 || limb_persistence > 0.0) decomposition = polycube::decompose_solid(solid.mesh, stats.genus, d);
@@ -141,17 +142,29 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
   // more folds than the two-pole one's, the two-pole one (a genus-0 solid: one cuboid).
   const double limb_persistence = options.limb_persistence >= 0.0 ? options.limb_persistence : kDefaultLimbPersistence;
   if (limb_persistence > 0.0 && options.corners.empty()) {
+    // Caps' cuts tightened first; where that fails, at their levels; then two poles.
     bool built = false;
-    try {
-      construct(limb_persistence);
-      stats.limb_caps = static_cast<int>(result.construction.domain.caps);
-      built = true;
-    } catch (const polycube::DecompositionError& e) {
-      stats.limb_fallback = e.what();
-      construct(0.0);
+    for (const bool tighten_caps : {true, false}) {
+      try {
+        t0 = Clock::now();
+        construct(limb_persistence, tighten_caps);
+        stats.limb_caps = static_cast<int>(result.construction.domain.caps);
+        stats.times_s["t_to_cube"] += seconds_since(t0);
+        map_volume();
+        built = true;
+        stats.limb_fallback.clear();
+        break;
+      } catch (const polycube::DecompositionError& e) {
+        stats.limb_fallback = e.what();
+        stats.limb_caps = 0;
+      }
     }
-    stats.times_s["t_to_cube"] = seconds_since(t0);
-    map_volume();
+    if (!built) {
+      t0 = Clock::now();
+      construct(0.0, false);
+      stats.times_s["t_to_cube"] += seconds_since(t0);
+      map_volume();
+    }
     if (built && stats.limb_caps > 0 && result.map.grid_inverted_hexes > 0 &&
         options.grid.untangle != param::GpcGridOptions::Untangle::Off) {
       // The map of a limb's cap can fold where its end is detailed (claws, fingers); the
@@ -164,12 +177,12 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
       t0 = Clock::now();
       bool two_pole = true;
       try {
-        construct(0.0);
+        construct(0.0, false);
+        stats.times_s["t_to_cube"] += seconds_since(t0);
+        map_volume();
       } catch (const polycube::DecompositionError&) {
         two_pole = false;
       }
-      stats.times_s["t_to_cube"] += seconds_since(t0);
-      if (two_pole) map_volume();
       const bool better = two_pole && (result.map.grid_inverted_hexes < limbs_map.grid_inverted_hexes ||
                                        (result.map.grid_inverted_hexes == limbs_map.grid_inverted_hexes &&
                                         result.map.grid_min_scaled_jacobian > limbs_map.grid_min_scaled_jacobian));
@@ -187,7 +200,7 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
       }
     }
   } else {
-    construct(0.0);
+    construct(0.0, false);
     stats.times_s["t_to_cube"] = seconds_since(t0);
     map_volume();
   }

@@ -311,7 +311,7 @@ void split_loop_chords(SolidDecomposition& d) {
 
 }  // namespace
 
-CutTightening tighten_cut_loops(SolidDecomposition& d) {
+CutTightening tighten_cut_loops(SolidDecomposition& d, bool caps) {
   CutTightening out;
   if (d.loops.empty()) return out;
   const mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(d.mesh, "decomposition");
@@ -352,6 +352,7 @@ CutTightening tighten_cut_loops(SolidDecomposition& d) {
     // cross-section at the junction, where a wider band lets it slide along the limb to its
     // narrowest place (a wrist), shortening the cap and leaving the limb's base to the T-shape.
     const bool cap = d.pieces[loop.piece[0]].boundary.size() == 1 || d.pieces[loop.piece[1]].boundary.size() == 1;
+    if (cap && !caps) continue;
     if (cap) radii = {0.25 * length, 0.125 * length, 0.0625 * length};
     std::vector<double> distance;
     std::vector<int> tight;

@@ -19,7 +19,7 @@ struct CutTightening {
 /// that separates the same boundary loops: a minimum cut of the dual graph with edge lengths as
 /// capacities, edges touching another cut uncuttable. The cut of a cap (a limb's end) moves to
 /// the shortest loop within a band a quarter of its length wide around it, whose rim on the
-/// cap's side is the cap's terminal. In the planar union of the two pieces every
+/// cap's side is the cap's terminal (`caps` false: caps' cuts stay). In the planar union of the two pieces every
 /// such loop bounds a disc in the solid (the union with its other cuts' discs bounds a ball) and
 /// leaves both pieces with their boundary loops, so the decomposition's topology is kept. A new
 /// loop is taken only when it is one simple loop, the pieces stay planar, and its interface disc
@@ -28,6 +28,6 @@ struct CutTightening {
 /// stays unless its disc crosses the surface.
 /// Cuts are visited in order and each sees the ones moved before it (deterministic).
 /// A moved loop is no longer a level set: CutLoop::level keeps the level it was cut at.
-CutTightening tighten_cut_loops(SolidDecomposition& decomposition);
+CutTightening tighten_cut_loops(SolidDecomposition& decomposition, bool caps = true);
 
 }  // namespace volspline::polycube

@@ -248,7 +248,7 @@ SolidDecomposition decompose_solid(const mesh::HalfedgeMesh& input, int genus,
                                why);
     ++out.num_resplit_cuts;
   }
-  if (options.cuts == CutPlacement::Shortest) out.num_tightened_cuts = tighten_cut_loops(out).num_tightened;
+  if (options.cuts == CutPlacement::Shortest) out.num_tightened_cuts = tighten_cut_loops(out, options.tighten_caps).num_tightened;
   return out;
 }
 

@@ -76,6 +76,7 @@ enum class CutPlacement {
 struct DecompositionOptions {
   double snap = 0.05;  ///< see split_at_level, in [0, 0.45)
   CutPlacement cuts = CutPlacement::Shortest;
+  bool tighten_caps = true;  ///< with CutPlacement::Shortest, caps' cuts move too (tighten_cut_loops)
   MorseFunctionOptions morse;  ///< the Morse function (limb poles: morse.limb_persistence)
 };
 
