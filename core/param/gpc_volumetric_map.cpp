@@ -122,6 +122,48 @@ int slide_and_raise(const polycube::GpcConstruction& construction, const std::ve
     if (round + 1 == kSlideRounds)
       raise_min_scaled_jacobian(pm.hexes, fixed, pm.xyz, quality, &sliding, share_of(progress, 1.0, 1.0));
   }
+  // Folds left where crease nodes are held: a surface quad with three held nodes in a row (a
+  // claw's ridge) has a flat corner whatever the free nodes do. Around the folded hexes (two
+  // rings) those nodes slide too, for one more untangle and raise, kept if it leaves fewer folds
+  // (or as many and a higher least value). A mesh without folds is not touched.
+  const HexMeshQuality left = hex_mesh_quality(pm);
+  if (left.num_inverted > 0) {
+    std::vector<char> near(rows, 0);
+    for (const auto& hex : pm.hexes) {
+      std::array<Eigen::Vector3d, 8> x;
+      for (int q = 0; q < 8; ++q) x[q] = pm.xyz.row(hex[q]).transpose();
+      if (mesh::hex_min_scaled_jacobian(x) <= 0.0)
+        for (int v : hex) near[v] = 1;
+    }
+    for (int ring = 0; ring < 2; ++ring) {
+      std::vector<char> next = near;
+      for (const auto& hex : pm.hexes) {
+        bool any = false;
+        for (int v : hex) any = any || near[v];
+        if (any)
+          for (int v : hex) next[v] = 1;
+      }
+      near = std::move(next);
+    }
+    std::vector<char> released = fixed;
+    SlidingNodes wider = sliding;
+    for (int r = 0; r < rows; ++r)
+      if (near[r] && fixed[r] && !unused[r] && pm.on_surface[r]) {
+        released[r] = 0;
+        wider.slides[r] = 1;
+      }
+    const mesh::Positions before = pm.xyz;
+    HexGridUntangleOptions untangle;
+    untangle.rounds = 1;
+    const int moved = untangle_hex_mesh(pm.hexes, released, pm.xyz, {}, untangle, &wider, share_of(progress, 1.0, 1.0)).free_nodes;
+    raise_min_scaled_jacobian(pm.hexes, released, pm.xyz, quality, &wider, share_of(progress, 1.0, 1.0));
+    const HexMeshQuality after = hex_mesh_quality(pm);
+    if (after.num_inverted < left.num_inverted ||
+        (after.num_inverted == left.num_inverted && after.min_scaled_jacobian > left.min_scaled_jacobian))
+      untangled += moved;
+    else
+      pm.xyz = before;
+  }
   return untangled;
 }
 
