@@ -53,3 +53,10 @@ contains "$TMP/out" "MFEM: 27 patches"
 same_bytes "$TMP/gh.json" "$TMP/gh2.json" "hierarchical GPC spline JSON differs between two runs"
 expect 2 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gh_bad.json" --quiet --hierarchical --hierarchy-depth 0
 contains "$TMP/err" "hierarchy_depth"
+# --limbs P > 0 sends a genus-0 solid through the GPC; the sphere has no limb: one cuboid.
+expect 0 "$BIN" mesh2spline "$DATA/meshes/sphere.off" --limbs 0.15 -o "$TMP/gs.json" --stats-json "$TMP/gs_stats.json" --quiet
+contains "$TMP/gs.json" "\"format\": \"volspline-gpc-spline\""
+contains "$TMP/gs_stats.json" "\"genus\": 0"
+contains "$TMP/gs_stats.json" "\"cuboids\": 1"
+expect 2 "$BIN" mesh2spline "$DATA/meshes/sphere.off" --limbs 1.5 -o "$TMP/gs.json" --quiet
+contains "$TMP/err" "--limbs"
