@@ -106,6 +106,10 @@ int slide_and_raise(const polycube::GpcConstruction& construction, const std::ve
   MinQualityOptions quality;
   quality.target = options.min_quality_target;
   quality.max_sweeps = options.min_quality_sweeps;
+  // One stretch bound for all the stage's calls: 10 times each node's longest edge on entry, a
+  // safety net against a node walking away (most moves stay far below it).
+  quality.max_edge = longest_hex_edges(pm.hexes, pm.xyz);
+  for (double& l : quality.max_edge) l *= 10.0;
   // Rounds of raise, then untangle what stays folded (kept if no worse), then raise again.
   int untangled = 0;
   for (int round = 0; round < kSlideRounds; ++round) {

@@ -24,6 +24,8 @@ constexpr int kStepsPerVisit = 4;
 // The sweeps stop once the least value has not risen by kStallGain for kStallSweeps sweeps.
 constexpr double kStallGain = 1e-3;
 constexpr int kStallSweeps = 20;
+// MinQualityOptions::max_edge by default: this times the node's longest edge on entry.
+constexpr double kMaxStretch = 3.0;
 
 // One corner of one hex that a node's position changes: hex h's corner c, and which of the
 // corner's 4 nodes the node is (0: the corner itself, a + 1: its neighbour along axis a).
@@ -93,6 +95,19 @@ Eigen::Vector3d least_norm_point(const std::vector<Eigen::Vector3d>& g) {
 
 }  // namespace
 
+std::vector<double> longest_hex_edges(const std::vector<std::array<int, 8>>& hexes, const mesh::Positions& xyz) {
+  std::vector<double> longest(xyz.rows(), 0.0);
+  for (const auto& hex : hexes)
+    for (int c = 0; c < 8; ++c)
+      for (int a = 0; a < 3; ++a)
+        if (!(c >> a & 1)) {
+          const double l = (xyz.row(hex[c ^ (1 << a)]) - xyz.row(hex[c])).norm();
+          longest[hex[c]] = std::max(longest[hex[c]], l);
+          longest[hex[c ^ (1 << a)]] = std::max(longest[hex[c ^ (1 << a)]], l);
+        }
+  return longest;
+}
+
 MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>& hexes, const std::vector<char>& fixed,
                                            mesh::Positions& xyz, const MinQualityOptions& options,
                                            const SlidingNodes* sliding, const Progress& progress) {
@@ -100,6 +115,8 @@ MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>
   if (!(options.target > -1.0 && options.target <= 1.0) || options.max_sweeps < 1 || !(options.first_step > 0.0) ||
       options.first_step > 1.0 || options.halvings < 0)
     throw Error("MinQualityOptions: target in (-1, 1], max_sweeps >= 1, first_step in (0, 1], halvings >= 0");
+  if (!options.max_edge.empty() && static_cast<Eigen::Index>(options.max_edge.size()) != xyz.rows())
+    throw Error("MinQualityOptions: max_edge has one value per node or none");
   const int n = static_cast<int>(xyz.rows());
   // Per node, the corners its position changes: in each of its hexes its own corner and the
   // corners of its three neighbours along the hex's edges.
@@ -128,6 +145,21 @@ MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>
       if (!(corner_value(hexes[touches[t].hex], xyz, touches[t].corner, touches[t].role, nullptr) > floor)) return false;
     return true;
   };
+  // Longest hex edge at a node (its own corners' three edges in each of its hexes).
+  auto longest_edge = [&](int v) {
+    double longest2 = 0.0;
+    for (int t = touch_begin[v]; t < touch_begin[v + 1]; ++t)
+      if (touches[t].role == 0)
+        for (int a = 0; a < 3; ++a)
+          longest2 = std::max(longest2, corner_edge(hexes[touches[t].hex], xyz, touches[t].corner, a).squaredNorm());
+    return std::sqrt(longest2);
+  };
+  std::vector<double> reach = options.max_edge;
+  if (reach.empty()) {
+    reach.assign(n, 0.0);
+    for (int v = 0; v < n; ++v)
+      if (!fixed[v]) reach[v] = kMaxStretch * longest_edge(v);
+  }
   // Every hex's least corner value, kept up to date as nodes move.
   std::vector<double> value(hexes.size());
   for (std::size_t h = 0; h < hexes.size(); ++h) value[h] = hex_value(h);
@@ -203,7 +235,7 @@ MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>
           const Eigen::Vector3d trial = x0 + step * direction;
           const Eigen::Vector3d p = slides ? sliding->project(v, trial, nullptr) : trial;
           xyz.row(v) = p.transpose();
-          moved = star_above(v, least + kMinGain);
+          moved = star_above(v, least + kMinGain) && longest_edge(v) <= reach[v];
           if (!moved) xyz.row(v) = x0.transpose();
         }
         if (!moved) break;

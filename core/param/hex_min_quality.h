@@ -16,7 +16,15 @@ struct MinQualityOptions {
   int max_sweeps = 60;    ///< Gauss–Seidel sweeps over the worked-on nodes, ≥ 1
   double first_step = 0.3;  ///< first trial step, fraction of the node's shortest hex edge, in (0, 1]
   int halvings = 7;       ///< the step is halved at most this often before a node is left, ≥ 0
+  /// Per node, the longest hex edge a move may leave at it (the scaled Jacobian ignores aspect
+  /// ratio, so a node may otherwise walk away stretching its hexes into long right-angled boxes);
+  /// empty: 3 times the node's longest edge on entry. Callers that raise in several calls pass
+  /// the bound of the first (longest_hex_edges) so that it holds across them.
+  std::vector<double> max_edge;
 };
+
+/// Per node of the hexes, its longest hex edge (0 for a node in no hex).
+std::vector<double> longest_hex_edges(const std::vector<std::array<int, 8>>& hexes, const mesh::Positions& xyz);
 
 /// Outcome of raise_min_scaled_jacobian.
 struct MinQualityReport {

@@ -86,10 +86,43 @@ TEST_CASE("raise_min_scaled_jacobian: raises a jittered grid, never lowers a fol
   const double before = grid_least(g);
   REQUIRE(before > 0.0);
   REQUIRE(before < 0.3);
+  // The longest hex edge at each node on entry: a move never stretches an edge at the moving node
+  // past its bound (MinQualityOptions::max_edge; by default 3 times the node's entry value).
+  auto longest_edges = [&](const QualityGrid& q) {
+    std::vector<double> longest(q.xyz.rows(), 0.0);
+    for (const auto& hex : q.hexes)
+      for (int c = 0; c < 8; ++c)
+        for (int a = 0; a < 3; ++a) {
+          const double l = (q.xyz.row(hex[c]) - q.xyz.row(hex[c ^ (1 << a)])).norm();
+          longest[hex[c]] = std::max(longest[hex[c]], l);
+        }
+    return longest;
+  };
+  const std::vector<double> entry = longest_edges(g);
+  REQUIRE(param::longest_hex_edges(g.hexes, g.xyz) == entry);
+  param::MinQualityOptions bounded;
+  bounded.max_edge = entry;
+  for (double& l : bounded.max_edge) l *= 1.2;
+  QualityGrid tight = g;
+  param::raise_min_scaled_jacobian(tight.hexes, fixed, tight.xyz, bounded);
+  CHECK(grid_least(tight) > before);
+  for (const auto& hex : tight.hexes)
+    for (int c = 0; c < 8; ++c)
+      for (int a = 0; a < 3; ++a) {
+        const int u = hex[c], w = hex[c ^ (1 << a)];
+        CHECK((tight.xyz.row(u) - tight.xyz.row(w)).norm() <= 1.2 * std::max(entry[u], entry[w]));
+      }
   const param::MinQualityReport r = param::raise_min_scaled_jacobian(g.hexes, fixed, g.xyz);
   CHECK(r.min_before == before);
   CHECK(r.min_after > 0.3);
   CHECK(r.min_after == grid_least(g));
+  // Each edge was last changed by a move of one of its ends, bounded by that end's entry value.
+  for (const auto& hex : g.hexes)
+    for (int c = 0; c < 8; ++c)
+      for (int a = 0; a < 3; ++a) {
+        const int u = hex[c], w = hex[c ^ (1 << a)];
+        CHECK((g.xyz.row(u) - g.xyz.row(w)).norm() <= 3.0 * std::max(entry[u], entry[w]));
+      }
   // One node pushed through its neighbour: folded hexes. Moving one node at a time does not
   // untangle in general (that is untangle_hex_mesh's work), but the least value never falls.
   folded.xyz.row(2 + n * (2 + n * 2)) = folded.xyz.row(3 + n * (2 + n * 2)) + Eigen::RowVector3d(0.3, 0.0, 0.0);
