@@ -81,6 +81,7 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
   options.hierarchy_depth = args.get_int("hierarchy-depth", options.hierarchy_depth);
   options.adaptive_growth = args.get_double("knot-growth", options.adaptive_growth);
   options.surface_weight = args.get_double("surface-weight", options.surface_weight);
+  if (args.has("centroid-samples")) options.surface_samples = pipeline::GpcMesh2SplineOptions::SurfaceSamples::VerticesAndCentroids;
   options.measure_lattice = args.get_int("measure-lattice", options.measure_lattice);
   options.threads = args.get_int("threads", 1);
   if (args.has("limbs")) options.gpc.limb_persistence = args.get_double("limbs", 0.0);
@@ -183,6 +184,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
       {"hierarchical", "", "genus > 0: past the uniform levels, split the functions holding the most misfit (T-spline refinement)"},
       {"hierarchy-depth", "L", "genus > 0, --hierarchical: split functions at most L dyadic levels below the last uniform level (default 2, 1..6)"},
       {"measure-lattice", "N", "genus > 0: lattice_negative_fraction at the cell centres of an N^3 lattice per cuboid (default 64, 4..256)"},
+      {"centroid-samples", "", "genus > 0: also fit every surface triangle's centroid at its surface-map parameter"},
       {"surface-weight", "W", "genus > 0: least-squares weight of a surface vertex against a grid node (default 1)"},
       {"knot-growth", "G", "genus > 0, --adaptive-knots: each level adds lines until the control points grow by G (default 1.4)"},
   }, "genus > 0: the cuboids' untangling on N threads (default 1); genus 0 runs on one (same output for any N)");

@@ -50,8 +50,8 @@ struct FitData {
 // normal in the cuboid's parameters; the copy's parameter moves by depth/2 of a step the same way.
 // A shared node appears once per cuboid it belongs to, at the parameters of that cuboid (the
 // transition maps them onto each other).
-FitData fit_data(const GpcResult& gpc, double padding_depth, double surface_weight, const Eigen::RowVector3d& centre,
-                 double diagonal) {
+FitData fit_data(const GpcResult& gpc, double padding_depth, double surface_weight, bool centroids,
+                 const Eigen::RowVector3d& centre, double diagonal) {
   const polycube::GpcDomain& domain = gpc.construction.domain;
   const param::HexMesh& hm = gpc.map.hex_mesh;
   std::vector<int> cuboid;
@@ -107,6 +107,19 @@ FitData fit_data(const GpcResult& gpc, double padding_depth, double surface_weig
       const Eigen::Vector3d p = map_uvw.row(v).transpose().cwiseProduct(size);
       add(c, p, surface.mesh.positions.row(v));
       data.surface.push_back({c, p, surface.mesh.positions.row(v).transpose()});
+    }
+    if (!centroids) continue;
+    for (int t = 0; t < surface.mesh.num_faces(); ++t) {
+      if (surface.surface_face[t] < 0) continue;
+      Eigen::Vector3d p = Eigen::Vector3d::Zero();
+      Eigen::RowVector3d x = Eigen::RowVector3d::Zero();
+      for (int k = 0; k < 3; ++k) {
+        const int v = surface.mesh.triangles(t, k);
+        p += map_uvw.row(v).transpose().cwiseProduct(size) / 3.0;
+        x += surface.mesh.positions.row(v) / 3.0;
+      }
+      add(c, p, x);
+      data.surface.push_back({c, p, x.transpose()});
     }
   }
   // The surface is data, the interior nodes a harmonic guess (Eq. 3.1): surface rows weigh more.
@@ -301,7 +314,9 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
   const FitData data = fit_data(gpc, options.gpc.grid.padding == param::GpcGridOptions::Padding::On
                                          ? options.gpc.grid.padding_depth
                                          : 0.0,
-                                options.surface_weight, centre, diagonal);
+                                options.surface_weight,
+                                options.surface_samples == GpcMesh2SplineOptions::SurfaceSamples::VerticesAndCentroids,
+                                centre, diagonal);
   stats.samples = static_cast<int>(data.samples.cuboid.size());
 
   // Knot refinement (§4.3, Algorithm 4) until rms_rel ≤ max_rms_rel, the levels or the budget run

@@ -44,6 +44,9 @@ struct GpcMesh2SplineOptions {
   int hierarchy_depth = 2;         ///< in [1, GpcSpline::kMaxLevel]
   /// Least-squares weight of a surface vertex relative to a volumetric grid node (> 0).
   double surface_weight = 1.0;
+  /// Surface samples: the vertices, or also every triangle's centroid at the mean of its
+  /// vertices' parameters (the surface map is linear on a triangle of one cuboid face).
+  enum class SurfaceSamples { Vertices, VerticesAndCentroids } surface_samples = SurfaceSamples::Vertices;
   GpcOptions gpc;                 ///< the domain and its volumetric map (run_gpc)
   /// Unfold the fitted spline with the control points inside each cuboid (spline::untangle_spline
   /// on its patch, restricted to its box); faces, surface and glued faces stay as they are.

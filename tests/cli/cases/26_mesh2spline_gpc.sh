@@ -60,3 +60,10 @@ contains "$TMP/gs_stats.json" "\"genus\": 0"
 contains "$TMP/gs_stats.json" "\"cuboids\": 1"
 expect 2 "$BIN" mesh2spline "$DATA/meshes/sphere.off" --limbs 1.5 -o "$TMP/gs.json" --quiet
 contains "$TMP/err" "--limbs"
+# --centroid-samples: every surface triangle's centroid is a sample too (the surface refined along
+# the cut has at least the input's triangles).
+expect 0 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gc.json" --stats-json "$TMP/gc_stats.json" --quiet --centroid-samples
+samples_plain=$(grep -o '"samples": [0-9]*' "$TMP/gt_stats.json" | grep -o '[0-9]*$')
+samples_centroids=$(grep -o '"samples": [0-9]*' "$TMP/gc_stats.json" | grep -o '[0-9]*$')
+faces=$(sed -n 2p "$DATA/meshes/torus.off" | awk '{print $2}')
+if [ "$samples_centroids" -ge "$((samples_plain + faces))" ]; then ok; else bad "--centroid-samples: $samples_centroids samples < $samples_plain + $faces triangles"; fi
