@@ -73,6 +73,18 @@ mesh::TriangleMesh whole_surface(const polycube::GpcConstruction& construction) 
   return whole;
 }
 
+// The node marks grown by one ring of hexes: every node of a hex with a marked node.
+std::vector<char> grown_by_hexes(const std::vector<std::array<int, 8>>& hexes, const std::vector<char>& marked) {
+  std::vector<char> next = marked;
+  for (const auto& hex : hexes) {
+    bool any = false;
+    for (int v : hex) any = any || marked[v];
+    if (any)
+      for (int v : hex) next[v] = 1;
+  }
+  return next;
+}
+
 // The last stage of the padded mesh: every surface node slides on the whole surface, poly-edge
 // and corner nodes too, unless the surface has a crease there. A poly-edge is a line of the
 // parameterization, not of the smooth surface, and a padding hex whose surface quad has a
@@ -139,16 +151,7 @@ int slide_and_raise(const polycube::GpcConstruction& construction, const std::ve
       if (mesh::hex_min_scaled_jacobian(x) <= 0.0)
         for (int v : hex) near[v] = 1;
     }
-    for (int ring = 0; ring < 2; ++ring) {
-      std::vector<char> next = near;
-      for (const auto& hex : pm.hexes) {
-        bool any = false;
-        for (int v : hex) any = any || near[v];
-        if (any)
-          for (int v : hex) next[v] = 1;
-      }
-      near = std::move(next);
-    }
+    for (int ring = 0; ring < 2; ++ring) near = grown_by_hexes(pm.hexes, near);
     std::vector<char> released = fixed;
     SlidingNodes wider = sliding;
     for (int r = 0; r < rows; ++r)
@@ -257,13 +260,7 @@ int untangle_padded_mesh(const polycube::GpcConstruction& construction, const st
       if (mesh::hex_min_scaled_jacobian(x) < 0.3)
         for (int v : hex) region[v] = 1;
     }
-    std::vector<char> next = region;
-    for (const auto& hex : pm.hexes) {
-      bool any = false;
-      for (int v : hex) any = any || region[v];
-      if (any)
-        for (int v : hex) next[v] = 1;
-    }
+    const std::vector<char> next = grown_by_hexes(pm.hexes, region);
     std::vector<char> frozen(rows);
     for (int r = 0; r < rows; ++r) frozen[r] = fixed[r] || !next[r];
     // The energy is a sum over corners: kept only if the worst corner did not get worse.
