@@ -70,6 +70,7 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
   // poles). A genus-0 solid without limbs is not cut: the blob is one cuboid on the unrefined
   // surface, as mesh2spline maps it.
   polycube::SolidDecomposition decomposition;
+  std::string stage_prefix;  // names a fallback construction's stages in the progress
   auto construct = [&](double limb_persistence, bool tighten_caps) {
     polycube::DecompositionOptions d;
     d.snap = options.snap;
@@ -97,7 +98,7 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
                                  decomposition.mesh.positions.row(l.vertices[(i + 1) % l.vertices.size()]))
                                     .norm();
     stats.times_s["decompose"] = seconds_since(t0);
-    progress.report("T-to-cube", 0.05);
+    progress.report(stage_prefix + "T-to-cube", 0.05);
     // A piece too coarse for its layout's disjoint paths is refined (at most twice) and retried.
     const bool cut = !decomposition.loops.empty();
     for (int attempt = 0;; ++attempt) {
@@ -127,14 +128,15 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
                                              std::to_string(embedding.winding[k]) + " at its centre)");
     }
   };
-  // The map's phases are the rest of the job (the T-to-cube stages took the first 15 %).
+  // The map's phases are the rest of the job (the T-to-cube stages took the first 15 %). A
+  // fallback construction maps again from 15 %, its stages named so that the bar says why.
   const Progress map_progress([&](const std::string& stage, double fraction) {
-    progress.report(stage, 0.15 + 0.85 * fraction);
+    progress.report(stage_prefix + stage, 0.15 + 0.85 * fraction);
     return true;
   });
   auto map_volume = [&] {
     t0 = Clock::now();
-    progress.report("volumetric map", 0.15);
+    progress.report(stage_prefix + "volumetric map", 0.15);
     result.map = param::compute_gpc_volumetric_map(result.construction, 1.0, options.grid, map_progress);
     stats.times_s["volumetric_map"] += seconds_since(t0);
   };
@@ -157,6 +159,7 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
       } catch (const polycube::DecompositionError& e) {
         stats.limb_fallback = e.what();
         stats.limb_caps = 0;
+        stage_prefix = tighten_caps ? "limbs, caps at their levels: " : "two poles: ";
       }
     }
     if (!built) {
@@ -175,6 +178,7 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
       param::GpcVolumetricMap limbs_map = std::move(result.map);
       polycube::SolidDecomposition limbs_decomposition = std::move(decomposition);
       t0 = Clock::now();
+      stage_prefix = "two poles: ";
       bool two_pole = true;
       try {
         construct(0.0, false);
