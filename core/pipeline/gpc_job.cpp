@@ -78,7 +78,11 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
     d.tighten_caps = tighten_caps;
     d.morse.limb_persistence = limb_persistence;
     decomposition = polycube::SolidDecomposition{};
-    if (stats.genus > 0 || limb_persistence > 0.0) decomposition = polycube::decompose_solid(solid.mesh, stats.genus, d);
+    // A genus-0 solid is cut only if it has a limb (its poles alone cost two graph sweeps, where
+    // the decomposition's harmonic solve and level sets grow faster than the mesh).
+    if (stats.genus > 0 ||
+        (limb_persistence > 0.0 && !polycube::morse_poles(solid.mesh, limb_persistence).limb_tips.empty()))
+      decomposition = polycube::decompose_solid(solid.mesh, stats.genus, d);
     if (decomposition.pieces.size() <= 1 && stats.genus == 0) {
       decomposition = polycube::SolidDecomposition{};
       decomposition.mesh = solid.mesh.to_triangle_mesh();

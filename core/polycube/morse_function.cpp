@@ -85,25 +85,32 @@ void classify_critical_points(const mesh::HalfedgeMesh& mesh, MorseFunction& fun
   }
 }
 
-MorseFunction compute_morse_function(const mesh::HalfedgeMesh& mesh, const MorseFunctionOptions& options) {
+MorsePoles morse_poles(const mesh::HalfedgeMesh& mesh, double limb_persistence) {
   const int n = mesh.num_vertices();
   assert(n >= 4);
   int start = 0;
   while (start < n && mesh.vertex_halfedge(start) == mesh::no_id) ++start;
+  MorsePoles poles;
+  poles.source = farthest_vertex(mesh, start);
+  poles.sink = farthest_vertex(mesh, poles.source);
+  if (limb_persistence > 0.0) {
+    const mesh::GraphDistances from_source = mesh::graph_distances(mesh, {poles.source});
+    for (int v : persistent_maxima(mesh, from_source.distance, limb_persistence * from_source.distance[poles.sink]))
+      if (v != poles.source && v != poles.sink) poles.limb_tips.push_back(v);
+  }
+  return poles;
+}
+
+MorseFunction compute_morse_function(const mesh::HalfedgeMesh& mesh, const MorseFunctionOptions& options) {
+  const int n = mesh.num_vertices();
   MorseFunction function;
-  function.source = farthest_vertex(mesh, start);
-  function.sink = farthest_vertex(mesh, function.source);
+  const MorsePoles poles = morse_poles(mesh, options.limb_persistence);
+  function.source = poles.source;
+  function.sink = poles.sink;
+  function.limb_tips = poles.limb_tips;
   std::vector<char> pole(n, 0);
   pole[function.source] = pole[function.sink] = 1;
-  if (options.limb_persistence > 0.0) {
-    const mesh::GraphDistances from_source = mesh::graph_distances(mesh, {function.source});
-    for (int v : persistent_maxima(mesh, from_source.distance,
-                                   options.limb_persistence * from_source.distance[function.sink]))
-      if (!pole[v]) {
-        function.limb_tips.push_back(v);
-        pole[v] = 1;
-      }
-  }
+  for (int v : function.limb_tips) pole[v] = 1;
 
   const std::vector<double> mvc = mesh::mean_value_weights(mesh);
   std::vector<int> unknown(n, -1);

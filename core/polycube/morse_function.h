@@ -34,6 +34,15 @@ struct MorseFunctionOptions {
   double limb_persistence = 0.0;
 };
 
+/// The poles of compute_morse_function: the two ends of the graph diameter and the limb tips
+/// (MorseFunctionOptions::limb_persistence; none if 0), without the harmonic solve.
+struct MorsePoles {
+  int source = -1;
+  int sink = -1;
+  std::vector<int> limb_tips;
+};
+MorsePoles morse_poles(const mesh::HalfedgeMesh& mesh, double limb_persistence);
+
 /// §3.3.1 Step 1 deviation: the thesis segments by the shape diameter function and builds an
 /// abstraction graph from the segments, which guarantees neither the topology nor meridian cuts.
 /// Here the decomposition follows the level sets of a harmonic function f with Dirichlet poles
