@@ -32,6 +32,9 @@ struct MorseFunctionOptions {
   /// distance from the source whose persistence (height above the level where their branch
   /// joins a higher one) is at least this fraction of the graph diameter. 0 = off (two poles).
   double limb_persistence = 0.0;
+  /// From this many unknowns the harmonic solve's CG is preconditioned by smoothed-aggregation
+  /// multigrid (iterations about constant in n) instead of IC(0) (iterations growing like √n).
+  int multigrid_from = 100000;
 };
 
 /// The poles of compute_morse_function: the two ends of the graph diameter and the limb tips

@@ -562,6 +562,22 @@ TEST_CASE("gpc job: a two-hole solid is two T-shapes with Type-1 ill-points only
   CHECK(s.interfaces - s.cuboids + 1 == 2);
 }
 
+TEST_CASE("Morse function: the multigrid and IC(0) solves agree, the same critical points") {
+  const mesh::HalfedgeMesh t = outward(make_torus(48, 24));
+  polycube::MorseFunctionOptions ic, amg;
+  amg.multigrid_from = 0;
+  const polycube::MorseFunction a = polycube::compute_morse_function(t, ic);
+  const polycube::MorseFunction b = polycube::compute_morse_function(t, amg);
+  REQUIRE(a.value.size() == b.value.size());
+  double gap = 0.0;
+  for (std::size_t v = 0; v < a.value.size(); ++v) gap = std::max(gap, std::abs(a.value[v] - b.value[v]));
+  CHECK(gap < 1e-9);
+  CHECK(a.num_saddles == 2);
+  CHECK(b.num_saddles == a.num_saddles);
+  CHECK(b.num_minima == 1);
+  CHECK(b.num_maxima == 1);
+}
+
 TEST_CASE("limbs: the three ends of a T-shaped solid become caps around one T-shape") {
   const mesh::HalfedgeMesh t = outward(make_t_solid(3));
   REQUIRE(mesh::analyze_mesh(t).genus == 0);
