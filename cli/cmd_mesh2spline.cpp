@@ -239,11 +239,9 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
   if (args.has("vtk-linear") && (vtk_linear < 1 || vtk_linear > 512))
     throw UsageError("--vtk-linear must be in 1..512, got " + std::to_string(vtk_linear));
   const mesh::TriangleMesh input = io::read_mesh(path);
-  if (args.has("limbs")) {
-    const double p = args.get_double("limbs", 0.0);
-    if (!(p >= 0.0 && p < 1.0)) throw UsageError("--limbs expects a fraction in [0, 1)");
-  }
-  if (solid_genus(input, path) > 0 || (args.has("limbs") && args.get_double("limbs", 0.0) > 0.0)) {
+  const double limbs = args.get_double("limbs", 0.0);
+  if (!(limbs >= 0.0 && limbs < 1.0)) throw UsageError("--limbs expects a fraction in [0, 1)");
+  if (solid_genus(input, path) > 0 || limbs > 0.0) {
     run_gpc_mesh2spline_command(args, input, path, options, vtk_linear, files);
     return 0;
   }

@@ -73,6 +73,18 @@ mesh::TriangleMesh whole_surface(const polycube::GpcConstruction& construction) 
   return whole;
 }
 
+// Per node of pm: 1 if it belongs to a hex whose least corner scaled Jacobian is below `bound`.
+std::vector<char> nodes_of_hexes_below(const HexMesh& pm, double bound) {
+  std::vector<char> marked(pm.xyz.rows(), 0);
+  for (const auto& hex : pm.hexes) {
+    std::array<Eigen::Vector3d, 8> x;
+    for (int q = 0; q < 8; ++q) x[q] = pm.xyz.row(hex[q]).transpose();
+    if (mesh::hex_min_scaled_jacobian(x) < bound)
+      for (int v : hex) marked[v] = 1;
+  }
+  return marked;
+}
+
 // The node marks grown by one ring of hexes: every node of a hex with a marked node.
 std::vector<char> grown_by_hexes(const std::vector<std::array<int, 8>>& hexes, const std::vector<char>& marked) {
   std::vector<char> next = marked;
@@ -144,13 +156,7 @@ int slide_and_raise(const polycube::GpcConstruction& construction, const std::ve
   // (or as many and a higher least value). A mesh without folds is not touched.
   const HexMeshQuality left = hex_mesh_quality(pm);
   if (left.num_inverted > 0) {
-    std::vector<char> near(rows, 0);
-    for (const auto& hex : pm.hexes) {
-      std::array<Eigen::Vector3d, 8> x;
-      for (int q = 0; q < 8; ++q) x[q] = pm.xyz.row(hex[q]).transpose();
-      if (mesh::hex_min_scaled_jacobian(x) <= 0.0)
-        for (int v : hex) near[v] = 1;
-    }
+    std::vector<char> near = nodes_of_hexes_below(pm, std::nextafter(0.0, 1.0));
     for (int ring = 0; ring < 2; ++ring) near = grown_by_hexes(pm.hexes, near);
     std::vector<char> released = fixed;
     SlidingNodes wider = sliding;
@@ -253,13 +259,7 @@ int untangle_padded_mesh(const polycube::GpcConstruction& construction, const st
   const HexMeshQuality untangled_quality = hex_mesh_quality(pm);
   if (options.quality_iterations > 0 && untangled_quality.num_inverted == 0) {
     // Only around the poor hexes: nodes within 1 ring of a hex below scaled Jacobian 0.3.
-    std::vector<char> region(rows, 0);
-    for (const auto& hex : pm.hexes) {
-      std::array<Eigen::Vector3d, 8> x;
-      for (int q = 0; q < 8; ++q) x[q] = pm.xyz.row(hex[q]).transpose();
-      if (mesh::hex_min_scaled_jacobian(x) < 0.3)
-        for (int v : hex) region[v] = 1;
-    }
+    const std::vector<char> region = nodes_of_hexes_below(pm, 0.3);
     const std::vector<char> next = grown_by_hexes(pm.hexes, region);
     std::vector<char> frozen(rows);
     for (int r = 0; r < rows; ++r) frozen[r] = fixed[r] || !next[r];

@@ -156,9 +156,8 @@ MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>
   };
   std::vector<double> reach = options.max_edge;
   if (reach.empty()) {
-    reach.assign(n, 0.0);
-    for (int v = 0; v < n; ++v)
-      if (!fixed[v]) reach[v] = kMaxStretch * longest_edge(v);
+    reach = longest_hex_edges(hexes, xyz);
+    for (double& l : reach) l *= kMaxStretch;
   }
   // Every hex's least corner value, kept up to date as nodes move.
   std::vector<double> value(hexes.size());

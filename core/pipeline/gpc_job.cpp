@@ -144,6 +144,12 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
     result.map = param::compute_gpc_volumetric_map(result.construction, 1.0, options.grid, map_progress);
     stats.times_s["volumetric_map"] += seconds_since(t0);
   };
+  auto two_pole = [&] {
+    t0 = Clock::now();
+    construct(0.0, false);
+    stats.times_s["t_to_cube"] += seconds_since(t0);
+    map_volume();
+  };
   // Limbs first (their ends become caps); where that construction fails, or its hex mesh keeps
   // more folds than the two-pole one's, the two-pole one (a genus-0 solid: one cuboid).
   const double limb_persistence = options.limb_persistence >= 0.0 ? options.limb_persistence : kDefaultLimbPersistence;
@@ -166,12 +172,7 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
         stage_prefix = tighten_caps ? "limbs, caps at their levels: " : "two poles: ";
       }
     }
-    if (!built) {
-      t0 = Clock::now();
-      construct(0.0, false);
-      stats.times_s["t_to_cube"] += seconds_since(t0);
-      map_volume();
-    }
+    if (!built) two_pole();
     if (built && stats.limb_caps > 0 && result.map.grid_inverted_hexes > 0 &&
         options.grid.untangle != param::GpcGridOptions::Untangle::Off) {
       // The map of a limb's cap can fold where its end is detailed (claws, fingers); the
@@ -181,17 +182,14 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
       polycube::GpcConstruction limbs_construction = std::move(result.construction);
       param::GpcVolumetricMap limbs_map = std::move(result.map);
       polycube::SolidDecomposition limbs_decomposition = std::move(decomposition);
-      t0 = Clock::now();
       stage_prefix = "two poles: ";
-      bool two_pole = true;
+      bool mapped = true;
       try {
-        construct(0.0, false);
-        stats.times_s["t_to_cube"] += seconds_since(t0);
-        map_volume();
+        two_pole();
       } catch (const polycube::DecompositionError&) {
-        two_pole = false;
+        mapped = false;
       }
-      const bool better = two_pole && (result.map.grid_inverted_hexes < limbs_map.grid_inverted_hexes ||
+      const bool better = mapped && (result.map.grid_inverted_hexes < limbs_map.grid_inverted_hexes ||
                                        (result.map.grid_inverted_hexes == limbs_map.grid_inverted_hexes &&
                                         result.map.grid_min_scaled_jacobian > limbs_map.grid_min_scaled_jacobian));
       if (better) {
@@ -208,9 +206,7 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
       }
     }
   } else {
-    construct(0.0, false);
-    stats.times_s["t_to_cube"] = seconds_since(t0);
-    map_volume();
+    two_pole();
   }
 
   // Back to model units.

@@ -13,11 +13,11 @@
 
 namespace volspline::pipeline {
 
-/// Options of run_gpc.
 /// Default limb persistence: a branch of the graph distance at least this fraction of the
 /// graph diameter long is a limb (armadillo's arms and legs, bunny's ears, dancer's hands and feet).
 inline constexpr double kDefaultLimbPersistence = 0.15;
 
+/// Options of run_gpc.
 struct GpcOptions {
   /// Corner vertex ids (input numbering) of a genus-0 solid's one cuboid, in cube-corner order;
   /// empty = automatic. Ignored (refused) for genus > 0.
@@ -31,9 +31,9 @@ struct GpcOptions {
   /// Limb ends become caps: see MorseFunctionOptions::limb_persistence (fraction of the graph
   /// diameter, 0 = off; negative = kDefaultLimbPersistence, any genus; a genus-0 blob has no
   /// limb and stays one cuboid, as in mesh2spline). If that construction fails, or its hex mesh
-  /// has inverted hexes after untangling and the two-pole one's has fewer (or as many and a higher least scaled
-  /// Jacobian), the job keeps the two-pole one (a genus-0 solid: one cuboid) and says why in
-  /// GpcStats::limb_fallback.
+  /// has inverted hexes after untangling and the two-pole one's has fewer (or as many and a
+  /// higher least scaled Jacobian), the job keeps the two-pole one (a genus-0 solid: one cuboid)
+  /// and says why in GpcStats::limb_fallback.
   double limb_persistence = -1.0;
   int threads = 1;             ///< ≥ 1; the stages run on one thread (same output for any value)
 };

@@ -23,7 +23,8 @@ namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr double kMinGain = 0.95;  // a new loop must be at least 5 % shorter
-// A cap's cut moves only off a diagonal level set: to a loop at least 15 % shorter (see kCapBand).
+// A cap's cut moves only off a diagonal level set: to a loop at least 15 % shorter (the band
+// around it: see tighten_cut_loops).
 constexpr double kCapGain = 0.85;
 
 double loop_length(const mesh::TriangleMesh& m, const std::vector<int>& loop) {
@@ -206,7 +207,8 @@ std::vector<int> shortest_loop(const mesh::HalfedgeMesh& hm, const SolidDecompos
   const double length = cut.solve(source, sink);
   // A loop only a little shorter stays where it is: the level set is smoother than an edge path,
   // and on a symmetric shape many loops tie within rounding.
-  if (!(length < (has_a && has_b ? kMinGain : kCapGain) * loop_length(d.mesh, loop.vertices))) return {};
+  const bool cap = !self && (!has_a || !has_b);
+  if (!(length < (cap ? kCapGain : kMinGain) * loop_length(d.mesh, loop.vertices))) return {};
   const std::vector<char>& side = cut.source_side();
   // The cut's edges, directed with the source side on the left; one simple loop or nothing.
   std::vector<int> next(hm.num_vertices(), -1);
