@@ -78,6 +78,10 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
   if (args.has("no-padding")) options.gpc.grid.padding = param::GpcGridOptions::Padding::Off;
   if (args.has("adaptive-knots")) options.refinement = pipeline::GpcMesh2SplineOptions::Refinement::Adaptive;
   if (args.has("hierarchical")) options.refinement = pipeline::GpcMesh2SplineOptions::Refinement::Hierarchical;
+  if (args.has("uniform-knots")) options.refinement = pipeline::GpcMesh2SplineOptions::Refinement::Uniform;
+  if (int(args.has("adaptive-knots")) + int(args.has("hierarchical")) + int(args.has("uniform-knots")) > 1)
+    throw UsageError("--uniform-knots, --adaptive-knots and --hierarchical exclude each other");
+  options.fit_damping = args.get_double("fit-damping", options.fit_damping);
   options.hierarchy_depth = args.get_int("hierarchy-depth", options.hierarchy_depth);
   options.adaptive_growth = args.get_double("knot-growth", options.adaptive_growth);
   options.surface_weight = args.get_double("surface-weight", options.surface_weight);
@@ -167,7 +171,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
       {"mfem", "OUT.mesh", "MFEM NURBS mesh (patches form) of the same tensor B-spline patches"},
       {"bezier", "OUT.json", "the Bézier extraction operator per cell (control points, weights, per-cell extraction matrices)"},
       {"max-rms", "R", "stop refining at rms_rel <= R (fraction of the bbox diagonal; default 0.002)"},
-      {"max-surface-error", "R", "also refine until every surface sample is within R of the mesh (fraction of the bbox diagonal; default 0.005; genus > 0: only if given)"},
+      {"max-surface-error", "R", "also refine until every surface sample is within R of the mesh (fraction of the bbox diagonal; default 0.005; genus > 0: 0.008, 0 = rms only)"},
       {"max-control-points", "N", "no refinement beyond N control points (default 50000)"},
       {"max-levels", "L", "refinement levels after level 0 (default 4; genus > 0: knot refinements, default 14)"},
       {"fit", "grid|meshless", "grid: volumetric grid map + fit (§3.4.2); meshless: §4.3.2 (default grid)"},
@@ -181,8 +185,10 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
       {"no-untangle", "", "skip the untangling of folded interior control points after the fit (the thesis's plain fit)"},
       {"no-padding", "", "genus > 0: fit the cuboid grids without the padding layer under the surface (see volspline gpc)"},
       {"adaptive-knots", "", "genus > 0: each level adds knot lines where the misfit is instead of dividing the spacing by 1.5"},
-      {"hierarchical", "", "genus > 0: past the uniform levels, split the functions holding the most misfit (T-spline refinement)"},
-      {"hierarchy-depth", "L", "genus > 0, --hierarchical: split functions at most L dyadic levels below the last uniform level (default 2, 1..6)"},
+      {"hierarchical", "", "genus > 0 (default): past the uniform levels, split the functions at the surface samples beyond --max-surface-error and those holding the most misfit (T-spline refinement)"},
+      {"uniform-knots", "", "genus > 0: every level divides the knot spacing by 1.5 (no T-spline splits)"},
+      {"hierarchy-depth", "L", "genus > 0, --hierarchical: split functions at most L dyadic levels below the last uniform level (default 3, 1..6)"},
+      {"fit-damping", "D", "genus > 0: pull of every level's least squares towards the previous level's spline, relative to the mean sample weight of a function (default 0.01, 0..1)"},
       {"measure-lattice", "N", "genus > 0: lattice_negative_fraction at the cell centres of an N^3 lattice per cuboid (default 64, 4..256)"},
       {"centroid-samples", "", "genus > 0: also fit every surface triangle's centroid at its surface-map parameter"},
       {"surface-weight", "W", "genus > 0: least-squares weight of a surface vertex against a grid node (default 1)"},

@@ -16,6 +16,8 @@ struct FieldFlag {
 const FieldFlag kFieldFlags[] = {
     {"max_rms_rel", "--max-rms"},
     {"max_surface_error_rel", "--max-surface-error"},
+    {"fit_damping", "--fit-damping"},
+    {"hierarchy_depth", "--hierarchy-depth"},
     {"max_control_points", "--max-control-points"},
     {"max_levels", "--max-levels"},
     {"initial_cells", "--initial-cells"},

@@ -189,6 +189,8 @@ pipeline::GpcMesh2SplineOptions gpc_job_options_from_js(const val& o, const pipe
   if (bool_option(o, "adaptive_knots", false)) options.refinement = pipeline::GpcMesh2SplineOptions::Refinement::Adaptive;
   if (bool_option(o, "hierarchical", false))
     options.refinement = pipeline::GpcMesh2SplineOptions::Refinement::Hierarchical;
+  if (bool_option(o, "uniform_knots", false)) options.refinement = pipeline::GpcMesh2SplineOptions::Refinement::Uniform;
+  options.fit_damping = number_option(o, "fit_damping", options.fit_damping);
   options.adaptive_growth = number_option(o, "adaptive_growth", options.adaptive_growth);
   options.hierarchy_depth = integer_option(o, "hierarchy_depth", options.hierarchy_depth, -1000000, 1000000);
   options.surface_weight = number_option(o, "surface_weight", options.surface_weight);

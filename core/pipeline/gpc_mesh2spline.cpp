@@ -36,6 +36,7 @@ void check_options(const GpcMesh2SplineOptions& o) {
   if (!(o.marking_fraction > 0.0 && o.marking_fraction <= 1.0)) fail("`marking_fraction` must be in (0, 1]");
   if (o.hierarchy_depth < 1 || o.hierarchy_depth > spline::GpcSpline::kMaxLevel)
     fail("`hierarchy_depth` must be in [1, " + std::to_string(spline::GpcSpline::kMaxLevel) + "]");
+  if (!(o.fit_damping >= 0.0 && o.fit_damping <= 1.0)) fail("`fit_damping` must be in [0, 1]");
 }
 
 // Fitting samples in the unit-box frame: every (cuboid, node) of the volumetric map's hex mesh
@@ -191,15 +192,15 @@ std::vector<std::array<double, 3>> grid_line_lengths(const GpcResult& gpc, doubl
   return out;
 }
 
-// ‖F − value‖ of the last `count` samples (the surface vertices), unit-box frame.
+// Distance of each of the last `count` samples (the surface vertices) to the spline's boundary
+// near its parameter (gpc_surface_point_distance, the vertex side of hausdorff_rel), unit-box
+// frame: a parameter that slid along the surface is no geometric error and is not refined for.
 Eigen::VectorXd surface_misfit(const spline::GpcSpline& spline, const spline::GpcSamples& samples, std::size_t count) {
   const Eigen::Index m = samples.uvw.rows(), first = m - static_cast<Eigen::Index>(count);
   Eigen::VectorXd out(static_cast<Eigen::Index>(count));
-  double value[3], jacobian[9];
-  for (Eigen::Index s = first; s < m; ++s) {
-    spline.evaluate_with_jacobian(samples.cuboid[s], samples.uvw.row(s).transpose(), value, jacobian);
-    out(s - first) = (Eigen::Vector3d(value[0], value[1], value[2]) - samples.values.row(s).transpose()).norm();
-  }
+  for (Eigen::Index s = first; s < m; ++s)
+    out(s - first) = gpc_surface_point_distance(
+        spline, {samples.cuboid[s], samples.uvw.row(s).transpose(), samples.values.row(s).transpose()});
   return out;
 }
 
@@ -212,6 +213,16 @@ std::vector<int> surface_samples_beyond(const Eigen::VectorXd& misfit, const spl
     if (misfit(k) > bound) out.push_back(first + static_cast<int>(k));
   std::stable_sort(out.begin(), out.end(), [&](int a, int b) { return misfit(a - first) > misfit(b - first); });
   return out;
+}
+
+// Splits start from a level with at least two knot intervals along every cuboid axis: a tube
+// one cell across (a torus's first level) folds along its four long edges, which local splits
+// do not reach, where the next uniform level has room.
+bool two_intervals_per_axis(const spline::GpcSpline& spline) {
+  for (int c = 0; c < spline.num_cuboids(); ++c)
+    for (int a = 0; a < 3; ++a)
+      if (spline.intervals(c)[a] < 2) return false;
+  return true;
 }
 
 double longest_size(const polycube::GpcDomain& domain) {
@@ -342,7 +353,8 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
   // level counts the uniform levels (max_levels), step every fit (stage names, level_history).
   for (int level = 0, step = 0; level <= options.max_levels && step <= options.max_levels + 40; ++step) {
     progress.report("fit level " + std::to_string(step), 0.6 + 0.3 * level / (options.max_levels + 1));
-    splitting = !rebase && (splitting || (hierarchical && best && stats.rms_rel <= options.hierarchical_from * options.max_rms_rel));
+    splitting = !rebase && (splitting || (hierarchical && best && stats.rms_rel <= options.hierarchical_from * options.max_rms_rel &&
+                                          two_intervals_per_axis(*best)));
     rebase = false;
     std::optional<spline::GpcSpline> next;
     std::vector<int> marked;
@@ -351,9 +363,12 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
       const int n = best->num_functions();
       const int room = static_cast<int>(std::min<double>((options.adaptive_growth - 1.0) * n / 16.0,
                                                          (options.max_control_points - n) / 16.0));
-      if (room >= 1)
-        marked = spline::gpc_marked_functions(*best, data.samples, options.marking_fraction, room,
-                                              options.hierarchy_depth);
+      // The closure may split a function at the deepest level once more: that level's virtual
+      // grid must stay within GpcSpline::kMaxLevelFunctions.
+      int depth = options.hierarchy_depth;
+      while (depth > 0 && best->level_functions_bound(depth + 1) > spline::GpcSpline::kMaxLevelFunctions) --depth;
+      if (room >= 1 && depth > 0)
+        marked = spline::gpc_marked_functions(*best, data.samples, options.marking_fraction, room, depth, beyond);
       // Every function with misfit at hierarchy_depth: the next uniform level instead.
       splitting = !marked.empty();
     }
@@ -384,7 +399,9 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
       break;
     if (!splitting) candidate.set_points(prior_points(candidate, best ? &*best : nullptr, centre, diagonal));
     const double last_rms = stats.rms_rel;
-    const spline::GpcSplineFitReport report = spline::fit_gpc_spline(candidate, data.samples);
+    spline::GpcSplineFitOptions fit_options;
+    fit_options.regularization = options.fit_damping;
+    const spline::GpcSplineFitReport report = spline::fit_gpc_spline(candidate, data.samples, fit_options);
     timer.end_stage("fit_level_" + std::to_string(step));
     stats.levels = step;
     stats.rms_rel = report.rms_error;  // unit diagonal: already relative

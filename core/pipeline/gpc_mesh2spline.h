@@ -18,8 +18,10 @@ struct GpcMesh2SplineOptions {
   double max_rms_rel = 0.002;      ///< stop at rms_rel ≤ this (fraction of the bbox diagonal), > 0
   /// If > 0, also refine until every surface vertex's sample is within this of the vertex
   /// (fraction of the bbox diagonal; 0 = rms only): the Hausdorff distance follows the surface
-  /// error, the rms does not. Adaptive refinement splits the intervals of the samples beyond it first.
-  double max_surface_error_rel = 0.0;
+  /// error, the rms does not (an ear tip or a ring's inner side holds little of the squared
+  /// misfit). Hierarchical refinement splits the functions at the samples beyond it first,
+  /// adaptive refinement their knot intervals.
+  double max_surface_error_rel = 0.008;
   int max_control_points = 50000;  ///< no level beyond this many control points, ≥ 64
   int max_levels = 14;             ///< knot refinements after level 0, in [0, 30]
   /// Knot intervals along the longest cuboid axis at level 0, in [1, 64]; every further level
@@ -37,11 +39,16 @@ struct GpcMesh2SplineOptions {
   /// finer (spline::gpc_marked_functions, GpcSpline::refined: a T-spline refinement that can split
   /// a cell of any cuboid, next to interfaces too), at most hierarchy_depth levels below the last
   /// uniform one.
-  enum class Refinement { Uniform, Adaptive, Hierarchical } refinement = Refinement::Uniform;
+  enum class Refinement { Uniform, Adaptive, Hierarchical } refinement = Refinement::Hierarchical;
   double adaptive_growth = 1.4;  ///< in (1, 8]; for Hierarchical the growth cap of one step
   double hierarchical_from = 2.5;  ///< ≥ 1
   double marking_fraction = 0.5;   ///< Dörfler fraction of the misfit marked per step, in (0, 1]
-  int hierarchy_depth = 2;         ///< in [1, GpcSpline::kMaxLevel]
+  int hierarchy_depth = 3;         ///< in [1, GpcSpline::kMaxLevel]
+  /// Every level's least squares pulls each control point towards the previous level's spline at
+  /// its anchor with this weight relative to the mean diagonal of the normal matrix
+  /// (spline::GpcSplineFitOptions::regularization, ≥ 0): a function with few samples near the
+  /// surface (a fine one after a split) keeps the coarser shape instead of swinging between them.
+  double fit_damping = 1e-2;
   /// Least-squares weight of a surface vertex relative to a volumetric grid node (> 0).
   double surface_weight = 1.0;
   /// Surface samples: the vertices, or also every triangle's centroid at the mean of its

@@ -52,11 +52,9 @@ double angle_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI;
 }
 
-// Distance from a surface point to the spline's boundary near its own parameter: per Surface face
-// holding the parameter (two on a cube edge, three at a corner), Gauss–Newton on the face's two
-// parameters (clamped to it), at most 8 steps, each kept only if it brings F closer; the least
-// over those faces. An upper bound of the distance to the boundary surface.
-double projection_distance(const spline::GpcSpline& spline, const GpcSurfacePoint& p) {
+}  // namespace
+
+double gpc_surface_point_distance(const spline::GpcSpline& spline, const GpcSurfacePoint& p) {
   const polycube::GpcCuboid& cu = spline.domain().cuboids[p.cuboid];
   double value[3], jac0[9];
   spline.evaluate_with_jacobian(p.cuboid, p.uvw, value, jac0);
@@ -91,8 +89,6 @@ double projection_distance(const spline::GpcSpline& spline, const GpcSurfacePoin
   return least;
 }
 
-}  // namespace
-
 GpcSplineMeasures measure_gpc_spline(const spline::GpcSpline& spline, const mesh::TriangleMesh& mesh,
                                      const std::vector<GpcSurfacePoint>& surface_points, double diagonal,
                                      const GpcSplineMeasureOptions& options) {
@@ -126,7 +122,7 @@ GpcSplineMeasures measure_gpc_spline(const spline::GpcSpline& spline, const mesh
     }
   }
   for (const GpcSurfacePoint& p : surface_points) {
-    const double d = projection_distance(spline, p);
+    const double d = gpc_surface_point_distance(spline, p);
     max_d = std::max(max_d, d);
     sum2 += d * d;
     ++count;

@@ -28,6 +28,13 @@ struct GpcSurfacePoint {
   Eigen::Vector3d xyz = Eigen::Vector3d::Zero();  ///< model units
 };
 
+/// Distance from a surface point to the spline's boundary near its own parameter: per surface
+/// face holding the parameter (two on a cube edge, three at a corner), Gauss–Newton on the face's
+/// two parameters (clamped to it), at most 8 steps, each kept only if it brings F closer; the
+/// least over those faces. An upper bound of the distance to the boundary surface, in the units
+/// of p.xyz and the spline's points.
+double gpc_surface_point_distance(const spline::GpcSpline& spline, const GpcSurfacePoint& p);
+
 /// DESIGN.md's spline measures over a GPC spline (D = 3).
 struct GpcSplineMeasures {
   double hausdorff_rel = 0;   ///< two-sided spline boundary ↔ mesh distance / diagonal (upper bound)

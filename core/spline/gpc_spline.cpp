@@ -858,6 +858,16 @@ void GpcSpline::build_hierarchy(detail::GpcLevelBasis level0, const std::vector<
   points_ = Eigen::MatrixXd::Zero(num_functions_, dimension_);
 }
 
+long GpcSpline::level_functions_bound(int level) const {
+  long bound = 0;
+  for (const auto& cuboid : lines_) {
+    long local = 1;
+    for (const std::vector<double>& axis : cuboid) local *= (static_cast<long>(axis.size()) - 1) * (1L << level) + 3;
+    bound += local;
+  }
+  return bound;
+}
+
 int GpcSpline::max_level() const {
   return level_of_.empty() ? 0 : *std::max_element(level_of_.begin(), level_of_.end());
 }

@@ -135,6 +135,9 @@ class GpcSpline {
   /// if an id is out of range, a function would go below kMaxLevel, or the finer level would
   /// hold more than kMaxLevelFunctions functions.
   GpcSpline refined(const std::vector<int>& split) const;
+  /// The size bound that refined() checks against kMaxLevelFunctions for a level: the functions
+  /// of all cuboids' knot lines with every interval cut into 2^level.
+  long level_functions_bound(int level) const;
   static constexpr int kMaxLevel = 6;
   static constexpr long kMaxLevelFunctions = 2000000;
   /// How face f (0..5, polycube/cube_faces.h numbering) of cuboid c is joined.

@@ -235,7 +235,7 @@ std::vector<std::array<std::vector<double>, 3>> gpc_refined_knot_lines(const Gpc
 }
 
 std::vector<int> gpc_marked_functions(const GpcSpline& spline, const GpcSamples& samples, double fraction,
-                                      int max_count, int max_level) {
+                                      int max_count, int max_level, const std::vector<int>& first) {
   check_samples(spline, samples, "gpc_marked_functions");
   if (!(fraction > 0.0 && fraction <= 1.0)) throw Error("gpc_marked_functions: fraction must be in (0, 1]");
   if (max_count < 1) throw Error("gpc_marked_functions: max_count must be >= 1");
@@ -261,11 +261,26 @@ std::vector<int> gpc_marked_functions(const GpcSpline& spline, const GpcSamples&
   }
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return share[a] > share[b]; });
   std::vector<int> out;
+  std::vector<char> taken_flag(static_cast<std::size_t>(n), 0);
   double taken = 0.0;
+  auto take = [&](int i) {
+    out.push_back(i);
+    taken_flag[i] = 1;
+    taken += share[i];
+  };
+  for (int s : first) {
+    if (s < 0 || s >= samples.uvw.rows()) throw Error("gpc_marked_functions: first names sample " + std::to_string(s));
+    spline.basis_at(samples.cuboid[s], samples.uvw.row(s).transpose(), {0, 0, 0}, ids, values);
+    double largest = 0.0;
+    for (std::size_t k = 0; k < ids.size(); ++k)
+      if (spline.function_level(ids[k]) < max_level) largest = std::max(largest, values[k]);
+    for (std::size_t k = 0; k < ids.size() && static_cast<int>(out.size()) < max_count; ++k)
+      if (largest > 0.0 && values[k] >= 0.5 * largest && !taken_flag[ids[k]] && spline.function_level(ids[k]) < max_level)
+        take(ids[k]);
+  }
   for (int i : order) {
     if (taken >= fraction * total || static_cast<int>(out.size()) >= max_count) break;
-    out.push_back(i);
-    taken += share[i];
+    if (!taken_flag[i]) take(i);
   }
   std::sort(out.begin(), out.end());
   return out;

@@ -80,9 +80,12 @@ std::vector<std::array<std::vector<double>, 3>> gpc_refined_knot_lines(
 /// shared among the functions non-zero there in proportion to w_i B_i(uvw_s) (they sum to 1,
 /// Eq. 4.3); functions are taken in decreasing order of their share until they hold `fraction`
 /// (in (0, 1]) of the total (Dörfler marking) or max_count (≥ 1) are taken. Functions at level
-/// ≥ max_level are never taken. Increasing ids; deterministic (ties by id).
+/// ≥ max_level are never taken. `first`: sample ids (such as surface vertices beyond a distance
+/// bound) whose functions are taken before the marking: at each, in the given order, every function
+/// with w_i B_i at least half the largest there (a misfit the squared sum hides, at a thin
+/// feature). Increasing ids; deterministic (ties by id).
 /// Throws volspline::Error like fit_gpc_spline on malformed samples or if an argument is out of range.
 std::vector<int> gpc_marked_functions(const GpcSpline& spline, const GpcSamples& samples, double fraction,
-                                      int max_count, int max_level);
+                                      int max_count, int max_level, const std::vector<int>& first = {});
 
 }  // namespace volspline::spline

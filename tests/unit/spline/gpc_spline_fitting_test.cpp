@@ -296,3 +296,42 @@ TEST_CASE("gpc fit: knot lines refined where the misfit is lower it monotonicall
   MESSAGE("rms <= " << target << ": adaptive " << spline.num_functions() << " functions, uniform " << uniform);
   CHECK(uniform >= 2 * spline.num_functions());
 }
+
+TEST_CASE("gpc marking: the functions at a sample named first are split even where the squared misfit is elsewhere") {
+  // A torus fitted to a map with a broad ripple (most of the squared misfit) and one sample far
+  // off at u = 0.8 (a thin spike: little of the sum).
+  const GpcDomain d = torus_domain(false);
+  const Map map = [](int, const Eigen::Vector3d& h) {
+    const double r = 1.0 + h(1) - 0.15 + 0.05 * std::sin(8.0 * M_PI * h(0)) * (h(0) < 0.5 ? 1.0 : 0.0);
+    const double angle = 2.0 * M_PI * h(0);
+    return Eigen::Vector3d(r * std::cos(angle), r * std::sin(angle), h(2));
+  };
+  GpcSplineOptions o;
+  o.intervals = {{8, 1, 1}};
+  GpcSpline spline(d, o);
+  GpcSamples samples = lattice_samples(spline, map, 4);
+  Eigen::Index spike = -1;
+  for (Eigen::Index s = 0; s < samples.uvw.rows() && spike < 0; ++s)
+    if (std::abs(samples.uvw(s, 0) - 0.8125) < 1e-12) spike = s;
+  REQUIRE(spike >= 0);
+  samples.values(spike, 2) += 0.02;
+  fit_gpc_spline(spline, samples, exact_options());
+  std::vector<int> ids;
+  std::vector<double> values;
+  spline.basis_at(samples.cuboid[spike], samples.uvw.row(spike).transpose(), {0, 0, 0}, ids, values);
+  const double largest = *std::max_element(values.begin(), values.end());
+  auto marks_spike = [&](const std::vector<int>& marked) {
+    for (std::size_t k = 0; k < ids.size(); ++k)
+      if (values[k] >= 0.5 * largest && !std::binary_search(marked.begin(), marked.end(), ids[k])) return false;
+    return true;
+  };
+  const std::vector<int> plain = volspline::spline::gpc_marked_functions(spline, samples, 0.3, 1000, 2);
+  const std::vector<int> first =
+      volspline::spline::gpc_marked_functions(spline, samples, 0.3, 1000, 2, {static_cast<int>(spike)});
+  CHECK_FALSE(marks_spike(plain));
+  CHECK(marks_spike(first));
+  CHECK(std::is_sorted(first.begin(), first.end()));
+  // A function at the depth limit is never taken, named or not.
+  CHECK(volspline::spline::gpc_marked_functions(spline, samples, 0.3, 1000, 0, {static_cast<int>(spike)}).empty());
+  CHECK_THROWS_AS(volspline::spline::gpc_marked_functions(spline, samples, 0.3, 1000, 2, {-1}), Error);
+}

@@ -32,7 +32,7 @@ module.exports = function (vs, { check, sourceDir, fs, path }) {
   check(s.interface_gap_rel <= 1e-9 && s.continued_interfaces === 1, `the glued face is continued, gap ${s.interface_gap_rel}`);
   check(s.input === 'torus.off' && s.fit === 'grid' && s.times_s.total > 0 && s.times_s.gpc > 0, 'stats: input, fit, times_s');
   const h = s.level_history;
-  check(s.knot_refinement === 'uniform' && h.length === s.levels + 1 && h[h.length - 1].control_points === s.control_points &&
+  check(s.knot_refinement === 'hierarchical' && h.length === s.levels + 1 && h[h.length - 1].control_points === s.control_points &&
         Math.abs(h[h.length - 1].rms_rel - s.rms_rel) < 1e-15 && h.every((l) => l.surface_max_rel >= 0),
         `knot_refinement ${s.knot_refinement}, level_history of ${h.length} levels ending at the result`);
   check(stages.length > 2 && stages.every(([st, f]) => typeof st === 'string' && f >= 0 && f <= 1) &&
