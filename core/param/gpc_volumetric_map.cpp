@@ -120,10 +120,12 @@ int slide_and_raise(const polycube::GpcConstruction& construction, const std::ve
     fixed[r] = unused[r] || (pm.on_surface[r] && creases.triangle_near_crease(near_face[r]));
     sliding.slides[r] = !fixed[r] && pm.on_surface[r];
   }
-  // Each node's last triangle bounds its next search (the optimizers move it a little).
+  // Each node's last triangle and the triangles around it spare most searches (the optimizers
+  // move it a little).
+  std::vector<SurfaceDistance::Nearby> nearby(rows);
   sliding.project = [&](int r, const Eigen::Vector3d& p, Eigen::Matrix3d* tangent) {
     Eigen::Vector3d normal;
-    const Eigen::Vector3d q = surface.closest_point(p, &normal, &near_face[r]);
+    const Eigen::Vector3d q = surface.closest_point(p, &normal, &near_face[r], &nearby[r]);
     if (tangent) *tangent = Eigen::Matrix3d::Identity() - normal * normal.transpose();
     return q;
   };
@@ -236,11 +238,13 @@ int untangle_padded_mesh(const polycube::GpcConstruction& construction, const st
   SlidingNodes sliding;
   sliding.slides.resize(rows);
   for (int r = 0; r < rows; ++r) sliding.slides[r] = slides[r] > 0;
-  // Each sliding node's last triangle bounds its next search (the optimizer moves it a little).
+  // Each sliding node's last triangle and the triangles around it spare most searches (the
+  // optimizer moves it a little).
   std::vector<int> last_face(rows, -1);
+  std::vector<SurfaceDistance::Nearby> nearby(rows);
   sliding.project = [&](int r, const Eigen::Vector3d& p, Eigen::Matrix3d* tangent) {
     Eigen::Vector3d normal;
-    const Eigen::Vector3d q = patches[slides[r] - 1]->closest_point(p, &normal, &last_face[r]);
+    const Eigen::Vector3d q = patches[slides[r] - 1]->closest_point(p, &normal, &last_face[r], &nearby[r]);
     if (tangent) *tangent = Eigen::Matrix3d::Identity() - normal * normal.transpose();
     return q;
   };

@@ -176,7 +176,15 @@ MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>
   report.below_before = census(&report.min_before);
   std::vector<char> work(n);
   std::vector<Eigen::Vector3d> gradients;
-  std::vector<std::pair<double, Eigen::Vector3d>> corners;  // value and gradient of a node's corners
+  std::vector<double> corners;  // the value of each corner the node changes, in touch order
+  // A visit's outcome depends only on the positions of the nodes of the node's hexes (and on the
+  // band when the node's least value is above it), so a node that could not move is skipped
+  // until one of its hexes changes: moved[h] is the move count when a node of hex h last moved,
+  // stuck[v] the move count when node v last could not move (−1: it could) and stuck_least[v]
+  // its least corner value then (+∞ if the band did not stop it). The same moves, fewer visits.
+  long long clock = 0;
+  std::vector<long long> moved(hexes.size(), 0), stuck(n, -1);
+  std::vector<double> stuck_least(n, 0.0);
   double best = report.min_before;
   int stalled = 0;
   for (int sweep = 0; sweep < options.max_sweeps; ++sweep) {
@@ -200,30 +208,42 @@ MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>
     int moves = 0;
     for (int v = 0; v < n; ++v) {
       if (!work[v]) continue;
+      if (stuck[v] >= 0 && stuck_least[v] >= band) {
+        bool changed = false;
+        for (int t = touch_begin[v]; t < touch_begin[v + 1] && !changed; t += 4) changed = moved[touches[t].hex] > stuck[v];
+        if (!changed) continue;
+      }
+      stuck[v] = -1;
       bool moved_here = false;
       for (int visit = 0; visit < kStepsPerVisit; ++visit) {
-        // The least value over the node's corners and the gradients of the near-least ones.
+        // The least value over the node's corners (gradients below, of the near-least ones only).
         double least = std::numeric_limits<double>::infinity();
         double shortest2 = std::numeric_limits<double>::infinity();
         corners.clear();
         for (int t = touch_begin[v]; t < touch_begin[v + 1]; ++t) {
           const Touch& touch = touches[t];
-          Eigen::Vector3d g;
-          const double corner = corner_value(hexes[touch.hex], xyz, touch.corner, touch.role, &g);
-          corners.push_back({corner, g});
+          const double corner = corner_value(hexes[touch.hex], xyz, touch.corner, touch.role, nullptr);
+          corners.push_back(corner);
           least = std::min(least, corner);
           if (touch.role > 0)
             shortest2 = std::min(shortest2, corner_edge(hexes[touch.hex], xyz, touch.corner, touch.role - 1).squaredNorm());
         }
+        stuck[v] = clock;
+        stuck_least[v] = least;
         if (least >= band) break;
+        stuck_least[v] = std::numeric_limits<double>::infinity();
         const double shortest = std::sqrt(shortest2);
         Eigen::Matrix3d tangent = Eigen::Matrix3d::Identity();
         const bool slides = sliding && sliding->slides[v];
         const Eigen::Vector3d x0 = xyz.row(v).transpose();
         if (slides) sliding->project(v, x0, &tangent);
         gradients.clear();
-        for (const auto& [corner, g] : corners)
-          if (corner <= least + kNearActive) gradients.push_back(tangent * g);
+        for (int t = touch_begin[v]; t < touch_begin[v + 1]; ++t)
+          if (corners[t - touch_begin[v]] <= least + kNearActive) {
+            Eigen::Vector3d g;
+            corner_value(hexes[touches[t].hex], xyz, touches[t].corner, touches[t].role, &g);
+            gradients.push_back(tangent * g);
+          }
         Eigen::Vector3d direction = least_norm_point(gradients);
         const double norm = direction.norm();
         if (!(norm > 1e-12) || !(shortest > 0.0) || !std::isfinite(shortest)) break;
@@ -240,9 +260,14 @@ MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>
         if (!moved) break;
         ++moves;
         moved_here = true;
+        ++clock;
+        stuck[v] = -1;
       }
       if (moved_here)
-        for (int t = touch_begin[v]; t < touch_begin[v + 1]; t += 4) value[touches[t].hex] = hex_value(touches[t].hex);
+        for (int t = touch_begin[v]; t < touch_begin[v + 1]; t += 4) {
+          value[touches[t].hex] = hex_value(touches[t].hex);
+          moved[touches[t].hex] = clock;
+        }
     }
     report.sweeps = sweep + 1;
     report.moves += moves;

@@ -93,6 +93,13 @@ SurfaceDistance::SurfaceDistance(const mesh::TriangleMesh& mesh) {
     for (int z = ranges[f][2]; z <= ranges[f][5]; ++z)
       for (int y = ranges[f][1]; y <= ranges[f][4]; ++y)
         for (int x = ranges[f][0]; x <= ranges[f][3]; ++x) bucket_triangles_[counts[x + size_(0) * (y + size_(1) * z)]++] = f;
+  double area = 0.0;
+  for (int f = 0; f < num_faces; ++f) {
+    const double* c = corners_.data() + 9 * std::size_t(f);
+    const Eigen::Vector3d a(c[0], c[1], c[2]), b(c[3], c[4], c[5]), d(c[6], c[7], c[8]);
+    area += 0.5 * (b - a).cross(d - a).norm();
+  }
+  nearby_radius_ = 1.0 * std::sqrt(area / num_faces);
   bucket_boxes_.resize(6 * bucket_triangles_.size());
   for (std::size_t k = 0; k < bucket_triangles_.size(); ++k)
     std::copy_n(boxes_.data() + 6 * std::size_t(bucket_triangles_[k]), 6, bucket_boxes_.data() + 6 * k);
@@ -163,16 +170,92 @@ Eigen::Vector3d SurfaceDistance::closest_point(const Eigen::Vector3d& p, Eigen::
     best2 = std::nextafter((q - p).squaredNorm(), std::numeric_limits<double>::infinity());
   }
   search(p, best2, -1.0, &q, face);
-  if (normal) {
-    normal->setZero();
-    if (*face >= 0) {
-      const double* c = corners_.data() + 9 * std::size_t(*face);
-      const Eigen::Vector3d a(c[0], c[1], c[2]), b(c[3], c[4], c[5]), d(c[6], c[7], c[8]);
-      const Eigen::Vector3d n = (b - a).cross(d - a);
-      if (n.norm() > 0.0) *normal = n.normalized();
-    }
-  }
+  if (normal) *normal = face_normal(*face);
   return q;
+}
+
+Eigen::Vector3d SurfaceDistance::face_normal(int face) const {
+  if (face < 0) return Eigen::Vector3d::Zero();
+  const double* c = corners_.data() + 9 * std::size_t(face);
+  const Eigen::Vector3d a(c[0], c[1], c[2]), b(c[3], c[4], c[5]), d(c[6], c[7], c[8]);
+  const Eigen::Vector3d n = (b - a).cross(d - a);
+  return n.norm() > 0.0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::Zero();
+}
+
+double SurfaceDistance::nearest_listed(const Nearby& nearby, const Eigen::Vector3d& p, int hint,
+                                       Eigen::Vector3d* point, int* face, bool* tie) const {
+  double best2 = std::numeric_limits<double>::infinity();
+  *tie = false;
+  auto visit = [&](int f, const double* box) {
+    if (farther(box_distance2(p.data(), box, box + 3), best2)) return;
+    const double* c = corners_.data() + 9 * std::size_t(f);
+    const Eigen::Vector3d q = closest_point_on_triangle(p, Eigen::Vector3d(c[0], c[1], c[2]),
+                                                        Eigen::Vector3d(c[3], c[4], c[5]), Eigen::Vector3d(c[6], c[7], c[8]));
+    const double d2 = (q - p).squaredNorm();
+    if (d2 < best2) {
+      best2 = d2;
+      *point = q;
+      *face = f;
+      *tie = false;
+    } else if (d2 == best2) {
+      *tie = true;
+    }
+  };
+  // The hint first: its distance then rules out most boxes.
+  if (hint >= 0) visit(hint, &boxes_[6 * std::size_t(hint)]);
+  for (std::size_t k = 0; k < nearby.triangles.size(); ++k)
+    if (nearby.triangles[k] != hint) visit(nearby.triangles[k], &nearby.boxes[6 * k]);
+  return best2;
+}
+
+Eigen::Vector3d SurfaceDistance::closest_point(const Eigen::Vector3d& p, Eigen::Vector3d* normal, int* face,
+                                               Nearby* nearby) const {
+  assert(nearby);
+  // A triangle not listed has its box, so itself, farther than radius from the centre, hence
+  // farther than radius − |p − centre| from p (margins of 1e-9 cover rounding).
+  auto settles = [&](double best2) {
+    const double shift = (p - nearby->centre).norm();
+    return std::sqrt(best2) * (1.0 + 1e-9) < nearby->radius * (1.0 - 1e-9) - shift * (1.0 + 1e-9);
+  };
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    if (nearby->radius >= 0.0) {
+      Eigen::Vector3d q;
+      int f = -1;
+      bool tie = false;
+      const double best2 = nearest_listed(*nearby, p, *face, &q, &f, &tie);
+      if (f >= 0 && settles(best2)) {
+        if (tie) break;  // the buckets' order decides
+        *face = f;
+        if (normal) *normal = face_normal(f);
+        return q;
+      }
+    }
+    if (attempt > 0) break;
+    // Not settled: list the triangles around p.
+    nearby->centre = p;
+    nearby->radius = nearby_radius_;
+    nearby->triangles.clear();
+    const double radius2 = nearby_radius_ * nearby_radius_ * (1.0 + 1e-9);
+    Eigen::Vector3i lo, hi;
+    for (int a = 0; a < 3; ++a) {
+      lo(a) = std::clamp(static_cast<int>(std::floor((p(a) - nearby_radius_ - origin_(a)) / cell_)), 0, size_(a) - 1);
+      hi(a) = std::clamp(static_cast<int>(std::floor((p(a) + nearby_radius_ - origin_(a)) / cell_)), 0, size_(a) - 1);
+    }
+    for (int z = lo(2); z <= hi(2); ++z)
+      for (int y = lo(1); y <= hi(1); ++y)
+        for (int x = lo(0); x <= hi(0); ++x) {
+          const int b = x + size_(0) * (y + size_(1) * z);
+          for (int k = bucket_begin_[b]; k < bucket_begin_[b + 1]; ++k)
+            if (box_distance2(p.data(), &bucket_boxes_[6 * std::size_t(k)], &bucket_boxes_[6 * std::size_t(k) + 3]) <= radius2)
+              nearby->triangles.push_back(bucket_triangles_[k]);
+        }
+    std::sort(nearby->triangles.begin(), nearby->triangles.end());
+    nearby->triangles.erase(std::unique(nearby->triangles.begin(), nearby->triangles.end()), nearby->triangles.end());
+    nearby->boxes.resize(6 * nearby->triangles.size());
+    for (std::size_t k = 0; k < nearby->triangles.size(); ++k)
+      std::copy_n(&boxes_[6 * std::size_t(nearby->triangles[k])], 6, &nearby->boxes[6 * k]);
+  }
+  return closest_point(p, normal, face);
 }
 
 double SurfaceDistance::distance(const Eigen::Vector3d& p) const {

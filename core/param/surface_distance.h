@@ -37,7 +37,28 @@ class SurfaceDistance {
   /// *face gets the nearest triangle. The same point, normal and triangle as closest_point.
   Eigen::Vector3d closest_point(const Eigen::Vector3d& p, Eigen::Vector3d* normal, int* face) const;
 
+  /// The triangles near a point, kept by a caller that projects one moving point again and again.
+  struct Nearby {
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    double radius = -1.0;        ///< every triangle whose box is within radius of centre is listed; < 0: none yet
+    std::vector<int> triangles;  ///< ids, increasing
+    std::vector<double> boxes;   ///< their bounding boxes (min xyz, max xyz), in that order
+  };
+  /// closest_point(p, normal, face) with the same point, normal and triangle, cheaper for a point
+  /// that moves a little between calls: when the nearest listed triangle is nearer to p than
+  /// any unlisted one can be and no other listed triangle is exactly as near, it is the answer
+  /// without a search; otherwise as closest_point(p, normal, face), and *nearby is taken again
+  /// around p when p has left it.
+  Eigen::Vector3d closest_point(const Eigen::Vector3d& p, Eigen::Vector3d* normal, int* face, Nearby* nearby) const;
+
  private:
+  // The triangle's unit normal (zero if it is degenerate).
+  Eigen::Vector3d face_normal(int face) const;
+  // Nearest of the listed triangles and `hint` (an id or −1) to p: squared distance, point and
+  // id; *tie if another of them is exactly as near.
+  double nearest_listed(const Nearby& nearby, const Eigen::Vector3d& p, int hint, Eigen::Vector3d* point, int* face,
+                        bool* tie) const;
+
   // Smallest squared distance from p below best2, stopping once it is <= stop2; the point and
   // triangle that reach it, if asked.
   double search(const Eigen::Vector3d& p, double best2, double stop2, Eigen::Vector3d* point = nullptr,
@@ -51,6 +72,7 @@ class SurfaceDistance {
   std::vector<int> bucket_begin_;
   std::vector<int> bucket_triangles_;
   std::vector<double> bucket_boxes_;  // boxes_ of bucket_triangles_, in their order: one stream per bucket
+  double nearby_radius_ = 0.0;         // Nearby::radius: twice the side of the mean triangle's square
 };
 
 }  // namespace volspline::param

@@ -85,3 +85,28 @@ TEST_CASE("closest point from a triangle hint: the point, normal and triangle of
     CHECK(same == face);
   }
 }
+
+TEST_CASE("closest point from a kept neighbourhood: the point, normal and triangle of the plain search") {
+  // A point walking over and near the surface, through vertices and edges (ties), and jumping.
+  const auto mesh = test::cube_sphere(4);
+  const param::SurfaceDistance distance(mesh);
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> step(0.0, 0.02);
+  std::uniform_int_distribution<int> any_face(0, mesh.num_faces() - 1);
+  param::SurfaceDistance::Nearby nearby;
+  int face = -1, listed_face = -1;
+  Eigen::Vector3d p(0.3, 0.2, 1.1);
+  for (int s = 0; s < 600; ++s) {
+    if (s % 50 == 0) p = 1.3 * mesh.positions.row(mesh.triangles(any_face(rng), 0)).transpose();
+    if (s % 7 == 0) p = mesh.positions.row(mesh.triangles(any_face(rng), s % 3)).transpose();
+    p += Eigen::Vector3d(step(rng), step(rng), step(rng));
+    Eigen::Vector3d normal, listed_normal;
+    const Eigen::Vector3d q = distance.closest_point(p, &normal, &face);
+    const Eigen::Vector3d listed = distance.closest_point(p, &listed_normal, &listed_face, &nearby);
+    CHECK(listed == q);
+    CHECK(listed_normal == normal);
+    CHECK(listed_face == face);
+    p = 0.5 * (p + q);
+  }
+  CHECK(nearby.radius > 0.0);
+}
