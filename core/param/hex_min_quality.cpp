@@ -139,9 +139,11 @@ MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>
     for (int q = 0; q < 8; ++q) x[q] = xyz.row(hexes[h][q]).transpose();
     return mesh::hex_min_scaled_jacobian(x);
   };
-  // True if every corner the node changes is above `floor` (stops at the first that is not).
-  auto star_above = [&](int v, double floor) {
-    for (int t = touch_begin[v]; t < touch_begin[v + 1]; ++t)
+  // True if every corner the node changes is above `floor` (stops at the first that is not);
+  // order: the node's touches, the lowest corners first, so that a failing trial stops early.
+  std::vector<int> order;
+  auto star_above = [&](double floor) {
+    for (const int t : order)
       if (!(corner_value(hexes[touches[t].hex], xyz, touches[t].corner, touches[t].role, nullptr) > floor)) return false;
     return true;
   };
@@ -238,12 +240,16 @@ MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>
         const Eigen::Vector3d x0 = xyz.row(v).transpose();
         if (slides) sliding->project(v, x0, &tangent);
         gradients.clear();
+        order.clear();
         for (int t = touch_begin[v]; t < touch_begin[v + 1]; ++t)
           if (corners[t - touch_begin[v]] <= least + kNearActive) {
             Eigen::Vector3d g;
             corner_value(hexes[touches[t].hex], xyz, touches[t].corner, touches[t].role, &g);
             gradients.push_back(tangent * g);
+            order.push_back(t);
           }
+        for (int t = touch_begin[v]; t < touch_begin[v + 1]; ++t)
+          if (!(corners[t - touch_begin[v]] <= least + kNearActive)) order.push_back(t);
         Eigen::Vector3d direction = least_norm_point(gradients);
         const double norm = direction.norm();
         if (!(norm > 1e-12) || !(shortest > 0.0) || !std::isfinite(shortest)) break;
@@ -254,7 +260,7 @@ MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>
           const Eigen::Vector3d trial = x0 + step * direction;
           const Eigen::Vector3d p = slides ? sliding->project(v, trial, nullptr) : trial;
           xyz.row(v) = p.transpose();
-          moved = star_above(v, least + kMinGain) && longest_edge(v) <= reach[v];
+          moved = star_above(least + kMinGain) && longest_edge(v) <= reach[v];
           if (!moved) xyz.row(v) = x0.transpose();
         }
         if (!moved) break;
