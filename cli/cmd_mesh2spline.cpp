@@ -79,6 +79,7 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
   if (args.has("adaptive-knots")) options.refinement = pipeline::GpcMesh2SplineOptions::Refinement::Adaptive;
   if (args.has("hierarchical")) options.refinement = pipeline::GpcMesh2SplineOptions::Refinement::Hierarchical;
   if (args.has("uniform-knots")) options.refinement = pipeline::GpcMesh2SplineOptions::Refinement::Uniform;
+  if (args.has("compare-uniform")) options.compare_uniform = pipeline::GpcMesh2SplineOptions::CompareUniform::On;
   if (int(args.has("adaptive-knots")) + int(args.has("hierarchical")) + int(args.has("uniform-knots")) > 1)
     throw UsageError("--uniform-knots, --adaptive-knots and --hierarchical exclude each other");
   options.fit_damping = args.get_double("fit-damping", options.fit_damping);
@@ -123,6 +124,11 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
     j["ill_points"] = s.ill_points;
     j["interfaces"] = s.interfaces;
     j["continued_interfaces"] = s.continued_interfaces;
+    if (options.compare_uniform == pipeline::GpcMesh2SplineOptions::CompareUniform::On) {
+      j["uniform_control_points"] = s.uniform_control_points >= 0 ? nlohmann::ordered_json(s.uniform_control_points)
+                                                                   : nlohmann::ordered_json(nullptr);
+      j["uniform_rms_rel"] = s.uniform_rms_rel;
+    }
     j["interface_gap_rel"] = s.interface_gap_rel;
     j["interface_normal_jump_deg"] = s.interface_normal_jump_deg;
     j["flipped_triangles"] = s.flipped_triangles;

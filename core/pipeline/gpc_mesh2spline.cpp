@@ -215,6 +215,47 @@ std::vector<int> surface_samples_beyond(const Eigen::VectorXd& misfit, const spl
   return out;
 }
 
+// The fewest functions of a uniform spline over the same GPC (the knot count rule of the levels,
+// `cells` intervals along the longest grid line length) whose plain least-squares fit reaches the
+// result's rms_rel: doubling `cells` from initial_cells, then bisection (stats
+// uniform_control_points, uniform_rms_rel; left at -1 if the samples run out first).
+void compare_uniform(const polycube::GpcDomain& domain, const spline::GpcSamples& samples,
+                     const std::vector<std::array<double, 3>>& lengths, double longest, int initial_cells,
+                     const Eigen::RowVector3d& centre, double diagonal, Mesh2SplineStats& stats) {
+  const int count = static_cast<int>(samples.uvw.rows());
+  auto uniform = [&](int cells, int* functions) {
+    spline::GpcSplineOptions so;
+    so.intervals = spline::gpc_uniform_intervals(domain, longest / cells, &lengths);
+    spline::GpcSpline u(domain, so);
+    *functions = u.num_functions();
+    if (4 * u.num_functions() > count) return -1.0;
+    u.set_points(prior_points(u, nullptr, centre, diagonal));
+    return spline::fit_gpc_spline(u, samples).rms_error;
+  };
+  int lo = initial_cells, hi = -1, functions = 0, hi_functions = 0;
+  double hi_rms = 0.0;
+  for (int cells = initial_cells; cells <= 4096; cells *= 2) {
+    const double r = uniform(cells, &functions);
+    if (r < 0.0) return;
+    if (r <= stats.rms_rel) {
+      hi = cells, hi_rms = r, hi_functions = functions;
+      break;
+    }
+    lo = cells;
+  }
+  if (hi < 0) return;
+  while (hi - lo > 1) {
+    const int mid = (lo + hi) / 2;
+    const double r = uniform(mid, &functions);
+    if (r >= 0.0 && r <= stats.rms_rel)
+      hi = mid, hi_rms = r, hi_functions = functions;
+    else
+      lo = mid;
+  }
+  stats.uniform_control_points = hi_functions;
+  stats.uniform_rms_rel = hi_rms;
+}
+
 // Splits start from a level with at least two knot intervals along every cuboid axis: a tube
 // one cell across (a torus's first level) folds along its four long edges, which local splits
 // do not reach, where the next uniform level has room.
@@ -419,6 +460,11 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
   }
   spline::GpcSpline& fitted = *best;
   stats.continued_interfaces = fitted.num_continued_interfaces();
+  if (options.compare_uniform == GpcMesh2SplineOptions::CompareUniform::On) {
+    progress.report("uniform comparison", 0.88);
+    compare_uniform(domain, data.samples, lengths, longest, options.initial_cells, centre, diagonal, stats);
+    timer.end_stage("compare_uniform");
+  }
   stats.negative_jacobian_fraction_fit = -1.0;
   if (options.untangle == GpcMesh2SplineOptions::Untangle::On) {
     progress.report("untangle", 0.9);

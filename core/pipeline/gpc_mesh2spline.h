@@ -58,6 +58,9 @@ struct GpcMesh2SplineOptions {
   /// Unfold the fitted spline with the control points inside each cuboid (spline::untangle_spline
   /// on its patch, restricted to its box); faces, surface and glued faces stay as they are.
   enum class Untangle { Off, On } untangle = Untangle::On;
+  /// Also find the fewest functions of a uniform spline over the same GPC whose fit reaches the
+  /// same rms_rel (stats uniform_control_points, uniform_rms_rel).
+  enum class CompareUniform { Off, On } compare_uniform = CompareUniform::Off;
   int measure_samples = 48;       ///< per axis per surface face for hausdorff_rel, [8, 512]
   /// Cell centres per axis per cuboid at which lattice_negative_fraction is counted, [4, 256].
   int measure_lattice = 64;

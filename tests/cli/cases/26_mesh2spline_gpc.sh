@@ -36,8 +36,11 @@ PY
 expect 0 /usr/bin/python3 "$TMP/read_gpc_vtu.py" "$TMP/gt.vtu"
 # --hierarchical: T-spline splits past the uniform levels; the JSON holds them, eval reads it, and
 # the same input gives the same bytes.
-expect 0 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gh.json" --quiet --hierarchical --max-rms 0.0003 --stats-json "$TMP/gh_stats.json"
+expect 0 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gh.json" --quiet --hierarchical --max-rms 0.0003 --stats-json "$TMP/gh_stats.json" --compare-uniform
 contains "$TMP/gh.json" "\"splits\""
+# --compare-uniform: the fewest functions of a uniform spline over the same GPC at the same rms.
+has_keys "$TMP/gh_stats.json" uniform_control_points uniform_rms_rel
+expect 0 /usr/bin/python3 -c "import json,sys; s=json.load(open(sys.argv[1])); assert s['uniform_control_points'] >= 64 and s['uniform_rms_rel'] <= s['rms_rel'], s" "$TMP/gh_stats.json"
 contains "$TMP/gh_stats.json" "\"knot_refinement\": \"hierarchical\""
 expect 0 "$BIN" eval "$TMP/gh.json" --cuboid 0 --uvw 0.1,0.05,0.05 --jacobian
 expect 0 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gh2.json" --quiet --hierarchical --max-rms 0.0003 --gismo "$TMP/gh.xml" --mfem "$TMP/gh.mesh" --bezier "$TMP/gh_bez.json" --vtk "$TMP/gh.vtu"
