@@ -99,7 +99,7 @@ SurfaceDistance::SurfaceDistance(const mesh::TriangleMesh& mesh) {
     const Eigen::Vector3d a(c[0], c[1], c[2]), b(c[3], c[4], c[5]), d(c[6], c[7], c[8]);
     area += 0.5 * (b - a).cross(d - a).norm();
   }
-  nearby_radius_ = 1.0 * std::sqrt(area / num_faces);
+  nearby_radius_ = std::sqrt(area / num_faces);
   bucket_boxes_.resize(6 * bucket_triangles_.size());
   for (std::size_t k = 0; k < bucket_triangles_.size(); ++k)
     std::copy_n(boxes_.data() + 6 * std::size_t(bucket_triangles_[k]), 6, bucket_boxes_.data() + 6 * k);
@@ -236,10 +236,14 @@ Eigen::Vector3d SurfaceDistance::closest_point(const Eigen::Vector3d& p, Eigen::
     nearby->radius = nearby_radius_;
     nearby->triangles.clear();
     const double radius2 = nearby_radius_ * nearby_radius_ * (1.0 + 1e-9);
+    // The buckets the ball meets (clamped as doubles: p may lie far outside the grid).
+    auto bucket_index = [&](double x, int a) {
+      return static_cast<int>(std::clamp(std::floor((x - origin_(a)) / cell_), 0.0, double(size_(a) - 1)));
+    };
     Eigen::Vector3i lo, hi;
     for (int a = 0; a < 3; ++a) {
-      lo(a) = std::clamp(static_cast<int>(std::floor((p(a) - nearby_radius_ - origin_(a)) / cell_)), 0, size_(a) - 1);
-      hi(a) = std::clamp(static_cast<int>(std::floor((p(a) + nearby_radius_ - origin_(a)) / cell_)), 0, size_(a) - 1);
+      lo(a) = bucket_index(p(a) - nearby_radius_, a);
+      hi(a) = bucket_index(p(a) + nearby_radius_, a);
     }
     for (int z = lo(2); z <= hi(2); ++z)
       for (int y = lo(1); y <= hi(1); ++y)

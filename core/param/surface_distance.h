@@ -72,7 +72,7 @@ class SurfaceDistance {
   std::vector<int> bucket_begin_;
   std::vector<int> bucket_triangles_;
   std::vector<double> bucket_boxes_;  // boxes_ of bucket_triangles_, in their order: one stream per bucket
-  double nearby_radius_ = 0.0;         // Nearby::radius: twice the side of the mean triangle's square
+  double nearby_radius_ = 0.0;         // Nearby::radius: the side of the mean triangle's square
 };
 
 }  // namespace volspline::param
