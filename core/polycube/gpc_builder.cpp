@@ -17,6 +17,7 @@
 #include "core/mesh/mesh_geometry.h"
 #include "core/mesh/mesh_lists.h"
 #include "core/mesh/mesh_report.h"
+#include "core/polycube/cap_corners.h"
 #include "core/polycube/cylinder_map.h"
 #include "core/polycube/t_shape_layout.h"
 
@@ -680,8 +681,15 @@ GpcConstruction build_gpc(SolidDecomposition& d, double bbox_diagonal, const std
         on_loop[b.loop][b.side] = fb;
       }
     } else {
-      // Cap: the 4 upper corners halfway up, on the shortest paths from the loop's corners to
-      // the vertex farthest from the loop.
+      // Cap (§3.3.2, Algorithm 2): the 4 upper corners on the shortest paths from the loop's
+      // corners to the vertex farthest from the loop (the pole), at a fraction lambda of the
+      // pole's height. The end face must not reach far beyond its own width: a harmonic map of
+      // a region much longer than wide (half a limb, a pointed foot) crowds it into a dot at the
+      // face's centre, exponentially in that ratio, and no spline refinement fits it. So lambda
+      // is the lowest level from halfway up whose remaining height is at most the level's
+      // radius (perimeter / 2π): a round cap keeps its corners halfway up, a limb takes them
+      // one radius below its tip, a cone that never gets that wide as close to its tip as two
+      // mean edges allow.
       const mesh::HalfedgeMesh open = mesh::HalfedgeMesh::build(pm.mesh, "gpc " + part);
       std::vector<int> sources;
       for (int v : pm.boundary[0]) sources.push_back(v);
@@ -690,7 +698,13 @@ GpcConstruction build_gpc(SolidDecomposition& d, double bbox_diagonal, const std
       for (int v = 0; v < open.num_vertices(); ++v)
         if (height.distance[v] > height.distance[pole]) pole = v;
       const mesh::GraphDistances from_pole = mesh::graph_distances(open, {pole});
-      for (double lambda : {0.5, 0.35, 0.65, 0.2}) {
+      const double tip = cap_corner_level(pm.mesh, height.distance, height.distance[pole]);
+      // From that level down to halfway (the shortest paths to the pole may merge before it:
+      // the corners must stay distinct), then the fallbacks.
+      std::vector<double> lambdas;
+      for (double lambda = tip; lambda > 0.5 + 1e-9; lambda -= 0.05) lambdas.push_back(lambda);
+      for (double lambda : {0.5, 0.35, 0.65, 0.2}) lambdas.push_back(lambda);
+      for (double lambda : lambdas) {
         CuboidLayout layout;
         std::array<std::vector<int>, num_cube_edges> fixed;
         set_loop_face(pm.boundary[0], ca, order_a, a_forward, bottom, layout, fixed);
@@ -705,9 +719,19 @@ GpcConstruction build_gpc(SolidDecomposition& d, double bbox_diagonal, const std
               break;
             }
         }
-        std::array<int, 4> sorted = upper;
-        std::sort(sorted.begin(), sorted.end());
-        if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) continue;
+        auto distinct = [](std::array<int, 4> c) {
+          std::sort(c.begin(), c.end());
+          return std::adjacent_find(c.begin(), c.end()) == c.end();
+        };
+        // On a limb the paths to the pole merge long before its tip: the corners then go around
+        // the level's front by the angle of the loop corners about the limb's axis.
+        if (!distinct(upper) && lambda > 0.5) {
+          std::array<Eigen::Vector3d, 4> below;
+          for (int i = 0; i < 4; ++i) below[i] = pm.mesh.positions.row(layout.corners[bottom[i]]).transpose();
+          upper = front_corners(pm.mesh, height.distance, lambda * height.distance[pole],
+                                pm.mesh.positions.row(pole).transpose(), below);
+        }
+        if (!distinct(upper)) continue;
         for (int i = 0; i < 4; ++i) layout.corners[top[i]] = upper[i];
         std::string reason;
         if (complete_cuboid_layout(hm, 2, fixed, layout, &reason)) {

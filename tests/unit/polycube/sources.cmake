@@ -4,5 +4,6 @@ set(TEST_SOURCES
   gpc_test.cpp
   cut_tightening_test.cpp
   cube_faces_test.cpp
+  cap_corners_test.cpp
   surface_paths_test.cpp
 )
