@@ -10,6 +10,7 @@
 #include "core/linalg/parallel_for.h"
 #include "core/pipeline/gpc_spline_measures.h"
 #include "core/pipeline/stage_timer.h"
+#include "core/spline/gpc_certificate_untangling.h"
 #include "core/spline/gpc_jacobian_certificate.h"
 #include "core/spline/gpc_spline_fitting.h"
 #include "core/spline/spline_untangling.h"
@@ -300,8 +301,9 @@ int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& sample
     uo.lattice = std::clamp(static_cast<int>(std::lround(uo.lattice * longest / longest_side)), 8, uo.lattice);
     spline::TSpline patch = spline.patch(c);
     // Where a face is continued the patch reaches past the box: only the box is this cuboid's
-    // (clamped to the patch's domain: its end knots are the box's up to rounding). Elsewhere the
-    // patch is the box, and the whole-domain untangling includes its certificate rounds.
+    // (clamped to the patch's domain: its end knots are the box's up to rounding). The
+    // certificate rounds run over all cuboids at once below (their functions cross the faces).
+    uo.certificate_rounds = 0;
     for (Eigen::Index r = 0; r < uvw.rows(); ++r)
       uvw.row(r) = uvw.row(r).cwiseMax(patch.domain_min().transpose()).cwiseMin(patch.domain_max().transpose());
     bool continued = false;
@@ -318,7 +320,8 @@ int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& sample
     for (std::size_t j = 0; j < ids.size(); ++j) points.row(ids[j]) = moved[c].row(static_cast<Eigen::Index>(j));
   }
   spline.set_points(std::move(points));
-  return std::accumulate(free.begin(), free.end(), 0);
+  const spline::SplineUntangleResult certified = spline::untangle_gpc_certificate(spline, samples);
+  return std::accumulate(free.begin(), free.end(), 0) + certified.free_functions;
 }
 
 

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "core/spline/node_jacobians.h"
 
+#include <utility>
+
 #include "core/spline/node_jacobians_avx2.h"
 
 namespace volspline::spline::detail {
@@ -36,6 +38,17 @@ NodeJacobians::NodeJacobians(const std::vector<FreeFunction>& functions, const s
     column_[e] = c;
     for (int a = 0; a < 3; ++a) gradient_[3 * e + a] = static_cast<float>(g(a));
   });
+}
+
+NodeJacobians::NodeJacobians(std::vector<int> start, std::vector<int> column,
+                             const std::vector<Eigen::Vector3d>& gradient)
+    : start_(std::move(start)), column_(std::move(column)) {
+#if defined(VOLSPLINE_AVX2_KERNELS)
+  avx2_ = __builtin_cpu_supports("avx2");
+#endif
+  gradient_.resize(3 * gradient.size());
+  for (std::size_t e = 0; e < gradient.size(); ++e)
+    for (int a = 0; a < 3; ++a) gradient_[3 * e + a] = static_cast<float>(gradient[e](a));
 }
 
 void NodeJacobians::pad(const Eigen::VectorXd& x, std::vector<double>& x4) {

@@ -35,6 +35,9 @@ class NodeJacobians {
   /// sizes: lattice nodes per axis, num_nodes: region nodes. Columns ascend within a row.
   NodeJacobians(const std::vector<FreeFunction>& functions, const std::vector<int>& node_index,
                 std::array<int, 3> sizes, std::size_t num_nodes);
+  /// Rows given whole (nodes anywhere, e.g. in several cuboids): node q's entries are
+  /// start[q] .. start[q + 1] − 1, each a column (ascending within a row) and its w∇B.
+  NodeJacobians(std::vector<int> start, std::vector<int> column, const std::vector<Eigen::Vector3d>& gradient);
 
   /// The free control points x (3 per column) padded to 4 per column (the 4th is 0), as the
   /// sweeps read them and write gradients: one 4-lane load or store per entry.

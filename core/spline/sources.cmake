@@ -21,6 +21,7 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/jacobian_certificate.cpp
   ${CMAKE_CURRENT_LIST_DIR}/bspline_multipatch.cpp
   ${CMAKE_CURRENT_LIST_DIR}/gpc_jacobian_certificate.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/gpc_certificate_untangling.cpp
   ${CMAKE_CURRENT_LIST_DIR}/node_jacobians.cpp
   ${CMAKE_CURRENT_LIST_DIR}/node_jacobians_avx2.cpp
   ${CMAKE_CURRENT_LIST_DIR}/untangle_energy.cpp

@@ -20,10 +20,10 @@ namespace volspline::spline {
 namespace {
 
 using detail::AxisNodes;
+using detail::lexicographic_less;
+using detail::merge_points;
+using detail::uncertified_points;
 
-bool lexicographic_less(const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
-  return std::lexicographical_compare(p.data(), p.data() + 3, q.data(), q.data() + 3);
-}
 
 // The dense check between passes: per axis, check_per_interval centres of equal parts of every
 // knot interval plus the boundary layers (as make_pass_nodes); its points with scaled Jacobian below
@@ -97,38 +97,6 @@ std::vector<Eigen::Vector3d> bad_lattice_points(const TSpline& spline, const std
                                         });
   std::sort(bad.begin(), bad.end(), lexicographic_less);
   return bad;
-}
-
-// Where one uncertified cell folds: its certificate's lowest corner and the points of a 3×3×3
-// grid on the closed cell with det J < 0, in uvw.
-std::vector<Eigen::Vector3d> uncertified_points(const TSpline& spline, const UncertifiedCell& u) {
-  auto to_uvw = [&](const Eigen::Vector3d& s) {
-    Eigen::Vector3d p = u.uvw_min + s.cwiseProduct(u.uvw_max - u.uvw_min);
-    for (int a = 0; a < 3; ++a)  // the cell's own ends exactly: a point on a face stays on it
-      if (s(a) == 1.0) p(a) = u.uvw_max(a);
-    return p;
-  };
-  std::vector<Eigen::Vector3d> points = {to_uvw(u.bound.lowest_corner_s)};
-  const BezierCell cell = extract_bezier_cell(spline, u.cell);
-  for (int k = 0; k < 3; ++k)
-    for (int j = 0; j < 3; ++j)
-      for (int i = 0; i < 3; ++i) {
-        const Eigen::Vector3d s(0.5 * i, 0.5 * j, 0.5 * k);
-        double value[3];
-        Eigen::Matrix3d jacobian;
-        evaluate_bezier_cell(cell, s, value, jacobian.data());
-        if (jacobian.determinant() < 0.0) points.push_back(to_uvw(s));
-      }
-  return points;
-}
-
-// Adds the points `more` to the sorted held points, without repeats.
-void merge_points(std::vector<Eigen::Vector3d>& held, std::vector<Eigen::Vector3d> more) {
-  std::sort(more.begin(), more.end(), lexicographic_less);
-  const std::size_t before = held.size();
-  held.insert(held.end(), more.begin(), more.end());
-  std::inplace_merge(held.begin(), held.begin() + before, held.end(), lexicographic_less);
-  held.erase(std::unique(held.begin(), held.end()), held.end());
 }
 
 // Rounds without fewer uncertified cells before the certificate rounds give up.

@@ -8,6 +8,7 @@
 #include <Eigen/LU>
 
 #include "core/mesh/hex_quality.h"
+#include "core/spline/bezier_extraction.h"
 #include "core/spline/bspline_basis.h"
 #include "core/spline/node_jacobians.h"
 #include "core/spline/tspline_fitting.h"
@@ -291,17 +292,7 @@ class UntanglePass {
           region.guarded.push_back(held && (jac.determinant() > 0.0 || is_scanned(i, j, k)));
         }
     region.mean_scale /= std::max<std::size_t>(fixed.size(), 1);
-    for (const Eigen::Matrix3d& jac : fixed) {
-      // Reference: the point's own Jacobian where it is good (the energy is then least where
-      // the map already is), else an orthogonal frame of its column lengths, each at least the
-      // region's mean: a folded column is short (bunny's faces: the normal derivative), and
-      // its own length would make a flat element the target.
-      const Eigen::Vector3d norms(jac.col(0).norm(), jac.col(1).norm(), jac.col(2).norm());
-      region.inverse_reference.push_back(
-          mesh::scaled_jacobian(jac) >= kGoodScaledJacobian
-              ? Eigen::Matrix3d(jac.inverse())
-              : Eigen::Matrix3d(norms.cwiseMax(region.mean_scale).cwiseMax(1e-300).cwiseInverse().asDiagonal()));
-    }
+    for (const Eigen::Matrix3d& jac : fixed) region.inverse_reference.push_back(inverse_reference_shape(jac, region.mean_scale));
     return fixed;
   }
 
@@ -441,6 +432,45 @@ void PointGradients::at(const TSpline& spline, const Eigen::Vector3d& p) {
     order[a] = 1;
     spline.basis_at(p, order, ids[a], values[a]);
   }
+}
+
+Eigen::Matrix3d inverse_reference_shape(const Eigen::Matrix3d& jacobian, const Eigen::Vector3d& mean_scale) {
+  if (mesh::scaled_jacobian(jacobian) >= kGoodScaledJacobian) return jacobian.inverse();
+  const Eigen::Vector3d norms(jacobian.col(0).norm(), jacobian.col(1).norm(), jacobian.col(2).norm());
+  return norms.cwiseMax(mean_scale).cwiseMax(1e-300).cwiseInverse().asDiagonal();
+}
+
+bool lexicographic_less(const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
+  return std::lexicographical_compare(p.data(), p.data() + 3, q.data(), q.data() + 3);
+}
+
+void merge_points(std::vector<Eigen::Vector3d>& held, std::vector<Eigen::Vector3d> more) {
+  std::sort(more.begin(), more.end(), lexicographic_less);
+  const std::size_t before = held.size();
+  held.insert(held.end(), more.begin(), more.end());
+  std::inplace_merge(held.begin(), held.begin() + before, held.end(), lexicographic_less);
+  held.erase(std::unique(held.begin(), held.end()), held.end());
+}
+
+std::vector<Eigen::Vector3d> uncertified_points(const TSpline& spline, const UncertifiedCell& u) {
+  auto to_uvw = [&](const Eigen::Vector3d& s) {
+    Eigen::Vector3d p = u.uvw_min + s.cwiseProduct(u.uvw_max - u.uvw_min);
+    for (int a = 0; a < 3; ++a)
+      if (s(a) == 1.0) p(a) = u.uvw_max(a);
+    return p;
+  };
+  std::vector<Eigen::Vector3d> points = {to_uvw(u.bound.lowest_corner_s)};
+  const BezierCell cell = extract_bezier_cell(spline, u.cell);
+  for (int k = 0; k < 3; ++k)
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) {
+        const Eigen::Vector3d s(0.5 * i, 0.5 * j, 0.5 * k);
+        double value[3];
+        Eigen::Matrix3d jacobian;
+        evaluate_bezier_cell(cell, s, value, jacobian.data());
+        if (jacobian.determinant() < 0.0) points.push_back(to_uvw(s));
+      }
+  return points;
 }
 
 Eigen::Vector3d region_min(const TSpline& spline, const SplineUntangleOptions& options) {

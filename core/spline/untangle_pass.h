@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include "core/spline/jacobian_certificate.h"
 #include "core/spline/spline_untangling.h"
 #include "core/spline/tspline.h"
 
@@ -48,6 +49,21 @@ std::vector<double> region_knot_lines(const TSpline& spline, const SplineUntangl
 /// or, with a region, its support not inside it.
 bool held_function(const BlendingKnots& knots, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
                    const SplineUntangleOptions& options);
+
+/// S⁻¹ of a node's reference shape S: the node's own Jacobian where it is good (scaled Jacobian
+/// ≥ 0.1: the energy is then least where the map already is), else an orthogonal frame of its
+/// column lengths, each at least mean_scale (a folded column is short, e.g. bunny's faces' normal
+/// derivative, and its own length would make a flat element the target).
+Eigen::Matrix3d inverse_reference_shape(const Eigen::Matrix3d& jacobian, const Eigen::Vector3d& mean_scale);
+
+/// Lexicographic order of parameter points (u, then v, then w): the held points' order.
+bool lexicographic_less(const Eigen::Vector3d& p, const Eigen::Vector3d& q);
+/// Adds the points `more` to the held points (sorted by lexicographic_less), without repeats.
+void merge_points(std::vector<Eigen::Vector3d>& held, std::vector<Eigen::Vector3d> more);
+/// Where one uncertified cell of spline folds, in uvw: its certificate's lowest corner and the
+/// points of a 3×3×3 grid on the closed cell with det J < 0 (a point on the cell's face keeps
+/// the face's coordinate exactly).
+std::vector<Eigen::Vector3d> uncertified_points(const TSpline& spline, const UncertifiedCell& u);
 
 /// The functions' w·∂B/∂u_a at one parameter point (TSpline::basis_at with derivative order 1 per
 /// axis); the three lists hold the same functions in the same order.

@@ -1,0 +1,288 @@
+// SPDX-License-Identifier: MIT
+#include "core/spline/gpc_certificate_untangling.h"
+
+#include <algorithm>
+#include <array>
+#include <cassert>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/common/error.h"
+#include "core/spline/gpc_jacobian_certificate.h"
+#include "core/spline/untangle_energy.h"
+#include "core/spline/untangle_pass.h"
+
+namespace volspline::spline {
+
+namespace {
+
+// Barrier nodes per axis per cell in the free functions' supports: the centres of equal parts.
+constexpr int kNodesPerCell = 2;
+// Rounds without fewer uncertified cells before the rounds give up (as untangle_spline's).
+constexpr int kPatience = 2;
+
+// J at a point of a cuboid split into the free functions' part: J = rest + Σ_e x_{column_e}·g_eᵀ.
+struct PointJacobian {
+  Eigen::Matrix3d full, rest;
+  std::vector<int> columns;
+  std::vector<Eigen::Vector3d> g;
+};
+
+class GpcCertificatePass {
+ public:
+  GpcCertificatePass(GpcSpline& spline, const GpcSamples& samples, const SplineUntangleOptions& options)
+      : spline_(spline), samples_(samples), options_(options) {}
+
+  // One pass over the held points (per cuboid, in cuboid coordinates); returns the result's
+  // free_functions and iterations.
+  SplineUntangleResult run(const std::vector<std::vector<Eigen::Vector3d>>& held) {
+    SplineUntangleResult result;
+    select_free_functions(held);
+    result.free_functions = static_cast<int>(free_ids_.size());
+    if (free_ids_.empty()) return result;
+    const Eigen::MatrixXd& points = spline_.points();
+    Eigen::VectorXd x(3 * free_ids_.size());
+    for (std::size_t c = 0; c < free_ids_.size(); ++c) x.segment<3>(3 * c) = points.row(free_ids_[c]).transpose();
+    mark_active_cells();
+    Region region;
+    double step = 0.0;  // mean knot interval in model units at the nodes
+    add_nodes(x, region, step);
+    add_held_points(held, x, region);
+    const SampleTerms samples = make_samples();
+    detail::RegionEnergyOptions energy_options;
+    energy_options.data_scale = options_.data_weight / (step * step);
+    energy_options.theta = options_.volume_weight;
+    energy_options.hinge_target = options_.min_scaled_jacobian;
+    energy_options.max_steps = options_.max_steps;
+    energy_options.max_inner = options_.max_inner;
+    energy_options.stop_margin = options_.stop_margin;
+    result.iterations = detail::minimize_region_energy(region, samples, energy_options, x);
+    Eigen::MatrixXd moved = points;
+    for (std::size_t c = 0; c < free_ids_.size(); ++c) moved.row(free_ids_[c]) = x.segment<3>(3 * c).transpose();
+    spline_.set_points(std::move(moved));
+    return result;
+  }
+
+ private:
+  using Region = detail::Region;
+  using SampleTerms = detail::SampleTerms;
+
+  // J at (cuboid, uvw) with the free functions' part apart (x: their current points).
+  PointJacobian jacobian_at(int cuboid, const Eigen::Vector3d& uvw, const Eigen::VectorXd& x) {
+    for (int a = 0; a < 3; ++a) {
+      std::array<int, 3> order = {0, 0, 0};
+      order[a] = 1;
+      spline_.basis_at(cuboid, uvw, order, ids_, gradient_[a]);
+    }
+    PointJacobian out;
+    out.full.setZero();
+    out.rest.setZero();
+    const Eigen::MatrixXd& points = spline_.points();
+    for (std::size_t q = 0; q < ids_.size(); ++q) {
+      const Eigen::Vector3d g(gradient_[0][q], gradient_[1][q], gradient_[2][q]);
+      const int c = column_of_[ids_[q]];
+      if (c < 0) {
+        out.rest += points.row(ids_[q]).transpose() * g.transpose();
+      } else if (!g.isZero(0.0)) {
+        out.columns.push_back(c);
+        out.g.push_back(g);
+      }
+    }
+    out.full = out.rest;
+    for (std::size_t e = 0; e < out.columns.size(); ++e) out.full += x.segment<3>(3 * out.columns[e]) * out.g[e].transpose();
+    return out;
+  }
+
+  // The global functions whose value or gradient is non-zero at a held point, in id order.
+  void select_free_functions(const std::vector<std::vector<Eigen::Vector3d>>& held) {
+    column_of_.assign(spline_.num_functions(), -1);
+    std::vector<double> values;
+    for (int cuboid = 0; cuboid < spline_.num_cuboids(); ++cuboid)
+      for (const Eigen::Vector3d& p : held[cuboid])
+        for (int a = 0; a < 4; ++a) {
+          std::array<int, 3> order = {0, 0, 0};
+          if (a < 3) order[a] = 1;
+          spline_.basis_at(cuboid, p, order, ids_, values);
+          for (std::size_t q = 0; q < ids_.size(); ++q)
+            if (values[q] != 0.0) column_of_[ids_[q]] = 0;
+        }
+    free_ids_.clear();
+    for (int f = 0; f < spline_.num_functions(); ++f)
+      if (column_of_[f] >= 0) {
+        column_of_[f] = static_cast<int>(free_ids_.size());
+        free_ids_.push_back(f);
+      }
+  }
+
+  // Per cuboid, the patch cells inside its box where a free function is non-zero.
+  void mark_active_cells() {
+    active_.assign(spline_.num_cuboids(), {});
+    std::vector<int> local;
+    for (int cuboid = 0; cuboid < spline_.num_cuboids(); ++cuboid) {
+      const TSpline& patch = spline_.patch(cuboid);
+      const std::vector<int>& global = spline_.patch_function_ids(cuboid);
+      const auto& size = spline_.domain().cuboids[cuboid].size;
+      std::vector<char>& active = active_[cuboid];
+      active.assign(patch.num_cells(), 0);
+      for (int cell = 0; cell < patch.num_cells(); ++cell) {
+        const std::array<int, 3> k = patch.cell_index(cell);
+        bool inside = true;
+        for (int a = 0; a < 3; ++a) {
+          const double tol = 1e-9 * size[a];
+          inside = inside && patch.knot_lines(a)[k[a]] >= -tol && patch.knot_lines(a)[k[a] + 1] <= size[a] + tol;
+        }
+        if (!inside) continue;
+        patch.cell_functions(cell, local);
+        active[cell] = std::any_of(local.begin(), local.end(), [&](int f) { return column_of_[global[f]] >= 0; });
+      }
+    }
+  }
+
+  // Barrier nodes: kNodesPerCell³ per active cell, their rows (with S⁻¹ applied) and fixed parts;
+  // step: the mean knot interval in model units there.
+  void add_nodes(const Eigen::VectorXd& x, Region& region, double& step) {
+    std::vector<Eigen::Matrix3d> full;
+    std::vector<int> start{0}, columns;
+    std::vector<Eigen::Vector3d> g;
+    double step_sum = 0.0;
+    for (int cuboid = 0; cuboid < spline_.num_cuboids(); ++cuboid) {
+      const TSpline& patch = spline_.patch(cuboid);
+      for (int cell = 0; cell < patch.num_cells(); ++cell) {
+        if (!active_[cuboid][cell]) continue;
+        const std::array<int, 3> k = patch.cell_index(cell);
+        Eigen::Vector3d lo, width;
+        for (int a = 0; a < 3; ++a) {
+          lo(a) = patch.knot_lines(a)[k[a]];
+          width(a) = patch.knot_lines(a)[k[a] + 1] - lo(a);
+        }
+        for (int n = 0; n < kNodesPerCell * kNodesPerCell * kNodesPerCell; ++n) {
+          const Eigen::Vector3d s((n % kNodesPerCell + 0.5) / kNodesPerCell,
+                                  (n / kNodesPerCell % kNodesPerCell + 0.5) / kNodesPerCell,
+                                  (n / (kNodesPerCell * kNodesPerCell) + 0.5) / kNodesPerCell);
+          const PointJacobian j = jacobian_at(cuboid, lo + s.cwiseProduct(width), x);
+          full.push_back(j.full);
+          columns.insert(columns.end(), j.columns.begin(), j.columns.end());
+          g.insert(g.end(), j.g.begin(), j.g.end());
+          start.push_back(static_cast<int>(columns.size()));
+          const Eigen::Vector3d norms(j.full.col(0).norm(), j.full.col(1).norm(), j.full.col(2).norm());
+          region.mean_scale += norms;
+          step_sum += norms.dot(width) / 3.0;
+        }
+      }
+    }
+    const std::size_t count = full.size();
+    region.mean_scale /= std::max<std::size_t>(count, 1);
+    step = count ? step_sum / count : 1.0;
+    region.rows = detail::NodeJacobians(std::move(start), std::move(columns), g);
+    std::vector<double> x_padded;
+    detail::NodeJacobians::pad(x, x_padded);
+    for (std::size_t q = 0; q < count; ++q) {
+      const Eigen::Matrix3d s = detail::inverse_reference_shape(full[q], region.mean_scale);
+      region.inverse_reference.push_back(s);
+      region.rows.transform(q, s);
+      region.fixed.push_back(full[q] * s - region.rows.linear(x_padded.data(), q));
+      region.held.push_back(1);  // centres of cell parts: never on a cuboid edge
+      region.guarded.push_back(full[q].determinant() > 0.0);
+    }
+  }
+
+  // The held points, by the hinge (points no free function reaches are left out).
+  void add_held_points(const std::vector<std::vector<Eigen::Vector3d>>& held, const Eigen::VectorXd& x,
+                       Region& region) {
+    for (int cuboid = 0; cuboid < spline_.num_cuboids(); ++cuboid)
+      for (const Eigen::Vector3d& p : held[cuboid]) {
+        const PointJacobian j = jacobian_at(cuboid, p, x);
+        if (j.columns.empty()) continue;
+        region.point_scale.push_back(
+            std::max(j.full.col(0).norm() * j.full.col(1).norm() * j.full.col(2).norm(), 1e-300));
+        region.point_fixed.push_back(j.rest);
+        region.point_columns.insert(region.point_columns.end(), j.columns.begin(), j.columns.end());
+        region.point_g.insert(region.point_g.end(), j.g.begin(), j.g.end());
+        region.point_start.push_back(static_cast<int>(region.point_columns.size()));
+      }
+  }
+
+  // The samples in active cells, over the free functions.
+  SampleTerms make_samples() {
+    SampleTerms terms;
+    std::vector<double> values;
+    const Eigen::MatrixXd& points = spline_.points();
+    for (Eigen::Index s = 0; s < samples_.uvw.rows(); ++s) {
+      const int cuboid = samples_.cuboid[s];
+      const Eigen::Vector3d uvw = samples_.uvw.row(s).transpose();
+      if (!active_[cuboid][spline_.cell_of(cuboid, uvw)]) continue;
+      spline_.basis_at(cuboid, uvw, {0, 0, 0}, ids_, values);
+      Eigen::Vector3d fixed = -samples_.values.row(s).transpose();
+      const std::size_t first = terms.column.size();
+      for (std::size_t q = 0; q < ids_.size(); ++q) {
+        const int c = column_of_[ids_[q]];
+        if (c >= 0 && values[q] != 0.0) {
+          terms.column.push_back(c);
+          terms.b.push_back(values[q]);
+        } else {
+          fixed += values[q] * points.row(ids_[q]).transpose();
+        }
+      }
+      if (terms.column.size() == first) continue;
+      terms.offset.push_back(fixed);
+      terms.start.push_back(static_cast<int>(terms.column.size()));
+    }
+    return terms;
+  }
+
+  GpcSpline& spline_;
+  const GpcSamples& samples_;
+  const SplineUntangleOptions& options_;
+  std::vector<int> column_of_, free_ids_;  // function → column (−1: fixed); column → function
+  std::vector<std::vector<char>> active_;  // per cuboid, per patch cell
+  std::vector<int> ids_;
+  std::array<std::vector<double>, 3> gradient_;
+};
+
+}  // namespace
+
+SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSamples& samples,
+                                              const SplineUntangleOptions& options, const Progress& progress) {
+  if (spline.dimension() != 3)
+    throw Error("GPC certificate untangling: the spline has dimension " + std::to_string(spline.dimension()) +
+                ", expected 3 (geometry)");
+  assert(options.certificate_rounds >= 0 && samples.uvw.rows() == samples.values.rows());
+  SplineUntangleResult total;
+  const int nc = spline.num_cuboids();
+  std::vector<std::vector<Eigen::Vector3d>> held(static_cast<std::size_t>(nc));
+  int best = std::numeric_limits<int>::max(), stalled = 0;
+  Eigen::MatrixXd best_points;
+  for (int round = 0;; ++round) {
+    const JacobianCertificate certificate = certify_gpc_jacobian(spline);
+    const int uncertified = static_cast<int>(certificate.uncertified.size());
+    if (round == 0) total.initial_uncertified = uncertified;
+    if (uncertified < best) {
+      best = uncertified;
+      best_points = spline.points();
+      stalled = 0;
+    } else {
+      ++stalled;
+    }
+    if (uncertified == 0 || round == options.certificate_rounds || stalled > kPatience) {
+      if (uncertified > best) spline.set_points(std::move(best_points));
+      total.final_uncertified = best;
+      return total;
+    }
+    progress.report("untangle certificate " + std::to_string(round + 1),
+                    static_cast<double>(round) / options.certificate_rounds);
+    std::vector<std::vector<Eigen::Vector3d>> more(static_cast<std::size_t>(nc));
+    for (const UncertifiedCell& u : certificate.uncertified) {
+      const std::vector<Eigen::Vector3d> points = detail::uncertified_points(spline.patch(u.cuboid), u);
+      more[u.cuboid].insert(more[u.cuboid].end(), points.begin(), points.end());
+    }
+    for (int c = 0; c < nc; ++c) detail::merge_points(held[c], std::move(more[c]));
+    const SplineUntangleResult r = GpcCertificatePass(spline, samples, options).run(held);
+    ++total.certificate_passes;
+    total.free_functions += r.free_functions;
+    total.iterations += r.iterations;
+  }
+}
+
+}  // namespace volspline::spline

@@ -1,0 +1,34 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include "core/common/progress.h"
+#include "core/spline/gpc_spline.h"
+#include "core/spline/gpc_spline_fitting.h"
+#include "core/spline/spline_untangling.h"
+
+namespace volspline::spline {
+
+/// The untangler's certificate rounds (SplineUntangleOptions::certificate_rounds, DESIGN §6)
+/// over a whole geometric GPC spline (D = 3), on its global control points: each round
+/// certifies every cell of every cuboid box (certify_gpc_jacobian) and holds the points where
+/// the uncertified cells fold (uncertified_points: the certificate's lowest corner and the
+/// negative points of a 3×3×3 grid on the closed cell, in their cuboid, kept from round to
+/// round) by the hinge W·max(0, min_scaled_jacobian − det J/σ)². The free functions are the
+/// global functions whose value or gradient is non-zero at a held point, whatever cuboids they
+/// reach: a function crossing a Continued face or shared on a Clamped face moves as one control
+/// point, so both sides of every glued face stay one surface. The barrier of Garanzha et al. 2021
+/// holds the nodes_per_cell³ centres of equal parts of every cell (of any cuboid) where a free
+/// function is non-zero, and the data term (data_weight per squared knot interval in model units)
+/// every sample there, which keeps the surface on the mesh. Rounds stop when every cell is
+/// certified or the uncertified count has not fallen for 3 rounds; the spline of the round with
+/// the fewest is kept. Samples: the fit's (cuboid, uvw, xyz) in the spline's frame; their
+/// weights are not used. Uses certificate_rounds, min_scaled_jacobian, data_weight,
+/// volume_weight, max_steps, max_inner and stop_margin of options; returns certificate_passes,
+/// free_functions, iterations, initial_uncertified and final_uncertified (the other fields 0).
+/// progress: "untangle certificate K" before each round; throws volspline::Cancelled there if the
+/// callback asks to stop. Throws volspline::Error if the dimension is not 3.
+SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSamples& samples,
+                                              const SplineUntangleOptions& options = {},
+                                              const Progress& progress = {});
+
+}  // namespace volspline::spline
