@@ -2,6 +2,8 @@
 #include "core/spline/gpc_certificate_untangling.h"
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <array>
 #include <cassert>
 #include <limits>
@@ -50,6 +52,7 @@ class GpcCertificatePass {
     double step = 0.0;  // mean knot interval in model units at the nodes
     add_nodes(x, region, step);
     add_held_points(held, x, region);
+    add_guard_points(x, region);
     const SampleTerms samples = make_samples();
     detail::RegionEnergyOptions energy_options;
     energy_options.data_scale = options_.data_weight / (step * step);
@@ -184,7 +187,7 @@ class GpcCertificatePass {
       region.rows.transform(q, s);
       region.fixed.push_back(full[q] * s - region.rows.linear(x_padded.data(), q));
       region.held.push_back(1);  // centres of cell parts: never on a cuboid edge
-      region.guarded.push_back(full[q].determinant() > 0.0);
+      region.guarded.push_back(1);  // folded ones too: the ε continuation runs until they unfold
     }
   }
 
@@ -198,10 +201,42 @@ class GpcCertificatePass {
         region.point_scale.push_back(
             std::max(j.full.col(0).norm() * j.full.col(1).norm() * j.full.col(2).norm(), 1e-300));
         region.point_fixed.push_back(j.rest);
+        region.point_target.push_back(options_.min_scaled_jacobian);
         region.point_columns.insert(region.point_columns.end(), j.columns.begin(), j.columns.end());
         region.point_g.insert(region.point_g.end(), j.g.begin(), j.g.end());
         region.point_start.push_back(static_cast<int>(region.point_columns.size()));
       }
+  }
+
+  // Guards: the 3×3×3 grid on every active closed cell, each held by the hinge at no less than
+  // min(min_scaled_jacobian, its scaled Jacobian now), so that unfolding one cell does not fold
+  // the cells around it between the barrier's nodes (a cuboid edge, where det J → 0).
+  void add_guard_points(const Eigen::VectorXd& x, Region& region) {
+    for (int cuboid = 0; cuboid < spline_.num_cuboids(); ++cuboid) {
+      const TSpline& patch = spline_.patch(cuboid);
+      for (int cell = 0; cell < patch.num_cells(); ++cell) {
+        if (!active_[cuboid][cell]) continue;
+        const std::array<int, 3> k = patch.cell_index(cell);
+        for (int n = 0; n < 27; ++n) {
+          const int idx[3] = {n % 3, n / 3 % 3, n / 9};
+          Eigen::Vector3d p;
+          for (int a = 0; a < 3; ++a) p(a) = idx[a] == 2 ? patch.knot_lines(a)[k[a] + 1]
+                                            : idx[a] == 0 ? patch.knot_lines(a)[k[a]]
+                                                          : 0.5 * (patch.knot_lines(a)[k[a]] + patch.knot_lines(a)[k[a] + 1]);
+          const auto& size = spline_.domain().cuboids[cuboid].size;
+          for (int a = 0; a < 3; ++a) p(a) = std::clamp(p(a), 0.0, size[a]);
+          const PointJacobian j = jacobian_at(cuboid, p, x);
+          if (j.columns.empty()) continue;
+          const double scale = std::max(j.full.col(0).norm() * j.full.col(1).norm() * j.full.col(2).norm(), 1e-300);
+          region.point_scale.push_back(scale);
+          region.point_fixed.push_back(j.rest);
+          region.point_target.push_back(std::min(options_.min_scaled_jacobian, j.full.determinant() / scale));
+          region.point_columns.insert(region.point_columns.end(), j.columns.begin(), j.columns.end());
+          region.point_g.insert(region.point_g.end(), j.g.begin(), j.g.end());
+          region.point_start.push_back(static_cast<int>(region.point_columns.size()));
+        }
+      }
+    }
   }
 
   // The samples in active cells, over the free functions.
@@ -258,6 +293,7 @@ SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSample
     const JacobianCertificate certificate = certify_gpc_jacobian(spline);
     const int uncertified = static_cast<int>(certificate.uncertified.size());
     if (round == 0) total.initial_uncertified = uncertified;
+    fprintf(stderr, "DBG round %d uncertified %d lb %g\n", round, uncertified, certificate.det_j_lower_bound_rel);
     if (uncertified < best) {
       best = uncertified;
       best_points = spline.points();
@@ -274,7 +310,7 @@ SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSample
                     static_cast<double>(round) / options.certificate_rounds);
     std::vector<std::vector<Eigen::Vector3d>> more(static_cast<std::size_t>(nc));
     for (const UncertifiedCell& u : certificate.uncertified) {
-      const std::vector<Eigen::Vector3d> points = detail::uncertified_points(spline.patch(u.cuboid), u);
+      const std::vector<Eigen::Vector3d> points = detail::uncertified_points(spline.patch(u.cuboid), u, options.min_scaled_jacobian);
       more[u.cuboid].insert(more[u.cuboid].end(), points.begin(), points.end());
     }
     for (int c = 0; c < nc; ++c) detail::merge_points(held[c], std::move(more[c]));

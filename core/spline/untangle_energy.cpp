@@ -147,7 +147,8 @@ class RegionEnergy {
   void add_hinge(double& total, Eigen::VectorXd* gradient) const {
     for (std::size_t e = 0; e < num_extra_; ++e) {
       const Eigen::Matrix3d& m = extra_jac_[e];
-      const double gap = options_.hinge_target - m.determinant() / r_.point_scale[e];
+      const double target = r_.point_target.empty() ? options_.hinge_target : r_.point_target[e];
+      const double gap = target - m.determinant() / r_.point_scale[e];
       if (gap <= 0.0) continue;
       total += kHingeWeight * gap * gap;
       if (!gradient) continue;

@@ -42,6 +42,9 @@ struct Region {
   /// the barrier (some cannot reach its margin): J = fixed + Σ_c x_c·g_cᵀ, g_c = w_c∇B_c there.
   std::vector<Eigen::Matrix3d> point_fixed;
   std::vector<double> point_scale;  ///< σ: |J e0||J e1||J e2| before the pass
+  /// Per scattered node, the hinge's target instead of RegionEnergyOptions::hinge_target (a
+  /// guard: no lower than it is now), or empty for that target at all of them.
+  std::vector<double> point_target;
   /// Point e's (column, g) entries: point_columns/point_g[point_start[e] .. point_start[e+1]).
   std::vector<int> point_start{0}, point_columns;
   std::vector<Eigen::Vector3d> point_g;

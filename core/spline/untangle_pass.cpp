@@ -452,7 +452,7 @@ void merge_points(std::vector<Eigen::Vector3d>& held, std::vector<Eigen::Vector3
   held.erase(std::unique(held.begin(), held.end()), held.end());
 }
 
-std::vector<Eigen::Vector3d> uncertified_points(const TSpline& spline, const UncertifiedCell& u) {
+std::vector<Eigen::Vector3d> uncertified_points(const TSpline& spline, const UncertifiedCell& u, double below) {
   auto to_uvw = [&](const Eigen::Vector3d& s) {
     Eigen::Vector3d p = u.uvw_min + s.cwiseProduct(u.uvw_max - u.uvw_min);
     for (int a = 0; a < 3; ++a)
@@ -468,7 +468,9 @@ std::vector<Eigen::Vector3d> uncertified_points(const TSpline& spline, const Unc
         double value[3];
         Eigen::Matrix3d jacobian;
         evaluate_bezier_cell(cell, s, value, jacobian.data());
-        if (jacobian.determinant() < 0.0) points.push_back(to_uvw(s));
+        const double det = jacobian.determinant();
+        if (det < 0.0 || (below > 0.0 && det < below * jacobian.col(0).norm() * jacobian.col(1).norm() * jacobian.col(2).norm()))
+          points.push_back(to_uvw(s));
       }
   return points;
 }

@@ -63,7 +63,7 @@ void merge_points(std::vector<Eigen::Vector3d>& held, std::vector<Eigen::Vector3
 /// Where one uncertified cell of spline folds, in uvw: its certificate's lowest corner and the
 /// points of a 3×3×3 grid on the closed cell with det J < 0 (a point on the cell's face keeps
 /// the face's coordinate exactly).
-std::vector<Eigen::Vector3d> uncertified_points(const TSpline& spline, const UncertifiedCell& u);
+std::vector<Eigen::Vector3d> uncertified_points(const TSpline& spline, const UncertifiedCell& u, double below = 0.0);
 
 /// The functions' w·∂B/∂u_a at one parameter point (TSpline::basis_at with derivative order 1 per
 /// axis); the three lists hold the same functions in the same order.
