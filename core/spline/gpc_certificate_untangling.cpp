@@ -2,8 +2,6 @@
 #include "core/spline/gpc_certificate_untangling.h"
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <array>
 #include <cassert>
 #include <limits>
@@ -293,7 +291,6 @@ SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSample
     const JacobianCertificate certificate = certify_gpc_jacobian(spline);
     const int uncertified = static_cast<int>(certificate.uncertified.size());
     if (round == 0) total.initial_uncertified = uncertified;
-    fprintf(stderr, "DBG round %d uncertified %d lb %g\n", round, uncertified, certificate.det_j_lower_bound_rel);
     if (uncertified < best) {
       best = uncertified;
       best_points = spline.points();

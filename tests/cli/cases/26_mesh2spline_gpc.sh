@@ -5,9 +5,11 @@ has_keys "$TMP/gt_stats.json" rms_rel hausdorff_rel control_points min_scaled_ja
 contains "$TMP/gt_stats.json" "\"genus\": 1"
 contains "$TMP/gt_stats.json" "\"cuboids\": 1"
 # The det J certificate over every cell of the cuboid box (6 cells; the tube's square section
-# puts every cell on its 4 edges, where the fitted surface folds slightly: certified 0).
+# puts every cell on its 4 edges, where the fitted surface folds slightly, until the untangler's
+# certificate rounds crease it: certified 1).
 has_keys "$TMP/gt_stats.json" jacobian_certified_fraction det_j_lower_bound_rel certificate_cells uncertified_cells
 contains "$TMP/gt_stats.json" "\"certificate_cells\": 6"
+contains "$TMP/gt_stats.json" "\"jacobian_certified_fraction\": 1.0"
 contains "$TMP/gt_stats.json" "\"negative_jacobian_fraction\": 0.0"
 is_glb "$TMP/gt.glb"
 # Same input, same bytes.

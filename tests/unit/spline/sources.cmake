@@ -17,6 +17,7 @@ set(TEST_SOURCES
   bezier_extraction_test.cpp
   bspline_multipatch_test.cpp
   gpc_jacobian_certificate_test.cpp
+  gpc_certificate_untangling_test.cpp
   jacobian_certificate_test.cpp
   hierarchical_fitting_test.cpp
   boundary_tessellation_test.cpp

@@ -1,0 +1,109 @@
+// SPDX-License-Identifier: MIT
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "core/spline/gpc_certificate_untangling.h"
+#include "core/spline/gpc_jacobian_certificate.h"
+#include "core/spline/gpc_spline.h"
+#include "core/spline/gpc_spline_fitting.h"
+#include "tests/unit/spline/gpc_test_domains.h"
+
+using volspline::spline::certify_gpc_jacobian;
+using volspline::spline::fit_gpc_spline;
+using volspline::spline::GpcSamples;
+using volspline::spline::GpcSpline;
+using volspline::spline::GpcSplineOptions;
+using volspline::spline::untangle_gpc_certificate;
+using namespace volspline::test;
+
+namespace {
+
+// A solid ring over torus_domain(false) (the tube [0,1]×[0,0.3]×[0,0.2] glued to itself along
+// u): u goes round the ring (radius 1), the cross-section square goes onto a disc-like section
+// of radius 0.25 by the elliptical grid map x = a·√(1 − κb²), y = b·√(1 − κa²). With κ = 1/2 the
+// square's corners map onto a circle with a flat angle (det J = 0 along the tube's four long
+// edges, as on any smooth surface along a cuboid edge); κ = 0.6 makes them slightly reflex, so
+// the least-squares fit folds along those edges and a certified spline must crease them.
+Eigen::Vector3d ring(const Eigen::Vector3d& uvw) {
+  const double kPi = 3.1415926535897983846;
+  const double a = 2.0 * uvw(1) / 0.3 - 1.0, b = 2.0 * uvw(2) / 0.2 - 1.0;
+  const double x = a * std::sqrt(1.0 - 0.6 * b * b), y = b * std::sqrt(1.0 - 0.6 * a * a);
+  const double radius = 1.0 + 0.25 * y, angle = 2.0 * kPi * uvw(0);  // (u, v, w) right-handed
+  return Eigen::Vector3d(radius * std::cos(angle), radius * std::sin(angle), 0.25 * x);
+}
+
+// The ring on a lattice of 48 × 7 × 7 points of the tube, its faces included.
+GpcSamples ring_samples() {
+  GpcSamples s;
+  const int n[3] = {48, 7, 7};
+  const double size[3] = {1.0, 0.3, 0.2};
+  std::vector<Eigen::Vector3d> uvw;
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i)
+        uvw.emplace_back(size[0] * i / n[0], size[1] * j / (n[1] - 1), size[2] * k / (n[2] - 1));
+  s.cuboid.assign(uvw.size(), 0);
+  s.uvw.resize(static_cast<Eigen::Index>(uvw.size()), 3);
+  s.values.resize(static_cast<Eigen::Index>(uvw.size()), 3);
+  for (std::size_t r = 0; r < uvw.size(); ++r) {
+    s.uvw.row(static_cast<Eigen::Index>(r)) = uvw[r].transpose();
+    s.values.row(static_cast<Eigen::Index>(r)) = ring(uvw[r]).transpose();
+  }
+  return s;
+}
+
+double max_misfit(const GpcSpline& spline, const GpcSamples& s) {
+  double worst = 0.0;
+  for (Eigen::Index r = 0; r < s.uvw.rows(); ++r)
+    worst = std::max(worst, (spline.evaluate(0, s.uvw.row(r).transpose()) - s.values.row(r).transpose()).norm());
+  return worst;
+}
+
+}  // namespace
+
+TEST_CASE("untangle_gpc_certificate: a ring with one cell across its tube ends certified, seam and surface kept") {
+  // As mesh2spline's torus: 8 intervals round the ring, 1 × 1 across, so every cell lies on the
+  // tube's four long edges, where the least-squares fit folds (det J < 0 proven there), and
+  // every function touches the surface; those round the ring cross the seam u = 0.
+  GpcSplineOptions o;
+  o.intervals = {{8, 1, 1}};
+  GpcSpline spline(torus_domain(false), o);
+  const GpcSamples samples = ring_samples();
+  fit_gpc_spline(spline, samples);
+  const auto before = certify_gpc_jacobian(spline);
+  REQUIRE(before.cells == 8);
+  CHECK(before.certified_cells < 8);
+  const double misfit_before = max_misfit(spline, samples);
+
+  const auto result = untangle_gpc_certificate(spline, samples);
+  const auto after = certify_gpc_jacobian(spline);
+  CHECK(result.initial_uncertified == 8 - before.certified_cells);
+  CHECK(result.final_uncertified == 0);
+  CHECK(after.jacobian_certified_fraction == 1.0);
+  CHECK(after.det_j_lower_bound_rel >= 0.0);
+  // The seam: the functions crossing it moved as one control point each, so u = 0 and u = 1 are
+  // still the same surface (Eq. 3.4 with the identity cross-section).
+  for (int q = 0; q < 25; ++q) {
+    const Eigen::Vector3d a(0.0, 0.3 * (q % 5) / 4.0, 0.2 * (q / 5) / 4.0), b(1.0, a(1), a(2));
+    CHECK((spline.evaluate(0, a) - spline.evaluate(0, b)).norm() <= 1e-12);
+  }
+  // The data term keeps the samples where the fit had them but at the reflex corners, which the
+  // crease cuts (fit 0.0038, after 0.0139, of a section radius 0.25).
+  CHECK(max_misfit(spline, samples) <= misfit_before + 0.015);
+}
+
+TEST_CASE("untangle_gpc_certificate: a certified spline is left as it is") {
+  const std::vector<PlacedCuboid> boxes = two_cube_boxes();
+  GpcSpline spline = placed_gpc_spline(boxes, {{3, 2, 2}, {3, 2, 2}});
+  const Eigen::MatrixXd points = spline.points();
+  GpcSamples samples;  // none: nothing pulls
+  samples.uvw.resize(0, 3);
+  samples.values.resize(0, 3);
+  const auto result = untangle_gpc_certificate(spline, samples);
+  CHECK(result.initial_uncertified == 0);
+  CHECK(result.certificate_passes == 0);
+  CHECK(spline.points() == points);
+}
