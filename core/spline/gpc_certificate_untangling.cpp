@@ -20,6 +20,9 @@ namespace {
 
 // Barrier nodes per axis per cell in the free functions' supports: the centres of equal parts.
 constexpr int kNodesPerCell = 2;
+// Free functions span at most this many times the held point's cell per axis (4: the cubic
+// functions of the cell's own level; 8: one level coarser too, which kitten needs).
+constexpr double kSupportCells = 8.0;
 // Rounds without fewer uncertified cells before the rounds give up (as untangle_spline's).
 constexpr int kPatience = 2;
 
@@ -96,19 +99,35 @@ class GpcCertificatePass {
     return out;
   }
 
-  // The global functions whose value or gradient is non-zero at a held point, in id order.
+  // The global functions whose value or gradient is non-zero at a held point and whose support
+  // spans at most kSupportCells times the width of the point's cell along each axis (in a
+  // hierarchical spline the fine functions there: a coarse one would make the pass global), in
+  // id order.
   void select_free_functions(const std::vector<std::vector<Eigen::Vector3d>>& held) {
     column_of_.assign(spline_.num_functions(), -1);
     std::vector<double> values;
-    for (int cuboid = 0; cuboid < spline_.num_cuboids(); ++cuboid)
-      for (const Eigen::Vector3d& p : held[cuboid])
-        for (int a = 0; a < 4; ++a) {
-          std::array<int, 3> order = {0, 0, 0};
-          if (a < 3) order[a] = 1;
-          spline_.basis_at(cuboid, p, order, ids_, values);
-          for (std::size_t q = 0; q < ids_.size(); ++q)
-            if (values[q] != 0.0) column_of_[ids_[q]] = 0;
+    for (int cuboid = 0; cuboid < spline_.num_cuboids(); ++cuboid) {
+      const TSpline& patch = spline_.patch(cuboid);
+      const std::vector<int>& global = spline_.patch_function_ids(cuboid);
+      for (const Eigen::Vector3d& p : held[cuboid]) {
+        const std::array<int, 3> k = patch.cell_index(patch.cell_of(p));
+        for (int order = 0; order < 4; ++order) {
+          std::array<int, 3> derivative = {0, 0, 0};
+          if (order < 3) derivative[order] = 1;
+          patch.basis_at(p, derivative, ids_, values);
+          for (std::size_t q = 0; q < ids_.size(); ++q) {
+            if (values[q] == 0.0) continue;
+            bool fine = true;
+            for (int a = 0; a < 3; ++a) {
+              const LocalKnots& r = patch.knots()[ids_[q]][a];
+              const double width = patch.knot_lines(a)[k[a] + 1] - patch.knot_lines(a)[k[a]];
+              fine = fine && r[4] - r[0] <= kSupportCells * width * (1.0 + 1e-9);
+            }
+            if (fine) column_of_[global[ids_[q]]] = 0;
+          }
         }
+      }
+    }
     free_ids_.clear();
     for (int f = 0; f < spline_.num_functions(); ++f)
       if (column_of_[f] >= 0) {
