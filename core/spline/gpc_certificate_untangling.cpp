@@ -20,9 +20,9 @@ namespace {
 
 // Barrier nodes per axis per cell in the free functions' supports: the centres of equal parts.
 constexpr int kNodesPerCell = 2;
-// Free functions span at most this many times the held point's cell per axis (4: the cubic
-// functions of the cell's own level; 8: one level coarser too, which kitten needs).
-constexpr double kSupportCells = 8.0;
+// Free functions are at most this many times as wide as the narrowest function at the held
+// point per axis (2: one dyadic level coarser).
+constexpr double kSupportRatio = 2.0;
 // Rounds without fewer uncertified cells before the rounds give up (as untangle_spline's).
 constexpr int kPatience = 2;
 
@@ -100,31 +100,33 @@ class GpcCertificatePass {
   }
 
   // The global functions whose value or gradient is non-zero at a held point and whose support
-  // spans at most kSupportCells times the width of the point's cell along each axis (in a
-  // hierarchical spline the fine functions there: a coarse one would make the pass global), in
-  // id order.
+  // is at most kSupportRatio times the narrowest such support there along each axis (in a
+  // hierarchical spline the finest functions at the point and those one level coarser: the
+  // coarser ones would make the pass global), in id order.
   void select_free_functions(const std::vector<std::vector<Eigen::Vector3d>>& held) {
     column_of_.assign(spline_.num_functions(), -1);
     std::vector<double> values;
+    std::vector<int> at_point;
     for (int cuboid = 0; cuboid < spline_.num_cuboids(); ++cuboid) {
       const TSpline& patch = spline_.patch(cuboid);
       const std::vector<int>& global = spline_.patch_function_ids(cuboid);
+      auto width = [&](int f, int a) { return patch.knots()[f][a][4] - patch.knots()[f][a][0]; };
       for (const Eigen::Vector3d& p : held[cuboid]) {
-        const std::array<int, 3> k = patch.cell_index(patch.cell_of(p));
+        at_point.clear();
         for (int order = 0; order < 4; ++order) {
           std::array<int, 3> derivative = {0, 0, 0};
           if (order < 3) derivative[order] = 1;
           patch.basis_at(p, derivative, ids_, values);
-          for (std::size_t q = 0; q < ids_.size(); ++q) {
-            if (values[q] == 0.0) continue;
-            bool fine = true;
-            for (int a = 0; a < 3; ++a) {
-              const LocalKnots& r = patch.knots()[ids_[q]][a];
-              const double width = patch.knot_lines(a)[k[a] + 1] - patch.knot_lines(a)[k[a]];
-              fine = fine && r[4] - r[0] <= kSupportCells * width * (1.0 + 1e-9);
-            }
-            if (fine) column_of_[global[ids_[q]]] = 0;
-          }
+          for (std::size_t q = 0; q < ids_.size(); ++q)
+            if (values[q] != 0.0) at_point.push_back(ids_[q]);
+        }
+        Eigen::Vector3d narrowest = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+        for (int f : at_point)
+          for (int a = 0; a < 3; ++a) narrowest(a) = std::min(narrowest(a), width(f, a));
+        for (int f : at_point) {
+          bool fine = true;
+          for (int a = 0; a < 3; ++a) fine = fine && width(f, a) <= kSupportRatio * narrowest(a) * (1.0 + 1e-9);
+          if (fine) column_of_[global[f]] = 0;
         }
       }
     }

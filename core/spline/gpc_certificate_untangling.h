@@ -14,9 +14,9 @@ namespace volspline::spline {
 /// the uncertified cells fold (uncertified_points: the certificate's lowest corner and the
 /// negative points of a 3×3×3 grid on the closed cell, in their cuboid, kept from round to
 /// round) by the hinge W·max(0, min_scaled_jacobian − det J/σ)². The free functions are the
-/// global functions whose value or gradient is non-zero at a held point and whose support spans
-/// at most 8 times the point's knot-line cell per axis (a hierarchical spline's coarse functions
-/// would make a pass global), whatever cuboids they reach: a function crossing a Continued face
+/// global functions whose value or gradient is non-zero at a held point and whose support is at
+/// most twice as wide as the narrowest of those per axis (a hierarchical spline's coarser
+/// functions would make a pass global), whatever cuboids they reach: a function crossing a Continued face
 /// or shared on a Clamped face moves as one control point, so both sides of every glued face stay
 /// one surface. The barrier of Garanzha et al. 2021 holds the 2³ centres of equal parts of every
 /// knot-line cell (of any cuboid) where a free function is non-zero, the hinge also guards the
