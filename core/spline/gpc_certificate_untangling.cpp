@@ -23,8 +23,6 @@ constexpr int kNodesPerCell = 2;
 // Free functions are at most this many times as wide as the narrowest function at the held
 // point per axis (2: one dyadic level coarser).
 constexpr double kSupportRatio = 2.0;
-// Rounds without fewer uncertified cells before the rounds give up (as untangle_spline's).
-constexpr int kPatience = 2;
 
 // J at a point of a cuboid split into the free functions' part: J = rest + Σ_e x_{column_e}·g_eᵀ.
 struct PointJacobian {
@@ -55,13 +53,7 @@ class GpcCertificatePass {
     add_held_points(held, x, region);
     add_guard_points(x, region);
     const SampleTerms samples = make_samples();
-    detail::RegionEnergyOptions energy_options;
-    energy_options.data_scale = options_.data_weight / (step * step);
-    energy_options.theta = options_.volume_weight;
-    energy_options.hinge_target = options_.min_scaled_jacobian;
-    energy_options.max_steps = options_.max_steps;
-    energy_options.max_inner = options_.max_inner;
-    energy_options.stop_margin = options_.stop_margin;
+    const detail::RegionEnergyOptions energy_options = detail::region_energy_options(options_, step, 1.0);
     result.iterations = detail::minimize_region_energy(region, samples, energy_options, x);
     Eigen::MatrixXd moved = points;
     for (std::size_t c = 0; c < free_ids_.size(); ++c) moved.row(free_ids_[c]) = x.segment<3>(3 * c).transpose();
@@ -306,22 +298,14 @@ SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSample
   SplineUntangleResult total;
   const int nc = spline.num_cuboids();
   std::vector<std::vector<Eigen::Vector3d>> held(static_cast<std::size_t>(nc));
-  int best = std::numeric_limits<int>::max(), stalled = 0;
-  Eigen::MatrixXd best_points;
+  detail::CertificateRounds rounds;
   for (int round = 0;; ++round) {
     const JacobianCertificate certificate = certify_gpc_jacobian(spline);
     const int uncertified = static_cast<int>(certificate.uncertified.size());
     if (round == 0) total.initial_uncertified = uncertified;
-    if (uncertified < best) {
-      best = uncertified;
-      best_points = spline.points();
-      stalled = 0;
-    } else {
-      ++stalled;
-    }
-    if (uncertified == 0 || round == options.certificate_rounds || stalled > kPatience) {
-      if (uncertified > best) spline.set_points(std::move(best_points));
-      total.final_uncertified = best;
+    if (rounds.stop(round, uncertified, spline.points(), options.certificate_rounds)) {
+      if (uncertified > rounds.final_uncertified()) spline.set_points(rounds.take_best_points());
+      total.final_uncertified = rounds.final_uncertified();
       return total;
     }
     progress.report("untangle certificate " + std::to_string(round + 1),

@@ -99,9 +99,6 @@ std::vector<Eigen::Vector3d> bad_lattice_points(const TSpline& spline, const std
   return bad;
 }
 
-// Rounds without fewer uncertified cells before the certificate rounds give up.
-constexpr int kCertificatePatience = 2;
-
 // DESIGN §6: the untangler works toward the certificate. Each round certifies every cell and
 // holds the folded points of the uncertified ones (those of earlier rounds too) in passes on the
 // polish lattice: an exact, small active set where the lattices above see only their own
@@ -131,22 +128,14 @@ void certificate_rounds(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eige
   };
   std::vector<Eigen::Vector3d> held_inner, held_boundary;
   std::vector<int> previous_cells;  // uncertified in the round before, increasing
-  int best = std::numeric_limits<int>::max(), stalled = 0;
-  Eigen::MatrixXd best_points;
+  detail::CertificateRounds rounds;
   for (int round = 0;; ++round) {
     const JacobianCertificate certificate = certify_jacobian(spline);
     const int uncertified = static_cast<int>(certificate.uncertified.size());
     if (round == 0) total.initial_uncertified = uncertified;
-    if (uncertified < best) {
-      best = uncertified;
-      best_points = spline.points();
-      stalled = 0;
-    } else {
-      ++stalled;
-    }
-    if (uncertified == 0 || round == options.certificate_rounds || stalled > kCertificatePatience) {
-      if (uncertified > best) spline.set_points(std::move(best_points));
-      total.final_uncertified = best;
+    if (rounds.stop(round, uncertified, spline.points(), options.certificate_rounds)) {
+      if (uncertified > rounds.final_uncertified()) spline.set_points(rounds.take_best_points());
+      total.final_uncertified = rounds.final_uncertified();
       return;
     }
     progress.report("untangle certificate " + std::to_string(round + 1),
@@ -168,7 +157,7 @@ void certificate_rounds(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eige
       const SplineUntangleResult r =
           detail::untangle_pass(spline, fine, uvw, xyz, seeds, side == 0 ? inner_options : boundary_options,
                                 detail::PassSeeds::PointsOnly, cache, side == 0 ? held_boundary : held_inner,
-                                side == 0 || stalled == 0 ? 1.0 : options.boundary_tangent_weight);
+                                side == 0 || rounds.stalled() == 0 ? 1.0 : options.boundary_tangent_weight);
       ++total.certificate_passes;
       total.free_functions += r.free_functions;
       total.iterations += r.iterations;

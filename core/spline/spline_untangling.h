@@ -46,7 +46,8 @@ struct SplineUntangleOptions {
   /// box. Nodes, checks and the polish lattice lie in it, its faces are the ones exposed_faces
   /// names, and a function whose support is not inside it stays (a GPC cuboid's patch reaches past
   /// its box where a face is continued: those functions belong to the neighbour too). With a
-  /// region the certificate rounds are skipped (the certificate covers the whole domain).
+  /// region the certificate rounds are skipped (the certificate covers the whole domain; a GPC
+  /// spline runs them over all its cuboids at once: untangle_gpc_certificate).
   std::optional<std::array<Eigen::Vector3d, 2>> region;
   /// Node steps around a seed whose interior functions move, [0, 4]; 0 in the passes after a
   /// dense check (check_per_interval), whose bad points are held themselves.

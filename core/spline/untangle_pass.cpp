@@ -77,14 +77,7 @@ class UntanglePass {
     if (tangent_weight < 1.0) add_surface_normals(uvw, samples);
     result_.samples = samples.size();
 
-    RegionEnergyOptions energy_options;
-    energy_options.data_scale = options_.data_weight / (step * step);
-    energy_options.theta = options_.volume_weight;
-    energy_options.hinge_target = options_.min_scaled_jacobian;
-    energy_options.max_steps = options_.max_steps;
-    energy_options.max_inner = options_.max_inner;
-    energy_options.stop_margin = options_.stop_margin;
-    energy_options.tangent_weight = tangent_weight;
+    const RegionEnergyOptions energy_options = region_energy_options(options_, step, tangent_weight);
     result_.points = static_cast<int>(region.fixed.size());
     result_.iterations = minimize_region_energy(region, samples, energy_options, x);
 
@@ -432,6 +425,29 @@ void PointGradients::at(const TSpline& spline, const Eigen::Vector3d& p) {
     order[a] = 1;
     spline.basis_at(p, order, ids[a], values[a]);
   }
+}
+
+bool CertificateRounds::stop(int round, int uncertified, const Eigen::MatrixXd& points, int max_rounds) {
+  if (uncertified < best_) {
+    best_ = uncertified;
+    best_points_ = points;
+    stalled_ = 0;
+  } else {
+    ++stalled_;
+  }
+  return uncertified == 0 || round == max_rounds || stalled_ > kPatience;
+}
+
+RegionEnergyOptions region_energy_options(const SplineUntangleOptions& options, double step, double tangent_weight) {
+  RegionEnergyOptions out;
+  out.data_scale = options.data_weight / (step * step);
+  out.theta = options.volume_weight;
+  out.hinge_target = options.min_scaled_jacobian;
+  out.max_steps = options.max_steps;
+  out.max_inner = options.max_inner;
+  out.stop_margin = options.stop_margin;
+  out.tangent_weight = tangent_weight;
+  return out;
 }
 
 Eigen::Matrix3d inverse_reference_shape(const Eigen::Matrix3d& jacobian, const Eigen::Vector3d& mean_scale) {

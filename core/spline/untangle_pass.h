@@ -4,6 +4,8 @@
 #pragma once
 
 #include <array>
+#include <limits>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -11,6 +13,7 @@
 #include "core/spline/jacobian_certificate.h"
 #include "core/spline/spline_untangling.h"
 #include "core/spline/tspline.h"
+#include "core/spline/untangle_energy.h"
 
 namespace volspline::spline::detail {
 
@@ -55,6 +58,29 @@ bool held_function(const BlendingKnots& knots, const Eigen::Vector3d& lo, const 
 /// column lengths, each at least mean_scale (a folded column is short, e.g. bunny's faces' normal
 /// derivative, and its own length would make a flat element the target).
 Eigen::Matrix3d inverse_reference_shape(const Eigen::Matrix3d& jacobian, const Eigen::Vector3d& mean_scale);
+
+/// The certificate rounds' stopping rule: they stop when no cell is uncertified, after
+/// max_rounds rounds, or when the uncertified count has not fallen for kPatience + 1 rounds;
+/// the points of the round with the fewest are kept.
+class CertificateRounds {
+ public:
+  static constexpr int kPatience = 2;
+  /// Records round `round` (uncertified cells, the spline's points then); true if the rounds
+  /// stop. final_uncertified() is then the fewest, and best_points() the points to keep.
+  bool stop(int round, int uncertified, const Eigen::MatrixXd& points, int max_rounds);
+  int stalled() const { return stalled_; }  ///< rounds since the count last fell
+  int final_uncertified() const { return best_; }
+  /// The points of the round with the fewest (moved out).
+  Eigen::MatrixXd take_best_points() { return std::move(best_points_); }
+
+ private:
+  int best_ = std::numeric_limits<int>::max(), stalled_ = 0;
+  Eigen::MatrixXd best_points_;
+};
+
+/// RegionEnergyOptions of a pass from the untangler's options; step: one length unit of the data
+/// term in model units.
+RegionEnergyOptions region_energy_options(const SplineUntangleOptions& options, double step, double tangent_weight);
 
 /// Lexicographic order of parameter points (u, then v, then w): the held points' order.
 bool lexicographic_less(const Eigen::Vector3d& p, const Eigen::Vector3d& q);
