@@ -276,8 +276,9 @@ double longest_size(const polycube::GpcDomain& domain) {
 
 // spline::untangle_spline on every cuboid's patch restricted to its box: only the functions whose
 // support lies inside the box and vanishes on its faces move (each belongs to this cuboid alone),
-// so the surface fit and both sides of every glued face stay as they are. Returns the functions
-// that were free to move.
+// so the surface fit and both sides of every glued face stay as they are; then the certificate
+// rounds over all cuboids at once (spline::untangle_gpc_certificate), which move global
+// functions, shared ones as one control point. Returns the functions that were free to move.
 int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& samples, int threads) {
   const double longest_side = longest_size(spline.domain());
   const int nc = spline.num_cuboids();
