@@ -683,13 +683,8 @@ GpcConstruction build_gpc(SolidDecomposition& d, double bbox_diagonal, const std
     } else {
       // Cap (§3.3.2, Algorithm 2): the 4 upper corners on the shortest paths from the loop's
       // corners to the vertex farthest from the loop (the pole), at a fraction lambda of the
-      // pole's height. The end face must not reach far beyond its own width: a harmonic map of
-      // a region much longer than wide (half a limb, a pointed foot) crowds it into a dot at the
-      // face's centre, exponentially in that ratio, and no spline refinement fits it. So lambda
-      // is the lowest level from halfway up whose remaining height is at most the level's
-      // radius (perimeter / 2π): a round cap keeps its corners halfway up, a limb takes them
-      // one radius below its tip, a cone that never gets that wide as close to its tip as two
-      // mean edges allow.
+      // pole's height: from cap_corner_level (the end face no longer than about its width, so
+      // that its harmonic map does not crowd a limb's tip into a dot) down to halfway.
       const mesh::HalfedgeMesh open = mesh::HalfedgeMesh::build(pm.mesh, "gpc " + part);
       std::vector<int> sources;
       for (int v : pm.boundary[0]) sources.push_back(v);
@@ -699,8 +694,7 @@ GpcConstruction build_gpc(SolidDecomposition& d, double bbox_diagonal, const std
         if (height.distance[v] > height.distance[pole]) pole = v;
       const mesh::GraphDistances from_pole = mesh::graph_distances(open, {pole});
       const double tip = cap_corner_level(pm.mesh, height.distance, height.distance[pole]);
-      // From that level down to halfway (the shortest paths to the pole may merge before it:
-      // the corners must stay distinct), then the fallbacks.
+      // Lower levels when a layout fails there, then the fallbacks.
       std::vector<double> lambdas;
       for (double lambda = tip; lambda > 0.5 + 1e-9; lambda -= 0.05) lambdas.push_back(lambda);
       for (double lambda : {0.5, 0.35, 0.65, 0.2}) lambdas.push_back(lambda);
