@@ -77,6 +77,63 @@ void cell_horner_gradient_avx2(const double* numerator, const double* denominato
   _mm256_storeu_pd(lanes + 12, add(mul(add(mul(add(mul(t2_2[3], s0), t2_2[2]), s0), t2_2[1]), s0), t2_2[0]));
 }
 
+template <int K>
+void cell_horner_points_avx2(const double* coef, const double* s, double* out) {
+  const __m256d s0 = _mm256_loadu_pd(s), s1 = _mm256_loadu_pd(s + 4), s2 = _mm256_loadu_pd(s + 8);
+  __m256d result[K];
+  for (int d = 0; d < K; ++d) result[d] = _mm256_setzero_pd();
+  for (int a = 3; a >= 0; --a) {
+    __m256d acc[K];
+    for (int d = 0; d < K; ++d) acc[d] = _mm256_setzero_pd();
+    for (int b = 3; b >= 0; --b) {
+      const double* q = coef + (4 * a + b) * 4 * K;
+      for (int d = 0; d < K; ++d) {
+        const __m256d q0 = _mm256_broadcast_sd(q + d), q1 = _mm256_broadcast_sd(q + K + d);
+        const __m256d q2 = _mm256_broadcast_sd(q + 2 * K + d), q3 = _mm256_broadcast_sd(q + 3 * K + d);
+        acc[d] = add(mul(acc[d], s1), add(mul(add(mul(add(mul(q3, s2), q2), s2), q1), s2), q0));
+      }
+    }
+    for (int d = 0; d < K; ++d) result[d] = add(mul(result[d], s0), acc[d]);
+  }
+  for (int d = 0; d < K; ++d) _mm256_storeu_pd(out + 4 * d, result[d]);
+}
+
+template <int K>
+void cell_horner_gradient_points_avx2(const double* coef, const double* s, double* out) {
+  const __m256d s0 = _mm256_loadu_pd(s), s1 = _mm256_loadu_pd(s + 4), s2 = _mm256_loadu_pd(s + 8);
+  const __m256d two = _mm256_set1_pd(2.0), three = _mm256_set1_pd(3.0);
+  for (int d = 0; d < K; ++d) {
+    __m256d t2[4], t2_1[4], t2_2[4];
+    for (int a = 0; a < 4; ++a) {
+      __m256d t1[4], t1_2[4];
+      for (int b = 0; b < 4; ++b) {
+        const double* q = coef + (4 * a + b) * 4 * K + d;
+        const __m256d q0 = _mm256_broadcast_sd(q), q1 = _mm256_broadcast_sd(q + K);
+        const __m256d q2 = _mm256_broadcast_sd(q + 2 * K), q3 = _mm256_broadcast_sd(q + 3 * K);
+        t1[b] = add(mul(add(mul(add(mul(q3, s2), q2), s2), q1), s2), q0);
+        t1_2[b] = add(mul(add(mul(mul(three, q3), s2), mul(two, q2)), s2), q1);
+      }
+      t2[a] = add(mul(add(mul(add(mul(t1[3], s1), t1[2]), s1), t1[1]), s1), t1[0]);
+      t2_1[a] = add(mul(add(mul(mul(three, t1[3]), s1), mul(two, t1[2])), s1), t1[1]);
+      t2_2[a] = add(mul(add(mul(add(mul(t1_2[3], s1), t1_2[2]), s1), t1_2[1]), s1), t1_2[0]);
+    }
+    _mm256_storeu_pd(out + 4 * d, add(mul(add(mul(add(mul(t2[3], s0), t2[2]), s0), t2[1]), s0), t2[0]));
+    _mm256_storeu_pd(out + 4 * (K + d), add(mul(add(mul(mul(three, t2[3]), s0), mul(two, t2[2])), s0), t2[1]));
+    _mm256_storeu_pd(out + 4 * (2 * K + d),
+                     add(mul(add(mul(add(mul(t2_1[3], s0), t2_1[2]), s0), t2_1[1]), s0), t2_1[0]));
+    _mm256_storeu_pd(out + 4 * (3 * K + d),
+                     add(mul(add(mul(add(mul(t2_2[3], s0), t2_2[2]), s0), t2_2[1]), s0), t2_2[0]));
+  }
+}
+
+template void cell_horner_points_avx2<1>(const double*, const double*, double*);
+template void cell_horner_points_avx2<2>(const double*, const double*, double*);
+template void cell_horner_points_avx2<3>(const double*, const double*, double*);
+template void cell_horner_points_avx2<4>(const double*, const double*, double*);
+template void cell_horner_gradient_points_avx2<1>(const double*, const double*, double*);
+template void cell_horner_gradient_points_avx2<2>(const double*, const double*, double*);
+template void cell_horner_gradient_points_avx2<3>(const double*, const double*, double*);
+template void cell_horner_gradient_points_avx2<4>(const double*, const double*, double*);
 template void cell_horner_avx2<1, false>(const double*, const double*, const double*, double*);
 template void cell_horner_avx2<2, false>(const double*, const double*, const double*, double*);
 template void cell_horner_avx2<3, false>(const double*, const double*, const double*, double*);

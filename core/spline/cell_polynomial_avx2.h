@@ -20,6 +20,16 @@ void cell_horner_avx2(const double* numerator, const double* denominator, const 
 /// k = 0 (value), 1 + axis (∂/∂s_axis), l the lane as above. The bits of the portable gradient.
 template <int D, bool kDenominator>
 void cell_horner_gradient_avx2(const double* numerator, const double* denominator, const double* s, double* lanes);
+/// The nested Horner of a K-channel tricubic power form (channel d of monomial m at
+/// coef[m·K + d]) at four points of one cell, one point per lane: s[4·axis + p] is point p's local
+/// coordinate along axis. Writes out[4·d + p]. Each lane runs horner3's products and sums in
+/// their order without FMA: the bits of the portable Horner at that point. K in 1..4.
+template <int K>
+void cell_horner_points_avx2(const double* coef, const double* s, double* out);
+/// As cell_horner_points_avx2, plus the derivatives: out[4·(K·k + d) + p] for k = 0 (value),
+/// 1 + axis (∂/∂s_axis). The bits of the portable gradient at each point.
+template <int K>
+void cell_horner_gradient_points_avx2(const double* coef, const double* s, double* out);
 #endif
 
 }  // namespace volspline::spline::detail

@@ -970,6 +970,65 @@ Eigen::VectorXd GpcSpline::evaluate(int cuboid, const Eigen::Vector3d& uvw) cons
   return patches_[cuboid].evaluate(checked(cuboid, uvw));
 }
 
+Eigen::MatrixXd GpcSpline::evaluate_batch(const std::vector<int>& cuboids, const Eigen::MatrixX3d& uvw,
+                                          Eigen::MatrixXd* jacobians) const {
+  Eigen::MatrixXd values;
+  evaluate_batch(cuboids, uvw, values, jacobians);
+  return values;
+}
+
+// Rows grouped by cuboid (stable counting sort), then each cuboid's rows in chunks through its
+// patch's cell-sorted batch (TSpline::evaluate_batch, which sorts in chunks of its own).
+void GpcSpline::evaluate_batch(const std::vector<int>& cuboids, const Eigen::MatrixX3d& uvw, Eigen::MatrixXd& values,
+                               Eigen::MatrixXd* jacobians) const {
+  const Eigen::Index m = uvw.rows();
+  if (Eigen::Index(cuboids.size()) != m) {
+    throw Error("GpcSpline: " + std::to_string(cuboids.size()) + " cuboid ids for " + std::to_string(m) + " rows");
+  }
+  std::vector<Eigen::Index> start(num_cuboids() + 1, 0);
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const int c = cuboids[size_t(i)];
+    if (c < 0 || c >= num_cuboids()) {
+      throw Error("row " + std::to_string(i) + ": GpcSpline: cuboid " + std::to_string(c) + " is not in 0.." +
+                  std::to_string(num_cuboids() - 1));
+    }
+    ++start[c + 1];
+  }
+  for (int c = 0; c < num_cuboids(); ++c) start[c + 1] += start[c];
+  std::vector<Eigen::Index> rows(static_cast<size_t>(m));
+  std::vector<Eigen::Index> fill(start.begin(), start.end() - 1);
+  for (Eigen::Index i = 0; i < m; ++i) rows[size_t(fill[cuboids[size_t(i)]]++)] = i;
+  values.resize(m, dimension_);
+  if (jacobians) jacobians->resize(m, 3 * dimension_);
+  constexpr Eigen::Index kChunk = 262144;
+  Eigen::MatrixX3d local;
+  Eigen::MatrixXd local_values, local_jacobians;
+  for (int c = 0; c < num_cuboids(); ++c) {
+    for (Eigen::Index begin = start[c]; begin < start[c + 1]; begin += kChunk) {
+      const Eigen::Index n = std::min(kChunk, start[c + 1] - begin);
+      local.resize(n, 3);
+      for (Eigen::Index r = 0; r < n; ++r) {
+        const Eigen::Index row = rows[size_t(begin + r)];
+        try {
+          local.row(r) = checked(c, uvw.row(row).transpose()).transpose();
+        } catch (const Error& e) {
+          throw Error("row " + std::to_string(row) + ": " + e.what());
+        }
+      }
+      if (jacobians) {
+        patches_[c].evaluate_batch_with_jacobian(local, TSplineForm::SemiStandard, local_values, local_jacobians);
+      } else {
+        patches_[c].evaluate_batch(local, TSplineForm::SemiStandard, local_values);
+      }
+      for (Eigen::Index r = 0; r < n; ++r) {
+        const Eigen::Index row = rows[size_t(begin + r)];
+        values.row(row) = local_values.row(r);
+        if (jacobians) jacobians->row(row) = local_jacobians.row(r);
+      }
+    }
+  }
+}
+
 Eigen::MatrixXd GpcSpline::jacobian(int cuboid, const Eigen::Vector3d& uvw) const {
   return patches_[cuboid].jacobian(checked(cuboid, uvw));
 }

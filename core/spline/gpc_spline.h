@@ -175,6 +175,18 @@ class GpcSpline {
   void evaluate_to(int cuboid, const Eigen::Vector3d& uvw, double* value) const;
   /// F(uvw) in cuboid c, D values. Throws like evaluate_with_jacobian.
   Eigen::VectorXd evaluate(int cuboid, const Eigen::Vector3d& uvw) const;
+  /// F at m points: row i of uvw (m×3) in cuboid cuboids[i] (m entries). Returns m×D; with
+  /// jacobians non-null, also resizes it to m×3D, row i the column-major D×3 Jacobian as
+  /// evaluate_with_jacobian writes it. The rows are evaluated grouped by cuboid and knot cell
+  /// (TSpline::evaluate_batch), so a large spline's cell polynomials are read once per group;
+  /// each row has the bits of evaluate_to / evaluate_with_jacobian. Throws volspline::Error like
+  /// evaluate_with_jacobian, naming the row, or if the sizes differ or a cuboid is out of range.
+  Eigen::MatrixXd evaluate_batch(const std::vector<int>& cuboids, const Eigen::MatrixX3d& uvw,
+                                 Eigen::MatrixXd* jacobians = nullptr) const;
+  /// As evaluate_batch, into values (resized to m×D; kept if already that size, as jacobians, so
+  /// a caller evaluating many batches reuses its storage).
+  void evaluate_batch(const std::vector<int>& cuboids, const Eigen::MatrixX3d& uvw, Eigen::MatrixXd& values,
+                      Eigen::MatrixXd* jacobians = nullptr) const;
   /// D×3 Jacobian of F in cuboid c (3×3 for geometry). Throws like evaluate_with_jacobian.
   Eigen::MatrixXd jacobian(int cuboid, const Eigen::Vector3d& uvw) const;
   /// ∂^(o0+o1+o2) F / ∂u^o0 ∂v^o1 ∂w^o2 in cuboid c's coordinates, D values (right derivatives at

@@ -722,7 +722,7 @@ void TSpline::build_cell_pieces(const std::array<std::vector<int>, 3>& first_cel
 }
 
 // Cell index of uvw; k[a] = grid interval and local[a] = position in it in [0, 1] along axis a.
-int TSpline::locate(const Eigen::Vector3d& uvw, double* local, int* k) const {
+__attribute__((always_inline)) inline int TSpline::locate(const Eigen::Vector3d& uvw, double* local, int* k) const {
   for (int a = 0; a < 3; ++a) {
     const std::vector<double>& b = breaks_[a];
     const double t = uvw[a];
@@ -745,7 +745,12 @@ template <int D, bool kRational, bool kJacobian>
 void TSpline::evaluate_impl(const Eigen::Vector3d& uvw, double* value, double* jacobian) const {
   double s[3];
   int k[3];
-  const int cell_index = locate(uvw, s, k);
+  const int cell = locate(uvw, s, k);
+  evaluate_at<D, kRational, kJacobian>(cell, s, k, value, jacobian);
+}
+
+template <int D, bool kRational, bool kJacobian>
+inline void TSpline::evaluate_at(int cell_index, const double* s, const int* k, double* value, double* jacobian) const {
   if (!cell_numerator_.empty()) {
     evaluate_polynomial<D, kRational, kJacobian>(cell_index, s, k, value, jacobian);
     return;
@@ -926,18 +931,183 @@ Eigen::MatrixXd TSpline::jacobian(const Eigen::Vector3d& uvw, TSplineForm form) 
   return jac;
 }
 
-Eigen::MatrixXd TSpline::evaluate_batch(const Eigen::MatrixX3d& uvw, TSplineForm form) const {
-  Eigen::MatrixXd out(uvw.rows(), dimension_);
-  double value[4];
-  for (Eigen::Index i = 0; i < uvw.rows(); ++i) {
-    try {
-      evaluate_to(uvw.row(i).transpose(), form, value);
-    } catch (const Error& e) {
-      throw Error("row " + std::to_string(i) + ": " + e.what());
-    }
-    for (int d = 0; d < dimension_; ++d) out(i, d) = value[d];
+// Stable counting sort by cell id carrying each row's local coordinates along: one pass over the
+// cell ids when there are at most 2^16 cells, else two passes of 16 bits (cells < 2^26).
+void TSpline::sort_rows(const Eigen::MatrixX3d& uvw, Eigen::Index begin, Eigen::Index end,
+                        SortedRows& sorted) const {
+  const std::size_t m = static_cast<std::size_t>(end - begin);
+  if (end > Eigen::Index(std::numeric_limits<std::uint32_t>::max())) {
+    throw Error("T-spline: a batch of more than 2^32 - 1 rows");
   }
+  sorted.cell.resize(m);
+  sorted.row.resize(m);
+  sorted.local.resize(3 * m);
+  int k[3];
+  for (std::size_t i = 0; i < m; ++i) {
+    const Eigen::Index row = begin + Eigen::Index(i);
+    try {
+      sorted.cell[i] = static_cast<std::uint32_t>(locate(uvw.row(row).transpose(), sorted.local.data() + 3 * i, k));
+    } catch (const Error& e) {
+      throw Error("row " + std::to_string(row) + ": " + e.what());
+    }
+    sorted.row[i] = static_cast<std::uint32_t>(row);
+  }
+  const bool one_pass = cells_.size() <= (std::size_t(1) << 16);
+  sorted.next_cell.resize(m);
+  sorted.next_row.resize(m);
+  sorted.next_local.resize(3 * m);
+  for (int pass = 0; pass < (one_pass ? 1 : 2); ++pass) {
+    const int shift = 16 * pass;
+    sorted.count.assign(one_pass ? cells_.size() : std::size_t(1) << 16, 0);
+    std::uint32_t* count = sorted.count.data();
+    for (std::size_t i = 0; i < m; ++i) ++count[(sorted.cell[i] >> shift) & 0xffff];
+    std::uint32_t start = 0;
+    for (std::size_t c = 0; c < sorted.count.size(); ++c) {
+      const std::uint32_t n = count[c];
+      count[c] = start;
+      start += n;
+    }
+    for (std::size_t i = 0; i < m; ++i) {
+      const std::uint32_t j = count[(sorted.cell[i] >> shift) & 0xffff]++;
+      sorted.next_cell[j] = sorted.cell[i];
+      sorted.next_row[j] = sorted.row[i];
+      for (int a = 0; a < 3; ++a) sorted.next_local[3 * j + a] = sorted.local[3 * i + a];
+    }
+    sorted.cell.swap(sorted.next_cell);
+    sorted.row.swap(sorted.next_row);
+    sorted.local.swap(sorted.next_local);
+  }
+  sorted.rank.resize(m);
+  for (std::size_t j = 0; j < m; ++j) sorted.rank[sorted.row[j] - std::size_t(begin)] = static_cast<std::uint32_t>(j);
+}
+
+// Rows of one cell share its polynomial: with AVX2, four rows a time run the Horner passes in the
+// four lanes (cell_horner_points_avx2), each lane with the bits of the one-point evaluation.
+template <int D, bool kRational, bool kJacobian>
+void TSpline::evaluate_sorted(const SortedRows& sorted, double* out) const {
+  constexpr int kChannels = kJacobian ? 4 * D : D;
+  const std::size_t n = sorted.cell.size();
+  const int n0 = int(breaks_[0].size() - 1), n1 = int(breaks_[1].size() - 1);
+  std::size_t i = 0;
+  while (i < n) {
+    const int cell = int(sorted.cell[i]);
+    std::size_t end = i;
+    while (end < n && int(sorted.cell[end]) == cell) ++end;
+    const int k[3] = {cell % n0, (cell / n0) % n1, cell / (n0 * n1)};
+#if defined(VOLSPLINE_AVX2_KERNELS)
+    if (avx2_ && has_cell_polynomials()) {
+      const double* numerator = cell_numerator_.data() + std::size_t(cell) * 64 * D;
+      const double* denominator = cell_denominator_.data() + std::size_t(cell) * 64;
+      double s[12], num[16 * D], den[16];
+      for (; i + 4 <= end; i += 4) {
+        for (int p = 0; p < 4; ++p)
+          for (int a = 0; a < 3; ++a) s[4 * a + p] = sorted.local[3 * (i + p) + a];
+        if (!kJacobian) {
+          detail::cell_horner_points_avx2<D>(numerator, s, num);
+          if (kRational) detail::cell_horner_points_avx2<1>(denominator, s, den);
+          for (int p = 0; p < 4; ++p) {
+            double* value = out + (i + p) * kChannels;
+            for (int d = 0; d < D; ++d) value[d] = num[4 * d + p];
+            if (kRational) {
+              const double inverse_weight = 1.0 / den[p];
+              for (int d = 0; d < D; ++d) value[d] *= inverse_weight;
+            }
+          }
+          continue;
+        }
+        detail::cell_horner_gradient_points_avx2<D>(numerator, s, num);
+        if (kRational) detail::cell_horner_gradient_points_avx2<1>(denominator, s, den);
+        for (int p = 0; p < 4; ++p) {
+          double* value = out + (i + p) * kChannels;
+          double* jacobian = value + D;
+          const double weight = kRational ? den[p] : 1.0;
+          for (int d = 0; d < D; ++d) value[d] = kRational ? num[4 * d + p] / weight : num[4 * d + p];
+          for (int a = 0; a < 3; ++a) {
+            const double inverse_width = inverse_widths_[a][k[a]];
+            for (int d = 0; d < D; ++d) {
+              double g = num[4 * (D * (1 + a) + d) + p];
+              if (kRational) g = (g - value[d] * den[4 * (1 + a) + p]) / weight;
+              jacobian[d + D * a] = g * inverse_width;
+            }
+          }
+        }
+      }
+    }
+#endif
+    for (; i < end; ++i) {
+      double* value = out + i * kChannels;
+      evaluate_at<D, kRational, kJacobian>(cell, sorted.local.data() + 3 * i, k, value, value + D);
+    }
+  }
+}
+
+namespace {
+// Rows sorted and evaluated together: the sorted rows, their results and the output rows they
+// scatter to stay in L2, while a cell holds several rows of a chunk on the splines of interest.
+// Rows per chunk: enough for several rows per cell, at most 2^18 (4 to 16 MB of results).
+Eigen::Index batch_chunk(std::size_t num_cells) {
+  return std::clamp<Eigen::Index>(8 * Eigen::Index(num_cells), 32768, 262144);
+}
+}  // namespace
+
+Eigen::MatrixXd TSpline::evaluate_batch(const Eigen::MatrixX3d& uvw, TSplineForm form) const {
+  Eigen::MatrixXd out;
+  evaluate_batch(uvw, form, out);
   return out;
+}
+
+// The results come out in cell order; each output row gathers its own (one read of D or 4D
+// consecutive doubles) so the writes to the column-major outputs run in row order.
+void TSpline::evaluate_batch(const Eigen::MatrixX3d& uvw, TSplineForm form, Eigen::MatrixXd& out) const {
+  const int D = dimension_;
+  out.resize(uvw.rows(), D);
+  SortedRows sorted;
+  std::vector<double> result;
+  const bool rational = form == TSplineForm::Rational;
+  const Eigen::Index chunk = batch_chunk(cells_.size());
+  for (Eigen::Index begin = 0; begin < uvw.rows(); begin += chunk) {
+    const Eigen::Index end = std::min(uvw.rows(), begin + chunk);
+    sort_rows(uvw, begin, end, sorted);
+    result.resize(std::size_t(end - begin) * D);
+    double* r = result.data();
+    switch (D) {
+      case 1: rational ? evaluate_sorted<1, true, false>(sorted, r) : evaluate_sorted<1, false, false>(sorted, r); break;
+      case 2: rational ? evaluate_sorted<2, true, false>(sorted, r) : evaluate_sorted<2, false, false>(sorted, r); break;
+      case 3: rational ? evaluate_sorted<3, true, false>(sorted, r) : evaluate_sorted<3, false, false>(sorted, r); break;
+      default: rational ? evaluate_sorted<4, true, false>(sorted, r) : evaluate_sorted<4, false, false>(sorted, r); break;
+    }
+    for (int d = 0; d < D; ++d) {
+      for (Eigen::Index i = begin; i < end; ++i) out(i, d) = r[std::size_t(sorted.rank[i - begin]) * D + d];
+    }
+  }
+}
+
+void TSpline::evaluate_batch_with_jacobian(const Eigen::MatrixX3d& uvw, TSplineForm form, Eigen::MatrixXd& values,
+                                           Eigen::MatrixXd& jacobians) const {
+  const int D = dimension_;
+  values.resize(uvw.rows(), D);
+  jacobians.resize(uvw.rows(), 3 * D);
+  SortedRows sorted;
+  std::vector<double> result;
+  const bool rational = form == TSplineForm::Rational;
+  const Eigen::Index chunk = batch_chunk(cells_.size());
+  for (Eigen::Index begin = 0; begin < uvw.rows(); begin += chunk) {
+    const Eigen::Index end = std::min(uvw.rows(), begin + chunk);
+    sort_rows(uvw, begin, end, sorted);
+    result.resize(std::size_t(end - begin) * 4 * D);
+    double* r = result.data();
+    switch (D) {
+      case 1: rational ? evaluate_sorted<1, true, true>(sorted, r) : evaluate_sorted<1, false, true>(sorted, r); break;
+      case 2: rational ? evaluate_sorted<2, true, true>(sorted, r) : evaluate_sorted<2, false, true>(sorted, r); break;
+      case 3: rational ? evaluate_sorted<3, true, true>(sorted, r) : evaluate_sorted<3, false, true>(sorted, r); break;
+      default: rational ? evaluate_sorted<4, true, true>(sorted, r) : evaluate_sorted<4, false, true>(sorted, r); break;
+    }
+    for (Eigen::Index i = begin; i < end; ++i) {
+      const double* p = r + std::size_t(sorted.rank[i - begin]) * 4 * D;
+      for (int d = 0; d < D; ++d) values(i, d) = p[d];
+      for (int c = 0; c < 3 * D; ++c) jacobians(i, c) = p[D + c];
+    }
+  }
 }
 
 template <int D>

@@ -131,8 +131,20 @@ class TSpline {
       const std::function<void(int i, int j, int k, const double* value, const double* jacobian)>& visit) const;
   /// Σ w_i B_i(uvw): 1 everywhere for a semi-standard spline. Throws like evaluate_to.
   double weight_sum(const Eigen::Vector3d& uvw) const;
-  /// F at each row of uvw (m×3), returns m×D. Throws like evaluate_to, naming the row.
+  /// F at each row of uvw (m×3), returns m×D. The rows are evaluated grouped by knot cell (a
+  /// stable radix sort of their cell ids), so a cell's polynomial or function list is read once
+  /// per group instead of once per row: a large spline's cell data need not stay in cache. Each
+  /// row has the bits of evaluate_to. Throws like evaluate_to, naming the row.
   Eigen::MatrixXd evaluate_batch(const Eigen::MatrixX3d& uvw, TSplineForm form = TSplineForm::SemiStandard) const;
+  /// As evaluate_batch, into values (resized to m×D; kept if already that size, so a caller
+  /// evaluating many batches reuses its storage).
+  void evaluate_batch(const Eigen::MatrixX3d& uvw, TSplineForm form, Eigen::MatrixXd& values) const;
+  /// F and its Jacobian at each row of uvw (m×3), grouped by cell as evaluate_batch: values is
+  /// resized to m×D, jacobians to m×3D (kept if already that size) with row i = the column-major D×3 Jacobian of
+  /// evaluate_with_jacobian (jacobians(i, d + D·a) = ∂F_d/∂uvw_a), with its bits. Throws like
+  /// evaluate_to, naming the row.
+  void evaluate_batch_with_jacobian(const Eigen::MatrixX3d& uvw, TSplineForm form, Eigen::MatrixXd& values,
+                                    Eigen::MatrixXd& jacobians) const;
 
   /// Blending functions whose support contains uvw: their indices (increasing) and the partial
   /// derivative of the given order of B_i (unweighted; order (0,0,0) is B_i itself). Functions of
@@ -197,6 +209,20 @@ class TSpline {
   int locate(const Eigen::Vector3d& uvw, double* local, int* k) const;
   template <int D, bool kRational, bool kJacobian>
   void evaluate_impl(const Eigen::Vector3d& uvw, double* value, double* jacobian) const;
+  // Rows [begin, end) of a batch grouped by knot cell: position j holds row[j] with its cell and
+  // local coordinates (3 per position); rows of one cell in increasing order. The buffers are
+  // reused from chunk to chunk.
+  struct SortedRows {
+    std::vector<std::uint32_t> cell, row, count, next_cell, next_row, rank;
+    std::vector<double> local, next_local;
+  };
+  // Throws like evaluate_to, naming the row.
+  void sort_rows(const Eigen::MatrixX3d& uvw, Eigen::Index begin, Eigen::Index end, SortedRows& sorted) const;
+  template <int D, bool kRational, bool kJacobian>
+  void evaluate_at(int cell, const double* s, const int* k, double* value, double* jacobian) const;
+  // Writes `channels` = D (or 4D with the Jacobian) doubles per sorted position to out.
+  template <int D, bool kRational, bool kJacobian>
+  void evaluate_sorted(const SortedRows& sorted, double* out) const;
   template <int D>
   void evaluate_lattice_impl(const std::array<std::vector<double>, 3>& coords,
                              const std::function<void(int, int, int, const double*, const double*)>& visit) const;

@@ -1,10 +1,14 @@
 // SPDX-License-Identifier: MIT
 // Evaluation throughput of the trivariate spline kernels (one thread): tensor B-spline volume,
-// T-spline semi-standard (Eq. 4.3) and rational (Eq. 4.1), value only and value + Jacobian, and a
-// GPC-spline (§3.5) at random (cuboid, uvw): a block of 8 rotated cuboids glued C² and a twisted
-// closed tube, 16 intervals per longest side, or the spline JSON given with --gpc FILE (e.g.
-// mesh2spline's output for a genus > 0 solid), with its own patches called directly as the
-// reference in the same run (the cost of the cuboid dispatch and the box check).
+// T-spline semi-standard (Eq. 4.3: F = Σ w_i p_i B_i, no division) and rational (Eq. 4.1:
+// F = Σ w_i p_i B_i / Σ w_i B_i, the denominator summed too, and the Jacobian by the quotient
+// rule), both from the same per-cell power forms (the numerator's D components and, for the
+// rational form, the denominator), value only and value + Jacobian, one point at a time and
+// through the cell-sorted batch API; and a GPC-spline (§3.5) at random (cuboid, uvw): a block of
+// 8 rotated cuboids glued C² and a twisted closed tube, 16 intervals per longest side, or the
+// spline JSON given with --gpc FILE (e.g. mesh2spline's output for a genus > 0 solid), with its
+// own patches called directly as the reference in the same run (the cost of the cuboid dispatch
+// and the box check).
 // Prints JSON: evaluations per second, median of 5 runs over the same random parameters.
 // usage: bench_spline_eval [COUNT] [--gpc FILE.json]
 #include <algorithm>
@@ -109,6 +113,14 @@ int main(int argc, char** argv) {
   out["runs"] = kRuns;
   out["statistic"] = "median evaluations per second of thread CPU time, one thread";
   out["control_points_per_axis"] = num_control;
+  out["forms"]["semi_standard"] =
+      "Eq. 4.3: F = sum w_i p_i B_i; per cell one tricubic power form with D components, no division";
+  out["forms"]["rational"] =
+      "Eq. 4.1: F = sum w_i p_i B_i / sum w_i B_i; per cell the numerator's D components and the "
+      "denominator's power form, one division, the Jacobian by the quotient rule";
+  out["forms"]["batch"] =
+      "evaluate_batch / evaluate_batch_with_jacobian: rows grouped by knot cell (radix sort), four "
+      "rows of a cell in the four AVX2 lanes; bits equal to the one-point calls";
 
   out["bspline_volume"]["value"] = median_rate([&] {
     double s = 0.0, v[3];
@@ -139,13 +151,21 @@ int main(int argc, char** argv) {
         for (const Eigen::Vector3d& p : params_local) { spline.evaluate_to(p, form, v); s += v[0]; }
         return s;
       }, count, &checksum);
+      // The batch outputs are allocated once: a fresh 24 to 96 MB array per call costs its page
+      // faults, more than the evaluation on some machines.
+      Eigen::MatrixXd values, jacobians;
       o[form_name]["value_batch"] = median_rate([&] {
-        return spline.evaluate_batch(params_matrix, form)(count / 2, 0);
+        spline.evaluate_batch(params_matrix, form, values);
+        return values(count / 2, 0);
       }, count, &checksum);
       o[form_name]["value_jacobian"] = median_rate([&] {
         double s = 0.0, v[3], j[9];
         for (const Eigen::Vector3d& p : params) { spline.evaluate_with_jacobian(p, form, v, j); s += v[0] + j[4]; }
         return s;
+      }, count, &checksum);
+      o[form_name]["value_jacobian_batch"] = median_rate([&] {
+        spline.evaluate_batch_with_jacobian(params_matrix, form, values, jacobians);
+        return values(count / 2, 0) + jacobians(count / 2, 4);
       }, count, &checksum);
     }
     o["semi_standard_over_rational"]["value"] =
@@ -154,6 +174,8 @@ int main(int argc, char** argv) {
         o["semi_standard"]["value_batch"].get<double>() / o["rational"]["value_batch"].get<double>();
     o["semi_standard_over_rational"]["value_jacobian"] =
         o["semi_standard"]["value_jacobian"].get<double>() / o["rational"]["value_jacobian"].get<double>();
+    o["semi_standard_over_rational"]["value_jacobian_batch"] =
+        o["semi_standard"]["value_jacobian_batch"].get<double>() / o["rational"]["value_jacobian_batch"].get<double>();
   };
   bench_tspline(tensor, "tspline_tensor");
   bench_tspline(refined, "tspline_refined");
@@ -183,11 +205,22 @@ int main(int argc, char** argv) {
     std::discrete_distribution<int> pick(volume_share.begin(), volume_share.end());
     std::vector<int> cuboid(count);
     std::vector<Eigen::Vector3d> uvw(count);
+    Eigen::MatrixX3d uvw_matrix(count, 3);
     for (int k = 0; k < count; ++k) {
       cuboid[k] = pick(rng);
       const auto& size = spline.domain().cuboids[cuboid[k]].size;
       uvw[k] = Eigen::Vector3d(unit(rng) * size[0], unit(rng) * size[1], unit(rng) * size[2]);
+      uvw_matrix.row(k) = uvw[k].transpose();
     }
+    Eigen::MatrixXd values, jacobians;
+    o["value_batch"] = median_rate([&] {
+      spline.evaluate_batch(cuboid, uvw_matrix, values);
+      return values(count / 2, 0);
+    }, count, &checksum);
+    o["value_jacobian_batch"] = median_rate([&] {
+      spline.evaluate_batch(cuboid, uvw_matrix, values, &jacobians);
+      return values(count / 2, 0) + jacobians(count / 2, 4);
+    }, count, &checksum);
     o["value_jacobian"] = median_rate([&] {
       double s = 0.0, v[4], j[12];
       for (int k = 0; k < count; ++k) { spline.evaluate_with_jacobian(cuboid[k], uvw[k], v, j); s += v[0] + j[4]; }

@@ -246,6 +246,43 @@ TEST_CASE("gpc spline: blocks of randomly rotated cuboids around regular edges a
   }
 }
 
+TEST_CASE("gpc spline: batch evaluation has the bits of the one-point evaluation") {
+  const GpcDomain d = glue_boxes(block_boxes({{{1.0, 0.7}, {0.8, 1.2}, {0.5, 0.9}}}, 11));
+  GpcSplineOptions o;
+  o.intervals = intervals_of(d, 0.29);
+  GpcSpline spline(d, o);
+  random_points(spline, 13);
+  std::mt19937 rng(14);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const int rows = 9000;
+  std::vector<int> cuboids(rows);
+  Eigen::MatrixX3d uvw(rows, 3);
+  for (int i = 0; i < rows; ++i) {
+    cuboids[i] = (i * 5) % spline.num_cuboids();
+    for (int a = 0; a < 3; ++a) uvw(i, a) = unit(rng) * d.cuboids[cuboids[i]].size[a];
+  }
+  uvw(7, 1) = d.cuboids[cuboids[7]].size[1] * (1.0 + 1e-12);  // clamped onto the box
+  Eigen::MatrixXd jacobians;
+  const Eigen::MatrixXd values = spline.evaluate_batch(cuboids, uvw, &jacobians);
+  const Eigen::MatrixXd values_only = spline.evaluate_batch(cuboids, uvw);
+  int differ = 0;
+  double value[3], value_j[3], jacobian[9];
+  for (int i = 0; i < rows; ++i) {
+    spline.evaluate_to(cuboids[i], uvw.row(i).transpose(), value);
+    spline.evaluate_with_jacobian(cuboids[i], uvw.row(i).transpose(), value_j, jacobian);
+    for (int k = 0; k < 3; ++k) differ += values_only(i, k) != value[k] || values(i, k) != value_j[k];
+    for (int k = 0; k < 9; ++k) differ += jacobians(i, k) != jacobian[k];
+  }
+  CHECK(differ == 0);
+  cuboids[5] = 8;
+  CHECK_THROWS_WITH_AS(spline.evaluate_batch(cuboids, uvw), "row 5: GpcSpline: cuboid 8 is not in 0..7", Error);
+  cuboids[5] = 0;
+  uvw(6, 0) = -0.5;
+  CHECK_THROWS_WITH_AS(spline.evaluate_batch(cuboids, uvw), doctest::Contains("row 6: GpcSpline: uvw (-0.500000"), Error);
+  cuboids.pop_back();
+  CHECK_THROWS_WITH_AS(spline.evaluate_batch(cuboids, uvw), "GpcSpline: 8999 cuboid ids for 9000 rows", Error);
+}
+
 TEST_CASE("gpc spline: a cuboid glued to itself is periodic") {
   for (bool twist : {false, true}) {
     const GpcDomain d = torus_domain(twist);

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <vector>
@@ -204,6 +205,51 @@ TEST_CASE("batch evaluation equals single evaluation") {
   uvw(3, 0) = -0.5;
   CHECK_THROWS_WITH_AS(spline.evaluate_batch(uvw),
                        "row 3: T-spline: parameter u = -0.500000 is outside the domain [0.000000, 1.000000]", Error);
+}
+
+TEST_CASE("cell-sorted batch evaluation has the bits of the one-point evaluation") {
+  // Many points per cell (the four-lane path of the cell polynomials and its remainders), more
+  // rows than the comparison sort takes (the radix sort), and a short batch; both accelerations
+  // and D = 1..4. Bits are compared as bytes, so a NaN of an uncovered point counts as equal.
+  auto same_bits = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+  for (const TSplineAcceleration acceleration : {TSplineAcceleration::CellPolynomials, TSplineAcceleration::FunctionLists}) {
+    for (int D = 1; D <= 4; ++D) {
+      const TSpline spline = volspline::test::random_tspline(40, D, 7 + unsigned(D), acceleration);
+      for (const int rows : {37, 6000}) {
+        std::mt19937 rng(unsigned(rows + D));
+        std::uniform_real_distribution<double> unit(0.0, 1.0);
+        const Eigen::Vector3d lo = spline.domain_min(), hi = spline.domain_max();
+        Eigen::MatrixX3d uvw(rows, 3);
+        for (int i = 0; i < rows; ++i)
+          for (int a = 0; a < 3; ++a) uvw(i, a) = lo[a] + (hi[a] - lo[a]) * (i % 3 ? 0.3 + 0.1 * unit(rng) : unit(rng));
+        uvw.row(0) = hi.transpose();
+        for (const TSplineForm form : {TSplineForm::SemiStandard, TSplineForm::Rational}) {
+          const Eigen::MatrixXd values = spline.evaluate_batch(uvw, form);
+          Eigen::MatrixXd values_j, jacobians;
+          spline.evaluate_batch_with_jacobian(uvw, form, values_j, jacobians);
+          REQUIRE(values.rows() == rows);
+          REQUIRE(values.cols() == D);
+          REQUIRE(jacobians.cols() == 3 * D);
+          int differ = 0;
+          double value[4], value_j[4], jacobian[12];
+          for (int i = 0; i < rows; ++i) {
+            spline.evaluate_to(uvw.row(i).transpose(), form, value);
+            spline.evaluate_with_jacobian(uvw.row(i).transpose(), form, value_j, jacobian);
+            for (int d = 0; d < D; ++d) differ += !same_bits(values(i, d), value[d]) + !same_bits(values_j(i, d), value_j[d]);
+            for (int c = 0; c < 3 * D; ++c) differ += !same_bits(jacobians(i, c), jacobian[c]);
+          }
+          CHECK(differ == 0);
+        }
+      }
+    }
+  }
+  const TSpline spline = from_bspline_volume(random_volume(2, 4));
+  Eigen::MatrixX3d uvw(5000, 3);
+  uvw.rowwise() = (0.5 * (spline.domain_min() + spline.domain_max())).transpose();
+  uvw(4321, 2) = spline.domain_max()[2] + 1.0;
+  Eigen::MatrixXd values, jacobians;
+  CHECK_THROWS_WITH_AS(spline.evaluate_batch_with_jacobian(uvw, TSplineForm::Rational, values, jacobians),
+                       doctest::Contains("row 4321: T-spline: parameter w = "), Error);
 }
 
 TEST_CASE("T-spline rejects broken input with a message") {
