@@ -243,6 +243,30 @@ TEST_CASE("cell-sorted batch evaluation has the bits of the one-point evaluation
       }
     }
   }
+  {
+    // More than 2^16 cells: the two-pass radix sort (function lists keep the spline small).
+    std::array<std::vector<double>, 3> knots;
+    std::vector<double> grid(44);
+    for (int i = 0; i < 44; ++i) grid[i] = i / 43.0;
+    for (int a = 0; a < 3; ++a) knots[a] = boundary_restricted_knots(grid);
+    std::mt19937 rng(3);
+    std::normal_distribution<double> normal(0.0, 1.0);
+    Eigen::MatrixXd points(46 * 46 * 46, 3);
+    for (Eigen::Index i = 0; i < points.size(); ++i) points.data()[i] = normal(rng);
+    const TSpline big = from_bspline_volume(BsplineVolume(knots, points), TSplineAcceleration::FunctionLists);
+    REQUIRE(big.num_cells() > 65536);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    Eigen::MatrixX3d uvw(3000, 3);
+    for (Eigen::Index i = 0; i < uvw.size(); ++i) uvw.data()[i] = unit(rng);
+    const Eigen::MatrixXd values = big.evaluate_batch(uvw, TSplineForm::SemiStandard);
+    int differ = 0;
+    double value[3];
+    for (int i = 0; i < 3000; ++i) {
+      big.evaluate_to(uvw.row(i).transpose(), TSplineForm::SemiStandard, value);
+      for (int d = 0; d < 3; ++d) differ += values(i, d) != value[d];
+    }
+    CHECK(differ == 0);
+  }
   const TSpline spline = from_bspline_volume(random_volume(2, 4));
   Eigen::MatrixX3d uvw(5000, 3);
   uvw.rowwise() = (0.5 * (spline.domain_min() + spline.domain_max())).transpose();
