@@ -978,7 +978,8 @@ Eigen::MatrixXd GpcSpline::evaluate_batch(const std::vector<int>& cuboids, const
 }
 
 // Rows grouped by cuboid (stable counting sort), then each cuboid's rows in chunks through its
-// patch's cell-sorted batch (TSpline::evaluate_batch, which sorts in chunks of its own).
+// patch's cell-sorted batch (TSpline::evaluate_batch): chunks of a size that keeps the local
+// copies in L2 while a cell of the patch still holds several of the chunk's rows.
 void GpcSpline::evaluate_batch(const std::vector<int>& cuboids, const Eigen::MatrixX3d& uvw, Eigen::MatrixXd& values,
                                Eigen::MatrixXd* jacobians) const {
   const Eigen::Index m = uvw.rows();
@@ -1000,7 +1001,7 @@ void GpcSpline::evaluate_batch(const std::vector<int>& cuboids, const Eigen::Mat
   for (Eigen::Index i = 0; i < m; ++i) rows[size_t(fill[cuboids[size_t(i)]]++)] = i;
   values.resize(m, dimension_);
   if (jacobians) jacobians->resize(m, 3 * dimension_);
-  constexpr Eigen::Index kChunk = 262144;
+  constexpr Eigen::Index kChunk = 32768;
   Eigen::MatrixX3d local;
   Eigen::MatrixXd local_values, local_jacobians;
   for (int c = 0; c < num_cuboids(); ++c) {
