@@ -27,7 +27,9 @@ struct MorseFunction {
 
 /// Options of compute_morse_function.
 struct MorseFunctionOptions {
-  double tolerance = 1e-13;  ///< relative CG residual of the harmonic solve (unitless)
+  /// Relative CG residual of the harmonic solve (unitless); the multigrid solve also stops where
+  /// double precision cannot go lower (about √n·ε: 1.2e-13 at 288k unknowns).
+  double tolerance = 1e-13;
   /// Limbs: the ends of the shape's limbs become extra poles with value 1: the maxima of the graph
   /// distance from the source whose persistence (height above the level where their branch
   /// joins a higher one) is at least this fraction of the graph diameter. 0 = off (two poles).

@@ -578,6 +578,21 @@ TEST_CASE("Morse function: the multigrid and IC(0) solves agree, the same critic
   CHECK(b.num_maxima == 1);
 }
 
+TEST_CASE("Morse function: a multigrid tolerance below double precision's floor still ends, with the same function") {
+  // A relative residual of 1e-30 is out of reach in double precision: the restarted chunks stop
+  // once a chunk no longer halves the residual (without them CG would run 4m iterations).
+  const mesh::HalfedgeMesh t = outward(make_torus(48, 24));
+  polycube::MorseFunctionOptions ic, amg;
+  amg.multigrid_from = 0;
+  amg.tolerance = 1e-30;
+  const polycube::MorseFunction a = polycube::compute_morse_function(t, ic);
+  const polycube::MorseFunction b = polycube::compute_morse_function(t, amg);
+  double gap = 0.0;
+  for (std::size_t v = 0; v < a.value.size(); ++v) gap = std::max(gap, std::abs(a.value[v] - b.value[v]));
+  CHECK(gap < 1e-9);
+  CHECK(b.num_saddles == 2);
+}
+
 TEST_CASE("limbs: the three ends of a T-shaped solid become caps around one T-shape") {
   const mesh::HalfedgeMesh t = outward(make_t_solid(3));
   REQUIRE(mesh::analyze_mesh(t).genus == 0);
