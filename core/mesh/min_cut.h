@@ -5,7 +5,7 @@
 
 namespace volspline::mesh {
 
-/// A minimum s–t cut of a graph with non-negative real capacities (Dinic's blocking flows).
+/// A minimum s–t cut of a graph with non-negative real capacities (push–relabel).
 /// Build with add_arc, then call solve once.
 class MinCut {
  public:
@@ -20,16 +20,17 @@ class MinCut {
   /// cut holds an infinite arc). Deterministic: arcs are scanned in insertion order.
   double solve(int source, int sink);
 
-  /// After solve: per node, 1 if it lies on the source side of the minimum cut (reachable from
-  /// the source in the residual graph), else 0.
+  /// After solve: per node, 1 if it lies on the source side of the minimum cut closest to the
+  /// source (the nodes any maximum flow leaves reachable from the source in the residual graph:
+  /// unique, so independent of the algorithm when the capacities add up exactly, e.g. multiples
+  /// of one power of two), else 0.
   const std::vector<char>& source_side() const { return reached_; }
 
  private:
-  bool levels_from(int source, int sink);
-  double augment_blocking(int source, int sink);
+  void global_relabel(int sink);
 
-  std::vector<int> head_, next_, to_, level_, current_;
-  std::vector<double> residual_;
+  std::vector<int> head_, next_, to_, label_, current_, queue_;
+  std::vector<double> residual_, excess_;
   std::vector<char> reached_;
 };
 
