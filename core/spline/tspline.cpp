@@ -1056,11 +1056,9 @@ Eigen::MatrixXd TSpline::evaluate_batch(const Eigen::MatrixX3d& uvw, TSplineForm
   return out;
 }
 
-// The results come out in cell order; each output row gathers its own (one read of D or 4D
-// consecutive doubles) so the writes to the column-major outputs run in row order.
-void TSpline::evaluate_batch(const Eigen::MatrixX3d& uvw, TSplineForm form, Eigen::MatrixXd& out) const {
+template <bool kJacobian, class Scatter>
+void TSpline::evaluate_chunks(const Eigen::MatrixX3d& uvw, TSplineForm form, Scatter&& scatter) const {
   const int D = dimension_;
-  out.resize(uvw.rows(), D);
   SortedRows sorted;
   std::vector<double> result;
   const bool rational = form == TSplineForm::Rational;
@@ -1068,18 +1066,28 @@ void TSpline::evaluate_batch(const Eigen::MatrixX3d& uvw, TSplineForm form, Eige
   for (Eigen::Index begin = 0; begin < uvw.rows(); begin += chunk) {
     const Eigen::Index end = std::min(uvw.rows(), begin + chunk);
     sort_rows(uvw, begin, end, sorted);
-    result.resize(std::size_t(end - begin) * D);
+    result.resize(std::size_t(end - begin) * (kJacobian ? 4 : 1) * D);
     double* r = result.data();
     switch (D) {
-      case 1: rational ? evaluate_sorted<1, true, false>(sorted, r) : evaluate_sorted<1, false, false>(sorted, r); break;
-      case 2: rational ? evaluate_sorted<2, true, false>(sorted, r) : evaluate_sorted<2, false, false>(sorted, r); break;
-      case 3: rational ? evaluate_sorted<3, true, false>(sorted, r) : evaluate_sorted<3, false, false>(sorted, r); break;
-      default: rational ? evaluate_sorted<4, true, false>(sorted, r) : evaluate_sorted<4, false, false>(sorted, r); break;
+      case 1: rational ? evaluate_sorted<1, true, kJacobian>(sorted, r) : evaluate_sorted<1, false, kJacobian>(sorted, r); break;
+      case 2: rational ? evaluate_sorted<2, true, kJacobian>(sorted, r) : evaluate_sorted<2, false, kJacobian>(sorted, r); break;
+      case 3: rational ? evaluate_sorted<3, true, kJacobian>(sorted, r) : evaluate_sorted<3, false, kJacobian>(sorted, r); break;
+      default: rational ? evaluate_sorted<4, true, kJacobian>(sorted, r) : evaluate_sorted<4, false, kJacobian>(sorted, r); break;
     }
+    scatter(begin, end, sorted, static_cast<const double*>(r));
+  }
+}
+
+// The results come out in cell order; each output row gathers its own (one read of D or 4D
+// consecutive doubles) so the writes to the column-major outputs run in row order.
+void TSpline::evaluate_batch(const Eigen::MatrixX3d& uvw, TSplineForm form, Eigen::MatrixXd& out) const {
+  const int D = dimension_;
+  out.resize(uvw.rows(), D);
+  evaluate_chunks<false>(uvw, form, [&](Eigen::Index begin, Eigen::Index end, const SortedRows& sorted, const double* r) {
     for (int d = 0; d < D; ++d) {
       for (Eigen::Index i = begin; i < end; ++i) out(i, d) = r[std::size_t(sorted.rank[i - begin]) * D + d];
     }
-  }
+  });
 }
 
 void TSpline::evaluate_batch_with_jacobian(const Eigen::MatrixX3d& uvw, TSplineForm form, Eigen::MatrixXd& values,
@@ -1087,27 +1095,13 @@ void TSpline::evaluate_batch_with_jacobian(const Eigen::MatrixX3d& uvw, TSplineF
   const int D = dimension_;
   values.resize(uvw.rows(), D);
   jacobians.resize(uvw.rows(), 3 * D);
-  SortedRows sorted;
-  std::vector<double> result;
-  const bool rational = form == TSplineForm::Rational;
-  const Eigen::Index chunk = batch_chunk(cells_.size());
-  for (Eigen::Index begin = 0; begin < uvw.rows(); begin += chunk) {
-    const Eigen::Index end = std::min(uvw.rows(), begin + chunk);
-    sort_rows(uvw, begin, end, sorted);
-    result.resize(std::size_t(end - begin) * 4 * D);
-    double* r = result.data();
-    switch (D) {
-      case 1: rational ? evaluate_sorted<1, true, true>(sorted, r) : evaluate_sorted<1, false, true>(sorted, r); break;
-      case 2: rational ? evaluate_sorted<2, true, true>(sorted, r) : evaluate_sorted<2, false, true>(sorted, r); break;
-      case 3: rational ? evaluate_sorted<3, true, true>(sorted, r) : evaluate_sorted<3, false, true>(sorted, r); break;
-      default: rational ? evaluate_sorted<4, true, true>(sorted, r) : evaluate_sorted<4, false, true>(sorted, r); break;
-    }
+  evaluate_chunks<true>(uvw, form, [&](Eigen::Index begin, Eigen::Index end, const SortedRows& sorted, const double* r) {
     for (Eigen::Index i = begin; i < end; ++i) {
       const double* p = r + std::size_t(sorted.rank[i - begin]) * 4 * D;
       for (int d = 0; d < D; ++d) values(i, d) = p[d];
       for (int c = 0; c < 3 * D; ++c) jacobians(i, c) = p[D + c];
     }
-  }
+  });
 }
 
 template <int D>

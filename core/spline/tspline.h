@@ -223,6 +223,10 @@ class TSpline {
   // Writes `channels` = D (or 4D with the Jacobian) doubles per sorted position to out.
   template <int D, bool kRational, bool kJacobian>
   void evaluate_sorted(const SortedRows& sorted, double* out) const;
+  // The batch's rows chunk by chunk: sorted, evaluated (D or 4D doubles per sorted position), then
+  // scatter(begin, end, sorted, results) writes rows [begin, end) out.
+  template <bool kJacobian, class Scatter>
+  void evaluate_chunks(const Eigen::MatrixX3d& uvw, TSplineForm form, Scatter&& scatter) const;
   template <int D>
   void evaluate_lattice_impl(const std::array<std::vector<double>, 3>& coords,
                              const std::function<void(int, int, int, const double*, const double*)>& visit) const;
