@@ -936,7 +936,8 @@ Eigen::MatrixXd TSpline::jacobian(const Eigen::Vector3d& uvw, TSplineForm form) 
 void TSpline::sort_rows(const Eigen::MatrixX3d& uvw, Eigen::Index begin, Eigen::Index end,
                         SortedRows& sorted) const {
   const std::size_t m = static_cast<std::size_t>(end - begin);
-  if (end > Eigen::Index(std::numeric_limits<std::uint32_t>::max())) {
+  // Compared in 64 bits: Eigen::Index is 32-bit on wasm32, where 2^32 - 1 does not fit it.
+  if (static_cast<std::uint64_t>(end) > std::numeric_limits<std::uint32_t>::max()) {
     throw Error("T-spline: a batch of more than 2^32 - 1 rows");
   }
   sorted.cell.resize(m);
