@@ -15,52 +15,101 @@ int edge_between(const mesh::HalfedgeMesh& mesh, int a, int b) {
   return -1;
 }
 
-std::vector<int> path_to_nearest(const mesh::HalfedgeMesh& mesh, const std::vector<double>& length, int source,
-                                 const std::vector<char>& is_target, const std::vector<char>& blocked,
-                                 const std::function<bool(int)>& edge_ok) {
-  const int n = mesh.num_vertices();
-  std::vector<double> distance(n, std::numeric_limits<double>::infinity());
-  std::vector<int> predecessor(n, -1);
-  std::vector<char> settled(n, 0);
+namespace {
+
+// Per-vertex state of one search, kept between calls on this thread: a search touches a small
+// part of a large mesh, so it resets what it touched instead of allocating O(n) per call
+// (the T-shape layout traces hundreds of seams on one pants).
+struct SearchScratch {
+  std::vector<double> distance;  // +∞ where untouched
+  std::vector<int> predecessor;  // −1 where untouched
+  std::vector<char> settled;     // 0 where untouched
+  std::vector<int> touched;
+
+  void prepare(int n) {
+    if (static_cast<int>(distance.size()) < n) {
+      distance.resize(n, std::numeric_limits<double>::infinity());
+      predecessor.resize(n, -1);
+      settled.resize(n, 0);
+    }
+  }
+  void touch(int v) {
+    if (predecessor[v] < 0 && !settled[v] && distance[v] == std::numeric_limits<double>::infinity())
+      touched.push_back(v);
+  }
+  // The path from the search's source to `end`, then every touched entry reset.
+  std::vector<int> finish(int end) {
+    std::vector<int> path;
+    if (end >= 0) {
+      for (int v = end; v != -1; v = predecessor[v]) path.push_back(v);
+      std::reverse(path.begin(), path.end());
+    }
+    for (int v : touched) {
+      distance[v] = std::numeric_limits<double>::infinity();
+      predecessor[v] = -1;
+      settled[v] = 0;
+    }
+    touched.clear();
+    return path;
+  }
+};
+
+SearchScratch& scratch(int n) {
+  thread_local SearchScratch s;
+  s.prepare(n);
+  return s;
+}
+
+// Dijkstra from source to the first settled vertex other than source for which is_target(v)
+// holds; vertices enter if unblocked or targets.
+template <class IsTarget>
+std::vector<int> dijkstra_to(const mesh::HalfedgeMesh& mesh, const std::vector<double>& length, int source,
+                             const IsTarget& is_target, const std::vector<char>& blocked,
+                             const std::function<bool(int)>& edge_ok) {
+  SearchScratch& w = scratch(mesh.num_vertices());
   using Entry = std::pair<double, int>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
-  distance[source] = 0.0;
+  w.touch(source);
+  w.distance[source] = 0.0;
   queue.push({0.0, source});
   int reached = -1;
   while (!queue.empty()) {
     const auto [d, u] = queue.top();
     queue.pop();
-    if (settled[u]) continue;
-    settled[u] = 1;
-    if (u != source && is_target[u]) {
+    if (w.settled[u]) continue;
+    w.settled[u] = 1;
+    if (u != source && is_target(u)) {
       reached = u;
       break;
     }
     for (int h : mesh.vertex_outgoing(u)) {
       const int v = mesh.halfedge_vertex(h);
-      if (settled[v] || (blocked[v] && !is_target[v])) continue;
+      if (w.settled[v] || (blocked[v] && !is_target(v))) continue;
       if (edge_ok && !edge_ok(h)) continue;
       const double candidate = d + length[mesh.halfedge_edge(h)];
-      if (candidate < distance[v]) {
-        distance[v] = candidate;
-        predecessor[v] = u;
+      if (candidate < w.distance[v]) {
+        w.touch(v);
+        w.distance[v] = candidate;
+        w.predecessor[v] = u;
         queue.push({candidate, v});
       }
     }
   }
-  std::vector<int> path;
-  if (reached < 0) return path;
-  for (int v = reached; v != -1; v = predecessor[v]) path.push_back(v);
-  std::reverse(path.begin(), path.end());
-  return path;
+  return w.finish(reached);
+}
+
+}  // namespace
+
+std::vector<int> path_to_nearest(const mesh::HalfedgeMesh& mesh, const std::vector<double>& length, int source,
+                                 const std::vector<char>& is_target, const std::vector<char>& blocked,
+                                 const std::function<bool(int)>& edge_ok) {
+  return dijkstra_to(mesh, length, source, [&](int v) { return is_target[v] != 0; }, blocked, edge_ok);
 }
 
 std::vector<int> restricted_path(const mesh::HalfedgeMesh& mesh, const std::vector<double>& length,
                                  int source, int target, const std::vector<char>& blocked,
                                  const std::function<bool(int)>& edge_ok) {
-  std::vector<char> is_target(mesh.num_vertices(), 0);
-  is_target[target] = 1;
-  return path_to_nearest(mesh, length, source, is_target, blocked, edge_ok);
+  return dijkstra_to(mesh, length, source, [target](int v) { return v == target; }, blocked, edge_ok);
 }
 
 double straight_line_bound(const mesh::HalfedgeMesh& mesh, const std::vector<double>& length) {
@@ -83,40 +132,36 @@ std::vector<int> guided_path(const mesh::HalfedgeMesh& mesh, const std::vector<d
   // The margin keeps the estimate consistent through the rounding of the distances.
   const double scale = bound * (1.0 - 1e-9);
   auto estimate = [&](int v) { return scale * (mesh.vertex_position(v) - goal).norm(); };
-  std::vector<double> distance(n, std::numeric_limits<double>::infinity());
-  std::vector<int> predecessor(n, -1);
-  std::vector<char> settled(n, 0);
+  SearchScratch& w = scratch(n);
   using Entry = std::pair<double, int>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
-  distance[source] = 0.0;
+  w.touch(source);
+  w.distance[source] = 0.0;
   queue.push({estimate(source), source});
   bool reached = false;
   while (!queue.empty()) {
     const int u = queue.top().second;
     queue.pop();
-    if (settled[u]) continue;
-    settled[u] = 1;
+    if (w.settled[u]) continue;
+    w.settled[u] = 1;
     if (u == target && u != source) {
       reached = true;
       break;
     }
     for (int h : mesh.vertex_outgoing(u)) {
       const int v = mesh.halfedge_vertex(h);
-      if (settled[v] || (blocked[v] && v != target)) continue;
+      if (w.settled[v] || (blocked[v] && v != target)) continue;
       if (edge_ok && !edge_ok(h)) continue;
-      const double candidate = distance[u] + length[mesh.halfedge_edge(h)];
-      if (candidate < distance[v]) {
-        distance[v] = candidate;
-        predecessor[v] = u;
+      const double candidate = w.distance[u] + length[mesh.halfedge_edge(h)];
+      if (candidate < w.distance[v]) {
+        w.touch(v);
+        w.distance[v] = candidate;
+        w.predecessor[v] = u;
         queue.push({candidate + estimate(v), v});
       }
     }
   }
-  std::vector<int> path;
-  if (!reached) return path;
-  for (int v = target; v != -1; v = predecessor[v]) path.push_back(v);
-  std::reverse(path.begin(), path.end());
-  return path;
+  return w.finish(reached ? target : -1);
 }
 
 int face_components(const mesh::HalfedgeMesh& mesh, const std::vector<char>& cut_edge,

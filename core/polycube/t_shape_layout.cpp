@@ -17,20 +17,32 @@ namespace volspline::polycube {
 namespace {
 
 // Edge lengths that make paths keep off the vertices next to the used ones (×4 for an edge that
-// touches such a vertex), so that cut paths leave room between them for the later paths.
-std::vector<double> repelled(const mesh::HalfedgeMesh& mesh, const std::vector<double>& length,
-                             const std::vector<char>& used) {
-  std::vector<char> near(mesh.num_vertices(), 0);
-  for (int v = 0; v < mesh.num_vertices(); ++v)
-    if (used[v])
-      for (int u : mesh.vertex_neighbors(v)) near[u] = 1;
-  std::vector<double> out = length;
-  for (int e = 0; e < mesh.num_edges(); ++e) {
-    const auto ends = mesh.edge_vertices(e);
-    if (near[ends[0]] || near[ends[1]]) out[e] *= 4.0;
+// touches such a vertex), so that cut paths leave room between them for the later paths. Kept
+// up to date as paths are added: each costs its own neighbourhood, not a pass over the mesh.
+class RepelledLengths {
+ public:
+  RepelledLengths(const mesh::HalfedgeMesh& mesh, const std::vector<double>& length)
+      : mesh_(mesh), length_(length), out_(length), near_(mesh.num_vertices(), 0) {}
+  const std::vector<double>& lengths() const { return out_; }
+  // Marks the vertices of `path` used: the edges at their neighbours are repelled.
+  void add(const std::vector<int>& path) {
+    for (int v : path)
+      for (int u : mesh_.vertex_neighbors(v)) {
+        if (near_[u]) continue;
+        near_[u] = 1;
+        for (int h : mesh_.vertex_outgoing(u)) {
+          const int e = mesh_.halfedge_edge(h);
+          out_[e] = length_[e] * 4.0;
+        }
+      }
   }
-  return out;
-}
+
+ private:
+  const mesh::HalfedgeMesh& mesh_;
+  const std::vector<double>& length_;
+  std::vector<double> out_;
+  std::vector<char> near_;
+};
 
 std::vector<int> reversed(std::vector<int> p) {
   std::reverse(p.begin(), p.end());
@@ -135,7 +147,7 @@ bool lay_out_t_shape(mesh::TriangleMesh& pants_mesh, std::vector<int>& face_orig
     }
     Seams s;
     std::vector<char> blocked = on_loop;
-    std::vector<char> used(n, 0);
+    RepelledLengths repelled(pants, length);
     std::vector<char> cut(pants.num_edges(), 0);
     bool ok = true;
     for (const auto& [i, j] : {std::make_pair(0, 1), std::make_pair(0, 2), std::make_pair(1, 2)}) {
@@ -143,16 +155,18 @@ bool lay_out_t_shape(mesh::TriangleMesh& pants_mesh, std::vector<int>& face_orig
       // A strip's boundary runs along i from ai[0] to ai[1], then to j: seams ai[1] → aj[0], aj[1] → ai[0].
       const std::array<std::array<int, 2>, 2> ends = {{{ai[1], aj[0]}, {ai[0], aj[1]}}};
       for (int q = 0; q < 2 && ok; ++q) {
-        std::vector<int> path =
-            restricted_path(pants, repelled(pants, length, used), ends[q][0], ends[q][1], blocked, nullptr);
+        std::vector<int> path = restricted_path(pants, repelled.lengths(), ends[q][0], ends[q][1], blocked, nullptr);
         if (path.size() < 3) {
           ok = false;
           break;
         }
-        for (int v : path) blocked[v] = used[v] = 1;
+        for (int v : path) blocked[v] = 1;
+        repelled.add(path);
         mark_path_edges(pants, path, cut);
         s.length += path_length(pants, path);
         s.seam[{i, j}][q] = std::move(path);
+        // Seam lengths are positive: a trial already as long as the best cannot win.
+        ok = s.length < best.length;
       }
       if (!ok) break;
     }
