@@ -242,6 +242,11 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
   stats.cuboid_grid_min_scaled_jacobian = result.map.cuboid_grid_min_scaled_jacobian;
   for (char p : result.map.hex_mesh.padding) stats.padding_hexes += p;
   stats.interface_gap_rel = result.map.interface_gap_rel;
+  const std::vector<double> ratios = polycube::face_area_ratios(result.construction);
+  if (!ratios.empty()) {
+    stats.face_area_ratio_min = *std::min_element(ratios.begin(), ratios.end());
+    stats.face_area_ratio_max = *std::max_element(ratios.begin(), ratios.end());
+  }
   stats.shared_nodes = result.map.shared_nodes;
   for (const param::GpcCuboidGrid& g : result.map.grids) stats.grid_nodes += g.nodes[0] * g.nodes[1] * g.nodes[2];
   stats.surface_vertices = result.surface.num_vertices();

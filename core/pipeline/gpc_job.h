@@ -55,6 +55,9 @@ struct GpcStats {
   double cuboid_grid_min_scaled_jacobian = 1.0;
   int padding_hexes = 0;                     ///< hexes of the padding layer (0 with it off)
   double interface_gap_rel = 0.0;
+  /// polycube::face_area_ratios over the surface faces: least and largest (1 = balanced layout)
+  double face_area_ratio_min = 1.0;
+  double face_area_ratio_max = 1.0;
   int grid_nodes = 0;
   int shared_nodes = 0;
   int cut_disc_intersections = 0;  ///< meridian certificate: disc–surface/disc–disc crossings (must be 0)

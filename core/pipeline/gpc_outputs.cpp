@@ -44,6 +44,8 @@ std::string gpc_stats_json(const GpcStats& s, const std::string& input) {
   j["cuboid_grid_min_scaled_jacobian"] = s.cuboid_grid_min_scaled_jacobian;
   j["padding_hexes"] = s.padding_hexes;
   j["interface_gap_rel"] = s.interface_gap_rel;
+  j["face_area_ratio_min"] = s.face_area_ratio_min;
+  j["face_area_ratio_max"] = s.face_area_ratio_max;
   j["grid_nodes"] = s.grid_nodes;
   j["shared_nodes"] = s.shared_nodes;
   j["cut_disc_intersections"] = s.cut_disc_intersections;

@@ -837,4 +837,33 @@ GpcConstruction build_gpc(SolidDecomposition& d, double bbox_diagonal, const std
   return out;
 }
 
+std::vector<double> face_area_ratios(const GpcConstruction& construction) {
+  std::vector<double> region, domain;
+  double region_total = 0.0, domain_total = 0.0;
+  for (std::size_t c = 0; c < construction.surfaces.size(); ++c) {
+    const CuboidSurface& cs = construction.surfaces[c];
+    const GpcCuboid& cuboid = construction.domain.cuboids[c];
+    std::array<double, num_cube_faces> area{};
+    for (int t = 0; t < cs.mesh.num_faces(); ++t) {
+      if (cs.surface_face[t] < 0 || cs.layout.face_region[t] < 0) continue;
+      const Eigen::Vector3d a = cs.mesh.positions.row(cs.mesh.triangles(t, 0)).transpose();
+      const Eigen::Vector3d b = cs.mesh.positions.row(cs.mesh.triangles(t, 1)).transpose();
+      const Eigen::Vector3d d = cs.mesh.positions.row(cs.mesh.triangles(t, 2)).transpose();
+      area[cs.layout.face_region[t]] += 0.5 * (b - a).cross(d - a).norm();
+    }
+    for (int f = 0; f < num_cube_faces; ++f) {
+      if (cuboid.face_interface[f] >= 0) continue;
+      const double face = cuboid.size[(f / 2 + 1) % 3] * cuboid.size[(f / 2 + 2) % 3];
+      region.push_back(area[f]);
+      domain.push_back(face);
+      region_total += area[f];
+      domain_total += face;
+    }
+  }
+  std::vector<double> ratio(region.size(), 0.0);
+  for (std::size_t k = 0; k < region.size(); ++k)
+    if (region_total > 0.0 && domain[k] > 0.0) ratio[k] = (region[k] / region_total) / (domain[k] / domain_total);
+  return ratio;
+}
+
 }  // namespace volspline::polycube

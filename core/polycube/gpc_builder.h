@@ -47,4 +47,11 @@ struct GpcConstruction {
 GpcConstruction build_gpc(SolidDecomposition& decomposition, double bbox_diagonal,
                           const std::vector<int>& solid_corners = {}, bool merge_cuboids = true);
 
+/// How evenly the layout spreads the surface over the domain's faces (§3.4.1: the surface map
+/// of a face is uniform only if its region and its domain face are alike): per cuboid face on
+/// the surface, in cuboid then face order, the area share of its surface region (of the whole
+/// surface) over the area share of its domain face (of all surface faces of the domain). 1 for
+/// a balanced face; a sliver region on a wide face is far below 1 and crowds its grid nodes.
+std::vector<double> face_area_ratios(const GpcConstruction& construction);
+
 }  // namespace volspline::polycube

@@ -2,7 +2,7 @@
 expect 0 "$BIN" gpc --help
 contains "$TMP/out" "gpc MESH -o DOMAIN.json"
 expect 0 "$BIN" gpc "$DATA/meshes/torus.off" -o "$TMP/g.json" --glb "$TMP/g.glb" --vtk "$TMP/g.vtu" --stats-json "$TMP/g_stats.json" --quiet
-has_keys "$TMP/g_stats.json" genus t_shapes tubes caps cuboids ill_points flipped_triangles grid_inverted_hexes grid_min_scaled_jacobian interface_gap_rel times_s
+has_keys "$TMP/g_stats.json" genus t_shapes tubes caps cuboids ill_points flipped_triangles grid_inverted_hexes grid_min_scaled_jacobian interface_gap_rel face_area_ratio_min face_area_ratio_max times_s
 contains "$TMP/g_stats.json" "\"genus\": 1"
 contains "$TMP/g_stats.json" "\"cuboids\": 1"
 contains "$TMP/g_stats.json" "\"ill_points\": 0"
@@ -16,6 +16,10 @@ same_bytes "$TMP/g.json" "$TMP/g2.json" "gpc output differs between two runs"
 # Genus 0 is one cuboid; the count comes from the decomposition, a coarse grid shows it.
 expect 0 "$BIN" gpc "$DATA/meshes/sphere.off" -o "$TMP/gs.json" --stats-json "$TMP/gs_stats.json" --grid-nodes 2000 --quiet
 contains "$TMP/gs_stats.json" "\"cuboids\": 1"
+# The layout's balance: a cube is laid out on its own faces, every face's area share equals its
+# domain face's (ratio 1).
+expect 0 "$BIN" gpc "$DATA/meshes/cube.off" -o "$TMP/gc.json" --stats-json "$TMP/gc_stats.json" --grid-nodes 2000 --quiet
+expect 0 python3 -c "import json, sys; s = json.load(open(sys.argv[1])); sys.exit(0 if abs(s['face_area_ratio_min'] - 1) < 1e-9 and abs(s['face_area_ratio_max'] - 1) < 1e-9 else 1)" "$TMP/gc_stats.json"
 printf 'OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n' > "$TMP/gopen.off"
 expect 2 "$BIN" gpc "$TMP/gopen.off" -o "$TMP/go.json" --quiet
 contains "$TMP/err" "not closed"
