@@ -10,6 +10,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
+#include <Eigen/SVD>
 
 #include "core/common/error.h"
 #include "core/mesh/halfedge_mesh.h"
@@ -36,6 +37,12 @@ namespace {
 
 // Meshes with at least this many vertices are fitted at their vertices only (no face centroids).
 constexpr int kDenseMeshVertices = 8000;
+// Automatic cuboid layouts whose surface maps choose_layout compares, and how much less
+// anisotropic (root mean square of log(σ_max / σ_min)) another's map must be to replace the
+// first (farthest-apart corners): bunny's and armadillo's first layouts squeeze a limb (0.21 and
+// 0.26 above the best); sphere's and bimba's differ by 0.01-0.02, which does not predict the fit.
+constexpr int kLayoutCandidates = 6;
+constexpr double kLayoutAnisotropyMargin = 0.1;
 
 void check_options(const Mesh2SplineOptions& o) {
   auto fail = [](const std::string& what) { throw Error("mesh2spline: " + what); };
@@ -374,6 +381,74 @@ Eigen::Vector3d cuboid_dims(const mesh::HalfedgeMesh& hm, const polycube::Cuboid
   return dims.cwiseMax(1e-3 * dims.maxCoeff());
 }
 
+// Area-weighted root mean square over the triangles of log(σ_max / σ_min), the anisotropy of the
+// surface map (§3.4.1) onto the cuboid's faces scaled to `dims`: 0 for a conformal map.
+double surface_map_anisotropy(const mesh::HalfedgeMesh& hm, const param::CuboidSurfaceMap& map,
+                              const Eigen::Vector3d& dims) {
+  double total = 0.0, sum = 0.0;
+  for (int f = 0; f < hm.num_faces(); ++f) {
+    const auto vs = hm.face_vertices(f);
+    const int a = map.face_region[f] / 2, b1 = (a + 1) % 3, b2 = (a + 2) % 3;
+    const Eigen::Vector3d e1 = hm.vertex_position(vs[1]) - hm.vertex_position(vs[0]);
+    const Eigen::Vector3d e2 = hm.vertex_position(vs[2]) - hm.vertex_position(vs[0]);
+    const Eigen::Vector3d normal = e1.cross(e2);
+    const double area = 0.5 * normal.norm();
+    if (!(area > 0.0)) continue;
+    const Eigen::Vector3d x = e1.normalized(), y = normal.normalized().cross(x);
+    Eigen::Matrix2d p, q;
+    p << e1.dot(x), e2.dot(x), e1.dot(y), e2.dot(y);
+    for (int k = 0; k < 2; ++k) {
+      const int v = vs[k + 1];
+      q(0, k) = (map.uvw(v, b1) - map.uvw(vs[0], b1)) * dims(b1);
+      q(1, k) = (map.uvw(v, b2) - map.uvw(vs[0], b2)) * dims(b2);
+    }
+    const Eigen::Vector2d sigma = Eigen::JacobiSVD<Eigen::Matrix2d>(q * p.inverse()).singularValues();
+    if (!(sigma(1) > 0.0)) return std::numeric_limits<double>::infinity();
+    const double log_ratio = std::log(sigma(0) / sigma(1));
+    sum += area * log_ratio * log_ratio;
+    total += area;
+  }
+  return total > 0.0 ? std::sqrt(sum / total) : std::numeric_limits<double>::infinity();
+}
+
+// The cuboid layout: the user's corners, or among the automatic candidates (§3.3 cuboid corners)
+// the one whose plain convex-combination surface map (§3.4.1, no area balancing) is least
+// anisotropic, if clearly so (kLayoutAnisotropyMargin). Thin protrusions (bunny's ears) whose cuboid corner's three faces run up the
+// protrusion squeeze those faces into strips tens of times longer than wide, where the fitted
+// spline folds; the anisotropy tells such layouts apart for about 0.05 s per candidate.
+polycube::CuboidLayout choose_layout(const mesh::HalfedgeMesh& hm, const Mesh2SplineOptions& options,
+                                     const Progress& progress) {
+  if (!options.corners.empty()) {
+    polycube::CuboidLayoutOptions layout_options;
+    layout_options.corners = options.corners;
+    return polycube::compute_cuboid_layout(hm, layout_options, progress);
+  }
+  std::vector<polycube::CuboidLayout> layouts =
+      polycube::candidate_cuboid_layouts(hm, kLayoutCandidates, job_share(progress, 0.0, 0.5));
+  if (layouts.size() == 1) return std::move(layouts.front());
+  std::size_t best = 0;
+  double best_anisotropy = std::numeric_limits<double>::infinity(), first_anisotropy = best_anisotropy;
+  param::CuboidSurfaceMapOptions map_options;  // mean-value weights: bijective on any valid mesh
+  map_options.solver = param::SurfaceSolver::IncompleteCholesky;
+  for (std::size_t k = 0; k < layouts.size(); ++k) {
+    progress.report("cuboid layout", 0.5 + 0.5 * k / layouts.size());
+    double anisotropy = std::numeric_limits<double>::infinity();
+    try {
+      const param::CuboidSurfaceMap map = param::compute_cuboid_surface_map(hm, layouts[k], map_options);
+      anisotropy = surface_map_anisotropy(hm, map, cuboid_dims(hm, layouts[k]));
+    } catch (const Error&) {
+      // A candidate whose map fails (degenerate triangles) is not chosen; the job's own map
+      // reports the problem if the first candidate is kept.
+    }
+    if (k == 0) first_anisotropy = anisotropy;
+    if (anisotropy < best_anisotropy) {
+      best_anisotropy = anisotropy;
+      best = k;
+    }
+  }
+  return std::move(layouts[first_anisotropy > best_anisotropy + kLayoutAnisotropyMargin ? best : 0]);
+}
+
 // Level 0 alone must fit the control point budget; checked before the volumetric grid (which
 // grows with initial_cells³) is allocated.
 void check_level0_budget(const Eigen::Vector3d& dims, const Mesh2SplineOptions& options, const std::string& name) {
@@ -577,9 +652,7 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
   timer.end_stage("validate");
 
   progress.report("cuboid layout", 0.05);
-  polycube::CuboidLayoutOptions layout_options;
-  layout_options.corners = options.corners;
-  const polycube::CuboidLayout layout = polycube::compute_cuboid_layout(hm, layout_options, job_share(progress, 0.05, 0.1));
+  const polycube::CuboidLayout layout = choose_layout(hm, options, job_share(progress, 0.05, 0.1));
   std::copy(layout.corners.begin(), layout.corners.end(), stats.corners.begin());
   stats.min_corner_distance_rel = layout.min_corner_distance_rel;
   const Eigen::Vector3d dims = cuboid_dims(hm, layout);

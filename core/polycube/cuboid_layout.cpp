@@ -457,8 +457,9 @@ bool complete_cuboid_layout(const mesh::HalfedgeMesh& mesh, int band_axis,
   return false;
 }
 
-CuboidLayout compute_cuboid_layout(const mesh::HalfedgeMesh& mesh,
-                                   const CuboidLayoutOptions& options, const Progress& progress) {
+std::vector<CuboidLayout> candidate_cuboid_layouts(const mesh::HalfedgeMesh& mesh, int max_layouts,
+                                                   const Progress& progress) {
+  assert(max_layouts >= 1);
   const std::string name = "mesh '" + mesh.source_name() + "'";
   // The fraction of [lo, hi] that a step reports, as a fraction of the whole layout.
   const auto share = [&progress](double lo, double hi) {
@@ -467,29 +468,47 @@ CuboidLayout compute_cuboid_layout(const mesh::HalfedgeMesh& mesh,
       return true;
     });
   };
-  if (options.corners.empty()) {
-    // Extremal corners first; the box-corner choice is the fallback when their paths cannot be
-    // laid out (e.g. corners on long limbs). The first try has most of the bar: it usually works.
-    // The corner sets of the other frames follow, best first, up to kCornerCandidates: which
-    // set lays out depends on the pose (a limb may block the first set's band in one rotation).
-    std::string reasons;
-    for (bool nearest : {false, true}) {
-      const double lo = nearest ? 0.9 : 0.0, hi = nearest ? 1.0 : 0.9;
-      const std::vector<Corners> candidates = automatic_corners(mesh, nearest, share(lo, lo + 0.6 * (hi - lo)));
-      const int tries = std::min(static_cast<int>(candidates.size()), kCornerCandidates);
-      const double from = lo + 0.6 * (hi - lo), step = 0.4 * (hi - lo) / tries;
-      for (int k = 0; k < tries; ++k) {
-        CuboidLayout layout;
-        layout.corners = candidates[k];
-        std::string why;
-        if (layout_with_corners(mesh, layout, &why, share(from + k * step, from + (k + 1) * step))) {
+  // Extremal corners first; the box-corner choice is the fallback when their paths cannot be
+  // laid out (e.g. corners on long limbs). The first try has most of the bar: it usually works.
+  // The corner sets of the other frames follow, best first, up to kCornerCandidates: which
+  // set lays out depends on the pose (a limb may block the first set's band in one rotation).
+  std::vector<CuboidLayout> out;
+  std::string reasons;
+  for (bool nearest : {false, true}) {
+    const double lo = nearest ? 0.9 : 0.0, hi = nearest ? 1.0 : 0.9;
+    const std::vector<Corners> candidates = automatic_corners(mesh, nearest, share(lo, lo + 0.6 * (hi - lo)));
+    const int tries = std::min(static_cast<int>(candidates.size()), kCornerCandidates);
+    const double from = lo + 0.6 * (hi - lo), step = 0.4 * (hi - lo) / tries;
+    for (int k = 0; k < tries; ++k) {
+      CuboidLayout layout;
+      layout.corners = candidates[k];
+      bool seen = false;
+      for (const CuboidLayout& other : out) seen = seen || other.corners == layout.corners;
+      if (seen) continue;
+      std::string why;
+      if (layout_with_corners(mesh, layout, &why, share(from + k * step, from + (k + 1) * step))) {
+        out.push_back(std::move(layout));
+        if (static_cast<int>(out.size()) == max_layouts) {
           progress.report("cuboid layout", 1.0);
-          return layout;
+          return out;
         }
-        if (k == 0) reasons += (reasons.empty() ? "" : "; ") + why;
+      } else if (k == 0) {
+        reasons += (reasons.empty() ? "" : "; ") + why;
       }
     }
+  }
+  if (out.empty())
     throw Error(name + ": cannot lay out a cuboid: " + reasons + " (try other corners: `corners`)");
+  progress.report("cuboid layout", 1.0);
+  return out;
+}
+
+CuboidLayout compute_cuboid_layout(const mesh::HalfedgeMesh& mesh,
+                                   const CuboidLayoutOptions& options, const Progress& progress) {
+  const std::string name = "mesh '" + mesh.source_name() + "'";
+  if (options.corners.empty()) {
+    std::vector<CuboidLayout> layouts = candidate_cuboid_layouts(mesh, 1, progress);
+    return std::move(layouts.front());
   }
   CuboidLayout layout;
   if (options.corners.size() != num_cube_corners)

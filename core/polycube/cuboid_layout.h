@@ -60,6 +60,14 @@ struct CuboidLayoutOptions {
 CuboidLayout compute_cuboid_layout(const mesh::HalfedgeMesh& mesh,
                                    const CuboidLayoutOptions& options = {}, const Progress& progress = {});
 
+/// The automatic layouts of compute_cuboid_layout, in its order of preference: the corner sets
+/// of the candidate frames that can be laid out (distinct sets, extremal rule first), up to
+/// max_layouts (≥ 1); the first is compute_cuboid_layout's. A caller that can measure the
+/// layouts (e.g. by their surface maps) picks among them. Throws like compute_cuboid_layout
+/// when none can be laid out; progress as there.
+std::vector<CuboidLayout> candidate_cuboid_layouts(const mesh::HalfedgeMesh& mesh, int max_layouts,
+                                                   const Progress& progress = {});
+
 /// Completes a layout whose 8 corners are set (layout.corners): the 4 poly-edges around each end
 /// face of `band_axis` (cube faces 2·band_axis and 2·band_axis + 1) first, then the 4 edges along
 /// the band between them, each a Dijkstra shortest path avoiding the vertices already used unless

@@ -156,3 +156,21 @@ TEST_CASE("complete_cuboid_layout: a mirrored corner order is refused (its face 
   layout.corners = automatic.corners;
   CHECK(polycube::complete_cuboid_layout(m, 2, {}, layout, &why));
 }
+
+TEST_CASE("candidate_cuboid_layouts: distinct corner sets, each laid out, the first is compute_cuboid_layout's") {
+  const auto m = mesh::HalfedgeMesh::build(test::cube_sphere(6), "sphere");
+  const auto first = polycube::compute_cuboid_layout(m);
+  const auto layouts = polycube::candidate_cuboid_layouts(m, 6);
+  REQUIRE(!layouts.empty());
+  CHECK(layouts.size() <= 6);
+  CHECK(layouts.front().corners == first.corners);
+  CHECK(layouts.front().poly_edges == first.poly_edges);
+  for (std::size_t k = 0; k < layouts.size(); ++k) {
+    CHECK(std::set<int>(layouts[k].corners.begin(), layouts[k].corners.end()).size() == 8);
+    for (std::size_t j = 0; j < k; ++j) CHECK(layouts[j].corners != layouts[k].corners);
+    std::vector<int> count(6, 0);
+    for (int r : layouts[k].face_region) ++count[r];
+    CHECK(*std::min_element(count.begin(), count.end()) > 0);
+  }
+  CHECK(polycube::candidate_cuboid_layouts(m, 1).size() == 1);
+}
