@@ -71,8 +71,14 @@ int lbfgs(const UntangleProblem& problem, Eigen::VectorXd& x, double eps, int ma
     for (double t = 1.0; t > 1e-9; t *= 0.5) {
       x_new = x + t * d;
       const bool with_gradient = !line && t == 1.0;
-      f_new = line ? problem.line_energy(t, eps, nullptr) : problem.energy(x_new, eps, with_gradient ? &g_new : nullptr);
-      if (f_new <= f + 1e-4 * t * slope) {
+      const double bound = f + 1e-4 * t * slope;  // Armijo
+      if (line)
+        f_new = problem.line_energy(t, eps, nullptr);
+      else if (with_gradient || !problem.energy_below)
+        f_new = problem.energy(x_new, eps, with_gradient ? &g_new : nullptr);
+      else
+        f_new = problem.energy_below(x_new, eps, bound);
+      if (f_new <= bound) {
         accepted = true;
         if (line)
           f_new = problem.line_energy(t, eps, &g_new);
@@ -82,6 +88,7 @@ int lbfgs(const UntangleProblem& problem, Eigen::VectorXd& x, double eps, int ma
       }
     }
     if (!accepted) break;
+    if (problem.settle) problem.settle(x_new);
     const Eigen::VectorXd s = x_new - x, y = g_new - g;
     const double sy = s.dot(y);
     if (sy > 1e-12 * s.norm() * y.norm()) {

@@ -34,6 +34,14 @@ struct UntangleProblem {
   /// trial of the line search.
   std::function<void(const Eigen::VectorXd& x, const Eigen::VectorXd& d)> set_line;
   std::function<double(double t, double eps, Eigen::VectorXd* gradient)> line_energy;
+  /// Optional, for an energy that is a sum of nonnegative terms: energy_below(x, ε, bound)
+  /// equals energy(x, ε) when that is at most bound, and is some value above bound otherwise
+  /// (the sum may stop as soon as it passes bound): the line search's rejected trials need no more.
+  std::function<double(const Eigen::VectorXd& x, double eps, double bound)> energy_below;
+  /// Optional: settle(x) replaces an accepted L-BFGS iterate by an equivalent point, with the
+  /// energy and gradient of the last evaluation at x (e.g. sliding unknowns moved onto the
+  /// surface point they stand for), so that the next steps start from it.
+  std::function<void(Eigen::VectorXd& x)> settle;
 };
 
 /// Options of untangle.

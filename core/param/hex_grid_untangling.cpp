@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <memory>
 
@@ -104,12 +105,15 @@ class Energy {
         sliding_nodes_(sliding) {
     var_of_.assign(xyz.rows(), -1);
     for (std::size_t v = 0; v < free_.size(); ++v) var_of_[free_[v]] = static_cast<int>(v);
+    slide_of_var_.assign(free_.size(), -1);
     if (sliding)
       for (std::size_t v = 0; v < free_.size(); ++v)
         if (sliding->slides[free_[v]]) {
+          slide_of_var_[v] = static_cast<int>(sliding_.size());
           sliding_.push_back(static_cast<int>(v));
           slide_tangent_.push_back(Eigen::Matrix3d::Zero());
         }
+    projected_at_.assign(sliding_.size(), 0);
     flat_.resize(3 * static_cast<std::size_t>(xyz.rows()));
     for (Eigen::Index v = 0; v < xyz.rows(); ++v)
       for (int d = 0; d < 3; ++d) flat_[3 * v + d] = xyz(v, d);
@@ -148,6 +152,48 @@ class Energy {
       xyz_.row(free_[v]) = p.transpose();
       for (int d = 0; d < 3; ++d) flat_[3 * static_cast<std::size_t>(free_[v]) + d] = p(d);
     }
+  }
+
+  // The energy at x if it is at most bound, otherwise a value above bound: the sum over hexes
+  // (in evaluate's order, so the same bits) stops once it passes bound, every corner term being
+  // positive. Sliding nodes are projected as their first hex comes, so a stopped sum spares the
+  // projections of the hexes after it (their nodes keep the unprojected variables until the next
+  // evaluation).
+  double evaluate_below(const Eigen::VectorXd& x, double eps, double bound) {
+    for (std::size_t v = 0; v < free_.size(); ++v) {
+      xyz_.row(free_[v]) = x.segment<3>(3 * v).transpose();
+      for (int d = 0; d < 3; ++d) flat_[3 * static_cast<std::size_t>(free_[v]) + d] = x(3 * v + d);
+    }
+    ++evaluation_;
+    const double eps2 = eps * eps, theta = theta_;
+    double total = 0.0;
+    for (const Hex& hex : hexes_) {
+      double p[8][3];
+      for (int q = 0; q < 8; ++q) {
+        const int s = hex.var[q] >= 0 ? slide_of_var_[hex.var[q]] : -1;
+        if (s >= 0 && projected_at_[s] != evaluation_) {
+          projected_at_[s] = evaluation_;
+          const int v = sliding_[s];
+          const Eigen::Vector3d pr = sliding_nodes_->project(free_[v], x.segment<3>(3 * v), &slide_tangent_[s]);
+          xyz_.row(free_[v]) = pr.transpose();
+          for (int d = 0; d < 3; ++d) flat_[3 * static_cast<std::size_t>(free_[v]) + d] = pr(d);
+        }
+        const double* src = flat_.data() + 3 * static_cast<std::size_t>(hex.node[q]);
+        p[q][0] = src[0], p[q][1] = src[1], p[q][2] = src[2];
+      }
+      double e[8];
+      hex_corner_terms(p, inv_h_, eps2, theta, hex.corners, e, nullptr);
+      for (int c = 0; c < 8; ++c)
+        if (hex.corners & (1u << c)) total += e[c];
+      if (total > bound) return total;
+    }
+    return total;
+  }
+
+  // The sliding nodes' variables set to the points the last evaluation projected them to (the
+  // same energy and gradient): HexGridUntangleOptions::settle_sliding.
+  void settle(Eigen::VectorXd& x) const {
+    for (int v : sliding_) x.segment<3>(3 * v) = xyz_.row(free_[v]).transpose();
   }
 
   // Smallest normalized corner determinant at the current positions.
@@ -225,6 +271,9 @@ class Energy {
   mesh::Positions& xyz_;
   std::vector<int> var_of_;
   std::vector<int> sliding_;                   // variables of sliding nodes
+  std::vector<int> slide_of_var_;              // per variable: its index in sliding_, or −1
+  std::vector<std::uint64_t> projected_at_;    // per sliding node: the evaluate_below call that projected it last
+  std::uint64_t evaluation_ = 0;
   std::vector<Eigen::Matrix3d> slide_tangent_;  // projector onto each one's tangent space there
   std::vector<double> flat_;
   double inv_h_;
@@ -250,6 +299,10 @@ void continuation_round(const std::vector<std::array<int, 8>>& hex_nodes, const 
   std::unique_ptr<Energy> energy;
   UntangleProblem problem;
   problem.energy = [&](const Eigen::VectorXd& v, double eps, Eigen::VectorXd* g) { return energy->evaluate(v, eps, g); };
+  problem.energy_below = [&](const Eigen::VectorXd& v, double eps, double bound) {
+    return energy->evaluate_below(v, eps, bound);
+  };
+  if (sliding && options.settle_sliding) problem.settle = [&](Eigen::VectorXd& v) { energy->settle(v); };
   double eps = 0.0, previous_eps = 0.0, e_prev = 0.0, best_d_min = -std::numeric_limits<double>::infinity();
   int stalled = 0, best_count = std::numeric_limits<int>::max(), count_stalled = 0, count = 1;
   for (int step = 0; step < options.max_steps; ++step) {
@@ -494,6 +547,9 @@ int improve_hex_mesh(const std::vector<std::array<int, 8>>& hexes, const std::ve
   if (energy.min_det() <= 0.0) return 0;
   UntangleProblem problem;
   problem.energy = [&](const Eigen::VectorXd& v, double eps, Eigen::VectorXd* g) { return energy.evaluate(v, eps, g); };
+  problem.energy_below = [&](const Eigen::VectorXd& v, double eps, double bound) {
+    return energy.evaluate_below(v, eps, bound);
+  };
   Eigen::VectorXd x = energy.variables();
   const int done = minimize_lbfgs(problem, 1e-8, iterations, x);
   energy.set_variables(x);

@@ -24,6 +24,11 @@ struct HexGridUntangleOptions {
   int max_inner = 30;          ///< L-BFGS iterations per step, ≥ 1
   /// Weight θ of the volume term (det² + 1)/χ against the shape term tr(JᵀJ)/χ^(2/3), in [0, 1).
   double volume_weight = 0.5;
+  /// Sliding nodes: after every accepted L-BFGS step their unknowns are set to the surface
+  /// points they stand for. Off the surface, an unknown drifts into the wedge of an edge or vertex
+  /// of the surface mesh, where its projection no longer follows the tangent-plane gradient and
+  /// the line search backtracks on most steps; settled, the steps are far fewer, on another path.
+  bool settle_sliding = false;
 };
 
 /// Nodes of untangle_hex_mesh that slide on a surface or a curve: slides[v] flags node v;

@@ -154,3 +154,42 @@ TEST_CASE("untangle along prepared lines (linear Jacobians) takes the same steps
   // The same trials: only the rounding of J(x) + t·J_d against J(x + t·d) differs.
   CHECK((x - plain).norm() < 1e-9);
 }
+
+TEST_CASE("untangle with energy_below (the line search's trials bounded by Armijo's) takes the same steps") {
+  // Two independent corners, x = (corner 0, corner 1): the energy is the sum of their two terms.
+  const auto corner_energy = [](const Eigen::VectorXd& x, int c, double eps, Eigen::VectorXd* gradient) {
+    Eigen::Matrix3d g;
+    const double e = param::foldover_free_energy(corner_jacobian(x.segment<3>(3 * c)), eps, 0.5, gradient ? &g : nullptr);
+    if (gradient) gradient->segment<3>(3 * c) = -g.rowwise().sum();
+    return e;
+  };
+  param::UntangleProblem plain;
+  plain.energy = [&](const Eigen::VectorXd& x, double eps, Eigen::VectorXd* gradient) {
+    if (gradient) gradient->resize(6);
+    double e = 0.0;
+    for (int c = 0; c < 2; ++c) e += corner_energy(x, c, eps, gradient);
+    return e;
+  };
+  plain.min_det = [](const Eigen::VectorXd& x) {
+    return std::min(corner_jacobian(x.head<3>()).determinant(), corner_jacobian(x.tail<3>()).determinant());
+  };
+  param::UntangleProblem bounded = plain;
+  int calls = 0, stopped = 0;
+  // Past the bound, any value above it (here bound + 1, not the energy) must do.
+  bounded.energy_below = [&](const Eigen::VectorXd& x, double eps, double bound) {
+    ++calls;
+    const double e = plain.energy(x, eps, nullptr);
+    stopped += e > bound;
+    return e > bound ? bound + 1.0 : e;
+  };
+  Eigen::VectorXd start(6);
+  start << 0.8, 0.8, 0.8, 0.9, -0.3, 0.7;
+  Eigen::VectorXd x = start, y = start;
+  const int iterations = param::untangle(plain, x);
+  const int bounded_iterations = param::untangle(bounded, y);
+  CHECK(plain.min_det(x) > 0.0);
+  CHECK(calls > 0);
+  CHECK(stopped > 0);
+  CHECK(bounded_iterations == iterations);
+  CHECK(y == x);
+}

@@ -130,6 +130,7 @@ TEST_CASE("untangle_hex_mesh: sliding nodes unfold a folded surface quad and sta
       for (int i = 0; i < 3; ++i) xyz.row(i + 3 * (j + 3 * k)) << i, j, k;
   const int centre = 1 + 3 * 1;
   xyz.row(centre) << 1.0, 2.3, 0.0;
+  const mesh::Positions start = xyz;
   const Grid g = grid_hexes(n, 0);
   param::HexMesh mesh;
   mesh.xyz = xyz;
@@ -161,6 +162,19 @@ TEST_CASE("untangle_hex_mesh: sliding nodes unfold a folded surface quad and sta
   CHECK(param::hex_mesh_quality(mesh).num_inverted == 0);
   CHECK(param::hex_mesh_quality(mesh).min_scaled_jacobian >= before - 1e-12);
   CHECK(xyz(centre, 2) == 0.0);
+  // With the sliding unknowns set onto the surface after every step: unfolded too, on the plane.
+  param::HexGridUntangleOptions settled;
+  settled.settle_sliding = true;
+  mesh::Positions again = start, folded = start;
+  const param::HexGridUntangleReport report = param::untangle_hex_mesh(mesh.hexes, fixed, again, {}, settled, &sliding);
+  CHECK(report.initial_inverted > 0);
+  CHECK(report.final_inverted == 0);
+  mesh.xyz = again;
+  CHECK(param::hex_mesh_quality(mesh).num_inverted == 0);
+  CHECK(again(centre, 2) == 0.0);
+  // Deterministic.
+  param::untangle_hex_mesh(mesh.hexes, fixed, folded, {}, settled, &sliding);
+  CHECK(folded == again);
 }
 
 TEST_CASE("surface distance: the closest point and its triangle's normal") {
