@@ -43,3 +43,13 @@ expect 0 "$BIN" mesh2spline "$DATA/meshes/cube.off" -o "$TMP/c.json" --vtk "$TMP
 contains "$TMP/c.vtu" "NumberOfCells=\"216\""
 expect 2 "$BIN" mesh2spline "$DATA/meshes/cube.off" -o "$TMP/c.json" --vtk "$TMP/c.vtu" --vtk-linear 0 --quiet
 contains "$TMP/err" "--vtk-linear must be in 1..512"
+# Genus 0, automatic corners: of the candidate corner sets the one whose surface map is clearly
+# least anisotropic. Bunny's first set (farthest apart) holds cuboid corner (0,0,1) at an ear tip
+# (vertex 453) with poly-edges up both rims; the set taken has no corner there.
+expect 0 "$BIN" mesh2spline "$DATA/meshes/bunny_closed.obj" -o "$TMP/b.json" --stats-json "$TMP/b_stats.json" --max-levels 0 --no-untangle --quiet
+contains "$TMP/b_stats.json" "\"corners\""
+holds_453() { tr -d ' \n' < "$1" | grep -qE '"corners":\[([0-9]+,)*453[],]'; }
+if holds_453 "$TMP/b_stats.json"; then bad "bunny's layout holds the ear tip 453 as a corner"; else ok; fi
+printf '12807 7060 1586 379 453 12431 13283 3025\n' > "$TMP/bunny_first.txt"
+expect 0 "$BIN" mesh2spline "$DATA/meshes/bunny_closed.obj" -o "$TMP/b1.json" --stats-json "$TMP/b1_stats.json" --max-levels 0 --no-untangle --corners "$TMP/bunny_first.txt" --quiet
+if holds_453 "$TMP/b1_stats.json"; then ok; else bad "--corners with vertex 453 not kept"; fi
