@@ -30,7 +30,7 @@ std::string serialize_hex_mesh_vtu(const HexMeshView& mesh) {
     for (int c = 0; c < 8; ++c) x[c] = p.row(hex[c]).transpose();
     for (int c = 0; c < 8; ++c) connectivity.push_back(hex[order[c]]);
     offsets.push_back(static_cast<std::int64_t>(connectivity.size()));
-    quality.push_back(mesh.scaled_jacobian ? (*mesh.scaled_jacobian)[h] : mesh::hex_min_scaled_jacobian(x));
+    quality.push_back(mesh.scaled_jacobian ? (*mesh.scaled_jacobian)[h] : mesh::hex_scaled_jacobian(x));
     cuboid.push_back(static_cast<double>((*mesh.cuboid)[h]));
     if (mesh.padding) padding.push_back((*mesh.padding)[h] ? 1.0 : 0.0);
   }

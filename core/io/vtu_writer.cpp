@@ -44,7 +44,7 @@ std::string serialize_spline_vtu(const spline::TSpline& spline, const std::array
         }
         for (int c = 0; c < 8; ++c) connectivity.push_back(corner[order[c]]);
         offsets.push_back(std::int64_t(connectivity.size()));
-        quality.push_back(mesh::hex_min_scaled_jacobian(x));
+        quality.push_back(mesh::hex_scaled_jacobian(x));
       }
   VtkXmlWriter writer(compress);
   std::string body = "<Piece NumberOfPoints=\"" + std::to_string(num_points) + "\" NumberOfCells=\"" +

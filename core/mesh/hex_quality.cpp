@@ -26,6 +26,14 @@ double hex_min_scaled_jacobian(const std::array<Eigen::Vector3d, 8>& x) {
   return worst;
 }
 
+double hex_scaled_jacobian(const std::array<Eigen::Vector3d, 8>& x) {
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Zero();
+  for (int c = 0; c < 8; ++c)
+    for (int a = 0; a < 3; ++a)
+      if (!(c >> a & 1)) axes.col(a) += x[c | (1 << a)] - x[c];
+  return std::min(hex_min_scaled_jacobian(x), scaled_jacobian(axes));
+}
+
 HexGridQuality hex_grid_quality(const std::array<int, 3>& n, const Positions& xyz) {
   HexGridQuality out;
   for (int k = 0; k + 1 < n[2]; ++k)
@@ -34,7 +42,7 @@ HexGridQuality hex_grid_quality(const std::array<int, 3>& n, const Positions& xy
         std::array<Eigen::Vector3d, 8> corners;
         for (int c = 0; c < 8; ++c)
           corners[c] = xyz.row((i + (c & 1)) + n[0] * ((j + ((c >> 1) & 1)) + n[1] * (k + ((c >> 2) & 1)))).transpose();
-        const double q = hex_min_scaled_jacobian(corners);
+        const double q = hex_scaled_jacobian(corners);
         ++out.num_hexes;
         if (q <= 0.0) ++out.num_inverted;
         out.min_scaled_jacobian = std::min(out.min_scaled_jacobian, q);

@@ -17,10 +17,16 @@ double scaled_jacobian(const Eigen::Matrix3d& jacobian);
 /// corners x[c], c = i + 2j + 4k (the trilinear hex of a grid cell); ≤ 0 means folded.
 double hex_min_scaled_jacobian(const std::array<Eigen::Vector3d, 8>& x);
 
+/// The hex scaled Jacobian as VTK (vtkMeshQuality's HexScaledJacobian, after Verdict) and
+/// ParaView report it: hex_min_scaled_jacobian and, at the centre, the scaled Jacobian of the
+/// principal axes (the sums of the 4 edges along each axis), the least of the 9. The measure the
+/// stats and files report, so that they agree with what those tools show.
+double hex_scaled_jacobian(const std::array<Eigen::Vector3d, 8>& x);
+
 /// Hex counts of a structured grid: node (i, j, k) at row i + n0·(j + n1·k) of xyz.
 struct HexGridQuality {
   int num_hexes = 0;
-  int num_inverted = 0;            ///< hexes with hex_min_scaled_jacobian ≤ 0
+  int num_inverted = 0;            ///< hexes with hex_scaled_jacobian ≤ 0
   double min_scaled_jacobian = 1.0;
 };
 HexGridQuality hex_grid_quality(const std::array<int, 3>& nodes, const Positions& xyz);

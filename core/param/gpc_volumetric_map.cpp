@@ -52,6 +52,11 @@ Progress share_of(const Progress& progress, double lo, double hi) {
 constexpr double kCreaseAngleRad = 1.3;
 // Rounds of slide_and_raise while folds are left.
 constexpr int kSlideRounds = 3;
+// slide_and_raise's barrier pass: MinQualityOptions::barrier and its sweeps at most.
+constexpr double kBarrierMargin = 0.5;
+constexpr int kBarrierSweeps = 10;
+// slide_and_raise's MinQualityOptions::min_edge: this times each node's shortest edge on entry.
+constexpr double kMinEdgeShrink = 0.05;
 
 // The solid's surface as one triangle soup: the surface triangles of every cuboid's mesh.
 mesh::TriangleMesh whole_surface(const polycube::GpcConstruction& construction) {
@@ -136,11 +141,36 @@ int slide_and_raise(const polycube::GpcConstruction& construction, const std::ve
   // safety net against a node walking away (most moves stay far below it).
   quality.max_edge = longest_hex_edges(pm.hexes, pm.xyz);
   for (double& l : quality.max_edge) l *= 10.0;
+  // And a floor on each node's shortest edge: a twentieth of its entry value.
+  quality.min_edge = shortest_hex_edges(pm.hexes, pm.xyz);
+  for (double& l : quality.min_edge) l *= kMinEdgeShrink;
   // Rounds of raise, then untangle what stays folded (kept if no worse), then raise again.
   int untangled = 0;
+  bool spread = false;  // the barrier pass has been tried
   for (int round = 0; round < kSlideRounds; ++round) {
     const double lo = double(round) / kSlideRounds, hi = double(round + 1) / kSlideRounds;
-    raise_min_scaled_jacobian(pm.hexes, fixed, pm.xyz, quality, &sliding, share_of(progress, lo, lo + 0.7 * (hi - lo)));
+    if (!spread && hex_mesh_quality(pm).num_inverted == 0) {
+      // The first round without folds: the greedy raise alone, and a barrier pass followed by
+      // the greedy raise; the better of the two stays. The greedy ascent stops in local optima
+      // that depend on round-off (on the eight they differ between rotations of one layout); the
+      // barrier first moves all the poor hexes together.
+      spread = true;
+      const mesh::Positions start = pm.xyz;
+      raise_min_scaled_jacobian(pm.hexes, fixed, pm.xyz, quality, &sliding, share_of(progress, lo, lo + 0.3 * (hi - lo)));
+      const mesh::Positions greedy = pm.xyz;
+      const HexMeshQuality greedy_quality = hex_mesh_quality(pm);
+      pm.xyz = start;
+      MinQualityOptions barrier = quality;
+      barrier.barrier = kBarrierMargin;
+      barrier.max_sweeps = std::min(quality.max_sweeps, kBarrierSweeps);
+      raise_min_scaled_jacobian(pm.hexes, fixed, pm.xyz, barrier, &sliding, share_of(progress, lo + 0.3 * (hi - lo), lo + 0.4 * (hi - lo)));
+      raise_min_scaled_jacobian(pm.hexes, fixed, pm.xyz, quality, &sliding, share_of(progress, lo + 0.4 * (hi - lo), lo + 0.7 * (hi - lo)));
+      const HexMeshQuality spread_quality = hex_mesh_quality(pm);
+      if (spread_quality.num_inverted > 0 || !(spread_quality.min_scaled_jacobian > greedy_quality.min_scaled_jacobian))
+        pm.xyz = greedy;
+    } else {
+      raise_min_scaled_jacobian(pm.hexes, fixed, pm.xyz, quality, &sliding, share_of(progress, lo, lo + 0.7 * (hi - lo)));
+    }
     const int folded = hex_mesh_quality(pm).num_inverted;
     if (folded == 0) break;
     const mesh::Positions before = pm.xyz;

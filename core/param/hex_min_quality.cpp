@@ -28,7 +28,11 @@ constexpr int kStallSweeps = 20;
 constexpr double kMaxStretch = 3.0;
 
 // One corner of one hex that a node's position changes: hex h's corner c, and which of the
-// corner's 4 nodes the node is (0: the corner itself, a + 1: its neighbour along axis a).
+// corner's 4 nodes the node is (0: the corner itself, a + 1: its neighbour along axis a); or
+// the hex's centre (corner kCentre, mesh::hex_scaled_jacobian's principal axes), role the node's
+// place q in the hex.
+constexpr int kCentre = 8;
+constexpr int kTouchesPerHex = 5;
 struct Touch {
   int hex;
   int corner;
@@ -42,11 +46,21 @@ Eigen::Vector3d corner_edge(const std::array<int, 8>& hex, const mesh::Positions
   return (c >> a & 1) ? Eigen::Vector3d(-d) : d;
 }
 
-// Scaled Jacobian of a corner and, if asked, its gradient with respect to the node in `role`.
+// Scaled Jacobian of a corner (or the centre) and, if asked, its gradient with respect to the
+// node in `role`.
 double corner_value(const std::array<int, 8>& hex, const mesh::Positions& xyz, int c, int role,
                     Eigen::Vector3d* gradient) {
-  const std::array<Eigen::Vector3d, 3> e = {corner_edge(hex, xyz, c, 0), corner_edge(hex, xyz, c, 1),
-                                            corner_edge(hex, xyz, c, 2)};
+  std::array<Eigen::Vector3d, 3> e;
+  if (c == kCentre) {
+    // Principal axes: e_a = Σ (x[q | a-bit] − x[q]) over the 4 edges along axis a.
+    for (int a = 0; a < 3; ++a) {
+      e[a].setZero();
+      for (int q = 0; q < 8; ++q)
+        if (!(q >> a & 1)) e[a] += (xyz.row(hex[q | (1 << a)]) - xyz.row(hex[q])).transpose();
+    }
+  } else {
+    e = {corner_edge(hex, xyz, c, 0), corner_edge(hex, xyz, c, 1), corner_edge(hex, xyz, c, 2)};
+  }
   const std::array<double, 3> l2 = {e[0].squaredNorm(), e[1].squaredNorm(), e[2].squaredNorm()};
   const double length2 = l2[0] * l2[1] * l2[2];
   if (!(length2 > 0.0)) {
@@ -63,7 +77,11 @@ double corner_value(const std::array<int, 8>& hex, const mesh::Positions& xyz, i
       return cofactor * inv_length - (value / l2[a]) * e[a];
     };
     auto sign = [&](int a) { return (c >> a & 1) ? -1.0 : 1.0; };
-    if (role == 0) {
+    if (c == kCentre) {
+      // ∂e_a/∂x_q = +1 if node q is at the axis's far end, −1 at its near end.
+      gradient->setZero();
+      for (int a = 0; a < 3; ++a) *gradient += ((role >> a & 1) ? 1.0 : -1.0) * d_edge(a);
+    } else if (role == 0) {
       *gradient = -(sign(0) * d_edge(0) + sign(1) * d_edge(1) + sign(2) * d_edge(2));
     } else {
       const int a = role - 1;
@@ -108,6 +126,19 @@ std::vector<double> longest_hex_edges(const std::vector<std::array<int, 8>>& hex
   return longest;
 }
 
+std::vector<double> shortest_hex_edges(const std::vector<std::array<int, 8>>& hexes, const mesh::Positions& xyz) {
+  std::vector<double> shortest(xyz.rows(), std::numeric_limits<double>::infinity());
+  for (const auto& hex : hexes)
+    for (int c = 0; c < 8; ++c)
+      for (int a = 0; a < 3; ++a)
+        if (!(c >> a & 1)) {
+          const double l = (xyz.row(hex[c ^ (1 << a)]) - xyz.row(hex[c])).norm();
+          shortest[hex[c]] = std::min(shortest[hex[c]], l);
+          shortest[hex[c ^ (1 << a)]] = std::min(shortest[hex[c ^ (1 << a)]], l);
+        }
+  return shortest;
+}
+
 MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>& hexes, const std::vector<char>& fixed,
                                            mesh::Positions& xyz, const MinQualityOptions& options,
                                            const SlidingNodes* sliding, const Progress& progress) {
@@ -117,12 +148,14 @@ MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>
     throw Error("MinQualityOptions: target in (-1, 1], max_sweeps >= 1, first_step in (0, 1], halvings >= 0");
   if (!options.max_edge.empty() && static_cast<Eigen::Index>(options.max_edge.size()) != xyz.rows())
     throw Error("MinQualityOptions: max_edge has one value per node or none");
+  if (!options.min_edge.empty() && static_cast<Eigen::Index>(options.min_edge.size()) != xyz.rows())
+    throw Error("MinQualityOptions: min_edge has one value per node or none");
   const int n = static_cast<int>(xyz.rows());
   // Per node, the corners its position changes: in each of its hexes its own corner and the
   // corners of its three neighbours along the hex's edges.
   std::vector<int> touch_begin(n + 1, 0);
   for (const auto& hex : hexes)
-    for (int v : hex) touch_begin[v + 1] += 4;
+    for (int v : hex) touch_begin[v + 1] += kTouchesPerHex;
   for (int v = 0; v < n; ++v) touch_begin[v + 1] += touch_begin[v];
   std::vector<Touch> touches(touch_begin[n]);
   {
@@ -132,12 +165,13 @@ MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>
         const int v = hexes[h][q];
         touches[fill[v]++] = {static_cast<int>(h), q, 0};
         for (int a = 0; a < 3; ++a) touches[fill[v]++] = {static_cast<int>(h), q ^ (1 << a), a + 1};
+        touches[fill[v]++] = {static_cast<int>(h), kCentre, q};
       }
   }
   auto hex_value = [&](std::size_t h) {
     std::array<Eigen::Vector3d, 8> x;
     for (int q = 0; q < 8; ++q) x[q] = xyz.row(hexes[h][q]).transpose();
-    return mesh::hex_min_scaled_jacobian(x);
+    return mesh::hex_scaled_jacobian(x);
   };
   // True if every corner the node changes is above `floor` (stops at the first that is not);
   // order: the node's touches, the lowest corners first, so that a failing trial stops early.
@@ -147,20 +181,25 @@ MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>
       if (!(corner_value(hexes[touches[t].hex], xyz, touches[t].corner, touches[t].role, nullptr) > floor)) return false;
     return true;
   };
-  // Longest hex edge at a node (its own corners' three edges in each of its hexes).
-  auto longest_edge = [&](int v) {
-    double longest2 = 0.0;
-    for (int t = touch_begin[v]; t < touch_begin[v + 1]; ++t)
-      if (touches[t].role == 0)
-        for (int a = 0; a < 3; ++a)
-          longest2 = std::max(longest2, corner_edge(hexes[touches[t].hex], xyz, touches[t].corner, a).squaredNorm());
-    return std::sqrt(longest2);
-  };
   std::vector<double> reach = options.max_edge;
   if (reach.empty()) {
     reach = longest_hex_edges(hexes, xyz);
     for (double& l : reach) l *= kMaxStretch;
   }
+  // True if the node's hex edges (its own corners' three edges in each of its hexes) are within
+  // reach and not below min_edge.
+  auto edges_within = [&](int v) {
+    double longest2 = 0.0, shortest2 = std::numeric_limits<double>::infinity();
+    for (int t = touch_begin[v]; t < touch_begin[v + 1]; ++t)
+      if (touches[t].role == 0 && touches[t].corner != kCentre)
+        for (int a = 0; a < 3; ++a) {
+          const double l2 = corner_edge(hexes[touches[t].hex], xyz, touches[t].corner, a).squaredNorm();
+          longest2 = std::max(longest2, l2);
+          shortest2 = std::min(shortest2, l2);
+        }
+    return std::sqrt(longest2) <= reach[v] && (options.min_edge.empty() || std::sqrt(shortest2) >= options.min_edge[v]);
+  };
+
   // Every hex's least corner value, kept up to date as nodes move.
   std::vector<double> value(hexes.size());
   for (std::size_t h = 0; h < hexes.size(); ++h) value[h] = hex_value(h);
@@ -199,7 +238,28 @@ MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>
     } else if (++stalled > kStallSweeps) {
       break;
     }
-    const double band = std::min(options.target, least_now + kBand);
+    const bool barrier = options.barrier > 0.0;
+    const double band = barrier ? options.target : std::min(options.target, least_now + kBand);
+    // Barrier mode: a node descends Σ φ(q) over the corners it changes below target, φ(q) =
+    // −log a + a − 1 with a = (q − floor)/(target − floor) (C¹, 0 at target), the floor below the
+    // sweep's least value by `barrier` times its gap to target.
+    const double floor = least_now - options.barrier * (options.target - least_now);
+    auto phi = [&](double q) {
+      const double a = (q - floor) / (options.target - floor);
+      return q >= options.target ? 0.0 : -std::log(a) + a - 1.0;
+    };
+    auto phi_slope = [&](double q) {
+      return q >= options.target ? 0.0 : -1.0 / (q - floor) + 1.0 / (options.target - floor);
+    };
+    auto star_energy = [&](int v) {
+      double e = 0.0;
+      for (int t = touch_begin[v]; t < touch_begin[v + 1]; ++t) {
+        const double q = corner_value(hexes[touches[t].hex], xyz, touches[t].corner, touches[t].role, nullptr);
+        if (!(q > floor)) return std::numeric_limits<double>::infinity();
+        e += phi(q);
+      }
+      return e;
+    };
     std::fill(work.begin(), work.end(), 0);
     bool any = false;
     for (std::size_t h = 0; h < hexes.size(); ++h)
@@ -212,7 +272,7 @@ MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>
       if (!work[v]) continue;
       if (stuck[v] >= 0 && stuck_least[v] >= band) {
         bool changed = false;
-        for (int t = touch_begin[v]; t < touch_begin[v + 1] && !changed; t += 4) changed = moved[touches[t].hex] > stuck[v];
+        for (int t = touch_begin[v]; t < touch_begin[v + 1] && !changed; t += kTouchesPerHex) changed = moved[touches[t].hex] > stuck[v];
         if (!changed) continue;
       }
       stuck[v] = -1;
@@ -227,7 +287,7 @@ MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>
           const double corner = corner_value(hexes[touch.hex], xyz, touch.corner, touch.role, nullptr);
           corners.push_back(corner);
           least = std::min(least, corner);
-          if (touch.role > 0)
+          if (touch.role > 0 && touch.corner != kCentre)
             shortest2 = std::min(shortest2, corner_edge(hexes[touch.hex], xyz, touch.corner, touch.role - 1).squaredNorm());
         }
         stuck[v] = clock;
@@ -241,16 +301,29 @@ MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>
         if (slides) sliding->project(v, x0, &tangent);
         gradients.clear();
         order.clear();
-        for (int t = touch_begin[v]; t < touch_begin[v + 1]; ++t)
-          if (corners[t - touch_begin[v]] <= least + kNearActive) {
+        Eigen::Vector3d direction = Eigen::Vector3d::Zero();
+        double energy = 0.0;
+        if (barrier) {
+          for (int t = touch_begin[v]; t < touch_begin[v + 1]; ++t) {
+            const double q = corners[t - touch_begin[v]];
+            if (q >= options.target) continue;
             Eigen::Vector3d g;
             corner_value(hexes[touches[t].hex], xyz, touches[t].corner, touches[t].role, &g);
-            gradients.push_back(tangent * g);
-            order.push_back(t);
+            energy += phi(q);
+            direction -= phi_slope(q) * (tangent * g);
           }
-        for (int t = touch_begin[v]; t < touch_begin[v + 1]; ++t)
-          if (!(corners[t - touch_begin[v]] <= least + kNearActive)) order.push_back(t);
-        Eigen::Vector3d direction = least_norm_point(gradients);
+        } else {
+          for (int t = touch_begin[v]; t < touch_begin[v + 1]; ++t)
+            if (corners[t - touch_begin[v]] <= least + kNearActive) {
+              Eigen::Vector3d g;
+              corner_value(hexes[touches[t].hex], xyz, touches[t].corner, touches[t].role, &g);
+              gradients.push_back(tangent * g);
+              order.push_back(t);
+            }
+          for (int t = touch_begin[v]; t < touch_begin[v + 1]; ++t)
+            if (!(corners[t - touch_begin[v]] <= least + kNearActive)) order.push_back(t);
+          direction = least_norm_point(gradients);
+        }
         const double norm = direction.norm();
         if (!(norm > 1e-12) || !(shortest > 0.0) || !std::isfinite(shortest)) break;
         direction /= norm;
@@ -260,7 +333,8 @@ MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>
           const Eigen::Vector3d trial = x0 + step * direction;
           const Eigen::Vector3d p = slides ? sliding->project(v, trial, nullptr) : trial;
           xyz.row(v) = p.transpose();
-          moved = star_above(least + kMinGain) && longest_edge(v) <= reach[v];
+          moved = (barrier ? star_energy(v) < energy - 1e-12 * energy : star_above(least + kMinGain)) &&
+                  edges_within(v);
           if (!moved) xyz.row(v) = x0.transpose();
         }
         if (!moved) break;
@@ -270,7 +344,7 @@ MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>
         stuck[v] = -1;
       }
       if (moved_here)
-        for (int t = touch_begin[v]; t < touch_begin[v + 1]; t += 4) {
+        for (int t = touch_begin[v]; t < touch_begin[v + 1]; t += kTouchesPerHex) {
           value[touches[t].hex] = hex_value(touches[t].hex);
           moved[touches[t].hex] = clock;
         }

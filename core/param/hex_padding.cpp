@@ -74,7 +74,7 @@ HexMeshQuality hex_mesh_quality(const HexMesh& mesh) {
   for (const auto& hex : mesh.hexes) {
     std::array<Eigen::Vector3d, 8> x;
     for (int c = 0; c < 8; ++c) x[c] = mesh.xyz.row(hex[c]).transpose();
-    const double sj = mesh::hex_min_scaled_jacobian(x);
+    const double sj = mesh::hex_scaled_jacobian(x);
     q.min_scaled_jacobian = std::min(q.min_scaled_jacobian, sj);
     if (sj <= 0.0) ++q.num_inverted;
   }

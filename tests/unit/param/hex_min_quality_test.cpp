@@ -50,6 +50,15 @@ bool on_grid_boundary(int v, int n) {
 
 }  // namespace
 
+TEST_CASE("hex_scaled_jacobian: VTK's measure, the corners and the centre's principal axes") {
+  std::array<Eigen::Vector3d, 8> x;
+  for (int q = 0; q < 8; ++q) x[q] = Eigen::Vector3d(q & 1, q >> 1 & 1, q >> 2 & 1);
+  CHECK(mesh::hex_scaled_jacobian(x) == 1.0);
+  // A sheared box (x + 0.75 y): every corner and the centre have the columns' scaled Jacobian.
+  for (int q = 0; q < 8; ++q) x[q](0) += 0.75 * x[q](1);
+  CHECK(mesh::hex_scaled_jacobian(x) == doctest::Approx(1.0 / std::sqrt(1.0 + 0.75 * 0.75)).epsilon(1e-15));
+}
+
 TEST_CASE("raise_min_scaled_jacobian: the centre of 2×2×2 unit cubes pushed to a corner goes back") {
   QualityGrid g = quality_unit_grid(3);
   std::vector<char> fixed(27, 1);
@@ -132,6 +141,42 @@ TEST_CASE("raise_min_scaled_jacobian: raises a jittered grid, never lowers a fol
   CHECK(f.min_after >= f.min_before);
   param::raise_min_scaled_jacobian(again.hexes, fixed, again.xyz);
   CHECK(again.xyz == folded.xyz);
+}
+
+TEST_CASE("raise_min_scaled_jacobian: the barrier mode lifts the poor hexes together, above its floor") {
+  const int n = 6;
+  QualityGrid g = quality_unit_grid(n);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+  std::vector<char> fixed(n * n * n);
+  for (int v = 0; v < n * n * n; ++v) {
+    fixed[v] = on_grid_boundary(v, n);
+    if (!fixed[v]) g.xyz.row(v) += Eigen::RowVector3d(jitter(rng), jitter(rng), jitter(rng));
+  }
+  const double before = grid_least(g);
+  REQUIRE(before > 0.0);
+  param::MinQualityOptions options;
+  options.target = 0.6;
+  options.barrier = 0.5;
+  options.max_sweeps = 10;
+  QualityGrid again = g;
+  const param::MinQualityReport r = param::raise_min_scaled_jacobian(g.hexes, fixed, g.xyz, options);
+  CHECK(r.min_before == before);
+  CHECK(r.moves > 0);
+  // Every corner below target pulls: fewer hexes stay below it; none falls to the floor.
+  CHECK(r.below_after < r.below_before);
+  CHECK(grid_least(g) > before - 0.5 * (0.6 - before));
+  // Followed by the greedy ascent from there.
+  options.barrier = 0.0;
+  options.max_sweeps = 60;
+  const param::MinQualityReport greedy = param::raise_min_scaled_jacobian(g.hexes, fixed, g.xyz, options);
+  CHECK(greedy.min_after > before);
+  param::MinQualityOptions barrier = options;
+  barrier.barrier = 0.5;
+  barrier.max_sweeps = 10;
+  param::raise_min_scaled_jacobian(again.hexes, fixed, again.xyz, barrier);
+  param::raise_min_scaled_jacobian(again.hexes, fixed, again.xyz, options);
+  CHECK(again.xyz == g.xyz);  // deterministic
 }
 
 TEST_CASE("raise_min_scaled_jacobian: sliding nodes stay on their surface") {
