@@ -113,30 +113,32 @@ Eigen::Vector3d least_norm_point(const std::vector<Eigen::Vector3d>& g) {
 
 }  // namespace
 
-std::vector<double> longest_hex_edges(const std::vector<std::array<int, 8>>& hexes, const mesh::Positions& xyz) {
-  std::vector<double> longest(xyz.rows(), 0.0);
+namespace {
+
+// Per node of the hexes, the longest (or shortest) of its hex edges; `none` for a node in no hex.
+std::vector<double> extreme_hex_edges(const std::vector<std::array<int, 8>>& hexes, const mesh::Positions& xyz,
+                                      bool longest, double none) {
+  std::vector<double> out(xyz.rows(), none);
+  auto keep = [&](int v, double l) { out[v] = longest ? std::max(out[v], l) : std::min(out[v], l); };
   for (const auto& hex : hexes)
     for (int c = 0; c < 8; ++c)
       for (int a = 0; a < 3; ++a)
         if (!(c >> a & 1)) {
           const double l = (xyz.row(hex[c ^ (1 << a)]) - xyz.row(hex[c])).norm();
-          longest[hex[c]] = std::max(longest[hex[c]], l);
-          longest[hex[c ^ (1 << a)]] = std::max(longest[hex[c ^ (1 << a)]], l);
+          keep(hex[c], l);
+          keep(hex[c ^ (1 << a)], l);
         }
-  return longest;
+  return out;
+}
+
+}  // namespace
+
+std::vector<double> longest_hex_edges(const std::vector<std::array<int, 8>>& hexes, const mesh::Positions& xyz) {
+  return extreme_hex_edges(hexes, xyz, true, 0.0);
 }
 
 std::vector<double> shortest_hex_edges(const std::vector<std::array<int, 8>>& hexes, const mesh::Positions& xyz) {
-  std::vector<double> shortest(xyz.rows(), std::numeric_limits<double>::infinity());
-  for (const auto& hex : hexes)
-    for (int c = 0; c < 8; ++c)
-      for (int a = 0; a < 3; ++a)
-        if (!(c >> a & 1)) {
-          const double l = (xyz.row(hex[c ^ (1 << a)]) - xyz.row(hex[c])).norm();
-          shortest[hex[c]] = std::min(shortest[hex[c]], l);
-          shortest[hex[c ^ (1 << a)]] = std::min(shortest[hex[c ^ (1 << a)]], l);
-        }
-  return shortest;
+  return extreme_hex_edges(hexes, xyz, false, std::numeric_limits<double>::infinity());
 }
 
 MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>& hexes, const std::vector<char>& fixed,

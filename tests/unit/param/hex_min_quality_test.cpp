@@ -48,6 +48,19 @@ bool on_grid_boundary(int v, int n) {
   return i == 0 || j == 0 || k == 0 || i == n - 1 || j == n - 1 || k == n - 1;
 }
 
+// The n³ grid with its inner nodes moved by up to 0.3 per axis (seeded); fixed: its boundary.
+QualityGrid jittered_grid(int n, unsigned seed, std::vector<char>& fixed) {
+  QualityGrid g = quality_unit_grid(n);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+  fixed.assign(n * n * n, 0);
+  for (int v = 0; v < n * n * n; ++v) {
+    fixed[v] = on_grid_boundary(v, n);
+    if (!fixed[v]) g.xyz.row(v) += Eigen::RowVector3d(jitter(rng), jitter(rng), jitter(rng));
+  }
+  return g;
+}
+
 }  // namespace
 
 TEST_CASE("hex_scaled_jacobian: VTK's measure, the corners and the centre's principal axes") {
@@ -83,14 +96,8 @@ TEST_CASE("raise_min_scaled_jacobian: the centre of 2×2×2 unit cubes pushed to
 
 TEST_CASE("raise_min_scaled_jacobian: raises a jittered grid, never lowers a folded one, same bytes twice") {
   const int n = 6;
-  QualityGrid g = quality_unit_grid(n);
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
-  std::vector<char> fixed(n * n * n);
-  for (int v = 0; v < n * n * n; ++v) {
-    fixed[v] = on_grid_boundary(v, n);
-    if (!fixed[v]) g.xyz.row(v) += Eigen::RowVector3d(jitter(rng), jitter(rng), jitter(rng));
-  }
+  std::vector<char> fixed;
+  QualityGrid g = jittered_grid(n, 7, fixed);
   QualityGrid folded = g;
   const double before = grid_least(g);
   REQUIRE(before > 0.0);
@@ -145,14 +152,8 @@ TEST_CASE("raise_min_scaled_jacobian: raises a jittered grid, never lowers a fol
 
 TEST_CASE("raise_min_scaled_jacobian: the barrier mode lifts the poor hexes together, above its floor") {
   const int n = 6;
-  QualityGrid g = quality_unit_grid(n);
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
-  std::vector<char> fixed(n * n * n);
-  for (int v = 0; v < n * n * n; ++v) {
-    fixed[v] = on_grid_boundary(v, n);
-    if (!fixed[v]) g.xyz.row(v) += Eigen::RowVector3d(jitter(rng), jitter(rng), jitter(rng));
-  }
+  std::vector<char> fixed;
+  QualityGrid g = jittered_grid(n, 11, fixed);
   const double before = grid_least(g);
   REQUIRE(before > 0.0);
   param::MinQualityOptions options;
