@@ -56,7 +56,12 @@ QualityGrid jittered_grid(int n, unsigned seed, std::vector<char>& fixed) {
   fixed.assign(n * n * n, 0);
   for (int v = 0; v < n * n * n; ++v) {
     fixed[v] = on_grid_boundary(v, n);
-    if (!fixed[v]) g.xyz.row(v) += Eigen::RowVector3d(jitter(rng), jitter(rng), jitter(rng));
+    if (fixed[v]) continue;
+    // One draw per statement: the order of a call's arguments is the compiler's choice.
+    const double dx = jitter(rng);
+    const double dy = jitter(rng);
+    const double dz = jitter(rng);
+    g.xyz.row(v) += Eigen::RowVector3d(dx, dy, dz);
   }
   return g;
 }
@@ -153,7 +158,7 @@ TEST_CASE("raise_min_scaled_jacobian: raises a jittered grid, never lowers a fol
 TEST_CASE("raise_min_scaled_jacobian: the barrier mode lifts the poor hexes together, above its floor") {
   const int n = 6;
   std::vector<char> fixed;
-  QualityGrid g = jittered_grid(n, 11, fixed);
+  QualityGrid g = jittered_grid(n, 3, fixed);
   const double before = grid_least(g);
   REQUIRE(before > 0.0);
   param::MinQualityOptions options;
