@@ -26,12 +26,16 @@ double hex_min_scaled_jacobian(const std::array<Eigen::Vector3d, 8>& x) {
   return worst;
 }
 
-double hex_scaled_jacobian(const std::array<Eigen::Vector3d, 8>& x) {
+Eigen::Matrix3d hex_principal_axes(const std::array<Eigen::Vector3d, 8>& x) {
   Eigen::Matrix3d axes = Eigen::Matrix3d::Zero();
   for (int c = 0; c < 8; ++c)
     for (int a = 0; a < 3; ++a)
       if (!(c >> a & 1)) axes.col(a) += x[c | (1 << a)] - x[c];
-  return std::min(hex_min_scaled_jacobian(x), scaled_jacobian(axes));
+  return axes;
+}
+
+double hex_scaled_jacobian(const std::array<Eigen::Vector3d, 8>& x) {
+  return std::min(hex_min_scaled_jacobian(x), scaled_jacobian(hex_principal_axes(x)));
 }
 
 HexGridQuality hex_grid_quality(const std::array<int, 3>& n, const Positions& xyz) {

@@ -17,6 +17,10 @@ double scaled_jacobian(const Eigen::Matrix3d& jacobian);
 /// corners x[c], c = i + 2j + 4k (the trilinear hex of a grid cell); ≤ 0 means folded.
 double hex_min_scaled_jacobian(const std::array<Eigen::Vector3d, 8>& x);
 
+/// The principal axes of the hex (Verdict's centre Jacobian): column a is the sum of the 4 edges
+/// along axis a, x[c | a-bit] − x[c].
+Eigen::Matrix3d hex_principal_axes(const std::array<Eigen::Vector3d, 8>& x);
+
 /// The hex scaled Jacobian as VTK (vtkMeshQuality's HexScaledJacobian, after Verdict) and
 /// ParaView report it: hex_min_scaled_jacobian and, at the centre, the scaled Jacobian of the
 /// principal axes (the sums of the 4 edges along each axis), the least of the 9. The measure the

@@ -52,12 +52,10 @@ double corner_value(const std::array<int, 8>& hex, const mesh::Positions& xyz, i
                     Eigen::Vector3d* gradient) {
   std::array<Eigen::Vector3d, 3> e;
   if (c == kCentre) {
-    // Principal axes: e_a = Σ (x[q | a-bit] − x[q]) over the 4 edges along axis a.
-    for (int a = 0; a < 3; ++a) {
-      e[a].setZero();
-      for (int q = 0; q < 8; ++q)
-        if (!(q >> a & 1)) e[a] += (xyz.row(hex[q | (1 << a)]) - xyz.row(hex[q])).transpose();
-    }
+    std::array<Eigen::Vector3d, 8> x;
+    for (int q = 0; q < 8; ++q) x[q] = xyz.row(hex[q]).transpose();
+    const Eigen::Matrix3d axes = mesh::hex_principal_axes(x);
+    for (int a = 0; a < 3; ++a) e[a] = axes.col(a);
   } else {
     e = {corner_edge(hex, xyz, c, 0), corner_edge(hex, xyz, c, 1), corner_edge(hex, xyz, c, 2)};
   }
