@@ -39,8 +39,8 @@ namespace {
 constexpr int kDenseMeshVertices = 8000;
 // Automatic cuboid layouts whose surface maps choose_layout compares, and how much less
 // anisotropic (root mean square of log(σ_max / σ_min)) another's map must be to replace the
-// first (farthest-apart corners): bunny's and armadillo's first layouts squeeze a limb (0.21 and
-// 0.26 above the best); sphere's and bimba's differ by 0.01-0.02, which does not predict the fit.
+// first (farthest-apart corners): a layout that squeezes a limb stands out by far more than
+// this, while near ties among good layouts do not predict the fit.
 constexpr int kLayoutCandidates = 6;
 constexpr double kLayoutAnisotropyMargin = 0.1;
 
@@ -413,9 +413,9 @@ double surface_map_anisotropy(const mesh::HalfedgeMesh& hm, const param::CuboidS
 
 // The cuboid layout: the user's corners, or among the automatic candidates (§3.3 cuboid corners)
 // the one whose plain convex-combination surface map (§3.4.1, no area balancing) is least
-// anisotropic, if clearly so (kLayoutAnisotropyMargin). Thin protrusions (bunny's ears) whose cuboid corner's three faces run up the
-// protrusion squeeze those faces into strips tens of times longer than wide, where the fitted
-// spline folds; the anisotropy tells such layouts apart for about 0.05 s per candidate.
+// anisotropic, if clearly so (kLayoutAnisotropyMargin). A cuboid corner on a thin protrusion
+// (bunny's ears), its three faces running up the protrusion, squeezes those faces into long
+// strips where the fitted spline folds; the anisotropy tells such layouts apart cheaply.
 polycube::CuboidLayout choose_layout(const mesh::HalfedgeMesh& hm, const Mesh2SplineOptions& options,
                                      const Progress& progress) {
   if (!options.corners.empty()) {
