@@ -94,7 +94,10 @@ struct SplineUntangleOptions {
   /// boundary ones too (kept on the surface by the data term) at points the interior ones
   /// cannot reach (det J on a cuboid edge depends on the boundary alone) and in cells still
   /// uncertified a round later. Rounds stop when every cell is certified or the uncertified
-  /// count has not fallen for 3 rounds; the spline of the round with the fewest is kept.
+  /// count has not fallen for 3 rounds; the spline of the round with the fewest is kept. Its
+  /// cells whose det J is negative on a cuboid edge between two exposed faces then get that
+  /// crease tilted convex (convex_edge_creases: there det J depends on the bd-control-points
+  /// next to the edge only), kept if fewer cells stay uncertified.
   int certificate_rounds = 8;
   /// In the certificate rounds after one that left no fewer uncertified cells, the factor on
   /// the part of a surface sample's misfit along the surface (normal: the cross product of the
@@ -120,6 +123,11 @@ struct SplineUntangleResult {
   int certificate_passes = 0;      ///< passes run by the certificate rounds
   int initial_uncertified = 0;     ///< uncertified cells before the certificate rounds
   int final_uncertified = 0;       ///< and after (certify_jacobian's count)
+  /// Cell edges whose det J was negative on a cuboid edge, tilted convex after the certificate
+  /// rounds (convex_edge_creases), and the bd-control-points moved there (0 if the tilt was
+  /// undone).
+  int crease_edges = 0;
+  int crease_functions = 0;
 };
 
 /// Unfolds a geometric T-spline (D = 3) near its folds by moving only interior control points

@@ -19,6 +19,7 @@ set(TEST_SOURCES
   gpc_jacobian_certificate_test.cpp
   gpc_certificate_untangling_test.cpp
   jacobian_certificate_test.cpp
+  edge_crease_test.cpp
   hierarchical_fitting_test.cpp
   boundary_tessellation_test.cpp
   component_solve_test.cpp
