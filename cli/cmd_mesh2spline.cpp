@@ -289,6 +289,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
     j["negative_jacobian_fraction_fit"] = s.negative_jacobian_fraction_fit;
     j["repaired_control_points"] = s.repaired_control_points;
     j["untangled_control_points"] = s.untangled_control_points;
+    j["creased_control_points"] = s.creased_control_points;
     j["grid_inverted_hexes"] = s.grid_inverted_hexes;
     j["grid_min_scaled_jacobian"] = s.grid_min_scaled_jacobian;
     j["samples"] = s.samples;

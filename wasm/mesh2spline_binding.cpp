@@ -138,6 +138,7 @@ val stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name, co
   out.set("negative_jacobian_fraction_fit", s.negative_jacobian_fraction_fit);
   out.set("repaired_control_points", s.repaired_control_points);
   out.set("untangled_control_points", s.untangled_control_points);
+  out.set("creased_control_points", s.creased_control_points);
   // null when not computed (compare_uniform off) or not reached, as in the CLI's stats JSON.
   out.set("uniform_control_points", s.uniform_control_points >= 0 ? val(s.uniform_control_points) : val::null());
   out.set("uniform_rms_rel", s.uniform_rms_rel);

@@ -547,6 +547,7 @@ void untangle_fit(spline::TSpline& ts, const Samples& samples, double diagonal, 
       spline::untangle_spline(ts, samples.uvw, samples.xyz, {}, job_share(progress, 0.7, 0.75));
   stats.negative_jacobian_fraction_fit = double(untangled.initial_negative) / untangled.scanned;
   stats.untangled_control_points = untangled.free_functions;
+  stats.creased_control_points = untangled.crease_functions;
   if (untangled.free_functions > 0 || untangled.crease_functions > 0)
     set_fit_errors(sample_errors(ts, samples), diagonal, stats);
 }

@@ -97,6 +97,8 @@ struct Mesh2SplineStats {
   double negative_jacobian_fraction_fit = 0;
   int repaired_control_points = 0;            ///< interior control points the repair moved
   int untangled_control_points = 0;           ///< interior control points free in the untangling
+  /// bd-control-points the untangler's crease tilt moved (spline::convex_edge_creases; 0 if none)
+  int creased_control_points = 0;
   int samples = 0;
   double min_corner_distance_rel = 0;  ///< closest cuboid corner pair / bbox diagonal
   std::array<int, 8> corners{};        ///< corner vertex ids used
