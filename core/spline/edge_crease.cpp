@@ -156,8 +156,8 @@ double tilt_edge(TSpline& spline, int cell, const CellEdge& edge, double margin,
   const double width = spline.knot_lines(edge.t)[k[edge.t] + 1] - spline.knot_lines(edge.t)[k[edge.t]];
   const double length = at[at.size() / 2].jacobian.col(edge.t).norm() * width;
   if (reaches(0.0) || !(length > 0.0)) return 0.0;
-  // A tilt of a few times the margin needs moves of about margin·length; past a quarter of the
-  // edge length the crease is no near-flat one and is left to the untangler.
+  // A tilt by the margin needs moves of about margin·length; a crease that needs more than a
+  // quarter of the edge length is no near-flat one and is left as it is.
   double lo = 0.0, hi = 1e-6 * margin * length;
   while (!reaches(hi)) {
     lo = hi;

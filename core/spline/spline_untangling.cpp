@@ -123,8 +123,8 @@ std::vector<int> cells_of_functions(const TSpline& spline, const std::vector<int
   return out;
 }
 
-// After the rounds: the cells still uncertified whose det J is negative on a cuboid edge get
-// that crease tilted convex (convex_edge_creases). det J on a cuboid edge is set by the
+// After the rounds: the cells still uncertified whose det J is negative on or next to a cuboid
+// edge where the surface is near-flat get that crease tilted convex (convex_edge_creases). det J on a cuboid edge is set by the
 // bd-control-points next to it alone (§4.3.1); a near-flat crease fitted a hair past flat leaves
 // it slightly negative there, which the passes' barrier, holding points on the edge where det J
 // cannot rise above 0 for a flat crease, does not lift. The step runs last so that the rounds
