@@ -5,6 +5,7 @@
 #include <array>
 #include <cassert>
 #include <limits>
+#include <numeric>
 #include <string>
 #include <utility>
 #include <vector>
@@ -34,7 +35,7 @@ struct PointJacobian {
 class GpcCertificatePass {
  public:
   GpcCertificatePass(GpcSpline& spline, const GpcSamples& samples, const SplineUntangleOptions& options)
-      : spline_(spline), samples_(samples), options_(options) {}
+      : spline_(spline), samples_(samples), options_(options), merges_(spline.num_cuboids()) {}
 
   // One pass over the held points (per cuboid, in cuboid coordinates); returns the result's
   // free_functions and iterations.
@@ -65,13 +66,67 @@ class GpcCertificatePass {
   using Region = detail::Region;
   using SampleTerms = detail::SampleTerms;
 
+  // How GpcSpline::basis_at merges a patch cell's functions into global ones: the global ids,
+  // increasing, and per id (entries start[i] .. start[i+1]) the positions of its patch functions
+  // in the cell's list, in list order.
+  struct CellMerge {
+    std::vector<int> ids, start, positions;
+  };
+
+  const CellMerge& cell_merge(int cuboid, int cell) {
+    std::vector<CellMerge>& merges = merges_[cuboid];
+    if (merges.empty()) merges.resize(spline_.patch(cuboid).num_cells());
+    CellMerge& m = merges[cell];
+    if (!m.start.empty()) return m;
+    const std::vector<int>& global = spline_.patch_function_ids(cuboid);
+    spline_.patch(cuboid).cell_functions(cell, local_ids_);
+    m.positions.resize(local_ids_.size());
+    std::iota(m.positions.begin(), m.positions.end(), 0);
+    std::stable_sort(m.positions.begin(), m.positions.end(),
+                     [&](int a, int b) { return global[local_ids_[a]] < global[local_ids_[b]]; });
+    for (std::size_t k = 0; k < m.positions.size(); ++k) {
+      const int id = global[local_ids_[m.positions[k]]];
+      if (m.ids.empty() || m.ids.back() != id) {
+        m.ids.push_back(id);
+        m.start.push_back(static_cast<int>(k));
+      }
+    }
+    m.start.push_back(static_cast<int>(m.positions.size()));
+    return m;
+  }
+
+  // GpcSpline::basis_at at one point for each of the derivative orders (the same ids and bits,
+  // ids into ids_), with each patch cell's merge into global functions worked out once.
+  void global_basis(int cuboid, const Eigen::Vector3d& uvw, const std::array<int, 3>* orders, int num_orders,
+                    std::vector<double>* values) {
+    const int cell = spline_.cell_of(cuboid, uvw);  // throws outside the cuboid
+    const TSpline& patch = spline_.patch(cuboid);
+    const auto& size = spline_.domain().cuboids[cuboid].size;
+    Eigen::Vector3d p;
+    for (int a = 0; a < 3; ++a) p(a) = std::clamp(uvw(a), 0.0, size[a]);
+    const CellMerge& m = cell_merge(cuboid, cell);
+    ids_ = m.ids;
+    const Eigen::VectorXd& w = patch.weights();
+    for (int o = 0; o < num_orders; ++o) {
+      patch.basis_at(p, orders[o], local_ids_, local_values_);
+      std::vector<double>& out = values[o];
+      out.resize(m.ids.size());
+      for (std::size_t i = 0; i < m.ids.size(); ++i) {
+        int k = m.positions[m.start[i]];
+        double sum = w(local_ids_[k]) * local_values_[k];
+        for (int e = m.start[i] + 1; e < m.start[i + 1]; ++e) {
+          k = m.positions[e];
+          sum += w(local_ids_[k]) * local_values_[k];
+        }
+        out[i] = sum;
+      }
+    }
+  }
+
   // J at (cuboid, uvw) with the free functions' part apart (x: their current points).
   PointJacobian jacobian_at(int cuboid, const Eigen::Vector3d& uvw, const Eigen::VectorXd& x) {
-    for (int a = 0; a < 3; ++a) {
-      std::array<int, 3> order = {0, 0, 0};
-      order[a] = 1;
-      spline_.basis_at(cuboid, uvw, order, ids_, gradient_[a]);
-    }
+    static constexpr std::array<std::array<int, 3>, 3> kGradient = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+    global_basis(cuboid, uvw, kGradient.data(), 3, gradient_.data());
     PointJacobian out;
     out.full.setZero();
     out.rest.setZero();
@@ -221,10 +276,18 @@ class GpcCertificatePass {
 
   // Guards: the 3×3×3 grid on every active closed cell, each held by the hinge at no less than
   // min(min_scaled_jacobian, its scaled Jacobian now), so that unfolding one cell does not fold
-  // the cells around it between the barrier's nodes (a cuboid edge, where det J → 0).
+  // the cells around it between the barrier's nodes (a cuboid edge, where det J → 0). A grid
+  // point shared by k active cells is one hinge of weight k (the same energy, evaluated once).
   void add_guard_points(const Eigen::VectorXd& x, Region& region) {
+    struct Guard {
+      int cuboid;
+      Eigen::Vector3d p;
+      std::size_t first;  // position among all cells' grid points, for the order of the hinges
+    };
+    std::vector<Guard> guards;
     for (int cuboid = 0; cuboid < spline_.num_cuboids(); ++cuboid) {
       const TSpline& patch = spline_.patch(cuboid);
+      const auto& size = spline_.domain().cuboids[cuboid].size;
       for (int cell = 0; cell < patch.num_cells(); ++cell) {
         if (!active_[cuboid][cell]) continue;
         const std::array<int, 3> k = patch.cell_index(cell);
@@ -234,19 +297,43 @@ class GpcCertificatePass {
           for (int a = 0; a < 3; ++a) p(a) = idx[a] == 2 ? patch.knot_lines(a)[k[a] + 1]
                                             : idx[a] == 0 ? patch.knot_lines(a)[k[a]]
                                                           : 0.5 * (patch.knot_lines(a)[k[a]] + patch.knot_lines(a)[k[a] + 1]);
-          const auto& size = spline_.domain().cuboids[cuboid].size;
           for (int a = 0; a < 3; ++a) p(a) = std::clamp(p(a), 0.0, size[a]);
-          const PointJacobian j = jacobian_at(cuboid, p, x);
-          if (j.columns.empty()) continue;
-          const double scale = std::max(j.full.col(0).norm() * j.full.col(1).norm() * j.full.col(2).norm(), 1e-300);
-          region.point_scale.push_back(scale);
-          region.point_fixed.push_back(j.rest);
-          region.point_target.push_back(std::min(options_.min_scaled_jacobian, j.full.determinant() / scale));
-          region.point_columns.insert(region.point_columns.end(), j.columns.begin(), j.columns.end());
-          region.point_g.insert(region.point_g.end(), j.g.begin(), j.g.end());
-          region.point_start.push_back(static_cast<int>(region.point_columns.size()));
+          guards.push_back({cuboid, p, guards.size()});
         }
       }
+    }
+    auto same_point = [](const Guard& a, const Guard& b) { return a.cuboid == b.cuboid && a.p == b.p; };
+    std::sort(guards.begin(), guards.end(), [](const Guard& a, const Guard& b) {
+      if (a.cuboid != b.cuboid) return a.cuboid < b.cuboid;
+      if (a.p != b.p) return detail::lexicographic_less(a.p, b.p);
+      return a.first < b.first;
+    });
+    std::vector<std::pair<std::size_t, int>> unique;  // (first position, index into guards), and counts
+    std::vector<int> count;
+    for (std::size_t g = 0; g < guards.size(); ++g) {
+      if (g > 0 && same_point(guards[g - 1], guards[g])) {
+        ++count.back();
+        continue;
+      }
+      unique.emplace_back(guards[g].first, static_cast<int>(g));
+      count.push_back(1);
+    }
+    std::vector<int> order(unique.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return unique[a].first < unique[b].first; });
+    if (region.point_weight.empty()) region.point_weight.assign(region.point_fixed.size(), 1.0);
+    for (int u : order) {
+      const Guard& guard = guards[unique[u].second];
+      const PointJacobian j = jacobian_at(guard.cuboid, guard.p, x);
+      if (j.columns.empty()) continue;
+      const double scale = std::max(j.full.col(0).norm() * j.full.col(1).norm() * j.full.col(2).norm(), 1e-300);
+      region.point_scale.push_back(scale);
+      region.point_fixed.push_back(j.rest);
+      region.point_target.push_back(std::min(options_.min_scaled_jacobian, j.full.determinant() / scale));
+      region.point_weight.push_back(count[u]);
+      region.point_columns.insert(region.point_columns.end(), j.columns.begin(), j.columns.end());
+      region.point_g.insert(region.point_g.end(), j.g.begin(), j.g.end());
+      region.point_start.push_back(static_cast<int>(region.point_columns.size()));
     }
   }
 
@@ -259,7 +346,8 @@ class GpcCertificatePass {
       const int cuboid = samples_.cuboid[s];
       const Eigen::Vector3d uvw = samples_.uvw.row(s).transpose();
       if (!active_[cuboid][spline_.cell_of(cuboid, uvw)]) continue;
-      spline_.basis_at(cuboid, uvw, {0, 0, 0}, ids_, values);
+      static constexpr std::array<int, 3> kValue = {0, 0, 0};
+      global_basis(cuboid, uvw, &kValue, 1, &values);
       Eigen::Vector3d fixed = -samples_.values.row(s).transpose();
       const std::size_t first = terms.column.size();
       for (std::size_t q = 0; q < ids_.size(); ++q) {
@@ -283,8 +371,10 @@ class GpcCertificatePass {
   const SplineUntangleOptions& options_;
   std::vector<int> column_of_, free_ids_;  // function → column (−1: fixed); column → function
   std::vector<std::vector<char>> active_;  // per cuboid, per patch cell
-  std::vector<int> ids_;
+  std::vector<int> ids_, local_ids_;
+  std::vector<double> local_values_;
   std::array<std::vector<double>, 3> gradient_;
+  std::vector<std::vector<CellMerge>> merges_;  // per cuboid, per patch cell (filled on first use)
 };
 
 }  // namespace

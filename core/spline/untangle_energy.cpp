@@ -150,13 +150,14 @@ class RegionEnergy {
       const double target = r_.point_target.empty() ? options_.hinge_target : r_.point_target[e];
       const double gap = target - m.determinant() / r_.point_scale[e];
       if (gap <= 0.0) continue;
-      total += kHingeWeight * gap * gap;
+      const double weight = r_.point_weight.empty() ? kHingeWeight : kHingeWeight * r_.point_weight[e];
+      total += weight * gap * gap;
       if (!gradient) continue;
       Eigen::Matrix3d cof;  // ∂det/∂J
       cof.col(0) = m.col(1).cross(m.col(2));
       cof.col(1) = m.col(2).cross(m.col(0));
       cof.col(2) = m.col(0).cross(m.col(1));
-      const Eigen::Matrix3d d = (-2.0 * kHingeWeight * gap / r_.point_scale[e]) * cof;
+      const Eigen::Matrix3d d = (-2.0 * weight * gap / r_.point_scale[e]) * cof;
       for (int k = r_.point_start[e]; k < r_.point_start[e + 1]; ++k)
         gradient->segment<3>(3 * r_.point_columns[k]) += d * r_.point_g[k];
     }

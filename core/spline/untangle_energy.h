@@ -45,6 +45,9 @@ struct Region {
   /// Per scattered node, the hinge's target instead of RegionEnergyOptions::hinge_target (a
   /// guard: no lower than it is now), or empty for that target at all of them.
   std::vector<double> point_target;
+  /// Per scattered node, the factor on its hinge (a point standing for that many equal ones), or
+  /// empty for 1 at all of them.
+  std::vector<double> point_weight;
   /// Point e's (column, g) entries: point_columns/point_g[point_start[e] .. point_start[e+1]).
   std::vector<int> point_start{0}, point_columns;
   std::vector<Eigen::Vector3d> point_g;
