@@ -37,7 +37,7 @@ class RegionEnergy {
   }
 
   double energy(const Eigen::VectorXd& y, double eps, Eigen::VectorXd* gradient) {
-    return sum(jacobians(y), y, eps, gradient);
+    return sum(jacobians(y).data(), nullptr, 0.0, y, eps, gradient);
   }
 
   double min_det(const Eigen::VectorXd& y) {
@@ -49,7 +49,16 @@ class RegionEnergy {
   }
 
   void set_line(const Eigen::VectorXd& y, const Eigen::VectorXd& d) {
-    line_start_ = jacobians(y);
+    if (on_line_ && jac_x_ == y) {
+      // The step taken on the last line: M there is start + t·step, formed in place.
+      for (std::size_t i = 0; i < line_start_.size(); ++i) line_start_[i] += line_t_ * line_step_[i];
+    } else {
+      line_start_ = jacobians(y);
+    }
+    // jac_ is not kept in step with the line: M at jac_x_ is start + t·step until jacobians() forms it.
+    jac_x_ = y;
+    on_line_ = true;
+    line_t_ = 0.0;
     line_x_ = y;
     line_d_ = d;
     fill(line_step_, d, Part::Linear);
@@ -59,11 +68,13 @@ class RegionEnergy {
     }
   }
 
+  // M at x + t·d is start + t·step, formed batch by batch as the barrier reads it.
   double line_energy(double t, double eps, Eigen::VectorXd* gradient) {
     jac_x_ = line_x_ + t * line_d_;  // the same bits as the minimizer's x + t·d
-    for (std::size_t i = 0; i < jac_.size(); ++i) jac_[i] = line_start_[i] + t * line_step_[i];
+    on_line_ = true;
+    line_t_ = t;
     for (std::size_t e = 0; e < num_extra_; ++e) extra_jac_[e] = extra_start_[e] + t * extra_step_[e];
-    return sum(jac_, jac_x_, eps, gradient);
+    return sum(line_start_.data(), line_step_.data(), t, jac_x_, eps, gradient);
   }
 
  private:
@@ -99,20 +110,26 @@ class RegionEnergy {
     return m;
   }
 
-  // jac_ holds M at jac_x_.
+  // M at y: jac_ (formed from the line if jac_x_ = y lies on it).
   const std::vector<double>& jacobians(const Eigen::VectorXd& y) {
     if (jac_x_.size() != y.size() || jac_x_ != y) {
       fill(jac_, y, Part::WithFixed);
       for (std::size_t e = 0; e < num_extra_; ++e) extra_jac_[e] = r_.point_fixed[e] + extra_linear(y, e);
       jac_x_ = y;
+    } else if (on_line_) {
+      jac_.resize(line_start_.size());
+      for (std::size_t i = 0; i < jac_.size(); ++i) jac_[i] = line_start_[i] + line_t_ * line_step_[i];
     }
+    on_line_ = false;
     return jac_;
   }
 
-  // The three terms, added to total in this order (barrier, hinge, data).
-  double sum(const std::vector<double>& j, const Eigen::VectorXd& y, double eps, Eigen::VectorXd* gradient) {
+  // The three terms, added to total in this order (barrier, hinge, data). M at the held nodes:
+  // start, or start + t·step if step is given.
+  double sum(const double* start, const double* step, double t, const Eigen::VectorXd& y, double eps,
+             Eigen::VectorXd* gradient) {
     double total = 0.0;
-    add_barrier(j, eps, y.size(), total, gradient);
+    add_barrier(start, step, t, eps, y.size(), total, gradient);
     add_hinge(total, gradient);
     add_data(y, total, gradient);
     return total;
@@ -120,18 +137,23 @@ class RegionEnergy {
 
   // The barrier at the held nodes, summed and its gradient scattered in node order (as one at a
   // time); sets the gradient whole.
-  void add_barrier(const std::vector<double>& j, double eps, Eigen::Index size, double& total,
+  void add_barrier(const double* start, const double* step, double t, double eps, Eigen::Index size, double& total,
                    Eigen::VectorXd* gradient) {
     if (gradient) {
       gradient->resize(size);  // set whole from gradient_padded_ below
       gradient_padded_.assign(size / 3 * 4, 0.0);
     }
-    double out[9 * kBatch], e[kBatch];
+    double out[9 * kBatch], e[kBatch], m[9 * kBatch];
     for (std::size_t batch = 0; batch < num_batches_; ++batch) {
       const std::size_t first = batch * kBatch;
       const int count = static_cast<int>(std::min<std::size_t>(kBatch, held_nodes_.size() - first));
-      param::foldover_free_energy_batch(j.data() + batch * 9 * kBatch, eps, options_.theta, e,
-                                        gradient ? out : nullptr);
+      const double* j = start + batch * 9 * kBatch;
+      if (step) {
+        const double* s = step + batch * 9 * kBatch;
+        for (int k = 0; k < 9 * kBatch; ++k) m[k] = j[k] + t * s[k];
+        j = m;
+      }
+      param::foldover_free_energy_batch(j, eps, options_.theta, e, gradient ? out : nullptr);
       for (int lane = 0; lane < count; ++lane) {
         total += e[lane];
         if (!gradient) continue;
@@ -196,6 +218,8 @@ class RegionEnergy {
   std::vector<double> padded_, gradient_padded_;
   std::vector<double> jac_, line_start_, line_step_;
   Eigen::VectorXd jac_x_, line_x_, line_d_;
+  bool on_line_ = false;  // M at jac_x_ is line_start_ + line_t_·line_step_, jac_ not formed
+  double line_t_ = 0.0;
   const std::size_t num_extra_;
   std::vector<Eigen::Matrix3d> extra_jac_, extra_start_, extra_step_;
 };
