@@ -95,10 +95,11 @@ class GpcCertificatePass {
     return m;
   }
 
-  // GpcSpline::basis_at at one point for each of the derivative orders (the same ids and bits,
-  // ids into ids_), with each patch cell's merge into global functions worked out once.
-  void global_basis(int cuboid, const Eigen::Vector3d& uvw, const std::array<int, 3>* orders, int num_orders,
-                    std::vector<double>* values) {
+  // GpcSpline::basis_at at one point (the same ids, into ids_, and bits), with each patch cell's
+  // merge into global functions worked out once: the value (order (0,0,0)) into values[0], or
+  // the three first derivatives into values[0..2].
+  enum class Basis { Value, Gradient };
+  void global_basis(int cuboid, const Eigen::Vector3d& uvw, Basis kind, std::vector<double>* values) {
     const int cell = spline_.cell_of(cuboid, uvw);  // throws outside the cuboid
     const TSpline& patch = spline_.patch(cuboid);
     const auto& size = spline_.domain().cuboids[cuboid].size;
@@ -106,17 +107,24 @@ class GpcCertificatePass {
     for (int a = 0; a < 3; ++a) p(a) = std::clamp(uvw(a), 0.0, size[a]);
     const CellMerge& m = cell_merge(cuboid, cell);
     ids_ = m.ids;
+    int num = 1;
+    if (kind == Basis::Value) {
+      patch.basis_at(p, {0, 0, 0}, local_ids_, local_values_[0]);
+    } else {
+      patch.basis_gradient_at(p, local_ids_, local_values_);
+      num = 3;
+    }
     const Eigen::VectorXd& w = patch.weights();
-    for (int o = 0; o < num_orders; ++o) {
-      patch.basis_at(p, orders[o], local_ids_, local_values_);
+    for (int o = 0; o < num; ++o) {
+      const std::vector<double>& local = local_values_[o];
       std::vector<double>& out = values[o];
       out.resize(m.ids.size());
       for (std::size_t i = 0; i < m.ids.size(); ++i) {
         int k = m.positions[m.start[i]];
-        double sum = w(local_ids_[k]) * local_values_[k];
+        double sum = w(local_ids_[k]) * local[k];
         for (int e = m.start[i] + 1; e < m.start[i + 1]; ++e) {
           k = m.positions[e];
-          sum += w(local_ids_[k]) * local_values_[k];
+          sum += w(local_ids_[k]) * local[k];
         }
         out[i] = sum;
       }
@@ -125,8 +133,7 @@ class GpcCertificatePass {
 
   // J at (cuboid, uvw) with the free functions' part apart (x: their current points).
   PointJacobian jacobian_at(int cuboid, const Eigen::Vector3d& uvw, const Eigen::VectorXd& x) {
-    static constexpr std::array<std::array<int, 3>, 3> kGradient = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
-    global_basis(cuboid, uvw, kGradient.data(), 3, gradient_.data());
+    global_basis(cuboid, uvw, Basis::Gradient, gradient_.data());
     PointJacobian out;
     out.full.setZero();
     out.rest.setZero();
@@ -346,8 +353,7 @@ class GpcCertificatePass {
       const int cuboid = samples_.cuboid[s];
       const Eigen::Vector3d uvw = samples_.uvw.row(s).transpose();
       if (!active_[cuboid][spline_.cell_of(cuboid, uvw)]) continue;
-      static constexpr std::array<int, 3> kValue = {0, 0, 0};
-      global_basis(cuboid, uvw, &kValue, 1, &values);
+      global_basis(cuboid, uvw, Basis::Value, &values);
       Eigen::Vector3d fixed = -samples_.values.row(s).transpose();
       const std::size_t first = terms.column.size();
       for (std::size_t q = 0; q < ids_.size(); ++q) {
@@ -372,7 +378,7 @@ class GpcCertificatePass {
   std::vector<int> column_of_, free_ids_;  // function → column (−1: fixed); column → function
   std::vector<std::vector<char>> active_;  // per cuboid, per patch cell
   std::vector<int> ids_, local_ids_;
-  std::vector<double> local_values_;
+  std::array<std::vector<double>, 3> local_values_;
   std::array<std::vector<double>, 3> gradient_;
   std::vector<std::vector<CellMerge>> merges_;  // per cuboid, per patch cell (filled on first use)
 };

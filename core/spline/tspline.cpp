@@ -1209,6 +1209,27 @@ void TSpline::basis_at(const Eigen::Vector3d& uvw, const std::array<int, 3>& ord
   }
 }
 
+void TSpline::basis_gradient_at(const Eigen::Vector3d& uvw, std::vector<int>& function_ids,
+                                std::array<std::vector<double>, 3>& gradient) const {
+  PieceValues values, slopes;
+  const Cell& cell = piece_values(uvw, {0, 0, 0}, values);
+  piece_values(uvw, {1, 1, 1}, slopes);
+  const double* const* v = values.axis;
+  const double* const* d = slopes.axis;
+  const std::size_t count = cell.entry_end - cell.entry_begin;
+  function_ids.resize(count);
+  for (std::vector<double>& g : gradient) g.resize(count);
+  const Entry* entries = entries_.data() + cell.entry_begin;
+  for (std::size_t e = 0; e < count; ++e) {
+    const Entry& entry = entries[e];
+    const std::uint32_t i = entry.piece[0], j = entry.piece[1], k = entry.piece[2];
+    function_ids[e] = static_cast<int>(entry.function);
+    gradient[0][e] = d[0][i] * v[1][j] * v[2][k];
+    gradient[1][e] = v[0][i] * d[1][j] * v[2][k];
+    gradient[2][e] = v[0][i] * v[1][j] * d[2][k];
+  }
+}
+
 int TSpline::cell_of(const Eigen::Vector3d& uvw) const {
   double s[3];
   int k[3];

@@ -152,6 +152,11 @@ class TSpline {
   /// Throws like evaluate_to.
   void basis_at(const Eigen::Vector3d& uvw, const std::array<int, 3>& order,
                 std::vector<int>& function_ids, std::vector<double>& values) const;
+  /// basis_at for the three first derivatives at once (orders (1,0,0), (0,1,0), (0,0,1), with
+  /// their bits): one cell lookup and one set of piece values for all three. Throws like
+  /// evaluate_to.
+  void basis_gradient_at(const Eigen::Vector3d& uvw, std::vector<int>& function_ids,
+                         std::array<std::vector<double>, 3>& gradient) const;
   /// Index in [0, num_cells()) of the knot-line cell holding uvw, by the rule evaluation uses
   /// (along each axis [b_k, b_k+1), the last interval closed). Every point of one cell has the
   /// same basis_at list (cell_functions), so least-squares samples can be grouped by cell.

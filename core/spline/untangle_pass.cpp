@@ -420,11 +420,9 @@ class UntanglePass {
 }  // namespace
 
 void PointGradients::at(const TSpline& spline, const Eigen::Vector3d& p) {
-  for (int a = 0; a < 3; ++a) {
-    std::array<int, 3> order = {0, 0, 0};
-    order[a] = 1;
-    spline.basis_at(p, order, ids[a], values[a]);
-  }
+  spline.basis_gradient_at(p, ids[0], values);
+  ids[1] = ids[0];
+  ids[2] = ids[0];
 }
 
 bool CertificateRounds::stop(int round, int uncertified, const Eigen::MatrixXd& points, int max_rounds) {

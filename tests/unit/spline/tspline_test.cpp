@@ -349,6 +349,28 @@ TEST_CASE("weight_sum and basis_at agree with each other and the knot vectors on
   }
 }
 
+TEST_CASE("basis_gradient_at has the bits of basis_at with each first derivative") {
+  const std::vector<double> knots = boundary_restricted_knots({0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0});
+  Eigen::MatrixXd points = Eigen::MatrixXd::Zero(6 * 6 * 6, 3);
+  volspline::spline::RefinementGrid grid(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), {3, 3, 3});
+  const TSpline spline = grid.split(from_bspline_volume(BsplineVolume({knots, knots, knots}, points)), {0, 4, 13});
+  std::vector<int> ids, d_ids;
+  std::vector<double> d_values;
+  std::array<std::vector<double>, 3> gradient;
+  for (const Eigen::Vector3d& p : random_parameters(spline.domain_min(), spline.domain_max(), 500, 4)) {
+    CAPTURE(p.transpose());
+    spline.basis_gradient_at(p, ids, gradient);
+    for (int a = 0; a < 3; ++a) {
+      std::array<int, 3> order = {0, 0, 0};
+      order[a] = 1;
+      spline.basis_at(p, order, d_ids, d_values);
+      CHECK(d_ids == ids);
+      CHECK(d_values == gradient[a]);
+    }
+  }
+  CHECK_THROWS_AS(spline.basis_gradient_at(Eigen::Vector3d(0.5, 2.0, 0.5), ids, gradient), Error);
+}
+
 TEST_CASE("cell_of and cell_functions give the knot-line cell and the basis_at list of a point") {
   const TSpline spline = random_tspline(70, 3, 5, TSplineAcceleration::FunctionLists);
   std::vector<Eigen::Vector3d> points = random_parameters(spline.domain_min(), spline.domain_max(), 500, 4);
