@@ -25,6 +25,7 @@ int run_gpc(const std::vector<std::string>& argv) {
       {"no-untangle", "", "keep the harmonic grid's folds (the thesis's plain Eq. 3.1 map)"},
       {"no-padding", "", "the hex mesh without the padding layer under the surface (the cuboid grids alone)"},
       {"quality-sweeps", "N", "sweeps of the last stage, which raises the hex mesh's least scaled Jacobian with every surface node sliding on the surface (default 300; 0 = off)"},
+      {"padded-reference", "mean|own|better", "reference cell of the padded hex mesh's untanglers: one cube of the mean hex volume, each hex's own, or both and the one leaving fewer folds (default better)"},
       {"no-merge", "", "keep every T-shape arm, tube and cap its own cuboid (no merging across cuts)"},
       {"level-set-cuts", "", "cut on the Morse function's level sets (default: move each cut to the shortest loop separating the same boundaries)"},
       {"limbs", "P", "limb ends become caps when their branch is at least P of the shape's graph diameter long (default 0.15; 0 = off; a genus-0 blob has no limb and stays one cuboid)"},
@@ -47,6 +48,13 @@ int run_gpc(const std::vector<std::string>& argv) {
   if (args.has("no-untangle")) options.grid.untangle = param::GpcGridOptions::Untangle::Off;
   if (args.has("no-padding")) options.grid.padding = param::GpcGridOptions::Padding::Off;
   options.grid.min_quality_sweeps = args.get_int("quality-sweeps", options.grid.min_quality_sweeps);
+  if (args.has("padded-reference")) {
+    const std::string r = args.get("padded-reference");
+    if (r == "mean") options.grid.padded_reference = param::GpcGridOptions::PaddedReference::MeanCell;
+    else if (r == "own") options.grid.padded_reference = param::GpcGridOptions::PaddedReference::OwnCell;
+    else if (r == "better") options.grid.padded_reference = param::GpcGridOptions::PaddedReference::Better;
+    else throw UsageError("--padded-reference expects mean, own or better");
+  }
   if (args.has("no-merge")) options.merge_cuboids = false;
   if (args.has("level-set-cuts")) options.cuts = polycube::CutPlacement::LevelSet;
   if (args.has("limbs")) {

@@ -90,6 +90,7 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
   options.measure_lattice = args.get_int("measure-lattice", options.measure_lattice);
   options.threads = args.get_int("threads", 1);
   if (args.has("limbs")) options.gpc.limb_persistence = args.get_double("limbs", 0.0);
+  options.gpc.grid.target_nodes = args.get_int("grid-nodes", options.gpc.grid.target_nodes);
   ProgressBar bar(!args.has("quiet"));
   const pipeline::GpcMesh2SplineResult result = pipeline::run_gpc_mesh2spline(input, path, options, bar.progress());
   bar.finish();
@@ -189,6 +190,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
       {"initial-cells", "N", "spline cells along the longest cuboid axis at level 0 (default 4)"},
       {"compare-uniform", "", "also fit uniform B-splines to the same rms_rel (stats: uniform_control_points)"},
       {"no-untangle", "", "skip the untangling of folded interior control points after the fit (the thesis's plain fit)"},
+      {"grid-nodes", "N", "genus > 0: about N volumetric grid nodes over all cuboids (default 24000, see volspline gpc)"},
       {"no-padding", "", "genus > 0: fit the cuboid grids without the padding layer under the surface (see volspline gpc)"},
       {"adaptive-knots", "", "genus > 0: each level adds knot lines where the misfit is instead of dividing the spacing by 1.5"},
       {"hierarchical", "", "genus > 0 (default): past the uniform levels, split the functions at the surface samples beyond --max-surface-error and those holding the most misfit (T-spline refinement)"},

@@ -102,6 +102,30 @@ std::vector<char> grown_by_hexes(const std::vector<std::array<int, 8>>& hexes, c
   return next;
 }
 
+// untangle_hex_mesh (one round) with each hex's reference cell the mean cell, and where that leaves
+// as many folds as it found, again from the same start with each hex's own cell
+// (HexGridUntangleOptions::Reference): the padded mesh's hexes differ in size by orders of
+// magnitude, and a fold in a small hex that the mean-cell barrier does not see opens with its own.
+// The result with fewer folds stays (the mean cell's on a tie). Returns the nodes moved.
+int untangle_either_reference(HexMesh& pm, const std::vector<char>& fixed, const SlidingNodes& sliding,
+                              const Progress& progress) {
+  const int folded = hex_mesh_quality(pm).num_inverted;
+  const mesh::Positions start = pm.xyz;
+  HexGridUntangleOptions untangle;
+  untangle.rounds = 1;
+  const int moved = untangle_hex_mesh(pm.hexes, fixed, pm.xyz, {}, untangle, &sliding, share_of(progress, 0.0, 0.5)).free_nodes;
+  const int mean_folded = hex_mesh_quality(pm).num_inverted;
+  if (mean_folded < folded) return moved;
+  const mesh::Positions mean_result = pm.xyz;
+  pm.xyz = start;
+  untangle.reference = HexGridUntangleOptions::Reference::OwnCell;
+  const int own_moved =
+      untangle_hex_mesh(pm.hexes, fixed, pm.xyz, {}, untangle, &sliding, share_of(progress, 0.5, 1.0)).free_nodes;
+  if (hex_mesh_quality(pm).num_inverted < mean_folded) return own_moved;
+  pm.xyz = mean_result;
+  return moved;
+}
+
 // The last stage of the padded mesh: every surface node slides on the whole surface, poly-edge
 // and corner nodes too, unless the surface has a crease there. A poly-edge is a line of the
 // parameterization, not of the smooth surface, and a padding hex whose surface quad has a
@@ -147,6 +171,18 @@ int slide_and_raise(const polycube::GpcConstruction& construction, const std::ve
   // Rounds of raise, then untangle what stays folded (kept if no worse), then raise again.
   int untangled = 0;
   bool spread = false;  // the barrier pass has been tried
+  // The best state after a raise (fewest folds, then the highest least value): the rounds'
+  // untanglings may end on a worse path, and the stage ends no worse than its best round.
+  HexMeshQuality best_quality{std::numeric_limits<int>::max(), -2.0};
+  mesh::Positions best;
+  auto keep_if_best = [&] {
+    const HexMeshQuality q = hex_mesh_quality(pm);
+    if (q.num_inverted < best_quality.num_inverted ||
+        (q.num_inverted == best_quality.num_inverted && q.min_scaled_jacobian > best_quality.min_scaled_jacobian)) {
+      best_quality = q;
+      best = pm.xyz;
+    }
+  };
   for (int round = 0; round < kSlideRounds; ++round) {
     const double lo = double(round) / kSlideRounds, hi = double(round + 1) / kSlideRounds;
     if (!spread && hex_mesh_quality(pm).num_inverted == 0) {
@@ -171,17 +207,18 @@ int slide_and_raise(const polycube::GpcConstruction& construction, const std::ve
     } else {
       raise_min_scaled_jacobian(pm.hexes, fixed, pm.xyz, quality, &sliding, share_of(progress, lo, lo + 0.7 * (hi - lo)));
     }
+    keep_if_best();
     const int folded = hex_mesh_quality(pm).num_inverted;
     if (folded == 0) break;
     const mesh::Positions before = pm.xyz;
-    HexGridUntangleOptions untangle;
-    untangle.rounds = 1;
-    untangled += untangle_hex_mesh(pm.hexes, fixed, pm.xyz, {}, untangle, &sliding,
-                                   share_of(progress, lo + 0.7 * (hi - lo), hi)).free_nodes;
+    untangled += untangle_either_reference(pm, fixed, sliding, share_of(progress, lo + 0.7 * (hi - lo), hi));
     if (hex_mesh_quality(pm).num_inverted > folded) pm.xyz = before;
-    if (round + 1 == kSlideRounds)
+    if (round + 1 == kSlideRounds) {
       raise_min_scaled_jacobian(pm.hexes, fixed, pm.xyz, quality, &sliding, share_of(progress, 1.0, 1.0));
+      keep_if_best();
+    }
   }
+  pm.xyz = best;
   // Folds left where crease nodes are held: a surface quad with three held nodes in a row (a
   // claw's ridge) has a flat corner whatever the free nodes do. Around the folded hexes (two
   // rings) those nodes slide too, for one more untangle and raise, kept if it leaves fewer folds
@@ -198,9 +235,7 @@ int slide_and_raise(const polycube::GpcConstruction& construction, const std::ve
         wider.slides[r] = 1;
       }
     const mesh::Positions before = pm.xyz;
-    HexGridUntangleOptions untangle;
-    untangle.rounds = 1;
-    const int moved = untangle_hex_mesh(pm.hexes, released, pm.xyz, {}, untangle, &wider, share_of(progress, 1.0, 1.0)).free_nodes;
+    const int moved = untangle_either_reference(pm, released, wider, share_of(progress, 1.0, 1.0));
     raise_min_scaled_jacobian(pm.hexes, released, pm.xyz, quality, &wider, share_of(progress, 1.0, 1.0));
     const HexMeshQuality after = hex_mesh_quality(pm);
     if (after.num_inverted < left.num_inverted ||
@@ -262,7 +297,9 @@ int untangle_padded_mesh(const polycube::GpcConstruction& construction, const st
   }
   for (int r = 0; r < rows; ++r)
     if (slides[r] && !patches[slides[r] - 1]) slides[r] = 0, fixed[r] = 1;
-  // First with the whole surface held; then the folds left, with the face nodes sliding.
+  // First with the whole surface held; then the folds left, with the face nodes sliding; then
+  // improved around the poor hexes if fold-free. With each reference cell asked for, from the
+  // same start.
   std::vector<char> held(rows);
   for (int r = 0; r < rows; ++r) held[r] = fixed[r] || pm.on_surface[r];
   SlidingNodes sliding;
@@ -278,38 +315,67 @@ int untangle_padded_mesh(const polycube::GpcConstruction& construction, const st
     if (tangent) *tangent = Eigen::Matrix3d::Identity() - normal * normal.transpose();
     return q;
   };
-  HexGridUntangleOptions held_options;
-  held_options.rounds = 1;
-  untangled += untangle_hex_mesh(pm.hexes, held, pm.xyz, {}, held_options, nullptr, share_of(progress, 0.0, 0.3)).free_nodes;
-  const int held_count = hex_mesh_quality(pm).num_inverted;
-  if (held_count > 0) {
-    const mesh::Positions held_result = pm.xyz;
-    HexGridUntangleOptions slide_options;
-    slide_options.rounds = 1;
-    untangled +=
-        untangle_hex_mesh(pm.hexes, fixed, pm.xyz, {}, slide_options, &sliding, share_of(progress, 0.3, 0.6)).free_nodes;
-    if (hex_mesh_quality(pm).num_inverted > held_count) pm.xyz = held_result;
-  }
-  const HexMeshQuality untangled_quality = hex_mesh_quality(pm);
-  if (options.quality_iterations > 0 && untangled_quality.num_inverted == 0) {
-    // Only around the poor hexes: nodes within 1 ring of a hex below scaled Jacobian 0.3.
-    const std::vector<char> region = nodes_of_hexes_below(pm, 0.3);
-    const std::vector<char> next = grown_by_hexes(pm.hexes, region);
-    std::vector<char> frozen(rows);
-    for (int r = 0; r < rows; ++r) frozen[r] = fixed[r] || !next[r];
-    // The energy is a sum over corners: kept only if the worst corner did not get worse.
-    const mesh::Positions before = pm.xyz;
-    improve_hex_mesh(pm.hexes, frozen, pm.xyz, options.quality_iterations, 0.5, &sliding);
-    const HexMeshQuality improved = hex_mesh_quality(pm);
-    if (improved.num_inverted > 0 || improved.min_scaled_jacobian < untangled_quality.min_scaled_jacobian)
-      pm.xyz = before;
-  }
-  if (options.min_quality_sweeps > 0) {
+  auto settle = [&](HexGridUntangleOptions::Reference reference, const Progress& share) {
+    int moved = 0;
+    HexGridUntangleOptions held_options;
+    held_options.rounds = 1;
+    held_options.reference = reference;
+    moved += untangle_hex_mesh(pm.hexes, held, pm.xyz, {}, held_options, nullptr, share_of(share, 0.0, 0.5)).free_nodes;
+    const int held_count = hex_mesh_quality(pm).num_inverted;
+    if (held_count > 0) {
+      const mesh::Positions held_result = pm.xyz;
+      HexGridUntangleOptions slide_options = held_options;
+      moved += untangle_hex_mesh(pm.hexes, fixed, pm.xyz, {}, slide_options, &sliding, share_of(share, 0.5, 1.0)).free_nodes;
+      if (hex_mesh_quality(pm).num_inverted > held_count) pm.xyz = held_result;
+    }
+    const HexMeshQuality untangled_quality = hex_mesh_quality(pm);
+    if (options.quality_iterations > 0 && untangled_quality.num_inverted == 0) {
+      // Only around the poor hexes: nodes within 1 ring of a hex below scaled Jacobian 0.3.
+      const std::vector<char> region = nodes_of_hexes_below(pm, 0.3);
+      const std::vector<char> next = grown_by_hexes(pm.hexes, region);
+      std::vector<char> frozen(rows);
+      for (int r = 0; r < rows; ++r) frozen[r] = fixed[r] || !next[r];
+      // The energy is a sum over corners: kept only if the worst corner did not get worse.
+      const mesh::Positions before = pm.xyz;
+      improve_hex_mesh(pm.hexes, frozen, pm.xyz, options.quality_iterations, 0.5, &sliding);
+      const HexMeshQuality improved = hex_mesh_quality(pm);
+      if (improved.num_inverted > 0 || improved.min_scaled_jacobian < untangled_quality.min_scaled_jacobian)
+        pm.xyz = before;
+    }
+    return moved;
+  };
+  auto raise_stage = [&] {
+    if (options.min_quality_sweeps == 0) return 0;
     std::vector<char> unused(rows, 0);
     for (int r = 0; r < total; ++r) unused[r] = root[r] != r;
-    untangled += slide_and_raise(construction, unused, options, pm, share_of(progress, 0.6, 1.0));
+    return slide_and_raise(construction, unused, options, pm, share_of(progress, 0.6, 1.0));
+  };
+  using Reference = HexGridUntangleOptions::Reference;
+  if (options.padded_reference != GpcGridOptions::PaddedReference::Better) {
+    untangled += settle(options.padded_reference == GpcGridOptions::PaddedReference::OwnCell ? Reference::OwnCell
+                                                                                            : Reference::MeanCell,
+                        share_of(progress, 0.0, 0.6));
+  } else {
+    const mesh::Positions start = pm.xyz;
+    const int mean_moved = settle(Reference::MeanCell, share_of(progress, 0.0, 0.3));
+    const HexMeshQuality mean_quality = hex_mesh_quality(pm);
+    untangled += mean_moved;
+    if (mean_quality.num_inverted > 0) {
+      const mesh::Positions mean_result = pm.xyz;
+      pm.xyz = start;
+      std::fill(last_face.begin(), last_face.end(), -1);
+      std::fill(nearby.begin(), nearby.end(), SurfaceDistance::Nearby{});
+      const int own_moved = settle(Reference::OwnCell, share_of(progress, 0.3, 0.6));
+      const HexMeshQuality own_quality = hex_mesh_quality(pm);
+      if (own_quality.num_inverted < mean_quality.num_inverted ||
+          (own_quality.num_inverted == mean_quality.num_inverted &&
+           own_quality.min_scaled_jacobian > mean_quality.min_scaled_jacobian))
+        untangled += own_moved - mean_moved;
+      else
+        pm.xyz = mean_result;
+    }
   }
-  return untangled;
+  return untangled + raise_stage();
 }
 
 }  // namespace

@@ -100,9 +100,10 @@ class Energy {
   // sliding (or null): free nodes it flags sit at the projection of their variables onto a
   // surface or curve, and their gradient is taken in the tangent space there.
   Energy(const std::vector<std::array<int, 8>>& hex_nodes, std::vector<Corner> corners, std::vector<int> free_nodes,
-         mesh::Positions& xyz, double h, double theta, const SlidingNodes* sliding)
+         mesh::Positions& xyz, double h, double theta, const SlidingNodes* sliding,
+         const std::vector<double>* hex_inv_h = nullptr)
       : corners_(std::move(corners)), free_(std::move(free_nodes)), xyz_(xyz), inv_h_(1.0 / h), theta_(theta),
-        sliding_nodes_(sliding) {
+        sliding_nodes_(sliding), hex_inv_h_(hex_inv_h) {
     var_of_.assign(xyz.rows(), -1);
     for (std::size_t v = 0; v < free_.size(); ++v) var_of_[free_[v]] = static_cast<int>(v);
     slide_of_var_.assign(free_.size(), -1);
@@ -122,6 +123,7 @@ class Energy {
       if (hexes_.empty() || hexes_.back().id != c.hex) {
         Hex hex;
         hex.id = c.hex;
+        hex.inv_h = hex_inv_h_ ? (*hex_inv_h_)[c.hex] : inv_h_;
         for (int q = 0; q < 8; ++q) {
           hex.node[q] = hex_nodes[c.hex][q];
           hex.var[q] = var_of_[hex.node[q]];
@@ -182,7 +184,7 @@ class Energy {
         p[q][0] = src[0], p[q][1] = src[1], p[q][2] = src[2];
       }
       double e[8];
-      hex_corner_terms(p, inv_h_, eps2, theta, hex.corners, e, nullptr);
+      hex_corner_terms(p, hex.inv_h, eps2, theta, hex.corners, e, nullptr);
       for (int c = 0; c < 8; ++c)
         if (hex.corners & (1u << c)) total += e[c];
       if (total > bound) return total;
@@ -226,7 +228,7 @@ class Energy {
         p[q][0] = src[0], p[q][1] = src[1], p[q][2] = src[2];
       }
       double e[8], node_grad[8][3];
-      hex_corner_terms(p, inv_h_, eps2, theta, hex.corners, e, g_out ? node_grad : nullptr);
+      hex_corner_terms(p, hex.inv_h, eps2, theta, hex.corners, e, g_out ? node_grad : nullptr);
       for (int c = 0; c < 8; ++c)
         if (hex.corners & (1u << c)) total += e[c];
       if (!g_out) continue;
@@ -248,10 +250,11 @@ class Energy {
   // corner_edges(c, xyz) · (1/h), from the flat positions.
   Eigen::Matrix3d jacobian(const Corner& c) const {
     Eigen::Matrix3d j;
+    const double scale = hex_inv_h_ ? (*hex_inv_h_)[c.hex] : inv_h_;
     const double* base = flat_.data() + 3 * static_cast<std::size_t>(c.node[0]);
     for (int a = 0; a < 3; ++a) {
       const double* other = flat_.data() + 3 * static_cast<std::size_t>(c.node[a + 1]);
-      for (int d = 0; d < 3; ++d) j(d, a) = c.sign[a] * (other[d] - base[d]) * inv_h_;
+      for (int d = 0; d < 3; ++d) j(d, a) = c.sign[a] * (other[d] - base[d]) * scale;
     }
     return j;
   }
@@ -260,6 +263,7 @@ class Energy {
   // variable ids (−1 if fixed) and a bit per corner term.
   struct Hex {
     int id = -1;
+    double inv_h = 0.0;  // 1 / the edge of its reference cube
     std::array<int, 8> node{};
     std::array<int, 8> var{};
     unsigned corners = 0;
@@ -279,6 +283,7 @@ class Energy {
   double inv_h_;
   double theta_;
   const SlidingNodes* sliding_nodes_ = nullptr;
+  const std::vector<double>* hex_inv_h_ = nullptr;  // per hex id, or null: inv_h_ for all
 };
 
 // One round of the ε continuation of Garanzha et al. 2021 (§3) with untangle's update and stop
@@ -294,7 +299,7 @@ void continuation_round(const std::vector<std::array<int, 8>>& hex_nodes, const 
                         const HexGridUntangleOptions& options, int rings, std::vector<char>& region,
                         std::vector<char>& is_free, std::vector<char>& first_region, HexGridUntangleReport& report,
                         const CountInverted& count_inverted, const Dilate& dilate, const SlidingNodes* sliding,
-                        int round, const Progress& progress) {
+                        int round, const Progress& progress, const std::vector<double>& hex_inv_h = {}) {
   const int total = static_cast<int>(xyz.rows());
   std::unique_ptr<Energy> energy;
   UntangleProblem problem;
@@ -332,7 +337,7 @@ void continuation_round(const std::vector<std::array<int, 8>>& hex_nodes, const 
       for (const Corner& c : corners)
         if (is_free[c.node[0]] || is_free[c.node[1]] || is_free[c.node[2]] || is_free[c.node[3]]) terms.push_back(c);
       energy = std::make_unique<Energy>(hex_nodes, std::move(terms), std::move(free_nodes), xyz, h, options.volume_weight,
-                                        sliding);
+                                        sliding, hex_inv_h.empty() ? nullptr : &hex_inv_h);
     }
     Eigen::VectorXd x = energy->variables();
     if (step == 0) {
@@ -474,6 +479,17 @@ HexGridUntangleReport untangle_hex_mesh(const std::vector<std::array<int, 8>>& h
   double mean_det = 0.0;
   for (const Corner& c : corners) mean_det += corner_edges(c, xyz).determinant() / corners.size();
   const double h = std::cbrt(std::max(mean_det, 1e-300));
+  std::vector<double> hex_inv_h;
+  if (options.reference == HexGridUntangleOptions::Reference::OwnCell) {
+    hex_inv_h.resize(hexes.size());
+    for (std::size_t q = 0; q < hexes.size(); ++q) {
+      double length = 0.0;
+      for (int c = 0; c < 8; ++c)
+        for (int a = 0; a < 3; ++a)
+          if (!(c >> a & 1)) length += (xyz.row(hexes[q][c | (1 << a)]) - xyz.row(hexes[q][c])).norm() / 12.0;
+      hex_inv_h[q] = length > 0.0 ? 1.0 / length : 1.0 / h;
+    }
+  }
   // Hexes around each node, for growing regions by rings of hexes.
   std::vector<std::vector<int>> node_hexes(total);
   for (std::size_t q = 0; q < hexes.size(); ++q)
@@ -519,7 +535,7 @@ HexGridUntangleReport untangle_hex_mesh(const std::vector<std::array<int, 8>>& h
     dilate(region, rings);
     std::vector<char> first_region;
     continuation_round(hexes, corners, fixed, xyz, h, options, rings, region, is_free, first_region, report,
-                       count_inverted, dilate, sliding, round, progress);
+                       count_inverted, dilate, sliding, round, progress, hex_inv_h);
     report.final_inverted = count_inverted(nullptr);
   }
   return report;

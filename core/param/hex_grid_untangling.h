@@ -29,6 +29,14 @@ struct HexGridUntangleOptions {
   /// of the surface mesh, where its projection no longer follows the tangent-plane gradient and
   /// the line search backtracks on most steps; settled, the steps are far fewer, on another path.
   bool settle_sliding = false;
+  /// The reference cell of each hex's corner terms. MeanCell: one cube of the mean corner volume
+  /// for all hexes, so det J ≈ 1 on average and the volume term asks for cells of even size (a
+  /// structured grid's spacing). OwnCell (untangle_hex_mesh only): a cube whose edge is the hex's own
+  /// mean edge length on entry, so the barrier's ε and the volume term act at every hex's own scale;
+  /// in a mesh whose cells differ in size by orders of magnitude (thin limbs beside a body,
+  /// padding hexes) a global reference leaves small hexes' determinants far below ε, where the
+  /// barrier does not see their sign.
+  enum class Reference { MeanCell, OwnCell } reference = Reference::MeanCell;
 };
 
 /// Nodes of untangle_hex_mesh that slide on a surface or a curve: slides[v] flags node v;

@@ -132,3 +132,47 @@ TEST_CASE("hex grid untangling reports its steps and stops when asked") {
   for (int id = 0; id < n * n * n; ++id)
     if (fixed[id]) CHECK(xyz.row(id) == folded.row(id));
 }
+
+TEST_CASE("hex mesh untangling with each hex's own reference cell unfolds a fold among hexes a thousand times smaller") {
+  // Per axis the nodes 0, 0.001, 0.002, 0.003, 0.5, 1: tiny cubes at one corner of the unit cube
+  // beside hexes 500 times longer; the boundary held.
+  const std::array<double, 6> t = {0.0, 0.001, 0.002, 0.003, 0.5, 1.0};
+  const int n = 6;
+  mesh::Positions xyz(n * n * n, 3);
+  std::vector<char> fixed(n * n * n);
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const int id = param::grid_node_index({n, n, n}, i, j, k);
+        xyz.row(id) << t[i], t[j], t[k];
+        fixed[id] = i == 0 || j == 0 || k == 0 || i == n - 1 || j == n - 1 || k == n - 1;
+      }
+  std::vector<std::array<int, 8>> hexes;
+  for (int k = 0; k + 1 < n; ++k)
+    for (int j = 0; j + 1 < n; ++j)
+      for (int i = 0; i + 1 < n; ++i) {
+        std::array<int, 8> hex;
+        for (int q = 0; q < 8; ++q) hex[q] = param::grid_node_index({n, n, n}, i + (q & 1), j + ((q >> 1) & 1), k + ((q >> 2) & 1));
+        hexes.push_back(hex);
+      }
+  // Node (2, 2, 2) pushed past (3, 2, 2).
+  xyz(param::grid_node_index({n, n, n}, 2, 2, 2), 0) = 0.0035;
+  REQUIRE(min_hex_quality(n, xyz) < 0.0);
+  // The mean cell's barrier hardly sees the tiny hexes' determinants: it opens the fold to a
+  // least scaled Jacobian of a few 1e-6; each hex's own cell opens it hundreds of times wider.
+  std::array<double, 2> least{};
+  for (int r = 0; r < 2; ++r) {
+    mesh::Positions moved = xyz;
+    param::HexGridUntangleOptions options;
+    options.reference = r == 0 ? param::HexGridUntangleOptions::Reference::MeanCell
+                               : param::HexGridUntangleOptions::Reference::OwnCell;
+    const param::HexGridUntangleReport report = param::untangle_hex_mesh(hexes, fixed, moved, {}, options);
+    CHECK(report.initial_inverted > 0);
+    CHECK(report.final_inverted == 0);
+    least[r] = min_hex_quality(n, moved);
+    CHECK(least[r] > 0.0);
+    for (int id = 0; id < n * n * n; ++id)
+      if (fixed[id]) CHECK(moved.row(id) == xyz.row(id));
+  }
+  CHECK(least[1] > 100.0 * least[0]);
+}
