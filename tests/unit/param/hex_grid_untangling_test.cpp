@@ -42,6 +42,19 @@ double min_hex_quality(int n, const mesh::Positions& xyz) {
   return worst;
 }
 
+// The hexes of the n×n×n node lattice as a hex list (node q at offset (q&1, q>>1&1, q>>2&1)).
+std::vector<std::array<int, 8>> grid_hexes(int n) {
+  std::vector<std::array<int, 8>> hexes;
+  for (int k = 0; k + 1 < n; ++k)
+    for (int j = 0; j + 1 < n; ++j)
+      for (int i = 0; i + 1 < n; ++i) {
+        std::array<int, 8> hex;
+        for (int q = 0; q < 8; ++q) hex[q] = param::grid_node_index({n, n, n}, i + (q & 1), j + ((q >> 1) & 1), k + ((q >> 2) & 1));
+        hexes.push_back(hex);
+      }
+  return hexes;
+}
+
 }  // namespace
 
 TEST_CASE("hex grid untangling unfolds a node pushed past its neighbours and keeps the boundary") {
@@ -116,14 +129,7 @@ TEST_CASE("hex grid untangling reports its steps and stops when asked") {
   for (std::size_t i = 1; i < fractions.size(); ++i) CHECK(fractions[i] > fractions[i - 1]);
   CHECK(fractions.back() < 1.0);
   // The same grid as hexes of a mesh, cancelled at the second step: Cancelled, the fixed nodes kept.
-  std::vector<std::array<int, 8>> hexes;
-  for (int k = 0; k + 1 < n; ++k)
-    for (int j = 0; j + 1 < n; ++j)
-      for (int i = 0; i + 1 < n; ++i) {
-        std::array<int, 8> hex;
-        for (int q = 0; q < 8; ++q) hex[q] = param::grid_node_index({n, n, n}, i + (q & 1), j + ((q >> 1) & 1), k + ((q >> 2) & 1));
-        hexes.push_back(hex);
-      }
+  const std::vector<std::array<int, 8>> hexes = grid_hexes(n);
   int reports = 0;
   const Progress stop([&reports](const std::string&, double) { return ++reports < 2; });
   xyz = folded;
@@ -147,14 +153,7 @@ TEST_CASE("hex mesh untangling with each hex's own reference cell unfolds a fold
         xyz.row(id) << t[i], t[j], t[k];
         fixed[id] = i == 0 || j == 0 || k == 0 || i == n - 1 || j == n - 1 || k == n - 1;
       }
-  std::vector<std::array<int, 8>> hexes;
-  for (int k = 0; k + 1 < n; ++k)
-    for (int j = 0; j + 1 < n; ++j)
-      for (int i = 0; i + 1 < n; ++i) {
-        std::array<int, 8> hex;
-        for (int q = 0; q < 8; ++q) hex[q] = param::grid_node_index({n, n, n}, i + (q & 1), j + ((q >> 1) & 1), k + ((q >> 2) & 1));
-        hexes.push_back(hex);
-      }
+  const std::vector<std::array<int, 8>> hexes = grid_hexes(n);
   // Node (2, 2, 2) pushed past (3, 2, 2).
   xyz(param::grid_node_index({n, n, n}, 2, 2, 2), 0) = 0.0035;
   REQUIRE(min_hex_quality(n, xyz) < 0.0);
