@@ -367,9 +367,7 @@ int untangle_padded_mesh(const polycube::GpcConstruction& construction, const st
       std::fill(nearby.begin(), nearby.end(), SurfaceDistance::Nearby{});
       const int own_moved = settle(Reference::OwnCell, share_of(progress, 0.3, 0.6));
       const HexMeshQuality own_quality = hex_mesh_quality(pm);
-      if (own_quality.num_inverted < mean_quality.num_inverted ||
-          (own_quality.num_inverted == mean_quality.num_inverted &&
-           own_quality.min_scaled_jacobian > mean_quality.min_scaled_jacobian))
+      if (own_quality.num_inverted < mean_quality.num_inverted)
         untangled += own_moved - mean_moved;
       else
         pm.xyz = mean_result;

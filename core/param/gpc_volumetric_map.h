@@ -27,8 +27,9 @@ struct GpcGridOptions {
   int quality_iterations = 100;  ///< improve_hex_mesh on the padded mesh once fold-free (0: off)
   /// The reference cell of the padded mesh's untanglers (HexGridUntangleOptions::reference):
   /// MeanCell, OwnCell, or Better: the mean cell, and where that leaves inverted hexes after the
-  /// untanglers and improve_hex_mesh, the own cell too from the same start; the one with fewer
-  /// inverted hexes (then the higher least scaled Jacobian) stays, the mean cell's on a tie.
+  /// untanglers and improve_hex_mesh, the own cell too from the same start, kept if it leaves
+  /// fewer (a tie keeps the mean cell's: the least value of a folded mesh says little of where
+  /// the last stage ends).
   enum class PaddedReference { MeanCell, OwnCell, Better } padded_reference = PaddedReference::Better;
   /// raise_min_scaled_jacobian on the padded mesh, every surface node sliding on the whole surface
   /// except at creases: its hexes below this corner scaled Jacobian are worked on, in (−1, 1]
