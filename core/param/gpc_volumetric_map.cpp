@@ -297,9 +297,9 @@ int untangle_padded_mesh(const polycube::GpcConstruction& construction, const st
   }
   for (int r = 0; r < rows; ++r)
     if (slides[r] && !patches[slides[r] - 1]) slides[r] = 0, fixed[r] = 1;
-  // First with the whole surface held; then the folds left, with the face nodes sliding; then
-  // improved around the poor hexes if fold-free. With each reference cell asked for, from the
-  // same start.
+  // settle: first with the whole surface held; then the folds left, with the face nodes sliding;
+  // then improved around the poor hexes if fold-free. Run with the reference cells that
+  // grid.padded_reference asks for, each from the same start.
   std::vector<char> held(rows);
   for (int r = 0; r < rows; ++r) held[r] = fixed[r] || pm.on_surface[r];
   SlidingNodes sliding;
