@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/common/error.h"
+#include "core/spline/edge_crease.h"
 #include "core/spline/gpc_jacobian_certificate.h"
 #include "core/spline/untangle_energy.h"
 #include "core/spline/untangle_pass.h"
@@ -383,6 +384,46 @@ class GpcCertificatePass {
   std::vector<std::vector<CellMerge>> merges_;  // per cuboid, per patch cell (filled on first use)
 };
 
+// After the rounds: the uncertified cells whose det J is negative on or next to a cuboid edge
+// between two surface faces get that crease tilted convex, cuboid by cuboid
+// (convex_edge_creases on the cuboid's patch, its moved functions written back as global
+// control points): det J on such an edge depends on the bd-control-points next to it alone
+// (§4.3.1), which the rounds' hinges there only trade between neighbouring cells. Kept if fewer
+// cells stay uncertified over all cuboids.
+void tilt_gpc_creases(GpcSpline& spline, SplineUntangleResult& total) {
+  const JacobianCertificate before_certificate = certify_gpc_jacobian(spline);
+  const int before = static_cast<int>(before_certificate.uncertified.size());
+  if (before == 0) return;
+  const Eigen::MatrixXd start = spline.points();
+  Eigen::MatrixXd points = start;
+  int edges = 0;
+  for (int c = 0; c < spline.num_cuboids(); ++c) {
+    std::vector<UncertifiedCell> cells;
+    for (const UncertifiedCell& u : before_certificate.uncertified)
+      if (u.cuboid == c) cells.push_back(u);
+    if (cells.empty()) continue;
+    TSpline patch = spline.patch(c);
+    EdgeCreaseOptions crease_options;
+    crease_options.exposed_faces = spline.exposed_faces(c);
+    const EdgeCreaseResult creases = convex_edge_creases(patch, cells, crease_options);
+    const std::vector<int>& ids = spline.patch_function_ids(c);
+    for (int f : creases.moved) points.row(ids[f]) = patch.points().row(f);
+    edges += creases.edges;
+  }
+  int moved = 0;
+  for (Eigen::Index f = 0; f < points.rows(); ++f) moved += points.row(f) != start.row(f);
+  if (moved == 0) return;
+  spline.set_points(points);
+  const int after = static_cast<int>(certify_gpc_jacobian(spline).uncertified.size());
+  if (after >= before) {
+    spline.set_points(start);
+    return;
+  }
+  total.crease_edges = edges;
+  total.crease_functions = moved;
+  total.final_uncertified = after;
+}
+
 }  // namespace
 
 SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSamples& samples,
@@ -402,6 +443,7 @@ SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSample
     if (rounds.stop(round, uncertified, spline.points(), options.certificate_rounds)) {
       if (uncertified > rounds.final_uncertified()) spline.set_points(rounds.take_best_points());
       total.final_uncertified = rounds.final_uncertified();
+      if (total.final_uncertified > 0) tilt_gpc_creases(spline, total);
       return total;
     }
     progress.report("untangle certificate " + std::to_string(round + 1),

@@ -107,3 +107,29 @@ TEST_CASE("untangle_gpc_certificate: a certified spline is left as it is") {
   CHECK(result.certificate_passes == 0);
   CHECK(spline.points() == points);
 }
+
+TEST_CASE("untangle_gpc_certificate: without rounds the ring's reflex long edges are tilted convex, the seam kept") {
+  // The ring above fitted with 8 × 1 × 1 intervals folds along the tube's four long edges, which
+  // lie between two surface faces: the crease tilt alone (no rounds) certifies cells there.
+  GpcSplineOptions o;
+  o.intervals = {{8, 1, 1}};
+  GpcSpline spline(torus_domain(false), o);
+  const GpcSamples samples = ring_samples();
+  fit_gpc_spline(spline, samples);
+  const Eigen::MatrixXd fitted = spline.points();
+  volspline::spline::SplineUntangleOptions options;
+  options.certificate_rounds = 0;
+  const auto result = untangle_gpc_certificate(spline, samples, options);
+  // 8 cells uncertified after the fit, 2 after the tilt of 32 cell edges.
+  CHECK(result.initial_uncertified == 8);
+  CHECK(result.crease_edges > 0);
+  CHECK(result.final_uncertified <= 2);
+  CHECK(certify_gpc_jacobian(spline).uncertified.size() == static_cast<std::size_t>(result.final_uncertified));
+  int moved = 0;
+  for (Eigen::Index f = 0; f < fitted.rows(); ++f) moved += spline.points().row(f) != fitted.row(f);
+  CHECK(moved == result.crease_functions);
+  for (int q = 0; q < 25; ++q) {
+    const Eigen::Vector3d a(0.0, 0.3 * (q % 5) / 4.0, 0.2 * (q / 5) / 4.0), b(1.0, a(1), a(2));
+    CHECK((spline.evaluate(0, a) - spline.evaluate(0, b)).norm() <= 1e-12);
+  }
+}
