@@ -389,17 +389,16 @@ class GpcCertificatePass {
 // (convex_edge_creases on the cuboid's patch, its moved functions written back as global
 // control points): det J on such an edge depends on the bd-control-points next to it alone
 // (§4.3.1), which the rounds' hinges there only trade between neighbouring cells. Kept if fewer
-// cells stay uncertified over all cuboids.
-void tilt_gpc_creases(GpcSpline& spline, SplineUntangleResult& total) {
-  const JacobianCertificate before_certificate = certify_gpc_jacobian(spline);
-  const int before = static_cast<int>(before_certificate.uncertified.size());
+// cells stay uncertified over all cuboids. uncertified: the spline's uncertified cells.
+void tilt_gpc_creases(GpcSpline& spline, const std::vector<UncertifiedCell>& uncertified, SplineUntangleResult& total) {
+  const int before = static_cast<int>(uncertified.size());
   if (before == 0) return;
   const Eigen::MatrixXd start = spline.points();
   Eigen::MatrixXd points = start;
   int edges = 0;
   for (int c = 0; c < spline.num_cuboids(); ++c) {
     std::vector<UncertifiedCell> cells;
-    for (const UncertifiedCell& u : before_certificate.uncertified)
+    for (const UncertifiedCell& u : uncertified)
       if (u.cuboid == c) cells.push_back(u);
     if (cells.empty()) continue;
     TSpline patch = spline.patch(c);
@@ -436,14 +435,17 @@ SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSample
   const int nc = spline.num_cuboids();
   std::vector<std::vector<Eigen::Vector3d>> held(static_cast<std::size_t>(nc));
   detail::CertificateRounds rounds;
+  std::vector<UncertifiedCell> best;  // the uncertified cells of the round with the fewest
   for (int round = 0;; ++round) {
-    const JacobianCertificate certificate = certify_gpc_jacobian(spline);
+    JacobianCertificate certificate = certify_gpc_jacobian(spline);
     const int uncertified = static_cast<int>(certificate.uncertified.size());
     if (round == 0) total.initial_uncertified = uncertified;
+    if (uncertified < rounds.final_uncertified()) best = certificate.uncertified;
     if (rounds.stop(round, uncertified, spline.points(), options.certificate_rounds)) {
       if (uncertified > rounds.final_uncertified()) spline.set_points(rounds.take_best_points());
+      else best = std::move(certificate.uncertified);
       total.final_uncertified = rounds.final_uncertified();
-      if (total.final_uncertified > 0) tilt_gpc_creases(spline, total);
+      tilt_gpc_creases(spline, best, total);
       return total;
     }
     progress.report("untangle certificate " + std::to_string(round + 1),

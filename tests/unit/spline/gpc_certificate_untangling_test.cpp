@@ -62,17 +62,24 @@ double max_misfit(const GpcSpline& spline, const GpcSamples& s) {
   return worst;
 }
 
+// The ring's least-squares fit with 8 intervals round it and 1 × 1 across (as mesh2spline's
+// torus): every cell lies on the tube's four long edges, where the fit folds.
+GpcSpline fitted_ring(const GpcSamples& samples) {
+  GpcSplineOptions o;
+  o.intervals = {{8, 1, 1}};
+  GpcSpline spline(torus_domain(false), o);
+  fit_gpc_spline(spline, samples);
+  return spline;
+}
+
 }  // namespace
 
 TEST_CASE("untangle_gpc_certificate: a ring with one cell across its tube ends certified, seam and surface kept") {
   // As mesh2spline's torus: 8 intervals round the ring, 1 × 1 across, so every cell lies on the
   // tube's four long edges, where the least-squares fit folds (det J < 0 proven there), and
   // every function touches the surface; those round the ring cross the seam u = 0.
-  GpcSplineOptions o;
-  o.intervals = {{8, 1, 1}};
-  GpcSpline spline(torus_domain(false), o);
   const GpcSamples samples = ring_samples();
-  fit_gpc_spline(spline, samples);
+  GpcSpline spline = fitted_ring(samples);
   const auto before = certify_gpc_jacobian(spline);
   REQUIRE(before.cells == 8);
   CHECK(before.certified_cells < 8);
@@ -111,11 +118,8 @@ TEST_CASE("untangle_gpc_certificate: a certified spline is left as it is") {
 TEST_CASE("untangle_gpc_certificate: without rounds the ring's reflex long edges are tilted convex, the seam kept") {
   // The ring above fitted with 8 × 1 × 1 intervals folds along the tube's four long edges, which
   // lie between two surface faces: the crease tilt alone (no rounds) certifies cells there.
-  GpcSplineOptions o;
-  o.intervals = {{8, 1, 1}};
-  GpcSpline spline(torus_domain(false), o);
   const GpcSamples samples = ring_samples();
-  fit_gpc_spline(spline, samples);
+  GpcSpline spline = fitted_ring(samples);
   const Eigen::MatrixXd fitted = spline.points();
   volspline::spline::SplineUntangleOptions options;
   options.certificate_rounds = 0;
