@@ -25,7 +25,7 @@ const char* kUsage =
     "commands:\n"
     "  info FILE          mesh facts (counts, closed, manifold, genus, bounding box) or volume facts\n"
     "  gpc MESH           closed solid of any genus -> generalized poly-cube domain (thesis ch. 3)\n"
-    "  mesh2spline MESH   closed genus-0 triangle mesh -> trivariate T-spline (thesis ch. 3, 4)\n"
+    "  mesh2spline MESH   closed triangle mesh of any genus -> trivariate T-spline (thesis ch. 3, 4)\n"
     "  eval SPLINE        evaluate a spline JSON file at --uvw u,v,w\n"
     "  lens IMAGE         focus+context magnification lens on an image (thesis ch. 6)\n"
     "  vol2spline VOLUME  scalar volume -> trivariate T-spline of (X, Y, Z, density) (thesis ch. 5)\n"

@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: MIT
 #include "core/mesh/surface_creases.h"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
+
+#include <Eigen/Eigenvalues>
 
 namespace volspline::mesh {
 
@@ -21,9 +24,9 @@ bool has_vertex(const TriangleMesh& surface, int t, int v) {
 
 }  // namespace
 
-SurfaceCreases::SurfaceCreases(const TriangleMesh& surface, double angle_rad)
+SurfaceCreases::SurfaceCreases(const TriangleMesh& surface, double angle_rad, double scale)
     : surface_(surface), cos_crease_(std::cos(angle_rad)) {
-  assert(angle_rad >= 0.0 && angle_rad <= 3.15);
+  assert(angle_rad >= 0.0 && angle_rad <= 3.15 && scale >= 0.0);
   const int nv = surface.num_vertices(), nt = surface.num_faces();
   star_begin_.assign(nv + 1, 0);
   for (int t = 0; t < nt; ++t)
@@ -34,6 +37,44 @@ SurfaceCreases::SurfaceCreases(const TriangleMesh& surface, double angle_rad)
   for (int t = 0; t < nt; ++t)
     for (int k = 0; k < 3; ++k) star_[fill[surface.triangles(t, k)]++] = t;
   state_.assign(nv, -1);
+  if (scale > 0.0 && nt > 0) {
+    double length = 0.0;
+    for (int t = 0; t < nt; ++t)
+      for (int k = 0; k < 3; ++k)
+        length += (surface.positions.row(surface.triangles(t, k)) - surface.positions.row(surface.triangles(t, (k + 1) % 3))).norm();
+    radius_ = scale * length / (3.0 * nt);
+  }
+}
+
+bool SurfaceCreases::holds_at_scale(int v) const {
+  // The triangles reached from v's star through vertices within radius_ of v.
+  const Eigen::Vector3d centre = surface_.positions.row(v).transpose();
+  std::vector<int> vertices{v}, triangles;
+  for (std::size_t next = 0; next < vertices.size(); ++next) {
+    const int u = vertices[next];
+    for (int i = star_begin_[u]; i < star_begin_[u + 1]; ++i) {
+      const int t = star_[i];
+      if (std::find(triangles.begin(), triangles.end(), t) != triangles.end()) continue;
+      triangles.push_back(t);
+      for (int k = 0; k < 3; ++k) {
+        const int w = surface_.triangles(t, k);
+        if ((surface_.positions.row(w).transpose() - centre).norm() <= radius_ &&
+            std::find(vertices.begin(), vertices.end(), w) == vertices.end())
+          vertices.push_back(w);
+      }
+    }
+  }
+  Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
+  for (const int t : triangles) {
+    const Eigen::Vector3d a = surface_.positions.row(surface_.triangles(t, 0)).transpose();
+    const Eigen::Vector3d b = surface_.positions.row(surface_.triangles(t, 1)).transpose();
+    const Eigen::Vector3d c = surface_.positions.row(surface_.triangles(t, 2)).transpose();
+    const Eigen::Vector3d n = (b - a).cross(c - a);  // |n| = 2·area: Σ A nnᵀ up to a factor 2
+    const double norm = n.norm();
+    if (norm > 0.0) tensor += n * n.transpose() / norm;
+  }
+  const Eigen::Vector3d lambda = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(tensor, Eigen::EigenvaluesOnly).eigenvalues();
+  return lambda(2) > 0.0 && lambda(1) >= kSecondNormal * lambda(2);
 }
 
 bool SurfaceCreases::vertex_on_crease(int v) const {
@@ -53,6 +94,7 @@ bool SurfaceCreases::vertex_on_crease(int v) const {
       // NaN normals (zero area) compare false, so they count as a crease.
       if (count == 2 && !(unit_normal(surface_, first).dot(unit_normal(surface_, second)) >= cos_crease_)) crease = true;
     }
+  if (crease && radius_ > 0.0) crease = holds_at_scale(v);
   state_[v] = crease ? 1 : 0;
   return crease;
 }
@@ -62,8 +104,8 @@ bool SurfaceCreases::triangle_near_crease(int t) const {
          vertex_on_crease(surface_.triangles(t, 2));
 }
 
-std::vector<char> crease_triangles(const TriangleMesh& surface, double angle_rad) {
-  const SurfaceCreases creases(surface, angle_rad);
+std::vector<char> crease_triangles(const TriangleMesh& surface, double angle_rad, double scale) {
+  const SurfaceCreases creases(surface, angle_rad, scale);
   std::vector<char> out(surface.num_faces());
   for (int t = 0; t < surface.num_faces(); ++t) out[t] = creases.triangle_near_crease(t);
   return out;

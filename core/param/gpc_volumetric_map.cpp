@@ -50,6 +50,10 @@ Progress share_of(const Progress& progress, double lo, double hi) {
 // Surface triangles whose normals differ by more than this (about 75°) across an edge make a
 // crease: a cube's edge (90°) is one, the noise of a scanned or coarse smooth surface is not.
 constexpr double kCreaseAngleRad = 1.3;
+// ... and must hold over this many mean edge lengths (mesh::SurfaceCreases' scale): a noisy
+// triangulation's ripples and slivers turn normals by as much along single edges, and holding
+// their nodes pins padding hexes flat.
+constexpr double kCreaseScale = 3.0;
 // Rounds of slide_and_raise while folds are left.
 constexpr int kSlideRounds = 3;
 // slide_and_raise's barrier pass: MinQualityOptions::barrier and its sweeps at most.
@@ -139,7 +143,7 @@ int slide_and_raise(const polycube::GpcConstruction& construction, const std::ve
   const int rows = static_cast<int>(pm.xyz.rows());
   const mesh::TriangleMesh whole = whole_surface(construction);
   const SurfaceDistance surface(whole);
-  const mesh::SurfaceCreases creases(whole, kCreaseAngleRad);
+  const mesh::SurfaceCreases creases(whole, kCreaseAngleRad, kCreaseScale);
   std::vector<int> near_face(rows, -1);
   std::vector<char> fixed(rows);
   SlidingNodes sliding;

@@ -19,6 +19,24 @@ mesh::TriangleMesh crease_hinge(double angle_rad) {
   return m;
 }
 
+// A square sheet of n × n unit squares (two triangles each) in the plane z = 0, vertex (i, j) at
+// id j·(n + 1) + i, then moved by `place`.
+template <typename Place>
+mesh::TriangleMesh sheet(int n, Place place) {
+  mesh::TriangleMesh m;
+  m.positions.resize((n + 1) * (n + 1), 3);
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) m.positions.row(j * (n + 1) + i) = place(i, j).transpose();
+  m.triangles.resize(2 * n * n, 3);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int v = j * (n + 1) + i;
+      m.triangles.row(2 * (j * n + i)) << v, v + 1, v + n + 2;
+      m.triangles.row(2 * (j * n + i) + 1) << v, v + n + 2, v + n + 1;
+    }
+  return m;
+}
+
 }  // namespace
 
 TEST_CASE("crease_triangles: a crease_hinge is a crease when its normals turn by more than the angle") {
@@ -49,4 +67,24 @@ TEST_CASE("crease_triangles: every triangle of a cube touches a crease, a fine c
     cylinder.triangles.row(2 * s + 1) << t, sides + t, sides + s;
   }
   CHECK(mesh::crease_triangles(cylinder, 1.3) == std::vector<char>(2 * sides, 0));
+}
+
+TEST_CASE("SurfaceCreases with a scale: a sliver's stray normal is no crease, a fold of the sheet is") {
+  const int n = 16, middle = (n / 2) * (n + 1) + n / 2;
+  // The middle vertex moved almost onto its neighbour (i + 1) and lifted a fifth of a square, as
+  // marching cubes leaves it: two slivers whose normals turn by more than 75° against their
+  // neighbours', in a sheet that is flat at the scale of three edges.
+  const mesh::TriangleMesh rippled = sheet(n, [&](int i, int j) {
+    return i == n / 2 && j == n / 2 ? Eigen::Vector3d(i + 0.95, j, 0.2) : Eigen::Vector3d(i, j, 0.0);
+  });
+  CHECK(mesh::SurfaceCreases(rippled, 1.3).vertex_on_crease(middle));
+  CHECK(!mesh::SurfaceCreases(rippled, 1.3, 3.0).vertex_on_crease(middle));
+  // The sheet folded by 90° along the line i = n/2: a crease at every scale.
+  const mesh::TriangleMesh folded = sheet(n, [&](int i, int j) {
+    return i <= n / 2 ? Eigen::Vector3d(i, j, 0.0) : Eigen::Vector3d(n / 2, j, i - n / 2);
+  });
+  const mesh::SurfaceCreases fold(folded, 1.3, 3.0);
+  CHECK(fold.vertex_on_crease(middle));
+  CHECK(!fold.vertex_on_crease(middle - 2));
+  CHECK(mesh::crease_triangles(folded, 1.3, 3.0) == mesh::crease_triangles(folded, 1.3));
 }
