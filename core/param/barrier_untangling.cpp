@@ -33,6 +33,8 @@ int lbfgs(const UntangleProblem& problem, Eigen::VectorXd& x, double eps, int ma
   std::vector<double>& rho = memory.rho;
   Eigen::VectorXd g;
   double f = problem.energy(x, eps, &g);
+  // Whether the last step took the full step: then the next full step gets its gradient at once.
+  bool full_step = true;
   int iteration = 0;
   for (; iteration < max_iterations; ++iteration) {
     Eigen::VectorXd q = g;
@@ -66,11 +68,11 @@ int lbfgs(const UntangleProblem& problem, Eigen::VectorXd& x, double eps, int ma
     // Along a prepared line the trials need only the energy; the gradient follows at the step taken.
     const bool line = problem.set_line && problem.line_energy;
     if (line) problem.set_line(x, d);
-    // Without a line, the full step (mostly taken) gets its gradient at once, and after a
-    // rejection the shorter trials need only the energy.
+    // Without a line, the full step gets its gradient at once where the last step took it (the
+    // energy is the same sum either way), and the other trials need only the energy.
     for (double t = 1.0; t > 1e-9; t *= 0.5) {
       x_new = x + t * d;
-      const bool with_gradient = !line && t == 1.0;
+      const bool with_gradient = !line && t == 1.0 && (full_step || !problem.energy_below);
       const double bound = f + 1e-4 * t * slope;  // Armijo
       if (line)
         f_new = problem.line_energy(t, eps, nullptr);
@@ -80,6 +82,7 @@ int lbfgs(const UntangleProblem& problem, Eigen::VectorXd& x, double eps, int ma
         f_new = problem.energy_below(x_new, eps, bound);
       if (f_new <= bound) {
         accepted = true;
+        full_step = t == 1.0;
         if (line)
           f_new = problem.line_energy(t, eps, &g_new);
         else if (!with_gradient)

@@ -115,6 +115,8 @@ class Energy {
           slide_tangent_.push_back(Eigen::Matrix3d::Zero());
         }
     projected_at_.assign(sliding_.size(), 0);
+    slide_input_.assign(sliding_.size(), Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
+    slide_point_.assign(sliding_.size(), Eigen::Vector3d::Zero());
     flat_.resize(3 * static_cast<std::size_t>(xyz.rows()));
     for (Eigen::Index v = 0; v < xyz.rows(); ++v)
       for (int d = 0; d < 3; ++d) flat_[3 * v + d] = xyz(v, d);
@@ -148,12 +150,7 @@ class Energy {
       for (int d = 0; d < 3; ++d) flat_[3 * static_cast<std::size_t>(free_[v]) + d] = x(3 * v + d);
     }
     // Sliding nodes: the variables' projection onto the surface.
-    for (std::size_t s = 0; s < sliding_.size(); ++s) {
-      const int v = sliding_[s];
-      const Eigen::Vector3d p = sliding_nodes_->project(free_[v], x.segment<3>(3 * v), &slide_tangent_[s]);
-      xyz_.row(free_[v]) = p.transpose();
-      for (int d = 0; d < 3; ++d) flat_[3 * static_cast<std::size_t>(free_[v]) + d] = p(d);
-    }
+    for (std::size_t s = 0; s < sliding_.size(); ++s) project(s, x);
   }
 
   // The energy at x if it is at most bound, otherwise a value above bound: the sum over hexes
@@ -175,10 +172,7 @@ class Energy {
         const int s = hex.var[q] >= 0 ? slide_of_var_[hex.var[q]] : -1;
         if (s >= 0 && projected_at_[s] != evaluation_) {
           projected_at_[s] = evaluation_;
-          const int v = sliding_[s];
-          const Eigen::Vector3d pr = sliding_nodes_->project(free_[v], x.segment<3>(3 * v), &slide_tangent_[s]);
-          xyz_.row(free_[v]) = pr.transpose();
-          for (int d = 0; d < 3; ++d) flat_[3 * static_cast<std::size_t>(free_[v]) + d] = pr(d);
+          project(s, x);
         }
         const double* src = flat_.data() + 3 * static_cast<std::size_t>(hex.node[q]);
         p[q][0] = src[0], p[q][1] = src[1], p[q][2] = src[2];
@@ -247,6 +241,21 @@ class Energy {
   }
 
  private:
+  // Sliding node s placed at the projection of its variables in x. The projection depends on
+  // the point alone, so a point projected last time (the line search's accepted trial evaluated
+  // again with its gradient, a step's end and the next step's start) takes the stored result.
+  void project(std::size_t s, const Eigen::VectorXd& x) {
+    const int v = sliding_[s];
+    const Eigen::Vector3d target = x.segment<3>(3 * v);
+    if (!(target == slide_input_[s])) {
+      slide_point_[s] = sliding_nodes_->project(free_[v], target, &slide_tangent_[s]);
+      slide_input_[s] = target;
+    }
+    const Eigen::Vector3d& p = slide_point_[s];
+    xyz_.row(free_[v]) = p.transpose();
+    for (int d = 0; d < 3; ++d) flat_[3 * static_cast<std::size_t>(free_[v]) + d] = p(d);
+  }
+
   // corner_edges(c, xyz) · (1/h), from the flat positions.
   Eigen::Matrix3d jacobian(const Corner& c) const {
     Eigen::Matrix3d j;
@@ -279,6 +288,8 @@ class Energy {
   std::vector<std::uint64_t> projected_at_;    // per sliding node: the evaluate_below call that projected it last
   std::uint64_t evaluation_ = 0;
   std::vector<Eigen::Matrix3d> slide_tangent_;  // projector onto each one's tangent space there
+  std::vector<Eigen::Vector3d> slide_input_;    // per sliding node: the point projected last (NaN: none)
+  std::vector<Eigen::Vector3d> slide_point_;    // and its projection
   std::vector<double> flat_;
   double inv_h_;
   double theta_;
