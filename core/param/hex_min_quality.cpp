@@ -176,9 +176,15 @@ MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>
   // True if every corner the node changes is above `floor` (stops at the first that is not);
   // order: the node's touches, the lowest corners first, so that a failing trial stops early.
   std::vector<int> order;
-  auto star_above = [&](double floor) {
-    for (const int t : order)
-      if (!(corner_value(hexes[touches[t].hex], xyz, touches[t].corner, touches[t].role, nullptr) > floor)) return false;
+  // Each value it computes is written to trial_corners[t − first] (first: the node's first touch),
+  // so that a trial that passes leaves the next visit step every corner value of the new position.
+  std::vector<double> trial_corners;
+  auto star_above = [&](double floor, int first) {
+    for (const int t : order) {
+      const double q = corner_value(hexes[touches[t].hex], xyz, touches[t].corner, touches[t].role, nullptr);
+      trial_corners[t - first] = q;
+      if (!(q > floor)) return false;
+    }
     return true;
   };
   std::vector<double> reach = options.max_edge;
@@ -255,6 +261,7 @@ MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>
       double e = 0.0;
       for (int t = touch_begin[v]; t < touch_begin[v + 1]; ++t) {
         const double q = corner_value(hexes[touches[t].hex], xyz, touches[t].corner, touches[t].role, nullptr);
+        trial_corners[t - touch_begin[v]] = q;
         if (!(q > floor)) return std::numeric_limits<double>::infinity();
         e += phi(q);
       }
@@ -277,15 +284,21 @@ MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>
       }
       stuck[v] = -1;
       bool moved_here = false;
+      trial_corners.resize(touch_begin[v + 1] - touch_begin[v]);
+      // After an accepted move, the corner values of the new position are those of its trial.
+      bool known = false;
       for (int visit = 0; visit < kStepsPerVisit; ++visit) {
         // The least value over the node's corners (gradients below, of the near-least ones only).
         double least = std::numeric_limits<double>::infinity();
         double shortest2 = std::numeric_limits<double>::infinity();
-        corners.clear();
+        if (known)
+          corners.swap(trial_corners);
+        else
+          corners.clear();
         for (int t = touch_begin[v]; t < touch_begin[v + 1]; ++t) {
           const Touch& touch = touches[t];
-          const double corner = corner_value(hexes[touch.hex], xyz, touch.corner, touch.role, nullptr);
-          corners.push_back(corner);
+          if (!known) corners.push_back(corner_value(hexes[touch.hex], xyz, touch.corner, touch.role, nullptr));
+          const double corner = corners[t - touch_begin[v]];
           least = std::min(least, corner);
           if (touch.role > 0 && touch.corner != kCentre)
             shortest2 = std::min(shortest2, corner_edge(hexes[touch.hex], xyz, touch.corner, touch.role - 1).squaredNorm());
@@ -333,11 +346,12 @@ MinQualityReport raise_min_scaled_jacobian(const std::vector<std::array<int, 8>>
           const Eigen::Vector3d trial = x0 + step * direction;
           const Eigen::Vector3d p = slides ? sliding->project(v, trial, nullptr) : trial;
           xyz.row(v) = p.transpose();
-          moved = (barrier ? star_energy(v) < energy - 1e-12 * energy : star_above(least + kMinGain)) &&
+          moved = (barrier ? star_energy(v) < energy - 1e-12 * energy : star_above(least + kMinGain, touch_begin[v])) &&
                   edges_within(v);
           if (!moved) xyz.row(v) = x0.transpose();
         }
         if (!moved) break;
+        known = true;
         ++moves;
         moved_here = true;
         ++clock;
