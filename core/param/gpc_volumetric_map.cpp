@@ -61,6 +61,11 @@ constexpr double kBarrierMargin = 0.5;
 constexpr int kBarrierSweeps = 10;
 // slide_and_raise's MinQualityOptions::min_edge: this times each node's shortest edge on entry.
 constexpr double kMinEdgeShrink = 0.05;
+// relax_worst_hexes: the band above the least value that seeds the region, the rings of hexes
+// grown around it, and the passes at most (each kept only if it raises the least value).
+constexpr double kRelaxBand = 0.02;
+constexpr int kRelaxRings = 2;
+constexpr int kRelaxPasses = 3;
 
 // The solid's surface as one triangle soup: the surface triangles of every cuboid's mesh.
 mesh::TriangleMesh whole_surface(const polycube::GpcConstruction& construction) {
@@ -128,6 +133,33 @@ int untangle_either_reference(HexMesh& pm, const std::vector<char>& fixed, const
   if (hex_mesh_quality(pm).num_inverted < mean_folded) return own_moved;
   pm.xyz = mean_result;
   return moved;
+}
+
+// The hexes within kRelaxBand of the least scaled Jacobian and kRelaxRings rings of hexes
+// around them relaxed together (improve_hex_mesh on those hexes alone, the rest held: its
+// reference cell is their own mean), then the least value raised again over the whole mesh; kept
+// if that raises the least value without a fold. The greedy raise moves one node at a time and
+// stops where the worst corner needs several nodes to move together (a T-shape's junction, a
+// thin strip of a surface face); the barrier energy moves the whole neighbourhood at once.
+// Returns true if kept.
+bool relax_worst_hexes(const std::vector<char>& fixed, const SlidingNodes& sliding, const GpcGridOptions& options,
+                       const MinQualityOptions& quality, HexMesh& pm) {
+  const HexMeshQuality start = hex_mesh_quality(pm);
+  if (start.num_inverted > 0 || !(start.min_scaled_jacobian < options.min_quality_target)) return false;
+  std::vector<char> region = nodes_of_hexes_below(pm, start.min_scaled_jacobian + kRelaxBand);
+  for (int ring = 0; ring < kRelaxRings; ++ring) region = grown_by_hexes(pm.hexes, region);
+  std::vector<std::array<int, 8>> local;
+  for (const auto& hex : pm.hexes)
+    if (std::any_of(hex.begin(), hex.end(), [&](int v) { return region[v] != 0; })) local.push_back(hex);
+  std::vector<char> held = fixed;
+  for (std::size_t r = 0; r < held.size(); ++r) held[r] = held[r] || !region[r];
+  const mesh::Positions before = pm.xyz;
+  improve_hex_mesh(local, held, pm.xyz, options.quality_iterations, 0.5, &sliding);
+  raise_min_scaled_jacobian(pm.hexes, fixed, pm.xyz, quality, &sliding);
+  const HexMeshQuality after = hex_mesh_quality(pm);
+  if (after.num_inverted == 0 && after.min_scaled_jacobian > start.min_scaled_jacobian) return true;
+  pm.xyz = before;
+  return false;
 }
 
 // The last stage of the padded mesh: every surface node slides on the whole surface, poly-edge
@@ -223,6 +255,8 @@ int slide_and_raise(const polycube::GpcConstruction& construction, const std::ve
     }
   }
   pm.xyz = best;
+  for (int pass = 0; pass < kRelaxPasses && relax_worst_hexes(fixed, sliding, options, quality, pm); ++pass) {
+  }
   // Folds left where crease nodes are held: a surface quad with three held nodes in a row (a
   // claw's ridge) has a flat corner whatever the free nodes do. Around the folded hexes (two
   // rings) those nodes slide too, for one more untangle and raise, kept if it leaves fewer folds
