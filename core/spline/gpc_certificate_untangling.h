@@ -26,7 +26,9 @@ namespace volspline::spline {
 /// certified or the uncertified count has not fallen for 3 rounds; the spline of the round with
 /// the fewest is kept. Samples: the fit's (cuboid, uvw, xyz) in the spline's frame; their
 /// weights are not used. Uses certificate_rounds, min_scaled_jacobian, data_weight,
-/// volume_weight, max_steps, max_inner and stop_margin of options; returns certificate_passes,
+/// volume_weight, max_steps and max_inner of options (each pass's ε continuation runs until its
+/// energy settles or max_steps, whatever stop_margin says: the held points are hinge terms,
+/// which the barrier nodes' margin does not see); returns certificate_passes,
 /// free_functions, iterations, initial_uncertified and final_uncertified (the other fields 0).
 /// progress: "untangle certificate K" before each round; throws volspline::Cancelled there if the
 /// callback asks to stop. Throws volspline::Error if the dimension is not 3.

@@ -233,6 +233,7 @@ SplineUntangleResult untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uv
   assert(options.nodes_per_knot_interval >= 0 && options.stop_margin >= 0.0 && options.stop_margin < 1.0);
   assert(options.check_per_interval >= 0);
   assert(options.polish_rounds >= 0 && options.polish_max_per_axis >= 2);
+  assert(options.polish_min_unfolded >= 0.0 && options.polish_min_unfolded < 1.0);
   assert(options.certificate_rounds >= 0);
   assert(!options.region || (((*options.region)[0].array() < (*options.region)[1].array()).all() &&
                              ((*options.region)[0].array() >= spline.domain_min().array()).all() &&
@@ -284,26 +285,35 @@ SplineUntangleResult untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uv
   // Polish (not in the thesis): the points of the finest lattice still folded seed local passes
   // whose nodes are that lattice, so the barrier holds every lattice point the free functions
   // touch; the passes above hold their nodes only, and folds between them remain (bunny: 8 of
-  // the 64³ cell centres after 3 passes with dense checks).
+  // the 64³ cell centres after 3 passes with dense checks). A pass that unfolds under
+  // polish_min_unfolded of its seeds is undone: its folds need functions it may not move.
   if (options.polish_rounds > 0) {
     const std::array<AxisNodes, 3> fine = finest_nodes(spline, options, options.lattice, options.polish_max_per_axis);
     SplineUntangleOptions polish_options = options;
     polish_options.rings = 0;
     std::size_t previous = std::numeric_limits<std::size_t>::max();
+    std::vector<Eigen::Vector3d> bad = bad_lattice_points(spline, fine, 0.0);
     for (int round = 0; round < options.polish_rounds; ++round) {
       progress.report("untangle polish " + std::to_string(round + 1), (options.passes + round) / steps);
-      const std::vector<Eigen::Vector3d> bad = bad_lattice_points(spline, fine, 0.0);
       total.polish_folded = static_cast<int>(bad.size());
       if (bad.empty() || bad.size() >= previous) break;  // done, or no progress
       previous = bad.size();
+      const Eigen::MatrixXd before = options.polish_min_unfolded > 0.0 ? spline.points() : Eigen::MatrixXd();
       const SplineUntangleResult r =
           detail::untangle_pass(spline, fine, uvw, xyz, bad, polish_options, detail::PassSeeds::PointsOnly, cache);
       ++total.polish_passes;
       total.free_functions += r.free_functions;
       total.iterations += r.iterations;
       if (r.free_functions == 0) break;
-      if (round + 1 == options.polish_rounds)
-        total.polish_folded = static_cast<int>(bad_lattice_points(spline, fine, 0.0).size());
+      std::vector<Eigen::Vector3d> after = bad_lattice_points(spline, fine, 0.0);
+      if (static_cast<double>(bad.size() - std::min(after.size(), bad.size())) <
+          options.polish_min_unfolded * static_cast<double>(bad.size())) {
+        spline.set_points(before);
+        cache.current = false;
+        break;
+      }
+      bad = std::move(after);
+      total.polish_folded = static_cast<int>(bad.size());
     }
   }
   if (options.certificate_rounds > 0 && !options.region) certificate_rounds(spline, uvw, xyz, options, progress, steps, cache, total);

@@ -203,6 +203,15 @@ TEST_CASE("spline untangling unfolds a fold at a face (normal derivative outward
     CHECK(report.polish_folded == 0);
     CHECK(lattice_folded(ts) == 0);
     check_boundary_points_kept(ts, points);
+    // A pass that unfolds at least polish_min_unfolded of its seeds is kept: the same points (to
+    // rounding: a copy whose points are set again does not repeat the last bits).
+    spline::TSpline strict = ts;
+    strict.set_points(points);
+    options.polish_min_unfolded = 0.5;
+    const spline::SplineUntangleResult strict_report = spline::untangle_spline(strict, uvw, uvw, options);
+    CHECK(strict_report.polish_folded == 0);
+    CHECK(strict_report.polish_passes == report.polish_passes);
+    CHECK((strict.points() - ts.points()).cwiseAbs().maxCoeff() < 1e-12);
   }
   SUBCASE("with them it is gone everywhere the check looks") {
     REQUIRE(options.boundary_layers.size() == 2);  // the defaults: 1/4 and 1/2 of the first node's depth
