@@ -135,18 +135,20 @@ int untangle_either_reference(HexMesh& pm, const std::vector<char>& fixed, const
   return moved;
 }
 
-// The hexes within kRelaxBand of the least scaled Jacobian and kRelaxRings rings of hexes
-// around them relaxed together (improve_hex_mesh on those hexes alone, the rest held: its
-// reference cell is their own mean), then the least value raised again over the whole mesh; kept
-// if that raises the least value without a fold. The greedy raise moves one node at a time and
+// The hexes within kRelaxBand of the least scaled Jacobian (and kRelaxBand short of the target)
+// and kRelaxRings rings of hexes around them relaxed together (improve_hex_mesh on those hexes
+// alone, the rest held: its reference cell is their own mean), then the least value raised again
+// over the whole mesh; kept if it rose without a fold. The greedy raise moves one node at a time and
 // stops where the worst corner needs several nodes to move together (a T-shape's junction, a
 // thin strip of a surface face); the barrier energy moves the whole neighbourhood at once.
 // Returns true if kept.
 bool relax_worst_hexes(const std::vector<char>& fixed, const SlidingNodes& sliding, const GpcGridOptions& options,
                        const MinQualityOptions& quality, HexMesh& pm) {
   const HexMeshQuality start = hex_mesh_quality(pm);
-  if (start.num_inverted > 0 || !(start.min_scaled_jacobian < options.min_quality_target)) return false;
-  std::vector<char> region = nodes_of_hexes_below(pm, start.min_scaled_jacobian + kRelaxBand);
+  // Hexes just below the target are where the raise stops by design, not a spot to relax.
+  const double seed_bound = std::min(start.min_scaled_jacobian + kRelaxBand, options.min_quality_target - kRelaxBand);
+  if (start.num_inverted > 0 || !(start.min_scaled_jacobian < seed_bound)) return false;
+  std::vector<char> region = nodes_of_hexes_below(pm, seed_bound);
   for (int ring = 0; ring < kRelaxRings; ++ring) region = grown_by_hexes(pm.hexes, region);
   std::vector<std::array<int, 8>> local;
   for (const auto& hex : pm.hexes)
