@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "core/mesh/surface_creases.h"
 
-#include <algorithm>
 #include <cassert>
 #include <cmath>
 
@@ -43,24 +42,31 @@ SurfaceCreases::SurfaceCreases(const TriangleMesh& surface, double angle_rad, do
       for (int k = 0; k < 3; ++k)
         length += (surface.positions.row(surface.triangles(t, k)) - surface.positions.row(surface.triangles(t, (k + 1) % 3))).norm();
     radius_ = scale * length / (3.0 * nt);
+    vertex_seen_.assign(nv, 0);
+    triangle_seen_.assign(nt, 0);
   }
 }
 
 bool SurfaceCreases::holds_at_scale(int v) const {
-  // The triangles reached from v's star through vertices within radius_ of v.
+  // The triangles reached from v's star through vertices within radius_ of v, in visit order
+  // (marked with this visit's stamp: a dense region's disc may hold thousands of them).
   const Eigen::Vector3d centre = surface_.positions.row(v).transpose();
+  ++stamp_;
   std::vector<int> vertices{v}, triangles;
+  vertex_seen_[v] = stamp_;
   for (std::size_t next = 0; next < vertices.size(); ++next) {
     const int u = vertices[next];
     for (int i = star_begin_[u]; i < star_begin_[u + 1]; ++i) {
       const int t = star_[i];
-      if (std::find(triangles.begin(), triangles.end(), t) != triangles.end()) continue;
+      if (triangle_seen_[t] == stamp_) continue;
+      triangle_seen_[t] = stamp_;
       triangles.push_back(t);
       for (int k = 0; k < 3; ++k) {
         const int w = surface_.triangles(t, k);
-        if ((surface_.positions.row(w).transpose() - centre).norm() <= radius_ &&
-            std::find(vertices.begin(), vertices.end(), w) == vertices.end())
+        if (vertex_seen_[w] != stamp_ && (surface_.positions.row(w).transpose() - centre).norm() <= radius_) {
+          vertex_seen_[w] = stamp_;
           vertices.push_back(w);
+        }
       }
     }
   }

@@ -37,6 +37,8 @@ class SurfaceCreases {
   std::vector<int> star_begin_;     // per vertex, its range of star_ (num_vertices + 1)
   std::vector<int> star_;           // triangles around each vertex, ascending ids
   mutable std::vector<signed char> state_;  // per vertex: −1 not examined yet, 0 no crease, 1 crease
+  mutable int stamp_ = 0;  // holds_at_scale's visit count: marks below equal to it are this visit's
+  mutable std::vector<int> vertex_seen_, triangle_seen_;
 };
 
 /// Per triangle, SurfaceCreases::triangle_near_crease for all of them.

@@ -257,8 +257,8 @@ int slide_and_raise(const polycube::GpcConstruction& construction, const std::ve
     }
   }
   pm.xyz = best;
-  for (int pass = 0; pass < kRelaxPasses && relax_worst_hexes(fixed, sliding, options, quality, pm); ++pass) {
-  }
+  for (int pass = 0; pass < kRelaxPasses; ++pass)
+    if (!relax_worst_hexes(fixed, sliding, options, quality, pm)) break;
   // Folds left where crease nodes are held: a surface quad with three held nodes in a row (a
   // claw's ridge) has a flat corner whatever the free nodes do. Around the folded hexes (two
   // rings) those nodes slide too, for one more untangle and raise, kept if it leaves fewer folds
