@@ -57,8 +57,9 @@ class GpcCertificatePass {
     const SampleTerms samples = make_samples();
     detail::RegionEnergyOptions energy_options = detail::region_energy_options(options_, step, 1.0);
     // The folded points are hinge terms, not barrier nodes, so the barrier nodes' being unfolded
-    // says nothing about them: the ε continuation runs until the energy settles (kitten: passes
-    // of 5 L-BFGS iterations left 1–8 cells uncertified round after round).
+    // says nothing about them: the ε continuation runs until the energy settles (a pass stopped
+    // at the barrier nodes' margin leaves the held points folded, and the rounds trade the same
+    // few cells back and forth).
     energy_options.stop_margin = std::numeric_limits<double>::infinity();
     result.iterations = detail::minimize_region_energy(region, samples, energy_options, x);
     Eigen::MatrixXd moved = points;
