@@ -136,26 +136,45 @@ bool lay_out_t_shape(mesh::TriangleMesh& pants_mesh, std::vector<int>& face_orig
       arc[k][o1] = a == 0 ? arc0 : arc1;
       arc[k][o2] = a == 0 ? arc1 : arc0;
     }
-    if (pass == 0) {
-      bool twisted = false;
-      for (const auto& [i, j] : {std::make_pair(0, 1), std::make_pair(0, 2), std::make_pair(1, 2)})
-        if (twins[i][j]) {
-          const auto ai = arc[i][j], aj = arc[j][i];
-          twisted = twisted || !same(ai[1], aj[0]) || !same(ai[0], aj[1]);
-        }
-      if (twisted) continue;
+    bool twisted = false;
+    for (const auto& [i, j] : {std::make_pair(0, 1), std::make_pair(0, 2), std::make_pair(1, 2)})
+      if (twins[i][j]) {
+        const auto ai = arc[i][j], aj = arc[j][i];
+        twisted = twisted || !same(ai[1], aj[0]) || !same(ai[0], aj[1]);
+      }
+    // Pass 1 runs only if pass 0 found no valid seams, so its untwisted trials would fail again.
+    if (twisted == (pass == 0)) continue;
+    // The 6 seams' ends: a strip's boundary runs along i from ai[0] to ai[1], then to j, so pair
+    // (i, j) has seams ai[1] → aj[0] and aj[1] → ai[0].
+    const std::array<std::pair<int, int>, 3> pairs = {std::make_pair(0, 1), std::make_pair(0, 2), std::make_pair(1, 2)};
+    std::array<std::array<int, 2>, 6> seam_ends;
+    for (int m = 0; m < 3; ++m) {
+      const auto ai = arc[pairs[m].first][pairs[m].second], aj = arc[pairs[m].second][pairs[m].first];
+      seam_ends[2 * m] = {ai[1], aj[0]};
+      seam_ends[2 * m + 1] = {ai[0], aj[1]};
     }
+    // A seam is no shorter than the chord between its ends (path_length sums chords), so a trial
+    // whose seams so far plus the chords of the rest reach the best length cannot win: it is
+    // dropped before its searches (the margin covers the rounding of the sums).
+    std::array<double, 7> chords_after{};
+    for (int m = 5; m >= 0; --m)
+      chords_after[m] = chords_after[m + 1] +
+                        (pants.vertex_position(seam_ends[m][0]) - pants.vertex_position(seam_ends[m][1])).norm();
+    if (chords_after[0] * (1.0 - 1e-12) >= best.length) continue;
     Seams s;
     std::vector<char> blocked = on_loop;
     RepelledLengths repelled(pants, length);
     std::vector<char> cut(pants.num_edges(), 0);
     bool ok = true;
-    for (const auto& [i, j] : {std::make_pair(0, 1), std::make_pair(0, 2), std::make_pair(1, 2)}) {
-      const auto ai = arc[i][j], aj = arc[j][i];
-      // A strip's boundary runs along i from ai[0] to ai[1], then to j: seams ai[1] → aj[0], aj[1] → ai[0].
-      const std::array<std::array<int, 2>, 2> ends = {{{ai[1], aj[0]}, {ai[0], aj[1]}}};
+    for (int m = 0; m < 3 && ok; ++m) {
+      const auto [i, j] = pairs[m];
       for (int q = 0; q < 2 && ok; ++q) {
-        std::vector<int> path = restricted_path(pants, repelled.lengths(), ends[q][0], ends[q][1], blocked, nullptr);
+        const std::array<int, 2>& ends = seam_ends[2 * m + q];
+        if ((s.length + chords_after[2 * m + q]) * (1.0 - 1e-12) >= best.length) {
+          ok = false;
+          break;
+        }
+        std::vector<int> path = restricted_path(pants, repelled.lengths(), ends[0], ends[1], blocked, nullptr);
         if (path.size() < 3) {
           ok = false;
           break;
@@ -168,7 +187,6 @@ bool lay_out_t_shape(mesh::TriangleMesh& pants_mesh, std::vector<int>& face_orig
         // Seam lengths are positive: a trial already as long as the best cannot win.
         ok = s.length < best.length;
       }
-      if (!ok) break;
     }
     if (!ok || !(s.length < best.length)) continue;
     // Regions: 2 hexagons touching all 3 loops, 3 strips touching 2.
