@@ -106,13 +106,16 @@ inline void hex_corner_kernel(const double (*p)[3], double inv_h, double eps2, d
       for (int c = 0; c < 8; ++c) j[a][d][c] = edge[a][c & ~(1 << a)][d];
   const double shape = 1.0 - theta;
   double cof[3][3][8], det[8], tr[8], root[8], chi[8], inv_cbrt[8];
-  for (int a = 0; a < 3; ++a) {
+  // Column a of cof(J): the cross product of the other two columns (column 0 gives det J; the
+  // others only the gradient).
+  auto cofactor_column = [&](int a) {
     const double(*u)[8] = j[(a + 1) % 3];
     const double(*v)[8] = j[(a + 2) % 3];
     for (int d = 0; d < 3; ++d)
       for (int c = 0; c < 8; ++c)
         cof[a][d][c] = u[(d + 1) % 3][c] * v[(d + 2) % 3][c] - u[(d + 2) % 3][c] * v[(d + 1) % 3][c];
-  }
+  };
+  cofactor_column(0);
   for (int c = 0; c < 8; ++c) {
     det[c] = j[0][0][c] * cof[0][0][c] + j[0][1][c] * cof[0][1][c] + j[0][2][c] * cof[0][2][c];
     double t = 0.0;
@@ -127,17 +130,22 @@ inline void hex_corner_kernel(const double (*p)[3], double inv_h, double eps2, d
   for (int step = 0; step < 4; ++step)
     for (int c = 0; c < 8; ++c)
       inv_cbrt[c] = inv_cbrt[c] * (4.0 - chi[c] * (inv_cbrt[c] * inv_cbrt[c] * inv_cbrt[c])) * (1.0 / 3.0);
-  double ja[8], jb[8];
   for (int c = 0; c < 8; ++c) {
     const double inv_chi23 = inv_cbrt[c] * inv_cbrt[c], inv_chi = inv_chi23 * inv_cbrt[c];
     e[c] = shape * tr[c] * inv_chi23 + theta * (det[c] * det[c] + 1.0) * inv_chi;
+  }
+  if (!grad) return;
+  cofactor_column(1);
+  cofactor_column(2);
+  double ja[8], jb[8];
+  for (int c = 0; c < 8; ++c) {
+    const double inv_chi23 = inv_cbrt[c] * inv_cbrt[c], inv_chi = inv_chi23 * inv_cbrt[c];
     // ∂f/∂J = ja·J + jb·cof(J), ∂χ/∂D = (1 + D/√(ε² + D²))/2.
     const double dchi = chi[c] / root[c];
     ja[c] = 2.0 * shape * inv_chi23;
     jb[c] = -(2.0 / 3.0) * shape * tr[c] * inv_chi23 * inv_chi * dchi +
             theta * (2.0 * det[c] * inv_chi - (det[c] * det[c] + 1.0) * dchi * inv_chi * inv_chi);
   }
-  if (!grad) return;
   double g[3][3][8];
   for (int a = 0; a < 3; ++a)
     for (int d = 0; d < 3; ++d)

@@ -123,6 +123,7 @@ bool lay_out_t_shape(mesh::TriangleMesh& pants_mesh, std::vector<int>& face_orig
   // ones first.
   Seams best;
   best.length = std::numeric_limits<double>::infinity();
+  std::map<std::vector<int>, std::vector<int>> searched;  // seam path by the ends of its trial's seams up to it
   std::string reasons;
   for (int trial = 0; trial < 128 && !(trial == 64 && best.hexagon[0] >= 0); ++trial) {
     const int pass = trial / 64, combo = trial % 64;  // pass 0: untwisted only
@@ -162,6 +163,7 @@ bool lay_out_t_shape(mesh::TriangleMesh& pants_mesh, std::vector<int>& face_orig
                         (pants.vertex_position(seam_ends[m][0]) - pants.vertex_position(seam_ends[m][1])).norm();
     if (chords_after[0] * (1.0 - 1e-12) >= best.length) continue;
     Seams s;
+    std::vector<int> prefix;  // the ends of the seams searched so far in this trial
     std::vector<char> blocked = on_loop;
     RepelledLengths repelled(pants, length);
     std::vector<char> cut(pants.num_edges(), 0);
@@ -174,7 +176,15 @@ bool lay_out_t_shape(mesh::TriangleMesh& pants_mesh, std::vector<int>& face_orig
           ok = false;
           break;
         }
-        std::vector<int> path = restricted_path(pants, repelled.lengths(), ends[0], ends[1], blocked, nullptr);
+        // The blocked vertices and repelled lengths a search sees follow from the ends of the
+        // seams before it, so trials that share those ends share its path.
+        prefix.push_back(ends[0]);
+        prefix.push_back(ends[1]);
+        auto known = searched.find(prefix);
+        if (known == searched.end())
+          known = searched.emplace(prefix, restricted_path(pants, repelled.lengths(), ends[0], ends[1], blocked, nullptr))
+                      .first;
+        std::vector<int> path = known->second;
         if (path.size() < 3) {
           ok = false;
           break;
