@@ -11,13 +11,14 @@
 #include "core/linalg/csr_matrix.h"
 #include "core/mesh/edge_weights.h"
 #include "core/mesh/graph_distance.h"
+#include "core/mesh/mesh_geometry.h"
 
 namespace volspline::polycube {
 
 namespace {
 
-int farthest_vertex(const mesh::HalfedgeMesh& mesh, int from) {
-  const mesh::GraphDistances d = mesh::graph_distances(mesh, {from});
+// The vertex farthest from `from` by the graph distances d from it (the first on ties).
+int farthest_vertex(const mesh::HalfedgeMesh& mesh, int from, const mesh::GraphDistances& d) {
   int best = from;
   for (int v = 0; v < mesh.num_vertices(); ++v)
     if (d.distance[v] != std::numeric_limits<double>::infinity() && d.distance[v] > d.distance[best]) best = v;
@@ -93,10 +94,12 @@ MorsePoles morse_poles(const mesh::HalfedgeMesh& mesh, double limb_persistence) 
   int start = 0;
   while (start < n && mesh.vertex_halfedge(start) == mesh::no_id) ++start;
   MorsePoles poles;
-  poles.source = farthest_vertex(mesh, start);
-  poles.sink = farthest_vertex(mesh, poles.source);
+  // Two sweeps: the second one's distances also give the limbs' persistence.
+  const std::vector<double> length = mesh::edge_lengths(mesh);
+  poles.source = farthest_vertex(mesh, start, mesh::graph_distances(mesh, {start}, length));
+  const mesh::GraphDistances from_source = mesh::graph_distances(mesh, {poles.source}, length);
+  poles.sink = farthest_vertex(mesh, poles.source, from_source);
   if (limb_persistence > 0.0) {
-    const mesh::GraphDistances from_source = mesh::graph_distances(mesh, {poles.source});
     for (int v : persistent_maxima(mesh, from_source.distance, limb_persistence * from_source.distance[poles.sink]))
       if (v != poles.source && v != poles.sink) poles.limb_tips.push_back(v);
   }
