@@ -37,3 +37,6 @@ expect 1 /usr/bin/python3 "$SRC/tests/cli/check_hex_quality.py" "$TMP/gk0.vtu" 0
 contains "$TMP/err" "below 0.200"
 expect 2 "$BIN" gpc "$DATA/meshes/torus.off" -o "$TMP/gq.json" --quality-sweeps -1 --quiet
 contains "$TMP/err" "grid.min_quality_sweeps"
+expect 2 "$BIN" gpc "$DATA/meshes/torus.off" -o "$TMP/ga.json" --area-balance 21 --quiet
+contains "$TMP/err" "grid.area_balance_iterations"
+if [ -e "$TMP/ga.json" ]; then bad "gpc --area-balance 21 wrote its output"; else ok; fi
