@@ -134,6 +134,19 @@ void foldover_free_energy_batch(const double* j, double eps, double theta, doubl
   detail::foldover_kernel<kFoldoverBatch>(j, eps, theta, energy, gradient);
 }
 
+namespace detail {
+
+void hex_corner_terms(const double (*p)[3], double inv_h, double eps2, double theta, unsigned corners, double* e,
+                      double (*grad)[3]) {
+#if defined(VOLSPLINE_AVX2_KERNELS)
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  if (avx2) return hex_corner_kernel_avx2(p, inv_h, eps2, theta, corners, e, grad);
+#endif
+  hex_corner_kernel(p, inv_h, eps2, theta, corners, e, grad);
+}
+
+}  // namespace detail
+
 int minimize_lbfgs(const UntangleProblem& problem, double eps, int max_iterations, Eigen::VectorXd& x) {
   LbfgsMemory memory;
   return lbfgs(problem, x, eps, max_iterations, memory);

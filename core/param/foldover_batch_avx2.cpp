@@ -2,6 +2,10 @@
 // foldover_kernel<4> and hex_corner_kernel compiled with -mavx2 (and without FMA: the lanes keep the scalar bits).
 #include "core/param/foldover_kernel.h"
 
+#if defined(VOLSPLINE_AVX2_KERNELS)
+#include <immintrin.h>
+#endif
+
 namespace volspline::param::detail {
 
 #if defined(VOLSPLINE_AVX2_KERNELS)
@@ -9,9 +13,132 @@ void foldover_kernel4_avx2(const double* j, double eps, double theta, double* en
   foldover_kernel<4>(j, eps, theta, energy, gradient);
 }
 
+namespace {
+
+// Eight corners as two registers: corners 0–3 and 4–7.
+struct Lanes {
+  __m256d lo, hi;
+};
+
+inline Lanes add(const Lanes& a, const Lanes& b) { return {_mm256_add_pd(a.lo, b.lo), _mm256_add_pd(a.hi, b.hi)}; }
+inline Lanes sub(const Lanes& a, const Lanes& b) { return {_mm256_sub_pd(a.lo, b.lo), _mm256_sub_pd(a.hi, b.hi)}; }
+inline Lanes mul(const Lanes& a, const Lanes& b) { return {_mm256_mul_pd(a.lo, b.lo), _mm256_mul_pd(a.hi, b.hi)}; }
+inline Lanes div(const Lanes& a, const Lanes& b) { return {_mm256_div_pd(a.lo, b.lo), _mm256_div_pd(a.hi, b.hi)}; }
+inline Lanes splat(double v) { return {_mm256_set1_pd(v), _mm256_set1_pd(v)}; }
+
+// Per lane c, the value at lane c with bit `axis` cleared (low) or set (high).
+template <int axis>
+inline Lanes at_low(const Lanes& v) {
+  if constexpr (axis == 0) return {_mm256_permute_pd(v.lo, 0x0), _mm256_permute_pd(v.hi, 0x0)};
+  if constexpr (axis == 1) return {_mm256_permute2f128_pd(v.lo, v.lo, 0x00), _mm256_permute2f128_pd(v.hi, v.hi, 0x00)};
+  if constexpr (axis == 2) return {v.lo, v.lo};
+}
+template <int axis>
+inline Lanes at_high(const Lanes& v) {
+  if constexpr (axis == 0) return {_mm256_permute_pd(v.lo, 0xF), _mm256_permute_pd(v.hi, 0xF)};
+  if constexpr (axis == 1) return {_mm256_permute2f128_pd(v.lo, v.lo, 0x11), _mm256_permute2f128_pd(v.hi, v.hi, 0x11)};
+  if constexpr (axis == 2) return {v.hi, v.hi};
+}
+
+// Column `axis` of every corner's J (coordinate d): the +axis hex edge through the corner.
+template <int axis>
+inline void edge_column(const Lanes (&p)[3], const __m256d inv_h, Lanes (&j)[3]) {
+  for (int d = 0; d < 3; ++d) {
+    const Lanes e = sub(at_high<axis>(p[d]), at_low<axis>(p[d]));
+    j[d] = {_mm256_mul_pd(e.lo, inv_h), _mm256_mul_pd(e.hi, inv_h)};
+  }
+}
+
+// Node gradients of the edges along `axis`: each edge sums its corners' (masked) gradients, low
+// corner first; the node at its high end gains it, the low one loses it.
+template <int axis>
+inline void scatter_edges(const Lanes (&g)[3], const Lanes& mask, const __m256d inv_h, Lanes (&grad)[3]) {
+  const __m256d sign = _mm256_set1_pd(-0.0);
+  // Lanes without bit `axis` are low ends: their term is negated.
+  const Lanes flip = axis == 0   ? Lanes{_mm256_setr_pd(-0.0, 0.0, -0.0, 0.0), _mm256_setr_pd(-0.0, 0.0, -0.0, 0.0)}
+                     : axis == 1 ? Lanes{_mm256_setr_pd(-0.0, -0.0, 0.0, 0.0), _mm256_setr_pd(-0.0, -0.0, 0.0, 0.0)}
+                                 : Lanes{sign, _mm256_setzero_pd()};
+  for (int d = 0; d < 3; ++d) {
+    const Lanes masked = {_mm256_and_pd(g[d].lo, mask.lo), _mm256_and_pd(g[d].hi, mask.hi)};
+    const Lanes sum = add(add(splat(0.0), at_low<axis>(masked)), at_high<axis>(masked));
+    const Lanes term = {_mm256_mul_pd(sum.lo, inv_h), _mm256_mul_pd(sum.hi, inv_h)};
+    grad[d] = add(grad[d], Lanes{_mm256_xor_pd(term.lo, flip.lo), _mm256_xor_pd(term.hi, flip.hi)});
+  }
+}
+
+}  // namespace
+
+// hex_corner_kernel in AVX2 registers, lane c = corner c: every operation of the portable loops
+// in the same order (no FMA), so the same bits; x^(−1/3)'s starting guess stays scalar (an
+// integer division of the bit pattern).
 void hex_corner_kernel_avx2(const double (*p)[3], double inv_h, double eps2, double theta, unsigned corners,
                             double* e, double (*grad)[3]) {
-  hex_corner_kernel(p, inv_h, eps2, theta, corners, e, grad);
+  const __m256d inv_h4 = _mm256_set1_pd(inv_h);
+  Lanes pos[3];
+  for (int d = 0; d < 3; ++d)
+    pos[d] = {_mm256_setr_pd(p[0][d], p[1][d], p[2][d], p[3][d]), _mm256_setr_pd(p[4][d], p[5][d], p[6][d], p[7][d])};
+  Lanes j[3][3];  // [axis][coordinate]
+  edge_column<0>(pos, inv_h4, j[0]);
+  edge_column<1>(pos, inv_h4, j[1]);
+  edge_column<2>(pos, inv_h4, j[2]);
+  const double shape = 1.0 - theta;
+  Lanes cof[3][3];
+  for (int a = 0; a < 3; ++a) {
+    const Lanes(&u)[3] = j[(a + 1) % 3];
+    const Lanes(&v)[3] = j[(a + 2) % 3];
+    for (int d = 0; d < 3; ++d)
+      cof[a][d] = sub(mul(u[(d + 1) % 3], v[(d + 2) % 3]), mul(u[(d + 2) % 3], v[(d + 1) % 3]));
+  }
+  const Lanes det = add(add(mul(j[0][0], cof[0][0]), mul(j[0][1], cof[0][1])), mul(j[0][2], cof[0][2]));
+  Lanes tr = add(add(mul(j[0][0], j[0][0]), mul(j[0][1], j[0][1])), mul(j[0][2], j[0][2]));
+  tr = add(splat(0.0), tr);
+  for (int a = 1; a < 3; ++a) tr = add(tr, add(add(mul(j[a][0], j[a][0]), mul(j[a][1], j[a][1])), mul(j[a][2], j[a][2])));
+  const Lanes eps2_4 = splat(eps2);
+  const Lanes det2 = mul(det, det);
+  const Lanes root = {_mm256_sqrt_pd(_mm256_add_pd(eps2_4.lo, det2.lo)), _mm256_sqrt_pd(_mm256_add_pd(eps2_4.hi, det2.hi))};
+  const Lanes positive = mul(splat(0.5), add(det, root));
+  const Lanes negative = div(mul(splat(0.5), eps2_4), sub(root, det));
+  const __m256d zero = _mm256_setzero_pd();
+  const Lanes chi = {_mm256_blendv_pd(negative.lo, positive.lo, _mm256_cmp_pd(det.lo, zero, _CMP_GE_OQ)),
+                     _mm256_blendv_pd(negative.hi, positive.hi, _mm256_cmp_pd(det.hi, zero, _CMP_GE_OQ))};
+  alignas(32) double chi_s[8], guess[8];
+  _mm256_store_pd(chi_s, chi.lo);
+  _mm256_store_pd(chi_s + 4, chi.hi);
+  for (int c = 0; c < 8; ++c) guess[c] = inverse_cbrt_guess(chi_s[c]);
+  Lanes y = {_mm256_load_pd(guess), _mm256_load_pd(guess + 4)};
+  const Lanes four = splat(4.0), third = splat(1.0 / 3.0);
+  for (int step = 0; step < 4; ++step) y = mul(mul(y, sub(four, mul(chi, mul(mul(y, y), y)))), third);
+  const Lanes inv_chi23 = mul(y, y), inv_chi = mul(inv_chi23, y);
+  const Lanes det2p1 = add(det2, splat(1.0));
+  const Lanes energy = add(mul(mul(splat(shape), tr), inv_chi23), mul(mul(splat(theta), det2p1), inv_chi));
+  _mm256_storeu_pd(e, energy.lo);
+  _mm256_storeu_pd(e + 4, energy.hi);
+  if (!grad) return;
+  const Lanes dchi = div(chi, root);
+  const Lanes ja = mul(splat(2.0 * shape), inv_chi23);
+  const Lanes first = mul(mul(mul(mul(mul(splat(-(2.0 / 3.0)), splat(shape)), tr), inv_chi23), inv_chi), dchi);
+  const Lanes second =
+      mul(splat(theta), sub(mul(mul(splat(2.0), det), inv_chi), mul(mul(mul(det2p1, dchi), inv_chi), inv_chi)));
+  const Lanes jb = add(first, second);
+  const __m256i bit = _mm256_setr_epi64x(1, 2, 4, 8);
+  const __m256i flags = _mm256_set1_epi64x(corners);
+  const Lanes mask = {
+      _mm256_castsi256_pd(_mm256_cmpeq_epi64(_mm256_and_si256(flags, bit), bit)),
+      _mm256_castsi256_pd(_mm256_cmpeq_epi64(_mm256_and_si256(_mm256_srli_epi64(flags, 4), bit), bit))};
+  Lanes g[3][3];
+  for (int a = 0; a < 3; ++a)
+    for (int d = 0; d < 3; ++d) g[a][d] = add(mul(ja, j[a][d]), mul(jb, cof[a][d]));
+  Lanes node[3] = {splat(0.0), splat(0.0), splat(0.0)};
+  scatter_edges<0>(g[0], mask, inv_h4, node);
+  scatter_edges<1>(g[1], mask, inv_h4, node);
+  scatter_edges<2>(g[2], mask, inv_h4, node);
+  alignas(32) double out[3][8];
+  for (int d = 0; d < 3; ++d) {
+    _mm256_store_pd(out[d], node[d].lo);
+    _mm256_store_pd(out[d] + 4, node[d].hi);
+  }
+  for (int q = 0; q < 8; ++q)
+    for (int d = 0; d < 3; ++d) grad[q][d] = out[d][q];
 }
 #endif
 

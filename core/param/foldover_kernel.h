@@ -172,8 +172,13 @@ inline void hex_corner_kernel(const double (*p)[3], double inv_h, double eps2, d
 
 }  // namespace
 
+/// hex_corner_kernel, run in AVX2 registers where the CPU has them (the same bits): the entry
+/// point of the hex untanglers (barrier_untangling.cpp).
+void hex_corner_terms(const double (*p)[3], double inv_h, double eps2, double theta, unsigned corners, double* e,
+                      double (*grad)[3]);
+
 #if defined(VOLSPLINE_AVX2_KERNELS)
-/// hex_corner_kernel built for AVX2 (foldover_batch_avx2.cpp).
+/// hex_corner_kernel in AVX2 registers (foldover_batch_avx2.cpp).
 void hex_corner_kernel_avx2(const double (*p)[3], double inv_h, double eps2, double theta, unsigned corners,
                             double* e, double (*grad)[3]);
 /// foldover_kernel<4> built for AVX2 (foldover_batch_avx2.cpp).

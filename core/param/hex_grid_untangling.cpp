@@ -22,16 +22,6 @@ constexpr double kMinSigma = 0.5;
 // Steps without a new low of the folded corner count after which the continuation stops.
 constexpr int kCountStallSteps = 3;
 
-// The 8 corner terms of one hex, in the AVX2 build where the CPU has it (the same bits).
-void hex_corner_terms(const double (*p)[3], double inv_h, double eps2, double theta, unsigned corners, double* e,
-                      double (*grad)[3]) {
-#if defined(VOLSPLINE_AVX2_KERNELS)
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  if (avx2) return detail::hex_corner_kernel_avx2(p, inv_h, eps2, theta, corners, e, grad);
-#endif
-  detail::hex_corner_kernel(p, inv_h, eps2, theta, corners, e, grad);
-}
-
 double barrier_chi(double d, double eps) { return 0.5 * (d + std::sqrt(eps * eps + d * d)); }
 
 int node_id(const std::array<int, 3>& n, int i, int j, int k) { return i + n[0] * (j + n[1] * k); }
@@ -178,7 +168,7 @@ class Energy {
         p[q][0] = src[0], p[q][1] = src[1], p[q][2] = src[2];
       }
       double e[8];
-      hex_corner_terms(p, hex.inv_h, eps2, theta, hex.corners, e, nullptr);
+      detail::hex_corner_terms(p, hex.inv_h, eps2, theta, hex.corners, e, nullptr);
       for (int c = 0; c < 8; ++c)
         if (hex.corners & (1u << c)) total += e[c];
       if (total > bound) return total;
@@ -222,7 +212,7 @@ class Energy {
         p[q][0] = src[0], p[q][1] = src[1], p[q][2] = src[2];
       }
       double e[8], node_grad[8][3];
-      hex_corner_terms(p, hex.inv_h, eps2, theta, hex.corners, e, g_out ? node_grad : nullptr);
+      detail::hex_corner_terms(p, hex.inv_h, eps2, theta, hex.corners, e, g_out ? node_grad : nullptr);
       for (int c = 0; c < 8; ++c)
         if (hex.corners & (1u << c)) total += e[c];
       if (!g_out) continue;
