@@ -279,7 +279,8 @@ double longest_size(const polycube::GpcDomain& domain) {
 // so the surface fit and both sides of every glued face stay as they are; then the certificate
 // rounds over all cuboids at once (spline::untangle_gpc_certificate), which move global
 // functions, shared ones as one control point. Returns the functions that were free to move.
-int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& samples, int threads) {
+int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& samples, int threads,
+                     spline::JacobianCertificateCache& certificates) {
   const double longest_side = longest_size(spline.domain());
   const int nc = spline.num_cuboids();
   // Every cuboid starts from the fitted points and its moves are written back in cuboid order, so
@@ -325,7 +326,8 @@ int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& sample
     for (std::size_t j = 0; j < ids.size(); ++j) points.row(ids[j]) = moved[c].row(static_cast<Eigen::Index>(j));
   }
   spline.set_points(std::move(points));
-  const spline::SplineUntangleResult certified = spline::untangle_gpc_certificate(spline, samples);
+  const spline::SplineUntangleResult certified =
+      spline::untangle_gpc_certificate(spline, samples, {}, {}, &certificates);
   return std::accumulate(free.begin(), free.end(), 0) + certified.free_functions;
 }
 
@@ -477,9 +479,11 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
     timer.end_stage("compare_uniform");
   }
   stats.negative_jacobian_fraction_fit = -1.0;
+  // The untangler's last certificates: the final one below recomputes only the cells moved since.
+  spline::JacobianCertificateCache certificates;
   if (options.untangle == GpcMesh2SplineOptions::Untangle::On) {
     progress.report("untangle", 0.9);
-    stats.untangled_control_points = untangle_cuboids(fitted, data.samples, options.threads);
+    stats.untangled_control_points = untangle_cuboids(fitted, data.samples, options.threads, certificates);
     timer.end_stage("untangle");
   }
 
@@ -508,7 +512,7 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
 
   // DESIGN §6: the Bernstein certificate of det J on every cell of every cuboid.
   progress.report("certificate", 0.97);
-  record_certificate(stats, spline::certify_gpc_jacobian(fitted));
+  record_certificate(stats, spline::certify_gpc_jacobian(fitted, {}, &certificates));
   timer.end_stage("certificate");
 
   // Back to model units: Σ B_i ≡ 1, so mapping the control points maps F.

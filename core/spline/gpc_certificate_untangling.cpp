@@ -395,7 +395,8 @@ class GpcCertificatePass {
 // control points): det J on such an edge depends on the bd-control-points next to it alone
 // (§4.3.1), which the rounds' hinges there only trade between neighbouring cells. Kept if fewer
 // cells stay uncertified over all cuboids. uncertified: the spline's uncertified cells.
-void tilt_gpc_creases(GpcSpline& spline, const std::vector<UncertifiedCell>& uncertified, SplineUntangleResult& total) {
+void tilt_gpc_creases(GpcSpline& spline, const std::vector<UncertifiedCell>& uncertified, SplineUntangleResult& total,
+                      JacobianCertificateCache& cache) {
   const int before = static_cast<int>(uncertified.size());
   if (before == 0) return;
   const Eigen::MatrixXd start = spline.points();
@@ -418,7 +419,7 @@ void tilt_gpc_creases(GpcSpline& spline, const std::vector<UncertifiedCell>& unc
   for (Eigen::Index f = 0; f < points.rows(); ++f) moved += points.row(f) != start.row(f);
   if (moved == 0) return;
   spline.set_points(points);
-  const int after = static_cast<int>(certify_gpc_jacobian(spline).uncertified.size());
+  const int after = static_cast<int>(certify_gpc_jacobian(spline, {}, &cache).uncertified.size());
   if (after >= before) {
     spline.set_points(start);
     return;
@@ -431,18 +432,21 @@ void tilt_gpc_creases(GpcSpline& spline, const std::vector<UncertifiedCell>& unc
 }  // namespace
 
 SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSamples& samples,
-                                              const SplineUntangleOptions& options, const Progress& progress) {
+                                              const SplineUntangleOptions& options, const Progress& progress,
+                                              JacobianCertificateCache* cache) {
   if (spline.dimension() != 3)
     throw Error("GPC certificate untangling: the spline has dimension " + std::to_string(spline.dimension()) +
                 ", expected 3 (geometry)");
   assert(options.certificate_rounds >= 0 && samples.uvw.rows() == samples.values.rows());
   SplineUntangleResult total;
+  JacobianCertificateCache own_cache;
+  JacobianCertificateCache& certificates = cache ? *cache : own_cache;
   const int nc = spline.num_cuboids();
   std::vector<std::vector<Eigen::Vector3d>> held(static_cast<std::size_t>(nc));
   detail::CertificateRounds rounds;
   std::vector<UncertifiedCell> best;  // the uncertified cells of the round with the fewest
   for (int round = 0;; ++round) {
-    JacobianCertificate certificate = certify_gpc_jacobian(spline);
+    JacobianCertificate certificate = certify_gpc_jacobian(spline, {}, &certificates);
     const int uncertified = static_cast<int>(certificate.uncertified.size());
     if (round == 0) total.initial_uncertified = uncertified;
     if (uncertified < rounds.final_uncertified()) best = certificate.uncertified;
@@ -450,7 +454,7 @@ SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSample
       if (uncertified > rounds.final_uncertified()) spline.set_points(rounds.take_best_points());
       else best = std::move(certificate.uncertified);
       total.final_uncertified = rounds.final_uncertified();
-      tilt_gpc_creases(spline, best, total);
+      tilt_gpc_creases(spline, best, total, certificates);
       return total;
     }
     progress.report("untangle certificate " + std::to_string(round + 1),

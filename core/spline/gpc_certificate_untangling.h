@@ -4,6 +4,7 @@
 #include "core/common/progress.h"
 #include "core/spline/gpc_spline.h"
 #include "core/spline/gpc_spline_fitting.h"
+#include "core/spline/jacobian_certificate.h"
 #include "core/spline/spline_untangling.h"
 
 namespace volspline::spline {
@@ -31,9 +32,11 @@ namespace volspline::spline {
 /// which the barrier nodes' margin does not see); returns certificate_passes,
 /// free_functions, iterations, initial_uncertified and final_uncertified (the other fields 0).
 /// progress: "untangle certificate K" before each round; throws volspline::Cancelled there if the
-/// callback asks to stop. Throws volspline::Error if the dimension is not 3.
+/// callback asks to stop. cache (or null: one of its own): the rounds' certificates, kept for the
+/// caller's next certify_gpc_jacobian of the result. Throws volspline::Error if the dimension is not 3.
 SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSamples& samples,
                                               const SplineUntangleOptions& options = {},
-                                              const Progress& progress = {});
+                                              const Progress& progress = {},
+                                              JacobianCertificateCache* cache = nullptr);
 
 }  // namespace volspline::spline

@@ -5,12 +5,13 @@
 
 namespace volspline::spline {
 
-JacobianCertificate certify_gpc_jacobian(const GpcSpline& spline, const JacobianCertificateOptions& options) {
+JacobianCertificate certify_gpc_jacobian(const GpcSpline& spline, const JacobianCertificateOptions& options,
+                                         JacobianCertificateCache* cache) {
   JacobianCertificate out;
   for (int c = 0; c < spline.num_cuboids(); ++c) {
     const auto& size = spline.domain().cuboids[c].size;
     const JacobianCertificate part = certify_jacobian_in_box(spline.patch(c), Eigen::Vector3d::Zero(),
-                                                             Eigen::Vector3d(size[0], size[1], size[2]), options, c);
+                                                             Eigen::Vector3d(size[0], size[1], size[2]), options, c, cache);
     out.cells += part.cells;
     out.certified_cells += part.certified_cells;
     out.det_j_lower_bound_rel = std::min(out.det_j_lower_bound_rel, part.det_j_lower_bound_rel);

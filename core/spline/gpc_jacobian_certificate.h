@@ -12,7 +12,9 @@ namespace volspline::spline {
 /// certified_cells, jacobian_certified_fraction and det_j_lower_bound_rel cover all cuboids;
 /// uncertified cells name their cuboid, their patch cell id and box in that cuboid's
 /// coordinates; cell_bound_rel lists the in-box cells' bounds cuboid by cuboid in cell order.
+/// cache (or null): cells unchanged since its last call take its results (the same certificate).
 /// Throws volspline::Error if the dimension is not 3 or options are invalid.
-JacobianCertificate certify_gpc_jacobian(const GpcSpline& spline, const JacobianCertificateOptions& options = {});
+JacobianCertificate certify_gpc_jacobian(const GpcSpline& spline, const JacobianCertificateOptions& options = {},
+                                         JacobianCertificateCache* cache = nullptr);
 
 }  // namespace volspline::spline

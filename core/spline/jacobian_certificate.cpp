@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 
@@ -177,13 +178,37 @@ JacobianCellBound certify_bezier_cell(const BezierCell& cell, const JacobianCert
   return out;
 }
 
+JacobianCellBound JacobianCertificateCache::certify(int cuboid, const BezierCell& cell,
+                                                   const JacobianCertificateOptions& options) {
+  assert(cuboid >= 0 && cell.cell >= 0 && cell.dimension == 3);
+  if (options.max_depth != options_.max_depth || options.rounding_rel != options_.rounding_rel) {
+    entries_.clear();
+    options_ = options;
+  }
+  if (static_cast<int>(entries_.size()) <= cuboid) entries_.resize(cuboid + 1);
+  std::vector<Entry>& cells = entries_[cuboid];
+  if (static_cast<int>(cells.size()) <= cell.cell) cells.resize(cell.cell + 1);
+  Entry& entry = cells[cell.cell];
+  // Bit for bit (memcmp: == would take −0 for +0).
+  if (entry.valid && std::memcmp(entry.uvw_min.data(), cell.uvw_min.data(), 3 * sizeof(double)) == 0 &&
+      std::memcmp(entry.uvw_max.data(), cell.uvw_max.data(), 3 * sizeof(double)) == 0 &&
+      std::memcmp(entry.points.data(), cell.points.data(), sizeof entry.points) == 0)
+    return entry.bound;
+  entry.valid = true;
+  std::copy(cell.points.begin(), cell.points.begin() + entry.points.size(), entry.points.begin());
+  entry.uvw_min = cell.uvw_min;
+  entry.uvw_max = cell.uvw_max;
+  entry.bound = certify_bezier_cell(cell, options);
+  return entry.bound;
+}
+
 JacobianCertificate certify_jacobian(const TSpline& spline, const JacobianCertificateOptions& options, int cuboid) {
   return certify_jacobian_in_box(spline, spline.domain_min(), spline.domain_max(), options, cuboid);
 }
 
 JacobianCertificate certify_jacobian_in_box(const TSpline& spline, const Eigen::Vector3d& box_min,
                                             const Eigen::Vector3d& box_max, const JacobianCertificateOptions& options,
-                                            int cuboid) {
+                                            int cuboid, JacobianCertificateCache* cache) {
   if (spline.dimension() != 3)
     throw Error("Jacobian certificate: the spline has dimension " + std::to_string(spline.dimension()) +
                 ", expected 3 (geometry)");
@@ -200,7 +225,7 @@ JacobianCertificate certify_jacobian_in_box(const TSpline& spline, const Eigen::
     }
     if (!inside) continue;
     const BezierCell bezier = extract_bezier_cell(spline, c);
-    const JacobianCellBound bound = certify_bezier_cell(bezier, options);
+    const JacobianCellBound bound = cache ? cache->certify(cuboid, bezier, options) : certify_bezier_cell(bezier, options);
     ++out.cells;
     out.cell_bound_rel.push_back(bound.det_j_lower_bound_rel);
     out.det_j_lower_bound_rel = std::min(out.det_j_lower_bound_rel, bound.det_j_lower_bound_rel);

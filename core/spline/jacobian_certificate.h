@@ -92,6 +92,28 @@ struct JacobianCertificate {
   std::vector<UncertifiedCell> uncertified;  ///< in (cuboid, cell) order
 };
 
+/// The certify_bezier_cell results of the last call per (cuboid, cell), for calls on a spline
+/// whose control points move between them (the untangler's certificate rounds): a cell whose
+/// Bézier coefficients and box are bit for bit those stored takes the stored bound, the same bits
+/// as certifying it again (most cells lie outside the moved functions' supports). Stored results
+/// are dropped when the options change. Not for concurrent use.
+class JacobianCertificateCache {
+ public:
+  /// The bound of certify_bezier_cell(cell, options) for (cuboid, cell.cell): stored or computed
+  /// (and stored).
+  JacobianCellBound certify(int cuboid, const BezierCell& cell, const JacobianCertificateOptions& options);
+
+ private:
+  struct Entry {
+    bool valid = false;
+    std::array<double, 64 * 3> points{};
+    Eigen::Vector3d uvw_min = Eigen::Vector3d::Zero(), uvw_max = Eigen::Vector3d::Zero();
+    JacobianCellBound bound;
+  };
+  std::vector<std::vector<Entry>> entries_;  // per cuboid, per cell id
+  JacobianCertificateOptions options_;
+};
+
 /// certify_bezier_cell on every cell of a geometric spline (D = 3). Throws volspline::Error if
 /// the dimension is not 3 or options are invalid.
 JacobianCertificate certify_jacobian(const TSpline& spline, const JacobianCertificateOptions& options = {},
@@ -99,9 +121,11 @@ JacobianCertificate certify_jacobian(const TSpline& spline, const JacobianCertif
 
 /// certify_jacobian on the cells inside the box [box_min, box_max] only (to 1e-9 of its size),
 /// e.g. a GPC patch's cuboid box (its cells beyond a Continued face are the neighbour's);
-/// cell_bound_rel then lists those cells in cell order. Throws like certify_jacobian.
+/// cell_bound_rel then lists those cells in cell order. cache (or null): cells unchanged since
+/// its last call take its results (the same certificate). Throws like certify_jacobian.
 JacobianCertificate certify_jacobian_in_box(const TSpline& spline, const Eigen::Vector3d& box_min,
                                             const Eigen::Vector3d& box_max,
-                                            const JacobianCertificateOptions& options = {}, int cuboid = 0);
+                                            const JacobianCertificateOptions& options = {}, int cuboid = 0,
+                                            JacobianCertificateCache* cache = nullptr);
 
 }  // namespace volspline::spline

@@ -183,8 +183,10 @@ void certificate_rounds(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eige
   std::vector<int> previous_cells;  // uncertified in the round before, increasing
   detail::CertificateRounds rounds;
   std::vector<UncertifiedCell> best;  // the uncertified cells of the round with the fewest
+  JacobianCertificateCache certificates;  // cells a round's passes did not move keep their result
   for (int round = 0;; ++round) {
-    JacobianCertificate certificate = certify_jacobian(spline);
+    JacobianCertificate certificate =
+        certify_jacobian_in_box(spline, spline.domain_min(), spline.domain_max(), {}, 0, &certificates);
     const int uncertified = static_cast<int>(certificate.uncertified.size());
     if (round == 0) total.initial_uncertified = uncertified;
     if (uncertified < rounds.final_uncertified()) best = certificate.uncertified;

@@ -171,3 +171,33 @@ TEST_CASE("certify_jacobian rejects a non-geometric spline and bad options") {
   const TSpline identity = single_cell([](double u, double v, double w) { return Eigen::Vector3d(u, v, w); });
   CHECK_THROWS_WITH_AS(certify_jacobian(identity, bad), doctest::Contains("max_depth"), volspline::Error);
 }
+
+TEST_CASE("a certificate cache gives every cell the bound of a fresh certificate after control points move") {
+  TSpline spline = perturbed_identity(0.12, 7);
+  volspline::spline::JacobianCertificateCache cache;
+  const Eigen::Vector3d lo = spline.domain_min(), hi = spline.domain_max();
+  auto same = [](const volspline::spline::JacobianCertificate& a, const volspline::spline::JacobianCertificate& b) {
+    REQUIRE(a.cells == b.cells);
+    CHECK(a.certified_cells == b.certified_cells);
+    CHECK(a.cell_bound_rel == b.cell_bound_rel);
+    REQUIRE(a.uncertified.size() == b.uncertified.size());
+    for (std::size_t u = 0; u < a.uncertified.size(); ++u) {
+      CHECK(a.uncertified[u].cell == b.uncertified[u].cell);
+      CHECK(a.uncertified[u].bound.lowest_corner_s == b.uncertified[u].bound.lowest_corner_s);
+    }
+  };
+  same(volspline::spline::certify_jacobian_in_box(spline, lo, hi, {}, 0, &cache), certify_jacobian(spline));
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+  for (int round = 0; round < 5; ++round) {
+    // A few control points moved far enough to fold cells near them.
+    Eigen::MatrixXd points = spline.points();
+    for (int m = 0; m < 3; ++m) points.row(static_cast<int>(rng() % points.rows())) += Eigen::RowVector3d(jitter(rng), jitter(rng), jitter(rng));
+    spline.set_points(points);
+    same(volspline::spline::certify_jacobian_in_box(spline, lo, hi, {}, 0, &cache), certify_jacobian(spline));
+  }
+  // Other options: nothing stored is reused.
+  volspline::spline::JacobianCertificateOptions shallow;
+  shallow.max_depth = 1;
+  same(volspline::spline::certify_jacobian_in_box(spline, lo, hi, shallow, 0, &cache), certify_jacobian(spline, shallow));
+}
