@@ -48,6 +48,9 @@ class GpcCertificatePass {
     const Eigen::MatrixXd& points = spline_.points();
     Eigen::VectorXd x(3 * free_ids_.size());
     for (std::size_t c = 0; c < free_ids_.size(); ++c) x.segment<3>(3 * c) = points.row(free_ids_[c]).transpose();
+    points_xyz_.resize(3 * static_cast<std::size_t>(points.rows()));
+    for (Eigen::Index f = 0; f < points.rows(); ++f)
+      for (int r = 0; r < 3; ++r) points_xyz_[3 * f + r] = points(f, r);
     mark_active_cells();
     Region region;
     double step = 0.0;  // mean knot interval in model units at the nodes
@@ -137,23 +140,29 @@ class GpcCertificatePass {
     }
   }
 
-  // J at (cuboid, uvw) with the free functions' part apart (x: their current points).
-  PointJacobian jacobian_at(int cuboid, const Eigen::Vector3d& uvw, const Eigen::VectorXd& x) {
+  // J at (cuboid, uvw) with the free functions' part apart (x: their current points), into a
+  // buffer reused from call to call (valid until the next call). The fixed functions' points are
+  // read from points_xyz_ (three adjacent values per function).
+  const PointJacobian& jacobian_at(int cuboid, const Eigen::Vector3d& uvw, const Eigen::VectorXd& x) {
     global_basis(cuboid, uvw, Basis::Gradient, gradient_.data());
-    PointJacobian out;
-    out.full.setZero();
-    out.rest.setZero();
-    const Eigen::MatrixXd& points = spline_.points();
+    PointJacobian& out = point_;
+    out.columns.clear();
+    out.g.clear();
+    // rest(r, a) += p(r)·g(a) per fixed function, in id order (the bits of rest += p·gᵀ).
+    double rest[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
     for (std::size_t q = 0; q < ids_.size(); ++q) {
-      const Eigen::Vector3d g(gradient_[0][q], gradient_[1][q], gradient_[2][q]);
+      const double g[3] = {gradient_[0][q], gradient_[1][q], gradient_[2][q]};
       const int c = column_of_[ids_[q]];
       if (c < 0) {
-        out.rest += points.row(ids_[q]).transpose() * g.transpose();
-      } else if (!g.isZero(0.0)) {
+        const double* p = points_xyz_.data() + 3 * static_cast<std::size_t>(ids_[q]);
+        for (int a = 0; a < 3; ++a)
+          for (int r = 0; r < 3; ++r) rest[r + 3 * a] += p[r] * g[a];
+      } else if (g[0] != 0.0 || g[1] != 0.0 || g[2] != 0.0) {
         out.columns.push_back(c);
-        out.g.push_back(g);
+        out.g.emplace_back(g[0], g[1], g[2]);
       }
     }
+    out.rest = Eigen::Map<const Eigen::Matrix3d>(rest);
     out.full = out.rest;
     for (std::size_t e = 0; e < out.columns.size(); ++e) out.full += x.segment<3>(3 * out.columns[e]) * out.g[e].transpose();
     return out;
@@ -243,7 +252,7 @@ class GpcCertificatePass {
           const Eigen::Vector3d s((n % kNodesPerCell + 0.5) / kNodesPerCell,
                                   (n / kNodesPerCell % kNodesPerCell + 0.5) / kNodesPerCell,
                                   (n / (kNodesPerCell * kNodesPerCell) + 0.5) / kNodesPerCell);
-          const PointJacobian j = jacobian_at(cuboid, lo + s.cwiseProduct(width), x);
+          const PointJacobian& j = jacobian_at(cuboid, lo + s.cwiseProduct(width), x);
           full.push_back(j.full);
           columns.insert(columns.end(), j.columns.begin(), j.columns.end());
           g.insert(g.end(), j.g.begin(), j.g.end());
@@ -275,7 +284,7 @@ class GpcCertificatePass {
                        Region& region) {
     for (int cuboid = 0; cuboid < spline_.num_cuboids(); ++cuboid)
       for (const Eigen::Vector3d& p : held[cuboid]) {
-        const PointJacobian j = jacobian_at(cuboid, p, x);
+        const PointJacobian& j = jacobian_at(cuboid, p, x);
         if (j.columns.empty()) continue;
         region.point_scale.push_back(
             std::max(j.full.col(0).norm() * j.full.col(1).norm() * j.full.col(2).norm(), 1e-300));
@@ -337,7 +346,7 @@ class GpcCertificatePass {
     if (region.point_weight.empty()) region.point_weight.assign(region.point_fixed.size(), 1.0);
     for (int u : order) {
       const Guard& guard = guards[unique[u].second];
-      const PointJacobian j = jacobian_at(guard.cuboid, guard.p, x);
+      const PointJacobian& j = jacobian_at(guard.cuboid, guard.p, x);
       if (j.columns.empty()) continue;
       const double scale = std::max(j.full.col(0).norm() * j.full.col(1).norm() * j.full.col(2).norm(), 1e-300);
       region.point_scale.push_back(scale);
@@ -387,6 +396,8 @@ class GpcCertificatePass {
   std::array<std::vector<double>, 3> local_values_;
   std::array<std::vector<double>, 3> gradient_;
   std::vector<std::vector<CellMerge>> merges_;  // per cuboid, per patch cell (filled on first use)
+  std::vector<double> points_xyz_;  // the control points at the pass's start, x, y, z per function
+  PointJacobian point_;             // jacobian_at's result
 };
 
 // After the rounds: the uncertified cells whose det J is negative on or next to a cuboid edge
