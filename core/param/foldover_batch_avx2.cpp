@@ -9,8 +9,66 @@
 namespace volspline::param::detail {
 
 #if defined(VOLSPLINE_AVX2_KERNELS)
+namespace {
+
+// cbrt_positive per lane: the same integer guess on the bit pattern (a 32×32 → 64-bit product
+// per lane) and the same three Halley steps.
+inline __m256d cbrt_positive4(__m256d y) {
+  const __m256d smallest = _mm256_set1_pd(2.2250738585072014e-308);
+  y = _mm256_blendv_pd(y, smallest, _mm256_cmp_pd(y, smallest, _CMP_LT_OQ));
+  const __m256i high = _mm256_srli_epi64(_mm256_castpd_si256(y), 32);
+  const __m256i third = _mm256_srli_epi64(_mm256_mul_epu32(high, _mm256_set1_epi64x(0xAAAAAAABll)), 33);
+  __m256d r = _mm256_castsi256_pd(_mm256_slli_epi64(_mm256_add_epi64(third, _mm256_set1_epi64x(715094163ll)), 32));
+  const __m256d two = _mm256_set1_pd(2.0);
+  for (int step = 0; step < 3; ++step) {
+    const __m256d r3 = _mm256_mul_pd(_mm256_mul_pd(r, r), r);
+    r = _mm256_sub_pd(r, _mm256_mul_pd(r, _mm256_div_pd(_mm256_sub_pd(r3, y), _mm256_add_pd(_mm256_mul_pd(two, r3), y))));
+  }
+  return r;
+}
+
+}  // namespace
+
+// foldover_kernel<4> in AVX2 registers, lane l = element l: every operation of the portable
+// loops in the same order (no FMA), so the same bits.
 void foldover_kernel4_avx2(const double* j, double eps, double theta, double* energy, double* gradient) {
-  foldover_kernel<4>(j, eps, theta, energy, gradient);
+  __m256d m[9];  // entry row + 3·col
+  for (int k = 0; k < 9; ++k) m[k] = _mm256_loadu_pd(j + 4 * k);
+  auto at = [&](int row, int col) { return m[row + 3 * col]; };
+  const __m256d d = _mm256_add_pd(
+      _mm256_sub_pd(
+          _mm256_mul_pd(at(0, 0), _mm256_sub_pd(_mm256_mul_pd(at(1, 1), at(2, 2)), _mm256_mul_pd(at(2, 1), at(1, 2)))),
+          _mm256_mul_pd(at(0, 1), _mm256_sub_pd(_mm256_mul_pd(at(1, 0), at(2, 2)), _mm256_mul_pd(at(2, 0), at(1, 2))))),
+      _mm256_mul_pd(at(0, 2), _mm256_sub_pd(_mm256_mul_pd(at(1, 0), at(2, 1)), _mm256_mul_pd(at(2, 0), at(1, 1)))));
+  const __m256d d2 = _mm256_mul_pd(d, d);
+  const __m256d root = _mm256_sqrt_pd(_mm256_add_pd(_mm256_set1_pd(eps * eps), d2));
+  const __m256d half = _mm256_set1_pd(0.5);
+  const __m256d x_d = _mm256_mul_pd(half, _mm256_add_pd(d, root));
+  __m256d tr = _mm256_setzero_pd();
+  for (int k = 0; k < 9; ++k) tr = _mm256_add_pd(tr, _mm256_mul_pd(m[k], m[k]));
+  const __m256d x23 = cbrt_positive4(_mm256_mul_pd(x_d, x_d));
+  const double shape = 1.0 - theta;
+  const __m256d theta4 = _mm256_set1_pd(theta), one = _mm256_set1_pd(1.0);
+  const __m256d d2p1 = _mm256_add_pd(d2, one);
+  _mm256_storeu_pd(energy, _mm256_add_pd(_mm256_div_pd(_mm256_mul_pd(_mm256_set1_pd(shape), tr), x23),
+                                         _mm256_div_pd(_mm256_mul_pd(theta4, d2p1), x_d)));
+  if (!gradient) return;
+  const __m256d dchi = _mm256_mul_pd(half, _mm256_add_pd(one, _mm256_div_pd(d, root)));
+  const __m256d a = _mm256_div_pd(_mm256_set1_pd(shape * 2.0), x23);
+  const __m256d first = _mm256_mul_pd(
+      _mm256_div_pd(_mm256_mul_pd(_mm256_set1_pd(-shape * (2.0 / 3.0)), tr), _mm256_mul_pd(x23, x_d)), dchi);
+  const __m256d second = _mm256_mul_pd(
+      theta4, _mm256_sub_pd(_mm256_div_pd(_mm256_mul_pd(_mm256_set1_pd(2.0), d), x_d),
+                            _mm256_div_pd(_mm256_mul_pd(d2p1, dchi), _mm256_mul_pd(x_d, x_d))));
+  const __m256d b = _mm256_add_pd(first, second);
+  for (int col = 0; col < 3; ++col) {
+    const int c1 = (col + 1) % 3, c2 = (col + 2) % 3;
+    for (int row = 0; row < 3; ++row) {
+      const int r1 = (row + 1) % 3, r2 = (row + 2) % 3;
+      const __m256d cof = _mm256_sub_pd(_mm256_mul_pd(at(r1, c1), at(r2, c2)), _mm256_mul_pd(at(r2, c1), at(r1, c2)));
+      _mm256_storeu_pd(gradient + 4 * (row + 3 * col), _mm256_add_pd(_mm256_mul_pd(a, at(row, col)), _mm256_mul_pd(b, cof)));
+    }
+  }
 }
 
 namespace {
