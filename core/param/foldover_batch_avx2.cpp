@@ -140,13 +140,16 @@ void hex_corner_kernel_avx2(const double (*p)[3], double inv_h, double eps2, dou
   edge_column<1>(pos, inv_h4, j[1]);
   edge_column<2>(pos, inv_h4, j[2]);
   const double shape = 1.0 - theta;
+  // Column a of cof(J): the cross product of the other two columns (column 0 gives det J; the
+  // others only the gradient).
   Lanes cof[3][3];
-  for (int a = 0; a < 3; ++a) {
+  auto cofactor_column = [&](int a) {
     const Lanes(&u)[3] = j[(a + 1) % 3];
     const Lanes(&v)[3] = j[(a + 2) % 3];
     for (int d = 0; d < 3; ++d)
       cof[a][d] = sub(mul(u[(d + 1) % 3], v[(d + 2) % 3]), mul(u[(d + 2) % 3], v[(d + 1) % 3]));
-  }
+  };
+  cofactor_column(0);
   const Lanes det = add(add(mul(j[0][0], cof[0][0]), mul(j[0][1], cof[0][1])), mul(j[0][2], cof[0][2]));
   Lanes tr = add(add(mul(j[0][0], j[0][0]), mul(j[0][1], j[0][1])), mul(j[0][2], j[0][2]));
   tr = add(splat(0.0), tr);
@@ -172,6 +175,8 @@ void hex_corner_kernel_avx2(const double (*p)[3], double inv_h, double eps2, dou
   _mm256_storeu_pd(e, energy.lo);
   _mm256_storeu_pd(e + 4, energy.hi);
   if (!grad) return;
+  cofactor_column(1);
+  cofactor_column(2);
   const Lanes dchi = div(chi, root);
   const Lanes ja = mul(splat(2.0 * shape), inv_chi23);
   const Lanes first = mul(mul(mul(mul(mul(splat(-(2.0 / 3.0)), splat(shape)), tr), inv_chi23), inv_chi), dchi);
