@@ -447,7 +447,11 @@ GpcVolumetricMap compute_gpc_volumetric_map(polycube::GpcConstruction& construct
   for (int c = 0; c < nc; ++c) {
     progress.report("surface map", 0.3 * c / nc);
     const polycube::CuboidSurface& s = construction.surfaces[c];
-    const mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(s.mesh, "gpc cuboid " + std::to_string(c));
+    const std::shared_ptr<const mesh::HalfedgeMesh> built =
+        s.halfedges ? s.halfedges
+                    : std::make_shared<const mesh::HalfedgeMesh>(
+                          mesh::HalfedgeMesh::build(s.mesh, "gpc cuboid " + std::to_string(c)));
+    const mesh::HalfedgeMesh& hm = *built;
     CuboidSurfaceMapOptions map_options;
     map_options.area_balance_iterations = options.area_balance_iterations;
     try {

@@ -57,8 +57,10 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
   if (!(diagonal > 0.0) || !std::isfinite(diagonal))
     throw Error("mesh '" + name + "': its bounding box has no finite, positive size");
   unit.positions = (unit.positions.rowwise() - centre) / diagonal;
-  const SolidMesh solid = validate_solid_mesh(unit, name, "gpc");
-  stats.genus = solid.report.genus;
+  SolidMesh validated = validate_solid_mesh(unit, name, "gpc");
+  stats.genus = validated.report.genus;
+  // Shared with an uncut solid's one cuboid, whose layout and surface map use the same halfedges.
+  const auto solid_mesh = std::make_shared<const mesh::HalfedgeMesh>(std::move(validated.mesh));
   if (!options.corners.empty() && stats.genus != 0)
     throw Error("gpc: corners are only accepted for a genus-0 solid (one cuboid); mesh '" + name + "' has genus " +
                 std::to_string(stats.genus));
@@ -81,11 +83,12 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
     // A genus-0 solid is cut only if it has a limb (its poles alone cost two graph sweeps, where
     // the decomposition's harmonic solve and level sets grow faster than the mesh).
     if (stats.genus > 0 ||
-        (limb_persistence > 0.0 && !polycube::morse_poles(solid.mesh, limb_persistence).limb_tips.empty()))
-      decomposition = polycube::decompose_solid(solid.mesh, stats.genus, d);
+        (limb_persistence > 0.0 && !polycube::morse_poles(*solid_mesh, limb_persistence).limb_tips.empty()))
+      decomposition = polycube::decompose_solid(*solid_mesh, stats.genus, d);
     if (decomposition.pieces.size() <= 1 && stats.genus == 0) {
       decomposition = polycube::SolidDecomposition{};
-      decomposition.mesh = solid.mesh.to_triangle_mesh();
+      decomposition.mesh = solid_mesh->to_triangle_mesh();
+      decomposition.halfedges = solid_mesh;
       decomposition.value.assign(decomposition.mesh.num_vertices(), 0.0);
       decomposition.parent_face.resize(decomposition.mesh.num_faces());
       std::iota(decomposition.parent_face.begin(), decomposition.parent_face.end(), 0);
@@ -212,7 +215,11 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
   // Back to model units.
   auto to_model = [&](mesh::Positions& p) { p = (p * diagonal).rowwise() + centre; };
   to_model(decomposition.mesh.positions);
-  for (polycube::CuboidSurface& s : result.construction.surfaces) to_model(s.mesh.positions);
+  decomposition.halfedges.reset();
+  for (polycube::CuboidSurface& s : result.construction.surfaces) {
+    to_model(s.mesh.positions);
+    s.halfedges.reset();
+  }
   for (polycube::InterfaceDisc& d : result.construction.discs) to_model(d.positions);
   for (param::GpcCuboidGrid& g : result.map.grids) to_model(g.xyz);
   to_model(result.map.hex_mesh.xyz);

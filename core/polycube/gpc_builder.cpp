@@ -592,10 +592,12 @@ GpcConstruction build_gpc(SolidDecomposition& d, double bbox_diagonal, const std
       std::iota(s.surface_vertex.begin(), s.surface_vertex.end(), 0);
       s.surface_face.resize(S.num_faces());
       std::iota(s.surface_face.begin(), s.surface_face.end(), 0);
-      const mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(s.mesh, "gpc " + part);
+      assert(!d.halfedges || (d.halfedges->num_vertices() == S.num_vertices() && d.halfedges->num_faces() == S.num_faces()));
+      s.halfedges = d.halfedges ? d.halfedges
+                                : std::make_shared<const mesh::HalfedgeMesh>(mesh::HalfedgeMesh::build(s.mesh, "gpc " + part));
       CuboidLayoutOptions layout_options;
       layout_options.corners = solid_corners;
-      s.layout = compute_cuboid_layout(hm, layout_options);
+      s.layout = compute_cuboid_layout(*s.halfedges, layout_options);
       out.surfaces.push_back(std::move(s));
       GpcCuboid cuboid;
       cuboid.piece = static_cast<int>(p);

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "core/mesh/halfedge_mesh.h"
@@ -18,6 +19,9 @@ struct CuboidSurface {
   CuboidLayout layout;              ///< on `mesh`
   std::vector<int> surface_vertex;  ///< per vertex: vertex of the decomposition mesh, −1 inside a disc
   std::vector<int> surface_face;    ///< per face: face of the decomposition mesh, −1 on a disc
+  /// `mesh` with its halfedges as the layout saw them (the volumetric map reuses them), or null;
+  /// run_gpc drops it when it scales `mesh` back to model units.
+  std::shared_ptr<const mesh::HalfedgeMesh> halfedges;
 };
 
 /// A GPC with the surface of every cuboid.

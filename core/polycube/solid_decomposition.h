@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -64,6 +65,9 @@ struct SolidDecomposition {
   int num_initial_pieces = 0;   ///< pieces before merging
   int num_resplit_cuts = 0;     ///< level-set cuts that failed the meridian certificate and were replaced
   int num_tightened_cuts = 0;   ///< cuts moved off their level set to a shorter loop (CutPlacement::Shortest)
+  /// `mesh` with its halfedges, when the caller has them (build_gpc then does not build them
+  /// again: a 1.3M-triangle surface takes 0.4 s), or null. Only for an uncut solid.
+  std::shared_ptr<const mesh::HalfedgeMesh> halfedges;
 };
 
 /// Where decompose_solid puts its cuts.
