@@ -26,7 +26,7 @@ struct LbfgsMemory {
 // L-BFGS (two-loop recursion, 7 pairs) with Armijo backtracking, from the pairs in memory
 // (updated); returns the iterations done.
 int lbfgs(const UntangleProblem& problem, Eigen::VectorXd& x, double eps, int max_iterations,
-          LbfgsMemory& memory) {
+          LbfgsMemory& memory, double* energy = nullptr) {
   constexpr int kPairs = 7;
   std::vector<Eigen::VectorXd>& s_list = memory.s_list;
   std::vector<Eigen::VectorXd>& y_list = memory.y_list;
@@ -113,6 +113,7 @@ int lbfgs(const UntangleProblem& problem, Eigen::VectorXd& x, double eps, int ma
       break;
     }
   }
+  if (energy) *energy = f;
   return iteration;
 }
 
@@ -147,9 +148,10 @@ void hex_corner_terms(const double (*p)[3], double inv_h, double eps2, double th
 
 }  // namespace detail
 
-int minimize_lbfgs(const UntangleProblem& problem, double eps, int max_iterations, Eigen::VectorXd& x) {
+int minimize_lbfgs(const UntangleProblem& problem, double eps, int max_iterations, Eigen::VectorXd& x,
+                   double* energy) {
   LbfgsMemory memory;
-  return lbfgs(problem, x, eps, max_iterations, memory);
+  return lbfgs(problem, x, eps, max_iterations, memory, energy);
 }
 
 int untangle(const UntangleProblem& problem, Eigen::VectorXd& x, const UntangleOptions& options) {

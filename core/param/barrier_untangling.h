@@ -63,8 +63,11 @@ struct UntangleOptions {
 /// One ε step of untangle: at most max_iterations L-BFGS iterations (two-loop recursion, 7
 /// curvature pairs, Armijo backtracking; the first step moves the worst unknown by 1e-2) on
 /// problem.energy(·, eps) from x, updated in place; stops early when the energy decrease falls
-/// under 1e-10 of the energy. Returns the iterations done.
-int minimize_lbfgs(const UntangleProblem& problem, double eps, int max_iterations, Eigen::VectorXd& x);
+/// under 1e-10 of the energy. Returns the iterations done. energy (if not null) gets the energy
+/// at the returned x from the evaluation that accepted it (problem.energy's own value unless the
+/// problem has settle or a line, whose points it was not evaluated at).
+int minimize_lbfgs(const UntangleProblem& problem, double eps, int max_iterations, Eigen::VectorXd& x,
+                   double* energy = nullptr);
 
 /// Minimizes the problem's energy from x (updated in place) by L-BFGS with the ε continuation
 /// of Garanzha et al. 2021: ε shrinks with the energy decrease and vanishes once every element

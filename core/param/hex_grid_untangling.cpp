@@ -350,8 +350,13 @@ void continuation_round(const std::vector<std::array<int, 8>>& hex_nodes, const 
     }
     // L-BFGS preconditioned by the hex-edge Laplacian was tried: it saves few iterations
     // (bunny 480 against 570; the folds are local barrier stiffness) and costs more each.
-    report.iterations += minimize_lbfgs(problem, eps, options.max_inner, x);
-    const double e = energy->evaluate(x, eps, nullptr);
+    // The energy at x is the one L-BFGS accepted it with; a settled x is evaluated anew.
+    double e = 0.0;
+    report.iterations += minimize_lbfgs(problem, eps, options.max_inner, x, &e);
+    if (problem.settle)
+      e = energy->evaluate(x, eps, nullptr);
+    else
+      energy->set_variables(x);
     const double d_min = energy->min_det();
     count = energy->num_inverted();
     const double sigma = std::max(1.0 - e / e_prev, kMinSigma);
