@@ -25,6 +25,12 @@ namespace volspline::polycube {
 
 namespace {
 
+// choose_loop_corners: the start shifts tried, over one quarter of the loop.
+constexpr int kCornerShifts = 8;
+// ... and the share of the best shift's least corner angle below which the farthest-vertex start
+// gives way to it.
+constexpr double kCornerAngleShare = 0.5;
+
 // One piece cut out of the decomposition mesh; a loop whose both sides belong to the piece has
 // its vertices twice, once per side.
 struct PieceMesh {
@@ -156,7 +162,15 @@ double path_length(const mesh::TriangleMesh& m, const std::vector<int>& path) {
   return total;
 }
 
-// 4 corners of a loop at quarter arc lengths, starting at its vertex farthest from its centroid.
+// 4 corners of a loop at quarter arc lengths (§3.3.2: every interface loop gets 4 corners shared
+// by both sides), starting at the loop's vertex farthest from its centroid. Starting there puts an
+// elongated loop's corners at its two ends and the middles of its long sides, where the loop runs
+// straight on: a face corner of almost 180° on one side of the cut and a squeezed face on the
+// other, which neither the hexes nor the spline's cells there can follow. So the start is
+// also shifted by each of kCornerShifts steps of an eighth of a quarter, and the shift whose 4
+// corners make the most rectangular quadrilateral (the largest least angle between the chords to
+// the neighbouring corners; the first on a tie) is taken where the farthest-vertex start reaches
+// under kCornerAngleShare of its least angle.
 std::array<int, 4> choose_loop_corners(const mesh::TriangleMesh& m, const std::vector<int>& loop) {
   const int n = static_cast<int>(loop.size());
   Eigen::RowVector3d centre = Eigen::RowVector3d::Zero();
@@ -174,17 +188,45 @@ std::array<int, 4> choose_loop_corners(const mesh::TriangleMesh& m, const std::v
   std::vector<double> arc(n + 1, 0.0);
   for (int i = 1; i <= n; ++i)
     arc[i] = arc[i - 1] + (m.positions.row(loop[(start + i) % n]) - m.positions.row(loop[(start + i - 1) % n])).norm();
-  std::array<int, 4> corners;
-  int previous = 0;
-  corners[0] = start;
-  for (int k = 1; k < 4; ++k) {
-    const double target = arc[n] * k / 4.0;
-    int best = previous + 1;
-    for (int i = previous + 1; i < n - (3 - k); ++i)
-      if (std::abs(arc[i] - target) < std::abs(arc[best] - target)) best = i;
-    previous = best;
-    corners[k] = (start + best) % n;
+  // Corners (indices into the loop from `start`) at offset + k quarters, each the nearest vertex
+  // after the previous corner.
+  auto corners_at = [&](double offset) {
+    std::array<int, 4> out{};
+    int previous = -1;
+    for (int k = 0; k < 4; ++k) {
+      const double target = offset + arc[n] * k / 4.0;
+      int best = previous + 1;
+      for (int i = previous + 1; i < n - (3 - k); ++i)
+        if (std::abs(arc[i] - target) < std::abs(arc[best] - target)) best = i;
+      previous = best;
+      out[k] = best;
+    }
+    return out;
+  };
+  auto least_angle = [&](const std::array<int, 4>& c) {
+    double least = 1.0e30;
+    for (int k = 0; k < 4; ++k) {
+      const Eigen::RowVector3d p = m.positions.row(loop[(start + c[k]) % n]);
+      const Eigen::RowVector3d a = m.positions.row(loop[(start + c[(k + 3) % 4]) % n]) - p;
+      const Eigen::RowVector3d b = m.positions.row(loop[(start + c[(k + 1) % 4]) % n]) - p;
+      const double denominator = a.norm() * b.norm();
+      least = std::min(least, denominator > 0.0 ? std::acos(std::clamp(a.dot(b) / denominator, -1.0, 1.0)) : 0.0);
+    }
+    return least;
+  };
+  const std::array<int, 4> farthest = corners_at(0.0);
+  std::array<int, 4> best = farthest;
+  double best_angle = least_angle(farthest);
+  for (int j = 1; j < kCornerShifts; ++j) {
+    const std::array<int, 4> c = corners_at(arc[n] / 4.0 * j / kCornerShifts);
+    const double angle = least_angle(c);
+    if (angle > best_angle + 1e-9) best_angle = angle, best = c;
   }
+  // The shift only where the farthest-vertex start is far from the best (under half its least
+  // angle): elsewhere both are fair and a loop keeps the corners it had without the shifts.
+  if (!(least_angle(farthest) < kCornerAngleShare * best_angle)) best = farthest;
+  std::array<int, 4> corners;
+  for (int k = 0; k < 4; ++k) corners[k] = (start + best[k]) % n;
   return corners;
 }
 

@@ -375,6 +375,32 @@ TEST_CASE("gpc job: a torus is 1 cuboid glued to itself, fold-free, glued nodes 
   CHECK(grid.xyz.rows() == grid.nodes[0] * grid.nodes[1] * grid.nodes[2]);
 }
 
+TEST_CASE("gpc job: an elongated cut loop gets its corners near a rectangle's, not at its ends and sides") {
+  // A torus whose cross-section is an ellipse three times as wide (radially) as high: its cut
+  // loop's vertex farthest from the centroid is at a wide end, and quarters from there put the
+  // corners at both ends and the middles of the long sides (a rhombus of 37° corners).
+  mesh::TriangleMesh m = make_torus(40, 24, 0.3);
+  for (int v = 0; v < m.num_vertices(); ++v) m.positions(v, 2) /= 3.0;
+  const pipeline::GpcResult r = pipeline::run_gpc(m, "flat torus");
+  CHECK(r.stats.cuboids == 1);
+  CHECK(r.stats.grid_inverted_hexes == 0);
+  REQUIRE(r.construction.domain.interfaces.size() == 1);
+  const polycube::GpcInterface& g = r.construction.domain.interfaces[0];
+  const polycube::GpcCuboid& cuboid = r.construction.domain.cuboids[0];
+  // The 4 corners of the glued face w = g.face[0] % 2 (cube corner c at (c&1, c>>1&1, c>>2&1)),
+  // in order around the face, and the angle between the chords at each.
+  const int w = g.face[0] % 2;
+  const std::array<int, 4> ring{0, 1, 3, 2};
+  double least = 180.0;
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector3d p = cuboid.corner_xyz[ring[k] + 4 * w];
+    const Eigen::Vector3d a = cuboid.corner_xyz[ring[(k + 3) % 4] + 4 * w] - p;
+    const Eigen::Vector3d b = cuboid.corner_xyz[ring[(k + 1) % 4] + 4 * w] - p;
+    least = std::min(least, std::acos(a.dot(b) / (a.norm() * b.norm())) * 180.0 / 3.14159265358979323846);
+  }
+  CHECK(least > 60.0);
+}
+
 TEST_CASE("gpc job: position and units do not matter") {
   mesh::TriangleMesh a = make_torus(40, 16), b = a;
   b.positions = (b.positions * 1e-3).rowwise() + Eigen::RowVector3d(1e6, -2e5, 3e4);
