@@ -112,6 +112,14 @@ bool lay_out_t_shape(mesh::TriangleMesh& pants_mesh, std::vector<int>& face_orig
   std::vector<char> on_loop(n, 0);
   for (const auto& l : loops)
     for (int v : l) on_loop[v] = 1;
+  // The graph distance between two corners, nothing blocked or repelled: no seam between them
+  // is shorter (path_length sums the same edge lengths along the path).
+  std::map<int, std::vector<double>> distance_from;
+  auto seam_lower_bound = [&](int a, int b) {
+    auto known = distance_from.find(a);
+    if (known == distance_from.end()) known = distance_from.emplace(a, mesh::graph_distances(pants, {a}, length).distance).first;
+    return known->second[b];
+  };
 
   // Two loops that are the two sides of one cut (the arms of a handle) have their seams join
   // each corner to itself: the handle's cuboids then close without a twist.
@@ -154,13 +162,11 @@ bool lay_out_t_shape(mesh::TriangleMesh& pants_mesh, std::vector<int>& face_orig
       seam_ends[2 * m] = {ai[1], aj[0]};
       seam_ends[2 * m + 1] = {ai[0], aj[1]};
     }
-    // A seam is no shorter than the chord between its ends (path_length sums chords), so a trial
-    // whose seams so far plus the chords of the rest reach the best length cannot win: it is
-    // dropped before its searches (the margin covers the rounding of the sums).
+    // A trial whose seams so far plus the lower bounds of the rest reach the best length cannot
+    // win: it is dropped before its searches (the margin covers the rounding of the sums).
     std::array<double, 7> chords_after{};
     for (int m = 5; m >= 0; --m)
-      chords_after[m] = chords_after[m + 1] +
-                        (pants.vertex_position(seam_ends[m][0]) - pants.vertex_position(seam_ends[m][1])).norm();
+      chords_after[m] = chords_after[m + 1] + seam_lower_bound(seam_ends[m][0], seam_ends[m][1]);
     if (chords_after[0] * (1.0 - 1e-12) >= best.length) continue;
     Seams s;
     std::vector<int> prefix;  // the ends of the seams searched so far in this trial
