@@ -79,6 +79,24 @@ Eigen::Matrix3d NodeJacobians::linear(const double* x4, std::size_t q) const {
   return m;
 }
 
+Eigen::Matrix3d scattered_linear(const int* column, const double* gradient, int begin, int end, const double* x4) {
+  Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+#if defined(VOLSPLINE_AVX2_KERNELS)
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  if (avx2) {
+    scattered_linear_avx2(column, gradient, begin, end, x4, m.data());
+    return m;
+  }
+#endif
+  for (int e = begin; e < end; ++e) {
+    const double* g = gradient + 3 * e;
+    const double* xc = x4 + 4 * column[e];
+    for (int a = 0; a < 3; ++a)
+      for (int r = 0; r < 3; ++r) m(r, a) += xc[r] * g[a];
+  }
+  return m;
+}
+
 void NodeJacobians::transform(std::size_t q, const Eigen::Matrix3d& s) {
   for (int e = start_[q]; e < start_[q + 1]; ++e) {
     float* g = gradient_.data() + 3 * e;

@@ -59,4 +59,9 @@ class NodeJacobians {
   bool avx2_ = false;            // the CPU runs the AVX2 sweeps
 };
 
+/// Σ_e x_{column[e]}·g_eᵀ over entries begin .. end − 1 (scattered points' rows, g_e in double
+/// precision: gradient[3e .. 3e + 2]); x4: the free control points padded (NodeJacobians::pad).
+/// Sums in entry order (AVX2 where the CPU has it, the same bits).
+Eigen::Matrix3d scattered_linear(const int* column, const double* gradient, int begin, int end, const double* x4);
+
 }  // namespace volspline::spline::detail

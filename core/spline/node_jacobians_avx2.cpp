@@ -42,6 +42,21 @@ void node_rows_linear_avx2(const int* column, const float* gradient, int begin, 
   store3(m + 6, m2);
 }
 
+void scattered_linear_avx2(const int* column, const double* gradient, int begin, int end, const double* x4,
+                           double* m) {
+  __m256d m0 = _mm256_setzero_pd(), m1 = _mm256_setzero_pd(), m2 = _mm256_setzero_pd();
+  for (int e = begin; e < end; ++e) {
+    const double* g = gradient + 3 * e;
+    const __m256d xc = _mm256_loadu_pd(x4 + 4 * column[e]);
+    m0 = _mm256_add_pd(m0, _mm256_mul_pd(xc, _mm256_broadcast_sd(g)));
+    m1 = _mm256_add_pd(m1, _mm256_mul_pd(xc, _mm256_broadcast_sd(g + 1)));
+    m2 = _mm256_add_pd(m2, _mm256_mul_pd(xc, _mm256_broadcast_sd(g + 2)));
+  }
+  store3(m, m0);
+  store3(m + 3, m1);
+  store3(m + 6, m2);
+}
+
 void node_rows_add_gradient_avx2(const int* column, const float* gradient, int begin, int end, const double* d,
                                  double* gradient4) {
   const __m256d d0 = load3(d), d1 = load3(d + 3), d2 = load3(d + 6);

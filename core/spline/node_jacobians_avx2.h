@@ -14,6 +14,9 @@ void node_rows_linear_avx2(const int* column, const float* gradient, int begin, 
 /// The bits of NodeJacobians::add_gradient's loop.
 void node_rows_add_gradient_avx2(const int* column, const float* gradient, int begin, int end, const double* d,
                                  double* gradient4);
+/// node_rows_linear_avx2 with gradients in double precision: the bits of scattered_linear's loop.
+void scattered_linear_avx2(const int* column, const double* gradient, int begin, int end, const double* x4,
+                           double* m);
 #endif
 
 }  // namespace volspline::spline::detail

@@ -64,7 +64,7 @@ class RegionEnergy {
     fill(line_step_, d, Part::Linear);
     for (std::size_t e = 0; e < num_extra_; ++e) {
       extra_start_[e] = extra_jac_[e];
-      extra_step_[e] = extra_linear(d, e);
+      extra_step_[e] = extra_linear(e);
     }
   }
 
@@ -103,18 +103,17 @@ class RegionEnergy {
     }
   }
 
-  Eigen::Matrix3d extra_linear(const Eigen::VectorXd& y, std::size_t e) const {
-    Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
-    for (int k = r_.point_start[e]; k < r_.point_start[e + 1]; ++k)
-      m += y.segment<3>(3 * r_.point_columns[k]) * r_.point_g[k].transpose();
-    return m;
+  // Σ y_c·g_cᵀ at scattered node e, y padded in padded_ (the vector fill was last given).
+  Eigen::Matrix3d extra_linear(std::size_t e) const {
+    return scattered_linear(r_.point_columns.data(), r_.point_g.empty() ? nullptr : r_.point_g.front().data(),
+                            r_.point_start[e], r_.point_start[e + 1], padded_.data());
   }
 
   // M at y: jac_ (formed from the line if jac_x_ = y lies on it).
   const std::vector<double>& jacobians(const Eigen::VectorXd& y) {
     if (jac_x_.size() != y.size() || jac_x_ != y) {
       fill(jac_, y, Part::WithFixed);
-      for (std::size_t e = 0; e < num_extra_; ++e) extra_jac_[e] = r_.point_fixed[e] + extra_linear(y, e);
+      for (std::size_t e = 0; e < num_extra_; ++e) extra_jac_[e] = r_.point_fixed[e] + extra_linear(e);
       jac_x_ = y;
     } else if (on_line_) {
       jac_.resize(line_start_.size());

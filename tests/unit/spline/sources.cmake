@@ -28,4 +28,5 @@ set(TEST_SOURCES
   gpc_boundary_tessellation_test.cpp
   gpc_spline_cut_test.cpp
   gpc_jacobian_lattice_test.cpp
+  node_jacobians_test.cpp
 )
