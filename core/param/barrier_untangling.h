@@ -65,7 +65,7 @@ struct UntangleOptions {
 /// problem.energy(·, eps) from x, updated in place; stops early when the energy decrease falls
 /// under 1e-10 of the energy. Returns the iterations done. energy (if not null) gets the energy
 /// at the returned x from the evaluation that accepted it (problem.energy's own value unless the
-/// problem has settle or a line, whose points it was not evaluated at).
+/// problem sets `settle` or the line functions: then the accepted point was not evaluated as such).
 int minimize_lbfgs(const UntangleProblem& problem, double eps, int max_iterations, Eigen::VectorXd& x,
                    double* energy = nullptr);
 
