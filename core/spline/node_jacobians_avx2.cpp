@@ -24,14 +24,15 @@ inline void store3(double* p, __m256d v) {
 inline __m256d broadcast(const float* g) {
   return _mm256_cvtps_pd(_mm_broadcast_ss(g));  // exact, as double(*g)
 }
+inline __m256d broadcast(const double* g) { return _mm256_broadcast_sd(g); }
 
-}  // namespace
-
-void node_rows_linear_avx2(const int* column, const float* gradient, int begin, int end, const double* x4,
-                           double* m) {
+// m[3a .. 3a + 2] = Σ_e gradient_e[a] · x4[column_e] over rows [begin, end) (the Jacobian's linear
+// part): the same products and sums in the same order for float and double gradients.
+template <class Real>
+void linear_part(const int* column, const Real* gradient, int begin, int end, const double* x4, double* m) {
   __m256d m0 = _mm256_setzero_pd(), m1 = _mm256_setzero_pd(), m2 = _mm256_setzero_pd();
   for (int e = begin; e < end; ++e) {
-    const float* g = gradient + 3 * e;
+    const Real* g = gradient + 3 * e;
     const __m256d xc = _mm256_loadu_pd(x4 + 4 * column[e]);
     m0 = _mm256_add_pd(m0, _mm256_mul_pd(xc, broadcast(g)));
     m1 = _mm256_add_pd(m1, _mm256_mul_pd(xc, broadcast(g + 1)));
@@ -42,19 +43,16 @@ void node_rows_linear_avx2(const int* column, const float* gradient, int begin, 
   store3(m + 6, m2);
 }
 
+}  // namespace
+
+void node_rows_linear_avx2(const int* column, const float* gradient, int begin, int end, const double* x4,
+                           double* m) {
+  linear_part(column, gradient, begin, end, x4, m);
+}
+
 void scattered_linear_avx2(const int* column, const double* gradient, int begin, int end, const double* x4,
                            double* m) {
-  __m256d m0 = _mm256_setzero_pd(), m1 = _mm256_setzero_pd(), m2 = _mm256_setzero_pd();
-  for (int e = begin; e < end; ++e) {
-    const double* g = gradient + 3 * e;
-    const __m256d xc = _mm256_loadu_pd(x4 + 4 * column[e]);
-    m0 = _mm256_add_pd(m0, _mm256_mul_pd(xc, _mm256_broadcast_sd(g)));
-    m1 = _mm256_add_pd(m1, _mm256_mul_pd(xc, _mm256_broadcast_sd(g + 1)));
-    m2 = _mm256_add_pd(m2, _mm256_mul_pd(xc, _mm256_broadcast_sd(g + 2)));
-  }
-  store3(m, m0);
-  store3(m + 3, m1);
-  store3(m + 6, m2);
+  linear_part(column, gradient, begin, end, x4, m);
 }
 
 void node_rows_add_gradient_avx2(const int* column, const float* gradient, int begin, int end, const double* d,
