@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/common/error.h"
+#include "core/spline/cell_fold_search.h"
 #include "core/spline/edge_crease.h"
 #include "core/spline/gpc_jacobian_certificate.h"
 #include "core/spline/untangle_energy.h"
@@ -472,7 +473,16 @@ SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSample
                     static_cast<double>(round) / options.certificate_rounds);
     std::vector<std::vector<Eigen::Vector3d>> more(static_cast<std::size_t>(nc));
     for (const UncertifiedCell& u : certificate.uncertified) {
-      const std::vector<Eigen::Vector3d> points = detail::uncertified_points(spline.patch(u.cuboid), u, options.min_scaled_jacobian);
+      std::vector<Eigen::Vector3d> points = detail::uncertified_points(spline.patch(u.cuboid), u, options.min_scaled_jacobian);
+      // The fold itself: the certificate's lowest box corner and the 3×3×3 grid can both miss
+      // it (an Undecided cell's lowest corner is often positive), and a fold no hinge holds is
+      // never pulled open.
+      const CellJacobianPoint fold =
+          lowest_jacobian_point(extract_bezier_cell(spline.patch(u.cuboid), u.cell), u.bound.lowest_corner_s);
+      Eigen::Vector3d p = u.uvw_min + fold.s.cwiseProduct(u.uvw_max - u.uvw_min);
+      for (int a = 0; a < 3; ++a)
+        if (fold.s(a) == 1.0) p(a) = u.uvw_max(a);
+      points.push_back(p);
       more[u.cuboid].insert(more[u.cuboid].end(), points.begin(), points.end());
     }
     for (int c = 0; c < nc; ++c) detail::merge_points(held[c], std::move(more[c]));

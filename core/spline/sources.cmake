@@ -18,6 +18,7 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/spline_untangling.cpp
   ${CMAKE_CURRENT_LIST_DIR}/grouped_gram.cpp
   ${CMAKE_CURRENT_LIST_DIR}/bezier_extraction.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/cell_fold_search.cpp
   ${CMAKE_CURRENT_LIST_DIR}/jacobian_certificate.cpp
   ${CMAKE_CURRENT_LIST_DIR}/edge_crease.cpp
   ${CMAKE_CURRENT_LIST_DIR}/bspline_multipatch.cpp

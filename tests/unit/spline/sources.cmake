@@ -4,6 +4,7 @@ set(TEST_SOURCES
   bspline_volume_test.cpp
   knot_insertion_test.cpp
   tspline_test.cpp
+  cell_fold_search_test.cpp
   cell_polynomial_avx2_test.cpp
   tspline_refinement_test.cpp
   tspline_fitting_test.cpp
