@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cassert>
+#include <cmath>
 #include <limits>
 #include <numeric>
 #include <string>
@@ -26,6 +27,8 @@ constexpr int kNodesPerCell = 2;
 // Free functions are at most this many times as wide as the narrowest function at the held
 // point per axis (2: one dyadic level coarser).
 constexpr double kSupportRatio = 2.0;
+// Factor on the held points' hinge per round since the uncertified count last fell.
+constexpr double kStallWeight = 8.0;
 
 // J at a point of a cuboid split into the free functions' part: J = rest + Σ_e x_{column_e}·g_eᵀ.
 struct PointJacobian {
@@ -41,7 +44,8 @@ class GpcCertificatePass {
 
   // One pass over the held points (per cuboid, in cuboid coordinates); returns the result's
   // free_functions and iterations.
-  SplineUntangleResult run(const std::vector<std::vector<Eigen::Vector3d>>& held) {
+  SplineUntangleResult run(const std::vector<std::vector<Eigen::Vector3d>>& held, double held_weight) {
+    held_weight_ = held_weight;
     SplineUntangleResult result;
     select_free_functions(held);
     result.free_functions = static_cast<int>(free_ids_.size());
@@ -291,6 +295,7 @@ class GpcCertificatePass {
             std::max(j.full.col(0).norm() * j.full.col(1).norm() * j.full.col(2).norm(), 1e-300));
         region.point_fixed.push_back(j.rest);
         region.point_target.push_back(options_.min_scaled_jacobian);
+        region.point_weight.push_back(held_weight_);
         region.point_columns.insert(region.point_columns.end(), j.columns.begin(), j.columns.end());
         region.point_g.insert(region.point_g.end(), j.g.begin(), j.g.end());
         region.point_start.push_back(static_cast<int>(region.point_columns.size()));
@@ -344,7 +349,6 @@ class GpcCertificatePass {
     std::vector<int> order(unique.size());
     std::iota(order.begin(), order.end(), 0);
     std::sort(order.begin(), order.end(), [&](int a, int b) { return unique[a].first < unique[b].first; });
-    if (region.point_weight.empty()) region.point_weight.assign(region.point_fixed.size(), 1.0);
     for (int u : order) {
       const Guard& guard = guards[unique[u].second];
       const PointJacobian& j = jacobian_at(guard.cuboid, guard.p, x);
@@ -399,6 +403,7 @@ class GpcCertificatePass {
   std::vector<std::vector<CellMerge>> merges_;  // per cuboid, per patch cell (filled on first use)
   std::vector<double> points_xyz_;  // the control points at the pass's start, x, y, z per function
   PointJacobian point_;             // jacobian_at's result
+  double held_weight_ = 1.0;        // factor on the held points' hinge
 };
 
 // After the rounds: the uncertified cells whose det J is negative on or next to a cuboid edge
@@ -486,7 +491,8 @@ SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSample
       more[u.cuboid].insert(more[u.cuboid].end(), points.begin(), points.end());
     }
     for (int c = 0; c < nc; ++c) detail::merge_points(held[c], std::move(more[c]));
-    const SplineUntangleResult r = GpcCertificatePass(spline, samples, options).run(held);
+    const double held_weight = std::pow(kStallWeight, rounds.stalled());
+    const SplineUntangleResult r = GpcCertificatePass(spline, samples, options).run(held, held_weight);
     ++total.certificate_passes;
     total.free_functions += r.free_functions;
     total.iterations += r.iterations;
