@@ -13,8 +13,10 @@ namespace volspline::spline {
 /// over a whole geometric GPC spline (D = 3), on its global control points: each round
 /// certifies every cell of every cuboid box (certify_gpc_jacobian) and holds the points where
 /// the uncertified cells fold (uncertified_points: the certificate's lowest corner and the
-/// negative points of a 3×3×3 grid on the closed cell, in their cuboid, kept from round to
-/// round) by the hinge W·max(0, min_scaled_jacobian − det J/σ)². The free functions are the
+/// negative points of a 3×3×3 grid on the closed cell; and lowest_jacobian_point, the fold
+/// itself, which both can miss; in their cuboid, kept from round to round) by the hinge
+/// W·max(0, min_scaled_jacobian − det J/σ)², W multiplied by 8 per round since the uncertified
+/// count last fell (a fold the data term holds shut opens once its hinge outweighs it). The free functions are the
 /// global functions whose value or gradient is non-zero at a held point and whose support is at
 /// most twice as wide as the narrowest of those per axis (a hierarchical spline's coarser
 /// functions would make a pass global), whatever cuboids they reach: a function crossing a Continued face
