@@ -1,0 +1,121 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+# Generated held-out solids: marching tetrahedra (Freudenthal split of a cubic lattice) of an
+# implicit solid f < 0, written as a closed, consistently oriented OFF mesh. These shapes are not
+# among ../shared/data's meshes and check gpc / mesh2spline on layouts they were not tuned on.
+# usage: make_implicit_solid.py NAME CELLS OUT.off   (NAME: dtorus pretzel mug plate2 grid4
+#        ring_fin star suitcase trihole; CELLS: lattice cells per side, e.g. 64)
+import sys, math
+def mt(f, lo, hi, n, out):
+    h = [(hi[d]-lo[d])/n for d in range(3)]
+    N = n+1
+    val = [0.0]*(N*N*N)
+    idx = lambda i,j,k: (i*N+j)*N+k
+    for i in range(N):
+        x = lo[0]+i*h[0]
+        for j in range(N):
+            y = lo[1]+j*h[1]
+            for k in range(N):
+                v = f(x, y, lo[2]+k*h[2])
+                if abs(v) < 1e-9: v = 1e-9
+                val[idx(i,j,k)] = v
+    # push values away from 0 relative to neighbours so no crossing lands on a grid vertex
+    verts = {}; P = []; T = []
+    def vid(a, b):
+        key = (a, b) if a < b else (b, a)
+        r = verts.get(key)
+        if r is not None: return r
+        va, vb = val[a], val[b]
+        t = va/(va-vb); t = min(max(t, 0.08), 0.92)
+        pa = pos(a); pb = pos(b)
+        P.append([pa[d]+t*(pb[d]-pa[d]) for d in range(3)]); verts[key] = len(P)-1
+        return len(P)-1
+    def pos(a):
+        k = a % N; j = (a//N) % N; i = a//(N*N)
+        return (lo[0]+i*h[0], lo[1]+j*h[1], lo[2]+k*h[2])
+    perms = [(0,1,2),(0,2,1),(1,0,2),(1,2,0),(2,0,1),(2,1,0)]
+    for i in range(n):
+        for j in range(n):
+            for k in range(n):
+                base = (i,j,k)
+                for p in perms:
+                    c = list(base); tet = [idx(*c)]
+                    for ax in p:
+                        c[ax] += 1; tet.append(idx(*c))
+                    s = [val[v] < 0 for v in tet]
+                    ns = sum(s)
+                    if ns == 0 or ns == 4: continue
+                    # orientation of tet
+                    a,b,cc,d = [pos(v) for v in tet]
+                    u=[b[q]-a[q] for q in range(3)]; v=[cc[q]-a[q] for q in range(3)]; w=[d[q]-a[q] for q in range(3)]
+                    det = u[0]*(v[1]*w[2]-v[2]*w[1])-u[1]*(v[0]*w[2]-v[2]*w[0])+u[2]*(v[0]*w[1]-v[1]*w[0])
+                    ins = [t for t,q in zip(tet,s) if q]; outs = [t for t,q in zip(tet,s) if not q]
+                    tris = []
+                    if ns == 1:
+                        a0 = ins[0]; tris.append([vid(a0,o) for o in outs])
+                    elif ns == 3:
+                        o0 = outs[0]; tris.append([vid(o0,q) for q in ins])
+                    else:
+                        i0,i1 = ins; o0,o1 = outs
+                        q = [vid(i0,o0), vid(i0,o1), vid(i1,o1), vid(i1,o0)]
+                        tris += [[q[0],q[1],q[2]],[q[0],q[2],q[3]]]
+                    for t in tris:
+                        # orient: normal should point from inside to outside
+                        A,B,C = [P[x] for x in t]
+                        nx = [(B[1]-A[1])*(C[2]-A[2])-(B[2]-A[2])*(C[1]-A[1]),(B[2]-A[2])*(C[0]-A[0])-(B[0]-A[0])*(C[2]-A[2]),(B[0]-A[0])*(C[1]-A[1])-(B[1]-A[1])*(C[0]-A[0])]
+                        ci = [sum(pos(x)[q] for x in ins)/len(ins) for q in range(3)]
+                        co = [sum(pos(x)[q] for x in outs)/len(outs) for q in range(3)]
+                        dirn = [co[q]-ci[q] for q in range(3)]
+                        if sum(nx[q]*dirn[q] for q in range(3)) < 0: t = [t[0],t[2],t[1]]
+                        T.append(t)
+    with open(out,'w') as fo:
+        fo.write('OFF\n%d %d 0\n' % (len(P), len(T)))
+        for p in P: fo.write('%.7f %.7f %.7f\n' % tuple(p))
+        for t in T: fo.write('3 %d %d %d\n' % tuple(t))
+    print(out, len(P), len(T))
+
+def torus(x,y,z,R,r): q = math.sqrt(x*x+y*y)-R; return math.sqrt(q*q+z*z)-r
+def smin(a,b,k):
+    h = max(k-abs(a-b),0.0)/k; return min(a,b)-h*h*k*0.25
+def box(x,y,z,a,b,c):
+    qx,qy,qz = abs(x)-a, abs(y)-b, abs(z)-c
+    o = math.sqrt(max(qx,0)**2+max(qy,0)**2+max(qz,0)**2); return o+min(max(qx,qy,qz),0)
+def capsule(p, a, b, r):
+    pa=[p[i]-a[i] for i in range(3)]; ba=[b[i]-a[i] for i in range(3)]
+    t=max(0,min(1,sum(pa[i]*ba[i] for i in range(3))/sum(x*x for x in ba)))
+    return math.sqrt(sum((pa[i]-t*ba[i])**2 for i in range(3)))-r
+def rot(x,y,a): c,s=math.cos(a),math.sin(a); return c*x-s*y, s*x+c*y
+def trihole(x,y,z):
+    d=1e9
+    for k in range(3):
+        cx,cy=rot(0.9,0,2*math.pi*k/3); d=smin(d, torus(x-cx,y-cy,z,0.75,0.22),0.25)
+    return d
+def star(x,y,z):
+    d=math.sqrt(x*x+y*y+z*z)-0.6
+    for a in ((1,0,0),(-1,0,0),(0,1,0),(0,-1,0),(0,0,1),(0,0,-1)):
+        d=smin(d, capsule((x,y,z),(0,0,0),(1.5*a[0],1.5*a[1],1.5*a[2]),0.22),0.2)
+    return d
+shapes = {
+ # genus 2: two tori blended
+ 'dtorus': (lambda x,y,z: smin(torus(x+0.9,y,z,0.9,0.3), torus(x-0.9,y,z,0.9,0.3), 0.3), (-2.2,-1.3,-0.5),(2.2,1.3,0.5)),
+ # genus 3: three tori in a row, thinner
+ 'pretzel': (lambda x,y,z: smin(smin(torus(x+1.5,y,z,0.8,0.25), torus(x,y,z,0.8,0.25),0.25), torus(x-1.5,y,z,0.8,0.25),0.25), (-2.7,-1.2,-0.4),(2.7,1.2,0.4)),
+ # genus 1: mug = rounded cylinder body + handle
+ 'mug': (lambda x,y,z: smin(max(math.sqrt(x*x+y*y)-0.8, abs(z)-1.0)-0.05, torus(x-0.9, z, y, 0.55, 0.15), 0.15), (-1.0,-1.0,-1.2),(1.8,1.0,1.2)),
+ # genus 2: plate with two round holes (creases softened by rounding)
+ 'plate2': (lambda x,y,z: max(box(x,y,z,1.6,0.8,0.2)-0.08, -(math.sqrt((x+0.75)**2+y*y)-0.4), -(math.sqrt((x-0.75)**2+y*y)-0.4)), (-1.9,-1.1,-0.4),(1.9,1.1,0.4)),
+ # genus 4: square plate with 2 x 2 round holes
+ 'grid4': (lambda x,y,z: max(box(x,y,z,1.3,1.3,0.22)-0.08, -(math.sqrt((x+0.6)**2+(y+0.6)**2)-0.33), -(math.sqrt((x-0.6)**2+(y+0.6)**2)-0.33), -(math.sqrt((x+0.6)**2+(y-0.6)**2)-0.33), -(math.sqrt((x-0.6)**2+(y-0.6)**2)-0.33)), (-1.5,-1.5,-0.4),(1.5,1.5,0.4)),
+ # genus 1: torus with a thin flat fin
+ 'ring_fin': (lambda x,y,z: smin(torus(x,y,z,1.0,0.28), box(x-1.6,y,z,0.6,0.5,0.07)-0.02, 0.15), (-1.4,-1.4,-0.4),(2.3,1.4,0.4)),
+ # genus 0: ball with 6 capsule limbs along the axes
+ 'star': (star, (-1.85,-1.85,-1.85),(1.85,1.85,1.85)),
+ # genus 1: rounded box with a thin handle on its top
+ 'suitcase': (lambda x,y,z: smin(box(x,y,z,1.0,0.35,0.7)-0.1, torus(x, z-0.95, y, 0.4, 0.09), 0.08), (-1.25,-0.5,-0.85),(1.25,0.5,1.5)),
+ # genus 3: three tori in a triangle
+ 'trihole': (trihole, (-2.0,-2.0,-0.35),(2.0,2.0,0.35)),
+}
+if len(sys.argv) != 4 or sys.argv[1] not in shapes:
+    sys.exit("usage: make_implicit_solid.py NAME CELLS OUT.off; NAME one of " + " ".join(sorted(shapes)))
+f, lo, hi = shapes[sys.argv[1]]
+mt(f, lo, hi, int(sys.argv[2]), sys.argv[3])
