@@ -512,7 +512,7 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
 
   // DESIGN §6: the Bernstein certificate of det J on every cell of every cuboid.
   progress.report("certificate", 0.97);
-  record_certificate(stats, spline::certify_gpc_jacobian(fitted, {}, &certificates));
+  record_certificate(stats, spline::certify_gpc_jacobian(fitted, spline::gpc_certificate_options(), &certificates));
   timer.end_stage("certificate");
 
   // Back to model units: Σ B_i ≡ 1, so mapping the control points maps F.

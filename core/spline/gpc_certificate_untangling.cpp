@@ -427,7 +427,7 @@ void tilt_gpc_creases(GpcSpline& spline, const std::vector<UncertifiedCell>& unc
     TSpline patch = spline.patch(c);
     EdgeCreaseOptions crease_options;
     crease_options.exposed_faces = spline.exposed_faces(c);
-    const EdgeCreaseResult creases = convex_edge_creases(patch, cells, crease_options);
+    const EdgeCreaseResult creases = convex_edge_creases(patch, cells, crease_options, gpc_certificate_options());
     const std::vector<int>& ids = spline.patch_function_ids(c);
     for (int f : creases.moved) points.row(ids[f]) = patch.points().row(f);
     edges += creases.edges;
@@ -436,7 +436,7 @@ void tilt_gpc_creases(GpcSpline& spline, const std::vector<UncertifiedCell>& unc
   for (Eigen::Index f = 0; f < points.rows(); ++f) moved += points.row(f) != start.row(f);
   if (moved == 0) return;
   spline.set_points(points);
-  const int after = static_cast<int>(certify_gpc_jacobian(spline, {}, &cache).uncertified.size());
+  const int after = static_cast<int>(certify_gpc_jacobian(spline, gpc_certificate_options(), &cache).uncertified.size());
   if (after >= before) {
     spline.set_points(start);
     return;
@@ -463,7 +463,7 @@ SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSample
   detail::CertificateRounds rounds;
   std::vector<UncertifiedCell> best;  // the uncertified cells of the round with the fewest
   for (int round = 0;; ++round) {
-    JacobianCertificate certificate = certify_gpc_jacobian(spline, {}, &certificates);
+    JacobianCertificate certificate = certify_gpc_jacobian(spline, gpc_certificate_options(), &certificates);
     const int uncertified = static_cast<int>(certificate.uncertified.size());
     if (round == 0) total.initial_uncertified = uncertified;
     if (uncertified < rounds.final_uncertified()) best = certificate.uncertified;

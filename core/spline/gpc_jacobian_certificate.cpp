@@ -5,6 +5,12 @@
 
 namespace volspline::spline {
 
+JacobianCertificateOptions gpc_certificate_options() {
+  JacobianCertificateOptions options;
+  options.max_depth = 24;
+  return options;
+}
+
 JacobianCertificate certify_gpc_jacobian(const GpcSpline& spline, const JacobianCertificateOptions& options,
                                          JacobianCertificateCache* cache) {
   JacobianCertificate out;

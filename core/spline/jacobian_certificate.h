@@ -35,9 +35,8 @@ enum class JacobianCellStatus {
 struct JacobianCertificateOptions {
   /// Binary de Casteljau splits (at 1/2, cycling through u, v, w) at most per cell, [0, 24].
   /// Only boxes whose lowest coefficient is below −τ with no negative corner are split, so a
-  /// certified or proven-negative cell stops early; 24 (1/256 of the cell per axis) settles cells
-  /// where det J > 0 comes within 1e-4 of the column bound of 0, which 12 left Undecided.
-  int max_depth = 24;
+  /// certified or proven-negative cell stops early (a GPC spline takes 24: gpc_certificate_options).
+  int max_depth = 12;
   /// Rounding allowance τ: coefficients ≥ −rounding_rel·U count as non-negative, U the cell's
   /// column_bound, in [0, 1e-6]. The coefficients carry rounding of order 1e-15·U; an exactly
   /// degenerate edge (det J = 0 along a cuboid edge) must not fail on it.

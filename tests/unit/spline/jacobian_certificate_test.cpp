@@ -206,12 +206,13 @@ TEST_CASE("a certificate cache gives every cell the bound of a fresh certificate
 TEST_CASE("certify_bezier_cell: a cell whose det J comes within 1e-4 of 0 needs the deeper splits") {
   // det J = (s0 − 0.3)² + (s1 − 0.7)² + (s2 − 0.6)² + 1e-4 > 0: the Bernstein coefficients of a
   // box of width h around the minimum reach about −0.036·h² per axis below the values, so
-  // 4 splits per axis (12) leave a negative coefficient and no negative corner; 8 per axis do not.
+  // 4 splits per axis (12, the default) leave a negative coefficient and no negative corner; 8
+  // per axis (24, a GPC spline's gpc_certificate_options) do not.
   const BezierCell cell = volspline::spline::test::fold_cell(0.3, 0.7, 0.6, -1e-4);
-  volspline::spline::JacobianCertificateOptions shallow;
-  shallow.max_depth = 12;
-  CHECK(certify_bezier_cell(cell, shallow).status == JacobianCellStatus::Undecided);
-  const JacobianCellBound deep = certify_bezier_cell(cell, {});
+  CHECK(certify_bezier_cell(cell, {}).status == JacobianCellStatus::Undecided);
+  volspline::spline::JacobianCertificateOptions options;
+  options.max_depth = 24;
+  const JacobianCellBound deep = certify_bezier_cell(cell, options);
   CHECK(deep.status == JacobianCellStatus::Certified);
   CHECK(deep.det_j_lower_bound > 0.0);
   CHECK(deep.det_j_lower_bound <= 1e-4);
