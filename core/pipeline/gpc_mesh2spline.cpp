@@ -326,8 +326,12 @@ int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& sample
     for (std::size_t j = 0; j < ids.size(); ++j) points.row(ids[j]) = moved[c].row(static_cast<Eigen::Index>(j));
   }
   spline.set_points(std::move(points));
+  // Up to 16 rounds: they stop once every cell is certified or the count stalls for 3 rounds, so
+  // only a spline whose count still falls runs past 8 (dancer: 3 cells left at 8, 1 at 16).
+  spline::SplineUntangleOptions rounds;
+  rounds.certificate_rounds = 16;
   const spline::SplineUntangleResult certified =
-      spline::untangle_gpc_certificate(spline, samples, {}, {}, &certificates);
+      spline::untangle_gpc_certificate(spline, samples, rounds, {}, &certificates);
   return std::accumulate(free.begin(), free.end(), 0) + certified.free_functions;
 }
 
