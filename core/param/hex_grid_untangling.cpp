@@ -189,11 +189,17 @@ class Energy {
     return worst;
   }
 
-  // Number of corners with det J ≤ 0 at the current positions.
-  int num_inverted() const {
+  // min_det and num_inverted from one pass over the corners.
+  double min_det_and_inverted(int* inverted) const {
+    double worst = std::numeric_limits<double>::infinity();
     int count = 0;
-    for (const Corner& c : corners_) count += jacobian(c).determinant() <= 0.0;
-    return count;
+    for (const Corner& c : corners_) {
+      const double det = jacobian(c).determinant();
+      worst = std::min(worst, det);
+      count += det <= 0.0;
+    }
+    *inverted = count;
+    return worst;
   }
 
   // Energy at x (set as the free node positions) with barrier parameter eps; gradient if asked.
@@ -334,9 +340,13 @@ void continuation_round(const std::vector<std::array<int, 8>>& hex_nodes, const 
       first_region = region;
     }
     if (changed) {
+      auto is_term = [&](const Corner& c) {
+        return is_free[c.node[0]] || is_free[c.node[1]] || is_free[c.node[2]] || is_free[c.node[3]];
+      };
       std::vector<Corner> terms;
+      terms.reserve(std::count_if(corners.begin(), corners.end(), is_term));
       for (const Corner& c : corners)
-        if (is_free[c.node[0]] || is_free[c.node[1]] || is_free[c.node[2]] || is_free[c.node[3]]) terms.push_back(c);
+        if (is_term(c)) terms.push_back(c);
       energy = std::make_unique<Energy>(hex_nodes, std::move(terms), std::move(free_nodes), xyz, h, options.volume_weight,
                                         sliding, hex_inv_h.empty() ? nullptr : &hex_inv_h);
     }
@@ -357,8 +367,7 @@ void continuation_round(const std::vector<std::array<int, 8>>& hex_nodes, const 
       e = energy->evaluate(x, eps, nullptr);
     else
       energy->set_variables(x);
-    const double d_min = energy->min_det();
-    count = energy->num_inverted();
+    const double d_min = energy->min_det_and_inverted(&count);
     const double sigma = std::max(1.0 - e / e_prev, kMinSigma);
     const double mu = (1.0 - sigma) * barrier_chi(d_min, eps);
     previous_eps = eps;
