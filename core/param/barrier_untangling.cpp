@@ -159,7 +159,7 @@ int untangle(const UntangleProblem& problem, Eigen::VectorXd& x, const UntangleO
   // ε continuation of Garanzha et al. 2021 (§3): ε shrinks with the energy decrease, and
   // vanishes once every determinant exceeds μ.
   double d_min = problem.min_det(x);
-  double eps = d_min > 0.0 ? 1e-8 : 2.0 * std::sqrt(0.1 * (0.1 - d_min));
+  double eps = d_min > 0.0 ? 1e-8 : first_barrier_eps(d_min);
   double e_prev = problem.energy(x, eps, nullptr);
   double best_d_min = -std::numeric_limits<double>::infinity();
   int stalled = 0;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <cmath>
 #include <functional>
 #include <limits>
 
@@ -59,6 +60,10 @@ struct UntangleOptions {
   /// on bimba's grid instead of ~8 with 0.5.
   double min_sigma = 0.5;
 };
+
+/// The ε continuation's first ε where the least corner determinant d_min is ≤ 0 (Garanzha et
+/// al. 2021, §3): 2·√(0.1·(0.1 − d_min)).
+inline double first_barrier_eps(double d_min) { return 2.0 * std::sqrt(0.1 * (0.1 - d_min)); }
 
 /// One ε step of untangle: at most max_iterations L-BFGS iterations (two-loop recursion, 7
 /// curvature pairs, Armijo backtracking; the first step moves the worst unknown by 1e-2) on

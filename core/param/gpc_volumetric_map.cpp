@@ -12,6 +12,7 @@
 #include "core/common/error.h"
 #include "core/linalg/conjugate_gradient.h"
 #include "core/linalg/csr_matrix.h"
+#include "core/param/barrier_untangling.h"
 #include "core/param/cuboid_surface_locator.h"
 #include "core/param/hex_grid_untangling.h"
 #include "core/param/hex_min_quality.h"
@@ -144,7 +145,7 @@ bool mean_cell_blind(const HexMesh& pm, const std::vector<char>& held) {
       if (d <= 0.0) folded.push_back(-d);
     }
   if (folded.empty()) return false;
-  const double eps = 2.0 * std::sqrt(0.1 * (0.1 - least));
+  const double eps = first_barrier_eps(least);
   const auto blind = std::count_if(folded.begin(), folded.end(), [&](double d) { return d < kBlindDet * eps; });
   return static_cast<double>(blind) > kBlindShare * static_cast<double>(folded.size());
 }
@@ -440,8 +441,7 @@ int untangle_padded_mesh(const polycube::GpcConstruction& construction, const st
                                                                                             : Reference::MeanCell,
                         share_of(progress, 0.0, 0.6), false);
   } else if (mean_cell_blind(pm, held)) {
-    // The mean cell's held untangling would add folds and give up (armadillo: 1,958 → 3,818
-    // folded corners, a fifth of them under kBlindDet of ε at the start); the own cell's run alone.
+    // The mean cell's held untangling would add folds and give up: the own cell's run alone.
     untangled += settle(Reference::OwnCell, share_of(progress, 0.0, 0.6), false);
   } else {
     // The mean cell's run gives up where its held untangling adds folds (on armadillo it more

@@ -353,7 +353,7 @@ void continuation_round(const std::vector<std::array<int, 8>>& hex_nodes, const 
     Eigen::VectorXd x = energy->variables();
     if (step == 0) {
       const double d_min = energy->min_det();
-      eps = d_min > 0.0 ? 1e-8 : 2.0 * std::sqrt(0.1 * (0.1 - d_min));
+      eps = d_min > 0.0 ? 1e-8 : first_barrier_eps(d_min);
       e_prev = energy->evaluate(x, eps, nullptr);
     } else if (changed) {
       e_prev = energy->evaluate(x, previous_eps, nullptr);  // the last step's energy on the new terms

@@ -327,7 +327,7 @@ int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& sample
   }
   spline.set_points(std::move(points));
   // Up to 16 rounds: they stop once every cell is certified or the count stalls for 3 rounds, so
-  // only a spline whose count still falls runs past 8 (dancer: 3 cells left at 8, 1 at 16).
+  // only a spline whose count still falls runs past 8.
   spline::SplineUntangleOptions rounds;
   rounds.certificate_rounds = 16;
   const spline::SplineUntangleResult certified =
