@@ -73,6 +73,32 @@ void foldover_kernel4_avx2(const double* j, double eps, double theta, double* en
 
 namespace {
 
+// inverse_cbrt_guess per lane: the same integer arithmetic, bits / 3 as the high half of the
+// 128-bit product with ⌈2⁶⁵/3⌉ (exact for every 64-bit value) from four 32×32 → 64-bit products,
+// so the guess needs no round trip through memory and the scalar multiplier.
+inline __m256d inverse_cbrt_guess4(__m256d x) {
+  const __m256i bits = _mm256_castpd_si256(x);
+  const __m256i m_high = _mm256_set1_epi64x(0xAAAAAAAAll), m_low = _mm256_set1_epi64x(0xAAAAAAABll);
+  const __m256i low32 = _mm256_set1_epi64x(0xFFFFFFFFll);
+  const __m256i b_high = _mm256_srli_epi64(bits, 32);
+  const __m256i ll = _mm256_mul_epu32(bits, m_low), hl = _mm256_mul_epu32(b_high, m_low);
+  const __m256i lh = _mm256_mul_epu32(bits, m_high), hh = _mm256_mul_epu32(b_high, m_high);
+  const __m256i middle = _mm256_add_epi64(_mm256_add_epi64(_mm256_and_si256(hl, low32), _mm256_and_si256(lh, low32)),
+                                          _mm256_srli_epi64(ll, 32));
+  const __m256i high = _mm256_add_epi64(_mm256_add_epi64(hh, _mm256_srli_epi64(hl, 32)),
+                                        _mm256_add_epi64(_mm256_srli_epi64(lh, 32), _mm256_srli_epi64(middle, 32)));
+  const __m256i third = _mm256_srli_epi64(high, 1);
+  return _mm256_castsi256_pd(_mm256_sub_epi64(_mm256_set1_epi64x(0x553edc82c19c9000ll), third));
+}
+
+// χ's cancellation-free branch 0.5·ε²/(√(ε² + D²) − D), where a lane has D < 0 (or NaN); the
+// other lanes take (D + √(ε² + D²))/2, so a register of unfolded corners needs no division.
+inline __m256d barrier_chi4(__m256d det, __m256d root, __m256d positive, __m256d half_eps2) {
+  const __m256d unfolded = _mm256_cmp_pd(det, _mm256_setzero_pd(), _CMP_GE_OQ);
+  if (_mm256_movemask_pd(unfolded) == 0xF) return positive;
+  return _mm256_blendv_pd(_mm256_div_pd(half_eps2, _mm256_sub_pd(root, det)), positive, unfolded);
+}
+
 // Eight corners as two registers: corners 0–3 and 4–7.
 struct Lanes {
   __m256d lo, hi;
@@ -127,8 +153,7 @@ inline void scatter_edges(const Lanes (&g)[3], const Lanes& mask, const __m256d 
 }  // namespace
 
 // hex_corner_kernel in AVX2 registers, lane c = corner c: every operation of the portable loops
-// in the same order (no FMA), so the same bits; x^(−1/3)'s starting guess stays scalar (an
-// integer division of the bit pattern).
+// in the same order (no FMA), so the same bits.
 void hex_corner_kernel_avx2(const double (*p)[3], double inv_h, double eps2, double theta, unsigned corners,
                             double* e, double (*grad)[3]) {
   const __m256d inv_h4 = _mm256_set1_pd(inv_h);
@@ -158,15 +183,10 @@ void hex_corner_kernel_avx2(const double (*p)[3], double inv_h, double eps2, dou
   const Lanes det2 = mul(det, det);
   const Lanes root = {_mm256_sqrt_pd(_mm256_add_pd(eps2_4.lo, det2.lo)), _mm256_sqrt_pd(_mm256_add_pd(eps2_4.hi, det2.hi))};
   const Lanes positive = mul(splat(0.5), add(det, root));
-  const Lanes negative = div(mul(splat(0.5), eps2_4), sub(root, det));
-  const __m256d zero = _mm256_setzero_pd();
-  const Lanes chi = {_mm256_blendv_pd(negative.lo, positive.lo, _mm256_cmp_pd(det.lo, zero, _CMP_GE_OQ)),
-                     _mm256_blendv_pd(negative.hi, positive.hi, _mm256_cmp_pd(det.hi, zero, _CMP_GE_OQ))};
-  alignas(32) double chi_s[8], guess[8];
-  _mm256_store_pd(chi_s, chi.lo);
-  _mm256_store_pd(chi_s + 4, chi.hi);
-  for (int c = 0; c < 8; ++c) guess[c] = inverse_cbrt_guess(chi_s[c]);
-  Lanes y = {_mm256_load_pd(guess), _mm256_load_pd(guess + 4)};
+  const __m256d half_eps2 = _mm256_mul_pd(_mm256_set1_pd(0.5), eps2_4.lo);
+  const Lanes chi = {barrier_chi4(det.lo, root.lo, positive.lo, half_eps2),
+                     barrier_chi4(det.hi, root.hi, positive.hi, half_eps2)};
+  Lanes y = {inverse_cbrt_guess4(chi.lo), inverse_cbrt_guess4(chi.hi)};
   const Lanes four = splat(4.0), third = splat(1.0 / 3.0);
   for (int step = 0; step < 4; ++step) y = mul(mul(y, sub(four, mul(chi, mul(mul(y, y), y)))), third);
   const Lanes inv_chi23 = mul(y, y), inv_chi = mul(inv_chi23, y);
