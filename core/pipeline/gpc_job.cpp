@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <sstream>
 
 #include "core/common/error.h"
 #include "core/pipeline/solid_mesh.h"
@@ -153,38 +154,71 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
     stats.times_s["t_to_cube"] += seconds_since(t0);
     map_volume();
   };
+  // One construction's outcome, set aside while another is tried (times stay with the job).
+  struct Built {
+    GpcStats stats;
+    polycube::GpcConstruction construction;
+    param::GpcVolumetricMap map;
+    polycube::SolidDecomposition decomposition;
+  };
+  auto set_aside = [&] {
+    return Built{stats, std::move(result.construction), std::move(result.map), std::move(decomposition)};
+  };
+  auto restore = [&](Built& b) {
+    const std::map<std::string, double> times = stats.times_s;
+    result.construction = std::move(b.construction);
+    result.map = std::move(b.map);
+    decomposition = std::move(b.decomposition);
+    stats = b.stats;
+    stats.times_s = times;
+  };
+  // Fewer inverted hexes, then a higher least scaled Jacobian; a tie keeps the first.
+  auto better = [](const param::GpcVolumetricMap& a, const param::GpcVolumetricMap& b) {
+    return a.grid_inverted_hexes < b.grid_inverted_hexes ||
+           (a.grid_inverted_hexes == b.grid_inverted_hexes && a.grid_min_scaled_jacobian > b.grid_min_scaled_jacobian);
+  };
+  // The limb construction: caps' cuts tightened first; where that fails, at their levels. Throws
+  // the last DecompositionError if both fail.
+  auto limbs = [&](double persistence) {
+    for (const bool tighten_caps : {true, false}) {
+      try {
+        t0 = Clock::now();
+        construct(persistence, tighten_caps);
+        stats.limb_caps = static_cast<int>(result.construction.domain.caps);
+        stats.limb_persistence = stats.limb_caps > 0 ? persistence : 0.0;
+        stats.times_s["t_to_cube"] += seconds_since(t0);
+        map_volume();
+        stats.limb_fallback.clear();
+        return;
+      } catch (const polycube::DecompositionError& e) {
+        stats.limb_fallback = e.what();
+        stats.limb_caps = 0;
+        stats.limb_persistence = 0.0;
+        if (!tighten_caps) throw;
+        stage_prefix = stage_prefix.empty() ? "limbs, caps at their levels: " : stage_prefix + "caps at their levels: ";
+      }
+    }
+  };
+  const bool untangled = options.grid.untangle != param::GpcGridOptions::Untangle::Off;
   // Limbs first (their ends become caps); where that construction fails, or its hex mesh keeps
   // more folds than the two-pole one's, the two-pole one (a genus-0 solid: one cuboid).
   const double limb_persistence = options.limb_persistence >= 0.0 ? options.limb_persistence : kDefaultLimbPersistence;
   if (limb_persistence > 0.0 && options.corners.empty()) {
-    // Caps' cuts tightened first; where that fails, at their levels; then two poles.
-    bool built = false;
-    for (const bool tighten_caps : {true, false}) {
-      try {
-        t0 = Clock::now();
-        construct(limb_persistence, tighten_caps);
-        stats.limb_caps = static_cast<int>(result.construction.domain.caps);
-        stats.times_s["t_to_cube"] += seconds_since(t0);
-        map_volume();
-        built = true;
-        stats.limb_fallback.clear();
-        break;
-      } catch (const polycube::DecompositionError& e) {
-        stats.limb_fallback = e.what();
-        stats.limb_caps = 0;
-        stage_prefix = tighten_caps ? "limbs, caps at their levels: " : "two poles: ";
-      }
+    bool built = true;
+    try {
+      limbs(limb_persistence);
+    } catch (const polycube::DecompositionError&) {
+      built = false;
     }
-    if (!built) two_pole();
-    if (built && stats.limb_caps > 0 && result.map.grid_inverted_hexes > 0 &&
-        options.grid.untangle != param::GpcGridOptions::Untangle::Off) {
+    if (!built) {
+      stage_prefix = "two poles: ";
+      two_pole();
+    }
+    if (built && stats.limb_caps > 0 && result.map.grid_inverted_hexes > 0 && untangled) {
       // The map of a limb's cap can fold where its end is detailed (claws, fingers); the
       // two-pole construction is mapped too and the better hex mesh kept (folds left by an
       // untangler turned off say nothing of the construction).
-      const GpcStats limbs_stats = stats;
-      polycube::GpcConstruction limbs_construction = std::move(result.construction);
-      param::GpcVolumetricMap limbs_map = std::move(result.map);
-      polycube::SolidDecomposition limbs_decomposition = std::move(decomposition);
+      Built with_limbs = set_aside();
       stage_prefix = "two poles: ";
       bool mapped = true;
       try {
@@ -192,26 +226,48 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
       } catch (const polycube::DecompositionError&) {
         mapped = false;
       }
-      const bool better = mapped && (result.map.grid_inverted_hexes < limbs_map.grid_inverted_hexes ||
-                                       (result.map.grid_inverted_hexes == limbs_map.grid_inverted_hexes &&
-                                        result.map.grid_min_scaled_jacobian > limbs_map.grid_min_scaled_jacobian));
-      if (better) {
-        stats.limb_fallback = "the limb construction's hex mesh has " + std::to_string(limbs_map.grid_inverted_hexes) +
+      if (mapped && better(result.map, with_limbs.map)) {
+        stats.limb_fallback = "the limb construction's hex mesh has " + std::to_string(with_limbs.map.grid_inverted_hexes) +
                               " inverted hexes, the two-pole one's " + std::to_string(result.map.grid_inverted_hexes);
         stats.limb_caps = 0;
+        stats.limb_persistence = 0.0;
       } else {
-        const std::map<std::string, double> times = stats.times_s;
-        result.construction = std::move(limbs_construction);
-        result.map = std::move(limbs_map);
-        decomposition = std::move(limbs_decomposition);
-        stats = limbs_stats;
-        stats.times_s = times;
+        restore(with_limbs);
       }
     }
   } else {
     two_pole();
   }
-
+  // The automatic persistence cuts only long limbs; where the kept hex mesh still folds, a thin
+  // part that is no limb at that scale (a handle, a short arm) sits inside one cuboid and its
+  // map folds there. Shorter branches then become caps too (more cuboids, each nearer a box),
+  // tried only if they add limb tips, and the better hex mesh kept.
+  if (options.limb_persistence < 0.0 && options.corners.empty() && untangled && result.map.grid_inverted_hexes > 0 &&
+      polycube::morse_poles(*solid_mesh, kFinerLimbPersistence).limb_tips.size() >
+          polycube::morse_poles(*solid_mesh, kDefaultLimbPersistence).limb_tips.size()) {
+    Built kept = set_aside();
+    stage_prefix = "finer limbs: ";
+    bool mapped = true;
+    try {
+      limbs(kFinerLimbPersistence);
+    } catch (const polycube::DecompositionError&) {
+      mapped = false;
+    }
+    auto describe = [](const param::GpcVolumetricMap& m) {
+      std::ostringstream o;
+      o << m.grid_inverted_hexes << " inverted hexes, least scaled Jacobian " << m.grid_min_scaled_jacobian;
+      return o.str();
+    };
+    std::ostringstream tried;
+    tried << "persistence " << kFinerLimbPersistence << ": "
+          << (mapped ? describe(result.map) : "no construction (" + stats.limb_fallback + ")");
+    if (mapped && better(result.map, kept.map)) {
+      stats.finer_limbs = tried.str() + "; kept it (the first: " + describe(kept.map) + ")";
+    } else {
+      restore(kept);
+      stats.finer_limbs = tried.str() + "; kept the first (" + describe(result.map) + ")";
+    }
+  }
   // Back to model units.
   auto to_model = [&](mesh::Positions& p) { p = (p * diagonal).rowwise() + centre; };
   to_model(decomposition.mesh.positions);

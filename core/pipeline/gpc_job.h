@@ -17,6 +17,11 @@ namespace volspline::pipeline {
 /// graph diameter long is a limb (armadillo's arms and legs, bunny's ears, dancer's hands and feet).
 inline constexpr double kDefaultLimbPersistence = 0.15;
 
+/// Limb persistence of the automatic retry: where the construction at kDefaultLimbPersistence
+/// leaves inverted hexes, branches at least this fraction of the graph diameter long become caps
+/// too (a suitcase's handle, a mug's), see GpcOptions::limb_persistence.
+inline constexpr double kFinerLimbPersistence = 0.05;
+
 /// Options of run_gpc.
 struct GpcOptions {
   /// Corner vertex ids (input numbering) of a genus-0 solid's one cuboid, in cube-corner order;
@@ -33,7 +38,11 @@ struct GpcOptions {
   /// limb and stays one cuboid, as in mesh2spline). If that construction fails, or its hex mesh
   /// has inverted hexes after untangling and the two-pole one's has fewer (or as many and a
   /// higher least scaled Jacobian), the job keeps the two-pole one (a genus-0 solid: one cuboid)
-  /// and says why in GpcStats::limb_fallback.
+  /// and says why in GpcStats::limb_fallback. Negative (automatic) only: if the hex mesh kept
+  /// still has inverted hexes (untangler on) and kFinerLimbPersistence finds more limb tips, the
+  /// limb construction at kFinerLimbPersistence is built and mapped too and the better hex mesh
+  /// kept (fewer inverted hexes, then a higher least scaled Jacobian; a tie keeps the first), see
+  /// GpcStats::finer_limbs.
   double limb_persistence = -1.0;
   int threads = 1;             ///< ≥ 1; the stages run on one thread (same output for any value)
 };
@@ -69,6 +78,10 @@ struct GpcStats {
   int num_saddles = 0;
   int limb_caps = 0;               ///< caps of the limb construction (0 if not used)
   std::string limb_fallback;       ///< why the limb construction was dropped (empty if not)
+  double limb_persistence = 0.0;   ///< limb persistence of the construction kept (0: no limb caps)
+  /// The retry at kFinerLimbPersistence: its inverted hexes and least scaled Jacobian and which
+  /// construction was kept (empty if not tried).
+  std::string finer_limbs;
   int surface_vertices = 0;        ///< of the refined surface the cuboids partition
   std::map<std::string, double> times_s;
 };

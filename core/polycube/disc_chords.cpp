@@ -6,6 +6,9 @@
 #include <map>
 #include <queue>
 
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
 #include "core/linalg/conjugate_gradient.h"
 #include "core/linalg/csr_matrix.h"
 #include "core/mesh/edge_weights.h"
@@ -73,7 +76,14 @@ bool map_disc(const mesh::HalfedgeMesh& disc, const std::vector<int>& corners, s
       fixed[cycle[i]] = 1;
     }
   }
-  // Interior: symmetrized mean-value weights (positive, so an SPD system and Floater's theorem).
+  // Interior: symmetrized mean-value weights, positive wherever a face has positive angles, so
+  // every interior vertex is a strict convex combination of its neighbours and, the boundary being
+  // convex, the exact solution embeds the disc (Floater's theorem; Tutte's for any positive
+  // weights). Solved by IC(0)-preconditioned CG; where split slivers spread the weights over many
+  // orders of magnitude, rounding keeps the true residual above the tolerance and CG would restart
+  // until 2n iterations, so past a budget a few times the iterations a well-conditioned disc needs
+  // (about 2·√n) the system is factorized instead (sparse LDLT: exact up to rounding, the same
+  // embedding). The fold check below guards rounding either way.
   const std::vector<double> mvc = mesh::mean_value_weights(disc);
   std::vector<int> unknown(n, -1);
   int count = 0;
@@ -99,8 +109,19 @@ bool map_disc(const mesh::HalfedgeMesh& disc, const std::vector<int>& corners, s
     const linalg::CsrMatrix a = linalg::CsrMatrix::from_triplets(count, count, triplets);
     linalg::ConjugateGradient<linalg::IncompleteCholesky0> cg;
     cg.set_tolerance(1e-13);
+    cg.set_max_iterations(100 + static_cast<int>(5.0 * std::sqrt(static_cast<double>(count))));
     cg.compute(a);
-    const Eigen::MatrixXd x = cg.solve(rhs, Eigen::MatrixXd::Zero(count, 2));
+    Eigen::MatrixXd x = cg.solve(rhs, Eigen::MatrixXd::Zero(count, 2));
+    if (cg.info() != linalg::SolverInfo::Success) {
+      std::vector<Eigen::Triplet<double>> lower;
+      for (const linalg::Triplet& t : triplets)
+        if (t.row >= t.col) lower.emplace_back(t.row, t.col, t.value);
+      Eigen::SparseMatrix<double> sparse(count, count);
+      sparse.setFromTriplets(lower.begin(), lower.end());
+      const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt(sparse);
+      if (ldlt.info() != Eigen::Success) return fail(why, "the region's map has a singular system");
+      x = ldlt.solve(rhs);
+    }
     for (int v = 0; v < n; ++v)
       if (unknown[v] >= 0) uv[v] = x.row(unknown[v]).transpose();
   }
