@@ -113,9 +113,9 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
       try {
         result.construction = polycube::build_gpc(decomposition, 1.0, options.corners, options.merge_cuboids);
         break;
-      } catch (const polycube::DecompositionError&) {
+      } catch (const polycube::DecompositionError& e) {
         // Refining helps narrow T-shapes; past 200,000 faces it only costs time.
-        if (attempt == 2 || !cut || decomposition.mesh.num_faces() > 200000) throw;
+        if (attempt == 2 || !cut || !e.refinable() || decomposition.mesh.num_faces() > 200000) throw;
         polycube::subdivide_decomposition(decomposition);
       }
     }

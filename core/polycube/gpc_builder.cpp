@@ -783,7 +783,13 @@ GpcConstruction build_gpc(SolidDecomposition& d, double bbox_diagonal, const std
         why += (why.empty() ? "" : "; ") + reason;
       }
     }
-    if (!done) throw DecompositionError("T-to-cube: cannot lay out the cuboid of " + part + ": " + why);
+    // A cap whose corners' paths to the pole merge at every level (no layout was even tried) is
+    // not refinable: a midpoint subdivision keeps the graph's shortest paths nearly as they are,
+    // so they merge again, on four times the faces.
+    if (!done)
+      throw DecompositionError("T-to-cube: cannot lay out the cuboid of " + part + ": " +
+                                   (why.empty() ? "the corners' paths to the pole meet at every level" : why),
+                               !(sp.kind == PieceKind::Cap && why.empty()));
     GpcCuboid cuboid;
     cuboid.piece = static_cast<int>(p);
     cuboid.piece_kind = static_cast<int>(sp.kind);

@@ -13,10 +13,16 @@
 namespace volspline::polycube {
 
 /// A decomposition step could not produce valid pieces (a job failure, exit code 1): the
-/// message names the stage and the part.
+/// message names the stage and the part. refinable: whether the step may succeed on the surface
+/// subdivided (subdivide_decomposition), false where refining is known not to help.
 class DecompositionError : public std::runtime_error {
  public:
-  explicit DecompositionError(const std::string& message) : std::runtime_error(message) {}
+  explicit DecompositionError(const std::string& message, bool refinable = true)
+      : std::runtime_error(message), refinable_(refinable) {}
+  bool refinable() const { return refinable_; }
+
+ private:
+  bool refinable_ = true;
 };
 
 /// What a piece of the decomposition is (§3.3.1): by its number of boundary loops.
