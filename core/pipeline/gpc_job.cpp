@@ -4,10 +4,12 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <optional>
 #include <sstream>
 
 #include "core/common/error.h"
 #include "core/pipeline/solid_mesh.h"
+#include "core/polycube/cut_flips.h"
 #include "core/polycube/interface_disc.h"
 #include "core/polycube/solid_decomposition.h"
 
@@ -18,6 +20,15 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// Summed length of the decomposition's cuts (the unit box's units: over the bbox diagonal).
+double cut_length(const polycube::SolidDecomposition& d) {
+  double total = 0.0;
+  for (const polycube::CutLoop& l : d.loops)
+    for (std::size_t i = 0; i < l.vertices.size(); ++i)
+      total += (d.mesh.positions.row(l.vertices[i]) - d.mesh.positions.row(l.vertices[(i + 1) % l.vertices.size()])).norm();
+  return total;
+}
 
 void check_options(const GpcOptions& o) {
   auto fail = [](const std::string& what) { throw Error("gpc: " + what); };
@@ -99,24 +110,39 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
     }
     stats.num_saddles = decomposition.num_saddles;
     stats.tightened_cuts = decomposition.num_tightened_cuts;
-    stats.cut_length_rel = 0.0;
-    for (const polycube::CutLoop& l : decomposition.loops)
-      for (std::size_t i = 0; i < l.vertices.size(); ++i)
-        stats.cut_length_rel += (decomposition.mesh.positions.row(l.vertices[i]) -
-                                 decomposition.mesh.positions.row(l.vertices[(i + 1) % l.vertices.size()]))
-                                    .norm();
+    stats.flipped_cuts = 0;
+    stats.cut_length_rel = cut_length(decomposition);
     stats.times_s["decompose"] = seconds_since(t0);
     progress.report(stage_prefix + "T-to-cube", 0.05);
-    // A piece too coarse for its layout's disjoint paths is refined (at most twice) and retried.
+    // Where a layout cannot be traced, a piece too coarse for its layout's disjoint paths is
+    // refined (at most twice) and retried; where that fails too, the cuts are made shorter (a
+    // sliver T-shape between two cuts running side by side: flip_cuts, on the decomposition as
+    // it was before build_gpc and the refinement changed it) and all of it is tried again.
     const bool cut = !decomposition.loops.empty();
+    std::optional<polycube::SolidDecomposition> unflipped;
+    if (cut) unflipped = decomposition;
     for (int attempt = 0;; ++attempt) {
       try {
         result.construction = polycube::build_gpc(decomposition, 1.0, options.corners, options.merge_cuboids);
         break;
       } catch (const polycube::DecompositionError& e) {
         // Refining helps narrow T-shapes; past 200,000 faces it only costs time.
-        if (attempt == 2 || !cut || !e.refinable() || decomposition.mesh.num_faces() > 200000) throw;
-        polycube::subdivide_decomposition(decomposition);
+        if (attempt < 2 && cut && e.refinable() && decomposition.mesh.num_faces() <= 200000) {
+          polycube::subdivide_decomposition(decomposition);
+          continue;
+        }
+        if (!unflipped) throw;
+        polycube::SolidDecomposition flipped = std::move(*unflipped);
+        unflipped.reset();
+        progress.report(stage_prefix + "T-to-cube: shorter cuts", 0.06);
+        polycube::CutFlipOptions flips;
+        flips.snap = options.snap;
+        const int num_flipped = polycube::flip_cuts(flipped, flips).num_flipped;
+        if (num_flipped == 0) throw;
+        decomposition = std::move(flipped);
+        stats.flipped_cuts = num_flipped;
+        stats.cut_length_rel = cut_length(decomposition);
+        attempt = -1;
       }
     }
     // Meridian certificate of every cut.

@@ -72,6 +72,7 @@ struct GpcStats {
   int cut_disc_intersections = 0;  ///< meridian certificate: disc–surface/disc–disc crossings (must be 0)
   int cut_discs_outside = 0;       ///< discs outside the solid (must be 0)
   int tightened_cuts = 0;          ///< cuts moved off their level set to a shorter loop
+  int flipped_cuts = 0;            ///< cuts replaced by a shorter one across the same two T-shapes (polycube::flip_cuts)
   double cut_length_rel = 0.0;     ///< summed length of the cuts over the bbox diagonal
   std::vector<int> cut_disc_crossings;  ///< per cut, its disc's crossing triangle pairs
   std::string cut_disc_problem;    ///< the first crossing or outside disc found, empty when embedded

@@ -51,6 +51,7 @@ std::string gpc_stats_json(const GpcStats& s, const std::string& input) {
   j["cut_disc_intersections"] = s.cut_disc_intersections;
   j["cut_discs_outside"] = s.cut_discs_outside;
   j["tightened_cuts"] = s.tightened_cuts;
+  j["flipped_cuts"] = s.flipped_cuts;
   j["cut_length_rel"] = s.cut_length_rel;
   if (!s.cut_disc_problem.empty()) {
     j["cut_disc_problem"] = s.cut_disc_problem;

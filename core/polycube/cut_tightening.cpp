@@ -313,7 +313,7 @@ void split_loop_chords(SolidDecomposition& d) {
 
 }  // namespace
 
-CutTightening tighten_cut_loops(SolidDecomposition& d, bool caps) {
+CutTightening tighten_cut_loops(SolidDecomposition& d, bool caps, int only_loop) {
   CutTightening out;
   if (d.loops.empty()) return out;
   const mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(d.mesh, "decomposition");
@@ -331,6 +331,7 @@ CutTightening tighten_cut_loops(SolidDecomposition& d, bool caps) {
   const double quantum = std::ldexp(1.0, std::ilogb(std::max((hi - lo).norm(), 1e-300)) - 32);
   std::vector<char> changed(d.pieces.size(), 0);
   for (std::size_t l = 0; l < d.loops.size(); ++l) {
+    if (only_loop >= 0 && static_cast<int>(l) != only_loop) continue;
     CutLoop& loop = d.loops[l];
     // The certificate of the cut as it is, computed once and only where needed (it scans the surface).
     std::optional<DiscEmbedding> before;

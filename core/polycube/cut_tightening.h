@@ -28,6 +28,7 @@ struct CutTightening {
 /// stays unless its disc crosses the surface.
 /// Cuts are visited in order and each sees the ones moved before it (deterministic).
 /// A moved loop is no longer a level set: CutLoop::level keeps the level it was cut at.
-CutTightening tighten_cut_loops(SolidDecomposition& decomposition, bool caps = true);
+/// `only_loop` ≥ 0: that cut alone is visited.
+CutTightening tighten_cut_loops(SolidDecomposition& decomposition, bool caps = true, int only_loop = -1);
 
 }  // namespace volspline::polycube

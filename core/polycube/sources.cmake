@@ -3,6 +3,7 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/cap_corners.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cube_faces.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cuboid_layout.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/cut_flips.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cut_tightening.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cylinder_map.cpp
   ${CMAKE_CURRENT_LIST_DIR}/gpc_builder.cpp
