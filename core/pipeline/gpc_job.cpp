@@ -131,7 +131,8 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
           polycube::subdivide_decomposition(decomposition);
           continue;
         }
-        if (!unflipped) throw;
+        // A cap's layout (not refinable) has no cut between two T-shapes to flip.
+        if (!unflipped || !e.refinable()) throw;
         polycube::SolidDecomposition flipped = std::move(*unflipped);
         unflipped.reset();
         progress.report(stage_prefix + "T-to-cube: shorter cuts", 0.06);
