@@ -95,26 +95,15 @@ MergedPiece extract_merged(const SolidDecomposition& d, const mesh::HalfedgeMesh
   return out;
 }
 
-}  // namespace
-
-bool resplit_across_loop(SolidDecomposition& d, int loop, const ResplitOptions& options, std::string* why) {
+// Splits the sphere with 4 holes made of `faces` (boundary `entries`) by the best meridian over
+// its 3 pairings into pieces a (the pair at u = 0) and b, the new cut stored as loop `loop`
+// (see resplit_across_loop). On failure `d` is unchanged.
+bool split_four_holes(SolidDecomposition& d, int loop, int a, int b, const std::vector<LoopSide>& entries,
+                      const std::vector<int>& faces, const ResplitOptions& options, std::string* why) {
   auto fail = [&](const std::string& message) {
     if (why) *why = message;
     return false;
   };
-  const int a = d.loops[loop].piece[0], b = d.loops[loop].piece[1];
-  if (a == b) return fail("both sides of the cut are piece " + std::to_string(a) + " (a handle cut along itself)");
-  std::vector<LoopSide> entries;
-  for (int p : {a, b})
-    for (const LoopSide& s : d.pieces[p].boundary)
-      if (s.loop != loop) entries.push_back(s);
-  if (entries.size() != 4)
-    return fail("its pieces " + std::to_string(a) + " and " + std::to_string(b) + " have " +
-                std::to_string(entries.size()) + " other boundary loops (a re-split needs two T-shapes, 4)");
-  std::vector<int> faces = d.pieces[a].faces;
-  faces.insert(faces.end(), d.pieces[b].faces.begin(), d.pieces[b].faces.end());
-  std::sort(faces.begin(), faces.end());
-
   const mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(d.mesh, "decomposition");
   const MergedPiece merged = extract_merged(d, hm, faces, entries);
   const mesh::HalfedgeMesh sub = mesh::HalfedgeMesh::build(merged.mesh, "merged piece");
@@ -312,6 +301,45 @@ bool resplit_across_loop(SolidDecomposition& d, int loop, const ResplitOptions& 
     p.kind = PieceKind::TShape;
   }
   return true;
+}
+
+}  // namespace
+
+bool resplit_across_loop(SolidDecomposition& d, int loop, const ResplitOptions& options, std::string* why) {
+  auto fail = [&](const std::string& message) {
+    if (why) *why = message;
+    return false;
+  };
+  const int a = d.loops[loop].piece[0], b = d.loops[loop].piece[1];
+  if (a == b) return fail("both sides of the cut are piece " + std::to_string(a) + " (a handle cut along itself)");
+  std::vector<LoopSide> entries;
+  for (int p : {a, b})
+    for (const LoopSide& s : d.pieces[p].boundary)
+      if (s.loop != loop) entries.push_back(s);
+  if (entries.size() != 4)
+    return fail("its pieces " + std::to_string(a) + " and " + std::to_string(b) + " have " +
+                std::to_string(entries.size()) + " other boundary loops (a re-split needs two T-shapes, 4)");
+  std::vector<int> faces = d.pieces[a].faces;
+  faces.insert(faces.end(), d.pieces[b].faces.begin(), d.pieces[b].faces.end());
+  std::sort(faces.begin(), faces.end());
+  return split_four_holes(d, loop, a, b, entries, faces, options, why);
+}
+
+bool split_four_holed_piece(SolidDecomposition& d, int piece, const ResplitOptions& options, std::string* why) {
+  if (d.pieces[piece].boundary.size() != 4) {
+    if (why) *why = "it has " + std::to_string(d.pieces[piece].boundary.size()) + " boundary loops, not 4";
+    return false;
+  }
+  const std::vector<LoopSide> entries = d.pieces[piece].boundary;
+  const std::vector<int> faces = d.pieces[piece].faces;
+  const int loop = static_cast<int>(d.loops.size()), other = static_cast<int>(d.pieces.size());
+  d.loops.emplace_back();
+  d.loops.back().piece = {piece, other};
+  d.pieces.emplace_back();
+  if (split_four_holes(d, loop, piece, other, entries, faces, options, why)) return true;
+  d.loops.pop_back();
+  d.pieces.pop_back();
+  return false;
 }
 
 bool replace_handle_cut(SolidDecomposition& d, int loop, std::string* why) {

@@ -30,6 +30,15 @@ struct ResplitOptions {
 bool resplit_across_loop(SolidDecomposition& d, int loop, const ResplitOptions& options = {},
                          std::string* why = nullptr);
 
+/// Splits piece `piece` of `d`, a sphere with 4 holes (a degenerate saddle, or two saddles at
+/// one level, leave such a piece between two levels), into two T-shapes along a new cut appended
+/// to `d.loops` (its piece[0] is `piece`, holding the pair at u = 0; piece[1] a new piece
+/// appended to `d.pieces`), chosen as resplit_across_loop chooses its cut. Returns false with
+/// *why (if given) and `d` unchanged when the piece has not 4 loops or no pairing gives a
+/// meridian. Precondition: 0 ≤ piece < d.pieces.size(), d.mesh closed.
+bool split_four_holed_piece(SolidDecomposition& d, int piece, const ResplitOptions& options = {},
+                            std::string* why = nullptr);
+
 /// Replaces cut `loop` of `d` whose both sides bound the same tube (a genus-1 solid cut along a
 /// loop that is no meridian, e.g. a longitude of a tall pipe) by a loop that crosses it once and
 /// passes the meridian certificate (§3.3.1: every cut is a meridian). Candidates: for each loop

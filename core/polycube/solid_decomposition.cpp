@@ -213,16 +213,25 @@ SolidDecomposition decompose_solid(const mesh::HalfedgeMesh& input, int genus,
     out.pieces[loop.piece[1]].boundary.push_back({id, 1});
     out.loops.push_back(std::move(loop));
   }
-  for (std::size_t p = 0; p < out.pieces.size(); ++p) {
-    SolidPiece& sp = out.pieces[p];
-    if (sp.boundary.size() > 3)
-      throw DecompositionError("decomposition: piece " + std::to_string(p) + " has " +
-                               std::to_string(sp.boundary.size()) + " boundary loops (at most 3 allowed)");
-    sp.kind = static_cast<PieceKind>(sp.boundary.size());
-  }
   out.mesh = std::move(surface);
   out.value = std::move(value);
   out.parent_face = std::move(parent);
+  ResplitOptions resplit;
+  resplit.snap = options.snap;
+  // A piece with 4 loops lies between two levels around two saddles at one value (a symmetric
+  // shape: the 4-way junction of a lattice) or a degenerate one: Algorithm 1 assumes simple
+  // saddles at distinct levels, so the piece is split into two T-shapes by a meridian across it.
+  const std::size_t num_pieces_merged = out.pieces.size();
+  for (std::size_t p = 0; p < num_pieces_merged; ++p) {
+    std::string why;
+    if (out.pieces[p].boundary.size() == 4 && split_four_holed_piece(out, static_cast<int>(p), resplit, &why)) continue;
+    SolidPiece& sp = out.pieces[p];
+    if (sp.boundary.size() > 3)
+      throw DecompositionError("decomposition: piece " + std::to_string(p) + " has " +
+                               std::to_string(sp.boundary.size()) + " boundary loops (at most 3 allowed)" +
+                               (why.empty() ? "" : ": " + why));
+    sp.kind = static_cast<PieceKind>(sp.boundary.size());
+  }
 
   // §3.3.1, Algorithm 1 cuts only along meridians. A level-set loop is one topologically on a
   // tube of the Reeb graph, but between two T-shapes it may be a band sum of two meridians that
@@ -232,8 +241,6 @@ SolidDecomposition decompose_solid(const mesh::HalfedgeMesh& input, int genus,
   // ≥ 1/2) or is replaced by a cut that passes it (two T-shapes: resplit_across_loop; a tube
   // closed on itself: replace_handle_cut), or decompose_solid throws. Disc–surface crossings are
   // reported by the gpc job, not repaired here.
-  ResplitOptions resplit;
-  resplit.snap = options.snap;
   for (std::size_t l = 0; l < out.loops.size(); ++l) {
     const DiscEmbedding check = check_loop_disc(out.mesh, out.loops[l].vertices);
     if (check.num_outside == 0) continue;

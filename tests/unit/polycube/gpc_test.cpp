@@ -15,7 +15,9 @@
 #include "core/mesh/mesh_report.h"
 #include "core/param/gpc_volumetric_map.h"
 #include "core/pipeline/gpc_job.h"
+#include "core/polycube/cut_flips.h"
 #include "core/polycube/cylinder_map.h"
+#include "core/polycube/gpc_builder.h"
 #include "core/polycube/disc_chords.h"
 #include "core/polycube/gpc_domain.h"
 #include "core/polycube/interface_disc.h"
@@ -145,6 +147,19 @@ mesh::TriangleMesh make_pipe(int n, double half_height) {
     return std::hypot(std::max(qx, 0.0), std::max(qz, 0.0)) + std::min(std::max(qx, qz), 0.0);
   };
   return marching_tetrahedra(sdf, n, 1.45);
+}
+
+// A square plate with 2 × 2 round holes (genus 4): bars of about square cross-section in a 3 × 3
+// lattice, on an n³ grid over [−1.5, 1.5]³.
+mesh::TriangleMesh make_holed_plate(int n) {
+  auto sdf = [](const Eigen::Vector3d& p) {
+    const Eigen::Vector3d q = p.cwiseAbs() - Eigen::Vector3d(1.3, 1.3, 0.22);
+    double d = q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0) - 0.08;
+    for (double x : {-0.6, 0.6})
+      for (double y : {-0.6, 0.6}) d = std::max(d, 0.33 - std::hypot(p.x() - x, p.y() - y));
+    return d;
+  };
+  return marching_tetrahedra(sdf, n, 1.5);
 }
 
 // A small volumetric grid: the domain tests below do not measure the grid, and it dominates
@@ -716,4 +731,32 @@ TEST_CASE("gpc job: the eight's handles close without a twist") {
   CHECK(r.stats.ill_points == 4);
   CHECK(r.stats.interfaces - r.stats.cuboids + 1 == 2);
   CHECK(twisted_cycles(r.construction.domain) == 0);
+}
+
+TEST_CASE("Morse decomposition and cut flips: a plate with 2 x 2 holes, its 4-way junction split in two") {
+  // The lattice's middle is a 4-way junction whose two saddles lie at one level: the piece
+  // between the levels around them has 4 loops, split by a meridian into two T-shapes
+  // (split_four_holed_piece). Its re-split cuts can run around a hole beside the pieces' other
+  // loops; flips replace the long ones by shorter meridians, every piece still a T-shape.
+  const mesh::HalfedgeMesh plate = outward(make_holed_plate(32));
+  REQUIRE(mesh::analyze_mesh(plate).genus == 4);
+  polycube::SolidDecomposition d = polycube::decompose_solid(plate, 4);
+  auto check_pieces = [&] {
+    REQUIRE(d.loops.size() == 9);
+    REQUIRE(d.pieces.size() == 6);
+    for (const polycube::SolidPiece& p : d.pieces) CHECK(p.kind == polycube::PieceKind::TShape);
+    for (std::size_t p = 0; p < d.pieces.size(); ++p)
+      for (const polycube::LoopSide& b : d.pieces[p].boundary)
+        CHECK(d.loops[b.loop].piece[b.side] == static_cast<int>(p));
+    for (const polycube::CutLoop& loop : d.loops)
+      CHECK(polycube::check_loop_disc(d.mesh, loop.vertices).num_outside == 0);
+    const mesh::MeshReport cut = mesh::analyze_mesh(mesh::HalfedgeMesh::build(d.mesh, "cut"));
+    CHECK(cut.closed);
+    CHECK(cut.genus == 4);
+  };
+  check_pieces();
+  const polycube::CutFlips flips = polycube::flip_cuts(d);
+  CHECK(flips.num_flipped >= 1);
+  CHECK(flips.length_after < 0.8 * flips.length_before);
+  check_pieces();
 }
