@@ -21,15 +21,6 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// Summed length of the decomposition's cuts (the unit box's units: over the bbox diagonal).
-double cut_length(const polycube::SolidDecomposition& d) {
-  double total = 0.0;
-  for (const polycube::CutLoop& l : d.loops)
-    for (std::size_t i = 0; i < l.vertices.size(); ++i)
-      total += (d.mesh.positions.row(l.vertices[i]) - d.mesh.positions.row(l.vertices[(i + 1) % l.vertices.size()])).norm();
-  return total;
-}
-
 void check_options(const GpcOptions& o) {
   auto fail = [](const std::string& what) { throw Error("gpc: " + what); };
   if (o.threads < 1) fail("threads must be ≥ 1");
@@ -111,7 +102,7 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
     stats.num_saddles = decomposition.num_saddles;
     stats.tightened_cuts = decomposition.num_tightened_cuts;
     stats.flipped_cuts = 0;
-    stats.cut_length_rel = cut_length(decomposition);
+    stats.cut_length_rel = polycube::cut_length(decomposition);
     stats.times_s["decompose"] = seconds_since(t0);
     progress.report(stage_prefix + "T-to-cube", 0.05);
     // Where a layout cannot be traced, a piece too coarse for its layout's disjoint paths is
@@ -142,7 +133,7 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
         if (num_flipped == 0) throw;
         decomposition = std::move(flipped);
         stats.flipped_cuts = num_flipped;
-        stats.cut_length_rel = cut_length(decomposition);
+        stats.cut_length_rel = polycube::cut_length(decomposition);
         attempt = -1;
       }
     }

@@ -8,27 +8,10 @@
 
 namespace volspline::polycube {
 
-namespace {
-
-double loop_length(const mesh::TriangleMesh& m, const std::vector<int>& loop) {
-  double total = 0.0;
-  for (std::size_t i = 0; i < loop.size(); ++i)
-    total += (m.positions.row(loop[i]) - m.positions.row(loop[(i + 1) % loop.size()])).norm();
-  return total;
-}
-
-double summed_length(const SolidDecomposition& d) {
-  double total = 0.0;
-  for (const CutLoop& l : d.loops) total += loop_length(d.mesh, l.vertices);
-  return total;
-}
-
-}  // namespace
-
 CutFlips flip_cuts(SolidDecomposition& d, const CutFlipOptions& options) {
   assert(options.max_passes >= 0 && options.max_length_ratio > 0.0 && options.max_length_ratio <= 1.0);
   CutFlips out;
-  out.length_before = summed_length(d);
+  out.length_before = cut_length(d);
   ResplitOptions resplit;
   resplit.snap = options.snap;
   for (int pass = 0; pass < options.max_passes; ++pass) {
@@ -48,7 +31,7 @@ CutFlips flip_cuts(SolidDecomposition& d, const CutFlipOptions& options) {
     out.num_flipped += flipped;
     if (flipped == 0) break;
   }
-  out.length_after = summed_length(d);
+  out.length_after = cut_length(d);
   return out;
 }
 

@@ -27,13 +27,6 @@ constexpr double kMinGain = 0.95;  // a new loop must be at least 5 % shorter
 // around it: see tighten_cut_loops).
 constexpr double kCapGain = 0.85;
 
-double loop_length(const mesh::TriangleMesh& m, const std::vector<int>& loop) {
-  double s = 0.0;
-  for (std::size_t i = 0; i < loop.size(); ++i)
-    s += (m.positions.row(loop[i]) - m.positions.row(loop[(i + 1) % loop.size()])).norm();
-  return s;
-}
-
 // χ = V − E + F of a face set must be 2 − (its boundary loops) for a planar piece.
 bool planar_with_loops(const mesh::HalfedgeMesh& hm, const std::vector<int>& face_piece, int piece, int loops) {
   std::set<int> verts;

@@ -261,8 +261,7 @@ bool split_four_holes(SolidDecomposition& d, int loop, int a, int b, const std::
     c.mesh.triangles = mesh::triangles_from(tris);
     for (auto& list : c.faces) std::sort(list.begin(), list.end());
     for (int v : level_loop) c.loop.push_back(global(v));
-    for (std::size_t i = 0; i < c.loop.size(); ++i)
-      c.length += (c.mesh.positions.row(c.loop[i]) - c.mesh.positions.row(c.loop[(i + 1) % c.loop.size()])).norm();
+    c.length = loop_length(c.mesh, c.loop);
     const DiscEmbedding check = check_loop_disc(c.mesh, c.loop);
     if (check.num_outside > 0) {
       rejected += (rejected.empty() ? "" : "; ") + name + ": its disc lies outside the solid (winding number " +

@@ -259,6 +259,19 @@ SolidDecomposition decompose_solid(const mesh::HalfedgeMesh& input, int genus,
   return out;
 }
 
+double loop_length(const mesh::TriangleMesh& m, const std::vector<int>& loop) {
+  double total = 0.0;
+  for (std::size_t i = 0; i < loop.size(); ++i)
+    total += (m.positions.row(loop[i]) - m.positions.row(loop[(i + 1) % loop.size()])).norm();
+  return total;
+}
+
+double cut_length(const SolidDecomposition& d) {
+  double total = 0.0;
+  for (const CutLoop& l : d.loops) total += loop_length(d.mesh, l.vertices);
+  return total;
+}
+
 void subdivide_decomposition(SolidDecomposition& d) {
   const int n = d.mesh.num_vertices(), m = d.mesh.num_faces();
   std::map<std::pair<int, int>, int> midpoint;

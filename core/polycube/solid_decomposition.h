@@ -112,4 +112,11 @@ SolidDecomposition decompose_solid(const mesh::HalfedgeMesh& mesh, int genus,
 /// hold the disjoint paths of a T-shape's layout.
 void subdivide_decomposition(SolidDecomposition& decomposition);
 
+/// Length of a closed vertex cycle of `mesh` (a cut loop; first vertex not repeated), in the
+/// mesh's units.
+double loop_length(const mesh::TriangleMesh& mesh, const std::vector<int>& loop);
+
+/// Summed length of the decomposition's cuts, in its mesh's units.
+double cut_length(const SolidDecomposition& decomposition);
+
 }  // namespace volspline::polycube

@@ -162,6 +162,25 @@ mesh::TriangleMesh make_holed_plate(int n) {
   return marching_tetrahedra(sdf, n, 1.5);
 }
 
+// A k × k grid on the unit square (columns at x_of(i), rows at j / k), lifted onto a paraboloid.
+mesh::TriangleMesh paraboloid_disc(int k, const std::function<double(int)>& x_of) {
+  mesh::TriangleMesh m;
+  m.positions.resize((k + 1) * (k + 1), 3);
+  for (int j = 0; j <= k; ++j)
+    for (int i = 0; i <= k; ++i) {
+      const double x = x_of(i), y = double(j) / k;
+      m.positions.row(j * (k + 1) + i) << x, y, 0.3 * (x * x + y * y);
+    }
+  m.triangles.resize(2 * k * k, 3);
+  for (int j = 0; j < k; ++j)
+    for (int i = 0; i < k; ++i) {
+      const int a = j * (k + 1) + i, b = a + 1, c = a + k + 2, d = a + k + 1;
+      m.triangles.row(2 * (j * k + i)) << a, b, c;
+      m.triangles.row(2 * (j * k + i) + 1) << a, c, d;
+    }
+  return m;
+}
+
 // A small volumetric grid: the domain tests below do not measure the grid, and it dominates
 // their time (most of all under the sanitizers).
 pipeline::GpcOptions small_grid() {
@@ -475,20 +494,7 @@ TEST_CASE("GPC JSON: write → read → write is byte-identical; bad files name 
 TEST_CASE("disc chords: straight cuts across a disc become disjoint edge paths") {
   // A 6 × 6 grid on the unit square, lifted onto a paraboloid; corners at the square's corners.
   const int k = 6;
-  mesh::TriangleMesh m;
-  m.positions.resize((k + 1) * (k + 1), 3);
-  for (int j = 0; j <= k; ++j)
-    for (int i = 0; i <= k; ++i) {
-      const double x = double(i) / k, y = double(j) / k;
-      m.positions.row(j * (k + 1) + i) << x, y, 0.3 * (x * x + y * y);
-    }
-  m.triangles.resize(2 * k * k, 3);
-  for (int j = 0; j < k; ++j)
-    for (int i = 0; i < k; ++i) {
-      const int a = j * (k + 1) + i, b = a + 1, c = a + k + 2, d = a + k + 1;
-      m.triangles.row(2 * (j * k + i)) << a, b, c;
-      m.triangles.row(2 * (j * k + i) + 1) << a, c, d;
-    }
+  mesh::TriangleMesh m = paraboloid_disc(k, [&](int i) { return double(i) / k; });
   std::vector<int> region(m.num_faces());
   for (int f = 0; f < m.num_faces(); ++f) region[f] = f;
   const int c00 = 0, c10 = k, c11 = (k + 1) * (k + 1) - 1, c01 = k * (k + 1);
@@ -545,20 +551,7 @@ TEST_CASE("disc chords: slivers a billion times thinner than the disc still map 
   // stops with folds; the map must still be exact enough that no face turns over.
   const int k = 40;
   auto x_of = [&](int i) { return i % 10 == 0 && i > 0 && i < k ? double(i - 1) / k + 1e-9 : double(i) / k; };
-  mesh::TriangleMesh m;
-  m.positions.resize((k + 1) * (k + 1), 3);
-  for (int j = 0; j <= k; ++j)
-    for (int i = 0; i <= k; ++i) {
-      const double x = x_of(i), y = double(j) / k;
-      m.positions.row(j * (k + 1) + i) << x, y, 0.3 * (x * x + y * y);
-    }
-  m.triangles.resize(2 * k * k, 3);
-  for (int j = 0; j < k; ++j)
-    for (int i = 0; i < k; ++i) {
-      const int a = j * (k + 1) + i, b = a + 1, c = a + k + 2, d = a + k + 1;
-      m.triangles.row(2 * (j * k + i)) << a, b, c;
-      m.triangles.row(2 * (j * k + i) + 1) << a, c, d;
-    }
+  mesh::TriangleMesh m = paraboloid_disc(k, x_of);
   std::vector<int> region(m.num_faces());
   for (int f = 0; f < m.num_faces(); ++f) region[f] = f;
   const int c00 = 0, c10 = k, c11 = (k + 1) * (k + 1) - 1, c01 = k * (k + 1);
