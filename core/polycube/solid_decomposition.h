@@ -101,9 +101,11 @@ struct DecompositionOptions {
 /// replace_handle_cut).
 /// Count check: #T-shapes = #caps + 2g − 2.
 /// Preconditions: `mesh` closed, connected, consistently and outward oriented.
-/// Throws DecompositionError if a piece is not planar or has more than 3 loops (a degenerate
-/// saddle the sweep cannot separate), naming the piece, or if a kept loop fails the meridian
-/// certificate and no replacement passes it, naming the cut.
+/// A piece with 4 loops (two saddles at one level, or a degenerate saddle) is split into two
+/// T-shapes by a meridian across it (split_four_holed_piece).
+/// Throws DecompositionError if a piece is not planar, has more than 4 loops or 4 that no
+/// meridian splits, naming the piece, or if a kept loop fails the meridian certificate and no
+/// replacement passes it, naming the cut.
 SolidDecomposition decompose_solid(const mesh::HalfedgeMesh& mesh, int genus,
                                    const DecompositionOptions& options = {});
 
