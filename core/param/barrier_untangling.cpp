@@ -146,6 +146,16 @@ void hex_corner_terms(const double (*p)[3], double inv_h, double eps2, double th
   hex_corner_kernel(p, inv_h, eps2, theta, corners, e, grad);
 }
 
+void hex_corner_terms2(const double (*const p[2])[3], const double inv_h[2], double eps2, double theta,
+                       const unsigned corners[2], double* const e[2], double (*const grad[2])[3]) {
+#if defined(VOLSPLINE_AVX2_KERNELS)
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  if (avx2) return hex_corner_kernel2_avx2(p, inv_h, eps2, theta, corners, e, grad);
+#endif
+  for (int h = 0; h < 2; ++h)
+    hex_corner_kernel(p[h], inv_h[h], eps2, theta, corners[h], e[h], grad && grad[0] ? grad[h] : nullptr);
+}
+
 }  // namespace detail
 
 int minimize_lbfgs(const UntangleProblem& problem, double eps, int max_iterations, Eigen::VectorXd& x,

@@ -177,10 +177,20 @@ inline void hex_corner_kernel(const double (*p)[3], double inv_h, double eps2, d
 void hex_corner_terms(const double (*p)[3], double inv_h, double eps2, double theta, unsigned corners, double* e,
                       double (*grad)[3]);
 
+/// hex_corner_terms for two hexes (hex h: p[h], inv_h[h], corners[h], e[h], grad[h]; grad or
+/// grad[0] null: energies only), the same bits as two calls.
+void hex_corner_terms2(const double (*const p[2])[3], const double inv_h[2], double eps2, double theta,
+                       const unsigned corners[2], double* const e[2], double (*const grad[2])[3]);
+
 #if defined(VOLSPLINE_AVX2_KERNELS)
 /// hex_corner_kernel in AVX2 registers (foldover_batch_avx2.cpp).
 void hex_corner_kernel_avx2(const double (*p)[3], double inv_h, double eps2, double theta, unsigned corners,
                             double* e, double (*grad)[3]);
+/// hex_corner_kernel_avx2 for two hexes at once (hex h: p[h], inv_h[h], corners[h], e[h],
+/// grad[h]; grad or grad[0] null: energies only), the same bits as two calls: the two hexes' chains
+/// overlap in the core.
+void hex_corner_kernel2_avx2(const double (*const p[2])[3], const double inv_h[2], double eps2, double theta,
+                             const unsigned corners[2], double* const e[2], double (*const grad[2])[3]);
 /// foldover_kernel<4> built for AVX2 (foldover_batch_avx2.cpp).
 void foldover_kernel4_avx2(const double* j, double eps, double theta, double* energy, double* gradient);
 #endif

@@ -155,9 +155,7 @@ class Energy {
     }
     ++evaluation_;
     const double eps2 = eps * eps, theta = theta_;
-    double total = 0.0;
-    for (const Hex& hex : hexes_) {
-      double p[8][3];
+    auto gather = [&](const Hex& hex, double (*p)[3]) {
       for (int q = 0; q < 8; ++q) {
         const int s = hex.var[q] >= 0 ? slide_of_var_[hex.var[q]] : -1;
         if (s >= 0 && projected_at_[s] != evaluation_) {
@@ -167,11 +165,37 @@ class Energy {
         const double* src = flat_.data() + 3 * static_cast<std::size_t>(hex.node[q]);
         p[q][0] = src[0], p[q][1] = src[1], p[q][2] = src[2];
       }
-      double e[8];
+    };
+    double total = 0.0;
+    const std::size_t num_hexes = hexes_.size();
+    std::size_t i = 0;
+    // Two hexes per kernel call; the second one's projections are wasted where the first one
+    // passes the bound, and the next evaluation projects every sliding node anew.
+    for (; i + 1 < num_hexes; i += 2) {
+      const Hex& a = hexes_[i];
+      const Hex& b = hexes_[i + 1];
+      double pa[8][3], pb[8][3], ea[8], eb[8];
+      gather(a, pa);
+      gather(b, pb);
+      const double(*p[2])[3] = {pa, pb};
+      const double inv_h[2] = {a.inv_h, b.inv_h};
+      const unsigned corners[2] = {a.corners, b.corners};
+      double* const e[2] = {ea, eb};
+      detail::hex_corner_terms2(p, inv_h, eps2, theta, corners, e, nullptr);
+      for (int c = 0; c < 8; ++c)
+        if (a.corners & (1u << c)) total += ea[c];
+      if (total > bound) return total;
+      for (int c = 0; c < 8; ++c)
+        if (b.corners & (1u << c)) total += eb[c];
+      if (total > bound) return total;
+    }
+    if (i < num_hexes) {
+      const Hex& hex = hexes_[i];
+      double p[8][3], e[8];
+      gather(hex, p);
       detail::hex_corner_terms(p, hex.inv_h, eps2, theta, hex.corners, e, nullptr);
       for (int c = 0; c < 8; ++c)
         if (hex.corners & (1u << c)) total += e[c];
-      if (total > bound) return total;
     }
     return total;
   }
@@ -203,30 +227,53 @@ class Energy {
   }
 
   // Energy at x (set as the free node positions) with barrier parameter eps; gradient if asked.
-  // Per hex (hex_corner_kernel): the 12 edges are formed once, the 8 corner terms computed side
+  // Per hex (hex_corner_kernel, two hexes a call): the 12 edges are formed once, the 8 corner terms computed side
   // by side, and the 8 node gradients written once.
   double evaluate(const Eigen::VectorXd& x, double eps, Eigen::VectorXd* gradient) {
     set_variables(x);
     if (gradient) gradient->setZero(num_variables());
     double* g_out = gradient ? gradient->data() : nullptr;
     const double eps2 = eps * eps, theta = theta_;
-    double total = 0.0;
-    for (const Hex& hex : hexes_) {
-      double p[8][3];
+    auto gather = [&](const Hex& hex, double (*p)[3]) {
       for (int q = 0; q < 8; ++q) {
         const double* src = flat_.data() + 3 * static_cast<std::size_t>(hex.node[q]);
         p[q][0] = src[0], p[q][1] = src[1], p[q][2] = src[2];
       }
-      double e[8], node_grad[8][3];
-      detail::hex_corner_terms(p, hex.inv_h, eps2, theta, hex.corners, e, g_out ? node_grad : nullptr);
+    };
+    double total = 0.0;
+    auto add = [&](const Hex& hex, const double* e, const double (*node_grad)[3]) {
       for (int c = 0; c < 8; ++c)
         if (hex.corners & (1u << c)) total += e[c];
-      if (!g_out) continue;
+      if (!g_out) return;
       for (int q = 0; q < 8; ++q) {
         if (hex.var[q] < 0) continue;
         double* dst = g_out + 3 * static_cast<std::size_t>(hex.var[q]);
         dst[0] += node_grad[q][0], dst[1] += node_grad[q][1], dst[2] += node_grad[q][2];
       }
+    };
+    const std::size_t num_hexes = hexes_.size();
+    std::size_t i = 0;
+    for (; i + 1 < num_hexes; i += 2) {
+      const Hex& a = hexes_[i];
+      const Hex& b = hexes_[i + 1];
+      double pa[8][3], pb[8][3], ea[8], eb[8], ga[8][3], gb[8][3];
+      gather(a, pa);
+      gather(b, pb);
+      const double(*p[2])[3] = {pa, pb};
+      const double inv_h[2] = {a.inv_h, b.inv_h};
+      const unsigned corners[2] = {a.corners, b.corners};
+      double* const e[2] = {ea, eb};
+      double(*const g[2])[3] = {g_out ? ga : nullptr, g_out ? gb : nullptr};
+      detail::hex_corner_terms2(p, inv_h, eps2, theta, corners, e, g);
+      add(a, ea, ga);
+      add(b, eb, gb);
+    }
+    if (i < num_hexes) {
+      const Hex& hex = hexes_[i];
+      double p[8][3], e[8], node_grad[8][3];
+      gather(hex, p);
+      detail::hex_corner_terms(p, hex.inv_h, eps2, theta, hex.corners, e, g_out ? node_grad : nullptr);
+      add(hex, e, node_grad);
     }
     if (g_out)
       for (std::size_t s = 0; s < sliding_.size(); ++s) {

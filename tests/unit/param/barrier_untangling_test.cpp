@@ -120,6 +120,37 @@ TEST_CASE("the hex corner terms (AVX2 where the CPU has it) give the bits of the
   }
 }
 
+TEST_CASE("the hex corner terms of two hexes in one call give the bits of two portable calls") {
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> jitter(0.0, 1.0);
+  for (int round = 0; round < 2000; ++round) {
+    // Two unit cubes jittered independently (one may fold where the other does not), with their
+    // own edge lengths and corner flags.
+    double p[2][8][3];
+    for (int h = 0; h < 2; ++h)
+      for (int q = 0; q < 8; ++q)
+        for (int d = 0; d < 3; ++d) p[h][q][d] = ((q >> d) & 1) + ((round + h) % 4 == 0 ? 0.7 : 0.2) * jitter(rng);
+    const unsigned corners[2] = {round % 5 == 0 ? 0xFFu : static_cast<unsigned>(rng() & 0xFF),
+                                 static_cast<unsigned>(rng() & 0xFF)};
+    const double inv_h[2] = {round % 2 == 0 ? 1.0 : 3.7, 0.8};
+    const double eps2 = round % 3 == 0 ? 1e-16 : 0.04, theta = round % 7 == 0 ? 0.0 : 0.5;
+    double e[2][8], grad[2][8][3], e_ref[2][8], grad_ref[2][8][3], e_only[2][8];
+    const double(*pp[2])[3] = {p[0], p[1]};
+    double* const ee[2] = {e[0], e[1]};
+    double(*const gg[2])[3] = {grad[0], grad[1]};
+    param::detail::hex_corner_terms2(pp, inv_h, eps2, theta, corners, ee, gg);
+    double* const ee_only[2] = {e_only[0], e_only[1]};
+    double(*const no_grad[2])[3] = {nullptr, nullptr};
+    param::detail::hex_corner_terms2(pp, inv_h, eps2, theta, corners, ee_only, round % 2 ? no_grad : nullptr);
+    for (int h = 0; h < 2; ++h) {
+      param::detail::hex_corner_kernel(p[h], inv_h[h], eps2, theta, corners[h], e_ref[h], grad_ref[h]);
+      REQUIRE(std::memcmp(e[h], e_ref[h], sizeof e[h]) == 0);
+      REQUIRE(std::memcmp(grad[h], grad_ref[h], sizeof grad[h]) == 0);
+      REQUIRE(std::memcmp(e_only[h], e_ref[h], sizeof e_only[h]) == 0);
+    }
+  }
+}
+
 TEST_CASE("untangle unfolds a single free corner of an inverted tetrahedron") {
   const param::UntangleProblem problem = corner_problem();
   Eigen::VectorXd x = Eigen::Vector3d(0.8, 0.8, 0.8);
