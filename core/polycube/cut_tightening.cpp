@@ -248,7 +248,7 @@ void split_loop_chords(SolidDecomposition& d) {
       on_loop[a] = 1;
       loop_edges.insert({std::min(a, b), std::max(a, b)});
     }
-  std::map<std::pair<int, int>, int> midpoint;
+  mesh::EdgeMidpoints midpoint;
   for (int f = 0; f < m; ++f)
     for (int k = 0; k < 3; ++k) {
       const int a = d.mesh.triangles(f, k), b = d.mesh.triangles(f, (k + 1) % 3);
@@ -268,32 +268,8 @@ void split_loop_chords(SolidDecomposition& d) {
     for (int f : d.pieces[p].faces) face_piece[f] = static_cast<int>(p);
   std::vector<std::array<int, 3>> tris(m);
   for (int f = 0; f < m; ++f) tris[f] = {d.mesh.triangles(f, 0), d.mesh.triangles(f, 1), d.mesh.triangles(f, 2)};
-  auto mid = [&](int a, int b) {
-    const auto it = midpoint.find({std::min(a, b), std::max(a, b)});
-    return it == midpoint.end() ? -1 : it->second;
-  };
   for (int f = 0; f < m; ++f) {
-    // The face's corners and midpoints in order, from the corner opposite its last split edge.
-    std::vector<int> ring;
-    int first = 0;
-    for (int k = 0; k < 3; ++k)
-      if (mid(tris[f][k], tris[f][(k + 1) % 3]) >= 0) first = (k + 2) % 3;
-    for (int j = 0; j < 3; ++j) {
-      const int a = tris[f][(first + j) % 3], b = tris[f][(first + j + 1) % 3];
-      ring.push_back(a);
-      if (mid(a, b) >= 0) ring.push_back(mid(a, b));
-    }
-    if (ring.size() == 3) continue;
-    // Corners cut off at midpoints first, then the rest fanned from ring[0] (a corner).
-    std::vector<std::array<int, 3>> parts;
-    std::vector<int> rest;
-    const int r = static_cast<int>(ring.size());
-    for (int i = 0; i < r; ++i) {
-      const int prev = ring[(i + r - 1) % r], cur = ring[i], next = ring[(i + 1) % r];
-      if (cur < n && prev >= n && next >= n) parts.push_back({prev, cur, next});
-      else rest.push_back(cur);
-    }
-    for (std::size_t i = 1; i + 1 < rest.size(); ++i) parts.push_back({rest[0], rest[i], rest[i + 1]});
+    const std::vector<std::array<int, 3>> parts = mesh::split_at_midpoints(tris[f], midpoint, n);
     tris[f] = parts[0];
     for (std::size_t i = 1; i < parts.size(); ++i) {
       tris.push_back(parts[i]);

@@ -607,6 +607,88 @@ bool merge_end_to_end(GpcConstruction& out, std::vector<Glue>& glues, std::size_
 
 }  // namespace
 
+// A poly-edge that is not a shortest path (a T-shape's seam, two bands joined across a merged
+// cut) may have a chord: an edge inside a face joining two of its vertices. Tutte's theorem
+// (§3.4.1's surface map) needs no such edge, else the region between chord and poly-edge maps
+// onto the straight side with zero area. Each chord is split at its midpoint, in the cuboid's
+// surface and in the decomposition mesh alike (a split face keeps its id for its first part).
+// A mesh without chords is left as it is.
+void split_poly_edge_chords(SolidDecomposition& d, GpcConstruction& out) {
+  std::vector<int> face_piece;
+  for (CuboidSurface& s : out.surfaces) {
+    const int n = s.mesh.num_vertices(), m = s.mesh.num_faces();
+    std::vector<int> on_edge(n, 0);  // bit e: the vertex lies on poly-edge e
+    std::set<std::pair<int, int>> path_edges;
+    for (int e = 0; e < num_cube_edges; ++e) {
+      const std::vector<int>& path = s.layout.poly_edges[e];
+      for (std::size_t i = 0; i < path.size(); ++i) {
+        on_edge[path[i]] |= 1 << e;
+        if (i > 0) path_edges.insert({std::min(path[i - 1], path[i]), std::max(path[i - 1], path[i])});
+      }
+    }
+    mesh::EdgeMidpoints midpoint;  // ids of `s.mesh`
+    for (int f = 0; f < m; ++f) {
+      if (s.surface_face[f] < 0) continue;  // a disc keeps the triangulation both sides share
+      for (int k = 0; k < 3; ++k) {
+        const int a = s.mesh.triangles(f, k), b = s.mesh.triangles(f, (k + 1) % 3);
+        const std::pair<int, int> e{std::min(a, b), std::max(a, b)};
+        if ((on_edge[a] & on_edge[b]) != 0 && !path_edges.count(e) && !midpoint.count(e))
+          midpoint.emplace(e, n + static_cast<int>(midpoint.size()));
+      }
+    }
+    if (midpoint.empty()) continue;
+    if (face_piece.empty()) {
+      face_piece.assign(d.mesh.num_faces(), -1);
+      for (std::size_t p = 0; p < d.pieces.size(); ++p)
+        for (int f : d.pieces[p].faces) face_piece[f] = static_cast<int>(p);
+    }
+    const int dn = d.mesh.num_vertices();
+    const int added = static_cast<int>(midpoint.size());
+    s.mesh.positions.conservativeResize(n + added, 3);
+    d.mesh.positions.conservativeResize(dn + added, 3);
+    s.surface_vertex.resize(n + added);
+    d.value.resize(dn + added);
+    for (const auto& [e, v] : midpoint) {
+      const int da = s.surface_vertex[e.first], db = s.surface_vertex[e.second], dv = dn + (v - n);
+      s.mesh.positions.row(v) = 0.5 * (s.mesh.positions.row(e.first) + s.mesh.positions.row(e.second));
+      d.mesh.positions.row(dv) = 0.5 * (d.mesh.positions.row(da) + d.mesh.positions.row(db));
+      d.value[dv] = 0.5 * (d.value[da] + d.value[db]);
+      s.surface_vertex[v] = dv;
+    }
+    std::vector<std::array<int, 3>> tris(m), dtris;
+    for (int f = 0; f < m; ++f) tris[f] = {s.mesh.triangles(f, 0), s.mesh.triangles(f, 1), s.mesh.triangles(f, 2)};
+    const int dm = d.mesh.num_faces();
+    auto to_d = [&](const std::array<int, 3>& t) {
+      return std::array<int, 3>{s.surface_vertex[t[0]], s.surface_vertex[t[1]], s.surface_vertex[t[2]]};
+    };
+    for (int f = 0; f < m; ++f) {
+      if (s.surface_face[f] < 0) continue;
+      const std::vector<std::array<int, 3>> parts = mesh::split_at_midpoints(tris[f], midpoint, n);
+      if (parts.size() == 1) continue;
+      const int df = s.surface_face[f];
+      tris[f] = parts[0];
+      const std::array<int, 3> first = to_d(parts[0]);
+      for (int k = 0; k < 3; ++k) d.mesh.triangles(df, k) = first[k];
+      for (std::size_t i = 1; i < parts.size(); ++i) {
+        const int id = dm + static_cast<int>(dtris.size());
+        tris.push_back(parts[i]);
+        s.surface_face.push_back(id);
+        s.layout.face_region.push_back(s.layout.face_region[f]);
+        dtris.push_back(to_d(parts[i]));
+        d.parent_face.push_back(d.parent_face[df]);
+        if (face_piece[df] >= 0) d.pieces[face_piece[df]].faces.push_back(id);
+        face_piece.push_back(face_piece[df]);
+      }
+    }
+    s.mesh.triangles = mesh::triangles_from(tris);
+    d.mesh.triangles.conservativeResize(dm + static_cast<int>(dtris.size()), 3);
+    for (std::size_t i = 0; i < dtris.size(); ++i)
+      for (int k = 0; k < 3; ++k) d.mesh.triangles(dm + static_cast<int>(i), k) = dtris[i][k];
+    s.halfedges.reset();
+    d.halfedges.reset();
+  }
+}
+
 GpcConstruction build_gpc(SolidDecomposition& d, double bbox_diagonal, const std::vector<int>& solid_corners,
                           bool merge_cuboids) {
   GpcConstruction out;
@@ -810,6 +892,7 @@ GpcConstruction build_gpc(SolidDecomposition& d, double bbox_diagonal, const std
       for (std::size_t k = 0; k < glues.size() && !merged; ++k)
         if (glues[k].cut >= 0) merged = merge_end_to_end(out, glues, k);
     }
+  split_poly_edge_chords(d, out);
   std::vector<std::array<std::array<int, 4>, 2>> glue_corners;
   for (const Glue& gl : glues) {
     GpcInterface g;

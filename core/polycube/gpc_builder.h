@@ -51,6 +51,13 @@ struct GpcConstruction {
 GpcConstruction build_gpc(SolidDecomposition& decomposition, double bbox_diagonal,
                           const std::vector<int>& solid_corners = {}, bool merge_cuboids = true);
 
+/// Splits at its midpoint every chord of a poly-edge inside a cuboid's surface faces (an edge
+/// joining two vertices of one poly-edge that is not on it), in the cuboid's surface and in
+/// `decomposition` alike: §3.4.1's Tutte map would put the region between the chord and the
+/// poly-edge onto the straight side with zero area. build_gpc calls it last; a construction
+/// without chords is unchanged. Disc triangles are left as they are (both sides share them).
+void split_poly_edge_chords(SolidDecomposition& decomposition, GpcConstruction& construction);
+
 /// How evenly the layout spreads the surface over the domain's faces (§3.4.1: the surface map
 /// of a face is uniform only if its region and its domain face are alike): per cuboid face on
 /// the surface, in cuboid then face order, the area share of its surface region (of the whole

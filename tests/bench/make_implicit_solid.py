@@ -4,7 +4,7 @@
 # implicit solid f < 0, written as a closed, consistently oriented OFF mesh. These shapes are not
 # among ../shared/data's meshes and check gpc / mesh2spline on layouts they were not tuned on.
 # usage: make_implicit_solid.py NAME CELLS OUT.off   (NAME: dtorus pretzel mug plate2 grid4
-#        ring_fin star suitcase trihole; CELLS: lattice cells per side, e.g. 64)
+#        ring_fin star suitcase trihole frame wheel ladder; CELLS: lattice cells per side, e.g. 64)
 import sys, math
 def mt(f, lo, hi, n, out):
     h = [(hi[d]-lo[d])/n for d in range(3)]
@@ -95,6 +95,26 @@ def star(x,y,z):
     for a in ((1,0,0),(-1,0,0),(0,1,0),(0,-1,0),(0,0,1),(0,0,-1)):
         d=smin(d, capsule((x,y,z),(0,0,0),(1.5*a[0],1.5*a[1],1.5*a[2]),0.22),0.2)
     return d
+def frame(x,y,z):
+    d=1e9
+    for a in range(3):
+        for s1 in (-1,1):
+            for s2 in (-1,1):
+                p=[0.0,0.0,0.0]; q=[0.0,0.0,0.0]
+                b,c=(a+1)%3,(a+2)%3
+                p[a],q[a]=-1.0,1.0; p[b]=q[b]=s1; p[c]=q[c]=s2
+                d=smin(d, capsule((x,y,z),p,q,0.2),0.15)
+    return d
+def wheel(x,y,z):
+    d=smin(torus(x,y,z,1.2,0.16), math.sqrt(x*x+y*y+z*z)-0.3, 0.1)
+    for k in range(5):
+        cx,cy=rot(1.2,0,2*math.pi*k/5+0.3); d=smin(d, capsule((x,y,z),(0,0,0),(cx,cy,0),0.1),0.1)
+    return d
+def ladder(x,y,z):
+    d=smin(capsule((x,y,z),(-0.6,-1.5,0),(-0.6,1.5,0),0.15), capsule((x,y,z),(0.6,-1.5,0),(0.6,1.5,0),0.15),0.1)
+    for yy in (-1.1,-0.35,0.35,1.1):
+        d=smin(d, capsule((x,y,z),(-0.6,yy,0),(0.6,yy,0),0.12),0.1)
+    return d
 shapes = {
  # genus 2: two tori blended
  'dtorus': (lambda x,y,z: smin(torus(x+0.9,y,z,0.9,0.3), torus(x-0.9,y,z,0.9,0.3), 0.3), (-2.2,-1.3,-0.5),(2.2,1.3,0.5)),
@@ -114,6 +134,12 @@ shapes = {
  'suitcase': (lambda x,y,z: smin(box(x,y,z,1.0,0.35,0.7)-0.1, torus(x, z-0.95, y, 0.4, 0.09), 0.08), (-1.25,-0.5,-0.85),(1.25,0.5,1.5)),
  # genus 3: three tori in a triangle
  'trihole': (trihole, (-2.0,-2.0,-0.35),(2.0,2.0,0.35)),
+ # genus 5: the 12 edges of a cube as round bars, a 3-way junction at every corner
+ 'frame': (frame, (-1.3,-1.3,-1.3),(1.3,1.3,1.3)),
+ # genus 5: a rim with 5 spokes meeting at a hub (a 5-way junction)
+ 'wheel': (wheel, (-1.45,-1.45,-0.3),(1.45,1.45,0.3)),
+ # genus 3: two rails joined by 4 rungs
+ 'ladder': (ladder, (-0.85,-1.75,-0.25),(0.85,1.75,0.25)),
 }
 if len(sys.argv) != 4 or sys.argv[1] not in shapes:
     sys.exit("usage: make_implicit_solid.py NAME CELLS OUT.off; NAME one of " + " ".join(sorted(shapes)))

@@ -6,15 +6,20 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <numeric>
 #include <set>
 
+#include "core/common/error.h"
 #include "core/io/gpc_json.h"
 #include "core/io/mesh_io.h"
 #include "core/mesh/halfedge_mesh.h"
+#include "core/mesh/mesh_geometry.h"
 #include "core/mesh/mesh_lists.h"
 #include "core/mesh/mesh_report.h"
+#include "core/param/cuboid_surface_map.h"
 #include "core/param/gpc_volumetric_map.h"
 #include "core/pipeline/gpc_job.h"
+#include "core/polycube/cuboid_layout.h"
 #include "core/polycube/cut_flips.h"
 #include "core/polycube/cylinder_map.h"
 #include "core/polycube/gpc_builder.h"
@@ -542,6 +547,79 @@ TEST_CASE("disc chords: straight cuts across a disc become disjoint edge paths")
   mesh::TriangleMesh again = before;
   CHECK_FALSE(polycube::cut_disc_chords(again, region, {c00, c10, c11, c01}, {{{b2, k + 3}}}, dc, &why));
   CHECK(why.find("boundary") != std::string::npos);
+}
+
+TEST_CASE("poly-edge chords: a detour that makes a chord is split, and the face map is bijective again") {
+  // One cuboid on a subdivided cube whose poly-edge 0 takes a detour p1 → q → p2 over a
+  // neighbouring vertex: the edge p1p2 is then a chord inside the face on the other side, and the
+  // triangle p1 q p2 has all three corners on one side of its square.
+  const mesh::TriangleMesh cube = test::subdivided_cube(4);
+  const auto hm = mesh::HalfedgeMesh::build(cube, "cube");
+  const polycube::CuboidLayout automatic = polycube::compute_cuboid_layout(hm);
+  std::vector<int> detour = automatic.poly_edges[0];
+  REQUIRE(detour.size() == 5);
+  const int p1 = detour[1], p2 = detour[2];
+  int q = -1;
+  for (int f = 0; f < cube.num_faces() && q < 0; ++f) {
+    const std::array<int, 3> t = {cube.triangles(f, 0), cube.triangles(f, 1), cube.triangles(f, 2)};
+    for (int k = 0; k < 3; ++k)
+      if (t[k] == p1 && t[(k + 1) % 3] == p2) q = t[(k + 2) % 3];
+  }
+  REQUIRE(q >= 0);
+  detour.insert(detour.begin() + 2, q);
+  polycube::CuboidLayout layout;
+  layout.corners = automatic.corners;
+  std::array<std::vector<int>, polycube::num_cube_edges> fixed;
+  fixed[0] = detour;
+  std::string why;
+  REQUIRE(polycube::complete_cuboid_layout(hm, 2, fixed, layout, &why));
+  CHECK_THROWS_WITH_AS(param::compute_cuboid_surface_map(hm, layout), doctest::Contains("not bijective"), Error);
+
+  polycube::SolidDecomposition d;
+  d.mesh = cube;
+  d.value.assign(cube.num_vertices(), 0.0);
+  d.parent_face.resize(cube.num_faces());
+  std::iota(d.parent_face.begin(), d.parent_face.end(), 0);
+  d.pieces.resize(1);
+  d.pieces[0].faces = d.parent_face;
+  polycube::GpcConstruction gpc;
+  gpc.surfaces.resize(1);
+  polycube::CuboidSurface& s = gpc.surfaces[0];
+  s.mesh = cube;
+  s.layout = layout;
+  s.surface_vertex.resize(cube.num_vertices());
+  std::iota(s.surface_vertex.begin(), s.surface_vertex.end(), 0);
+  s.surface_face = d.parent_face;
+  polycube::split_poly_edge_chords(d, gpc);
+
+  // One midpoint; the chord's two triangles split in two each, in both meshes alike.
+  CHECK(s.mesh.num_vertices() == cube.num_vertices() + 1);
+  CHECK(s.mesh.num_faces() == cube.num_faces() + 2);
+  CHECK(s.mesh.positions.row(cube.num_vertices()).isApprox(0.5 * (cube.positions.row(p1) + cube.positions.row(p2))));
+  CHECK(d.mesh.positions == s.mesh.positions);
+  CHECK(d.mesh.triangles == s.mesh.triangles);
+  CHECK(d.pieces[0].faces.size() == static_cast<std::size_t>(d.mesh.num_faces()));
+  CHECK(d.parent_face.size() == static_cast<std::size_t>(d.mesh.num_faces()));
+  CHECK(static_cast<int>(s.layout.face_region.size()) == s.mesh.num_faces());
+  CHECK(s.surface_vertex.back() == cube.num_vertices());
+  const auto split = mesh::HalfedgeMesh::build(s.mesh, "split cube");  // still closed and manifold
+  auto area = [](const mesh::HalfedgeMesh& m) {
+    const std::vector<double> a = mesh::face_areas(m);
+    return std::accumulate(a.begin(), a.end(), 0.0);
+  };
+  CHECK(area(split) == doctest::Approx(area(hm)).epsilon(1e-14));
+  const param::CuboidSurfaceMap map = param::compute_cuboid_surface_map(split, s.layout);
+  CHECK(map.num_flipped == 0);
+
+  // A layout of shortest paths has no chord: nothing changes.
+  polycube::GpcConstruction plain = gpc;
+  plain.surfaces[0].layout = automatic;
+  plain.surfaces[0].mesh = cube;
+  polycube::SolidDecomposition d2;
+  d2.mesh = cube;
+  polycube::split_poly_edge_chords(d2, plain);
+  CHECK(plain.surfaces[0].mesh.num_vertices() == cube.num_vertices());
+  CHECK(d2.mesh.triangles == cube.triangles);
 }
 
 TEST_CASE("disc chords: slivers a billion times thinner than the disc still map and cut bijectively") {
