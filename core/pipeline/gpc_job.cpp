@@ -38,6 +38,7 @@ void check_options(const GpcOptions& o) {
     fail("grid.min_quality_target must be in (-1, 1]");
   if (o.grid.min_quality_sweeps < 0 || o.grid.min_quality_sweeps > 100000)
     fail("grid.min_quality_sweeps must be in [0, 100000]");
+  if (!(o.taller_centres_below >= -1.0 && o.taller_centres_below <= 1.0)) fail("taller_centres_below must be in [-1, 1]");
 }
 
 }  // namespace
@@ -76,7 +77,11 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
   // surface, as mesh2spline maps it.
   polycube::SolidDecomposition decomposition;
   std::string stage_prefix;  // names a fallback construction's stages in the progress
+  polycube::TShapeLayoutOptions t_shape;
+  // The arguments of the last construction, so that a retry can build it again.
+  std::pair<double, bool> built_with{0.0, false};
   auto construct = [&](double limb_persistence, bool tighten_caps) {
+    built_with = {limb_persistence, tighten_caps};
     polycube::DecompositionOptions d;
     d.snap = options.snap;
     d.cuts = options.cuts;
@@ -114,7 +119,7 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
     if (cut) unflipped = decomposition;
     for (int attempt = 0;; ++attempt) {
       try {
-        result.construction = polycube::build_gpc(decomposition, 1.0, options.corners, options.merge_cuboids);
+        result.construction = polycube::build_gpc(decomposition, 1.0, options.corners, options.merge_cuboids, t_shape);
         break;
       } catch (const polycube::DecompositionError& e) {
         // Refining helps narrow T-shapes; past 200,000 faces it only costs time.
@@ -178,15 +183,17 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
     polycube::GpcConstruction construction;
     param::GpcVolumetricMap map;
     polycube::SolidDecomposition decomposition;
+    std::pair<double, bool> built_with;
   };
   auto set_aside = [&] {
-    return Built{stats, std::move(result.construction), std::move(result.map), std::move(decomposition)};
+    return Built{stats, std::move(result.construction), std::move(result.map), std::move(decomposition), built_with};
   };
   auto restore = [&](Built& b) {
     const std::map<std::string, double> times = stats.times_s;
     result.construction = std::move(b.construction);
     result.map = std::move(b.map);
     decomposition = std::move(b.decomposition);
+    built_with = b.built_with;
     stats = b.stats;
     stats.times_s = times;
   };
@@ -284,6 +291,41 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
     } else {
       restore(kept);
       stats.finer_limbs = tried.str() + "; kept the first (" + describe(result.map) + ")";
+    }
+  }
+  // A T-shape's centre as tall as the crotch's height can be too flat where thin tubes meet
+  // (the concave corners and the top corners near the saddle between the arms at almost one
+  // height): its corner hexes stay near flat whatever the hex optimizer does. The same
+  // construction with the concave corners further down the stem is then mapped too, and the
+  // better hex mesh kept.
+  if (untangled && options.taller_centres_below > -1.0 && result.construction.domain.t_shapes > 0 &&
+      (result.map.grid_inverted_hexes > 0 || result.map.grid_min_scaled_jacobian < options.taller_centres_below)) {
+    Built kept = set_aside();
+    stage_prefix = "taller T-shape centres: ";
+    t_shape.concave_corner_height = kTallerCentreHeight;
+    bool mapped = true;
+    try {
+      t0 = Clock::now();
+      construct(kept.built_with.first, kept.built_with.second);
+      stats.times_s["t_to_cube"] += seconds_since(t0);
+      map_volume();
+    } catch (const polycube::DecompositionError& e) {
+      mapped = false;
+      stats.taller_centres = std::string("no construction (") + e.what() + ")";
+    }
+    auto describe = [](const param::GpcVolumetricMap& m) {
+      std::ostringstream o;
+      o << m.grid_inverted_hexes << " inverted hexes, least scaled Jacobian " << m.grid_min_scaled_jacobian;
+      return o.str();
+    };
+    std::ostringstream tried;
+    tried << "concave corners at " << kTallerCentreHeight
+          << " of the crotch's height: " << (mapped ? describe(result.map) : stats.taller_centres);
+    if (mapped && better(result.map, kept.map)) {
+      stats.taller_centres = tried.str() + "; kept it (the first: " + describe(kept.map) + ")";
+    } else {
+      restore(kept);
+      stats.taller_centres = tried.str() + "; kept the first (" + describe(result.map) + ")";
     }
   }
   // Back to model units.

@@ -22,6 +22,10 @@ inline constexpr double kDefaultLimbPersistence = 0.15;
 /// too (a suitcase's handle, a mug's), see GpcOptions::limb_persistence.
 inline constexpr double kFinerLimbPersistence = 0.05;
 
+/// Where the retry with taller T-shape centres puts their concave corners
+/// (polycube::TShapeLayoutOptions::concave_corner_height), see GpcOptions::taller_centres_below.
+inline constexpr double kTallerCentreHeight = 0.85;
+
 /// Options of run_gpc.
 struct GpcOptions {
   /// Corner vertex ids (input numbering) of a genus-0 solid's one cuboid, in cube-corner order;
@@ -44,6 +48,11 @@ struct GpcOptions {
   /// kept (fewer inverted hexes, then a higher least scaled Jacobian; a tie keeps the first), see
   /// GpcStats::finer_limbs.
   double limb_persistence = -1.0;
+  /// Scaled Jacobian in [−1, 1] (−1 = off): where the kept construction has T-shapes and its hex
+  /// mesh (untangler on) has inverted hexes or a least scaled Jacobian below this, it is built and
+  /// mapped again with every T-shape's concave corners at kTallerCentreHeight of the crotch's
+  /// height and the better hex mesh kept (as for limbs), see GpcStats::taller_centres.
+  double taller_centres_below = 0.2;
   int threads = 1;             ///< ≥ 1; the stages run on one thread (same output for any value)
 };
 
@@ -83,6 +92,9 @@ struct GpcStats {
   /// The retry at kFinerLimbPersistence: its inverted hexes and least scaled Jacobian and which
   /// construction was kept (empty if not tried).
   std::string finer_limbs;
+  /// The retry with taller T-shape centres: its inverted hexes and least scaled Jacobian and
+  /// which construction was kept (empty if not tried).
+  std::string taller_centres;
   int surface_vertices = 0;        ///< of the refined surface the cuboids partition
   std::map<std::string, double> times_s;
 };

@@ -359,11 +359,14 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
   // The fit samples every hex-mesh node at its grid parameter, so the surface nodes must stay
   // where the surface maps put them: the last quality stage of the hex mesh, which slides them
   // over the whole surface, is left out here. The padded mesh's untanglers keep the mean
-  // reference cell: choosing the reference by the padded mesh's own quality does not predict
-  // what the spline's fit and untangling need (README, "Any genus").
+  // reference cell, and the construction is not rebuilt with taller T-shape centres: choosing
+  // either by the padded mesh's own quality does not predict what the spline's fit and
+  // untangling need (README, "Any genus"), and without the quality stage most meshes would pay
+  // for the second construction.
   GpcOptions gpc_options = options.gpc;
   gpc_options.grid.min_quality_sweeps = 0;
   gpc_options.grid.padded_reference = param::GpcGridOptions::PaddedReference::MeanCell;
+  gpc_options.taller_centres_below = -1.0;
   const GpcResult gpc = run_gpc(mesh, name, gpc_options, gpc_progress);
   timer.end_stage("gpc");
   const polycube::GpcDomain& domain = gpc.construction.domain;

@@ -62,6 +62,7 @@ std::string gpc_stats_json(const GpcStats& s, const std::string& input) {
   if (!s.limb_fallback.empty()) j["limb_fallback"] = s.limb_fallback;
   j["limb_persistence"] = s.limb_persistence;
   if (!s.finer_limbs.empty()) j["finer_limbs"] = s.finer_limbs;
+  if (!s.taller_centres.empty()) j["taller_centres"] = s.taller_centres;
   j["surface_vertices"] = s.surface_vertices;
   nlohmann::ordered_json times = nlohmann::ordered_json::object();
   for (const auto& [stage, seconds] : s.times_s) times[stage] = seconds;

@@ -316,7 +316,8 @@ CuboidSurface assemble_cuboid(const PieceMesh& pm, const TShapeCuboid& c, const 
 }
 
 void build_t_shape(SolidDecomposition& d, const SolidPiece& sp, PieceMesh& pm, int piece,
-                   GpcConstruction& out, std::vector<std::array<FaceOnLoop, 2>>& on_loop, std::vector<Glue>& glues) {
+                   GpcConstruction& out, std::vector<std::array<FaceOnLoop, 2>>& on_loop, std::vector<Glue>& glues,
+                   const TShapeLayoutOptions& t_shape) {
   const std::string part = "piece " + std::to_string(piece) + " (T-shape)";
   std::array<std::vector<int>, 3> loops;
   std::array<bool, 3> forward;
@@ -333,7 +334,7 @@ void build_t_shape(SolidDecomposition& d, const SolidPiece& sp, PieceMesh& pm, i
   for (int v = 0; v < n0; ++v) value[v] = d.value[pm.surface_vertex[v]];
   TShapeLayout t;
   std::string why;
-  if (!lay_out_t_shape(pm.mesh, origin, value, loops, forward, corners, pm.surface_vertex, t, &why))
+  if (!lay_out_t_shape(pm.mesh, origin, value, loops, forward, corners, pm.surface_vertex, t, &why, t_shape))
     throw DecompositionError("T-to-cube: " + part + ": " + why);
   // The layout's cuts refine the decomposition mesh inside this piece: new vertices and the
   // extra parts of split faces are appended; a split face keeps its id for its first part.
@@ -690,7 +691,7 @@ void split_poly_edge_chords(SolidDecomposition& d, GpcConstruction& out) {
 }
 
 GpcConstruction build_gpc(SolidDecomposition& d, double bbox_diagonal, const std::vector<int>& solid_corners,
-                          bool merge_cuboids) {
+                          bool merge_cuboids, const TShapeLayoutOptions& t_shape) {
   GpcConstruction out;
   const mesh::TriangleMesh& S = d.mesh;
   for (const CutLoop& loop : d.loops) {
@@ -731,7 +732,7 @@ GpcConstruction build_gpc(SolidDecomposition& d, double bbox_diagonal, const std
     }
     PieceMesh pm = extract_piece(d, sp);
     if (sp.kind == PieceKind::TShape) {
-      build_t_shape(d, sp, pm, static_cast<int>(p), out, on_loop, glues);
+      build_t_shape(d, sp, pm, static_cast<int>(p), out, on_loop, glues, t_shape);
       continue;
     }
     CuboidSurface base = close_piece(pm, sp, out.discs);

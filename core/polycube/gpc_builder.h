@@ -9,6 +9,7 @@
 #include "core/polycube/gpc_domain.h"
 #include "core/polycube/interface_disc.h"
 #include "core/polycube/solid_decomposition.h"
+#include "core/polycube/t_shape_layout.h"
 
 namespace volspline::polycube {
 
@@ -46,10 +47,12 @@ struct GpcConstruction {
 /// tubes, caps) are merged into one while the union's surface is a sphere, repeatedly.
 /// A T-shape's layout cuts run along new edges: `decomposition` is refined inside its T-shapes
 /// (vertices and faces appended, each split face keeping its id for one part; loops unchanged).
+/// `t_shape`: where every T-shape's centre puts its concave corners (lay_out_t_shape).
 /// Throws DecompositionError naming the piece when a layout cannot be traced, volspline::Error
 /// when user corners are invalid.
 GpcConstruction build_gpc(SolidDecomposition& decomposition, double bbox_diagonal,
-                          const std::vector<int>& solid_corners = {}, bool merge_cuboids = true);
+                          const std::vector<int>& solid_corners = {}, bool merge_cuboids = true,
+                          const TShapeLayoutOptions& t_shape = {});
 
 /// Splits at its midpoint every chord of a poly-edge inside a cuboid's surface faces (an edge
 /// joining two vertices of one poly-edge that is not on it), in the cuboid's surface and in

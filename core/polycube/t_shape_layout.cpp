@@ -2,6 +2,7 @@
 #include "core/polycube/t_shape_layout.h"
 
 #include <algorithm>
+#include <cassert>
 #include <limits>
 #include <map>
 #include <queue>
@@ -101,7 +102,8 @@ struct Seams {
 bool lay_out_t_shape(mesh::TriangleMesh& pants_mesh, std::vector<int>& face_origin, std::vector<double>& vertex_value,
                      const std::array<std::vector<int>, 3>& loops, const std::array<bool, 3>& piece_forward,
                      const std::array<std::array<int, 4>, 3>& corners, const std::vector<int>& vertex_identity,
-                     TShapeLayout& out, std::string* why) {
+                     TShapeLayout& out, std::string* why, const TShapeLayoutOptions& options) {
+  assert(options.concave_corner_height > 0.0 && options.concave_corner_height <= 1.0);
   const mesh::HalfedgeMesh pants = mesh::HalfedgeMesh::build(pants_mesh, "T-shape");
   const int n = pants.num_vertices();
   const std::vector<double> length = mesh::edge_lengths(pants);
@@ -285,7 +287,8 @@ bool lay_out_t_shape(mesh::TriangleMesh& pants_mesh, std::vector<int>& face_orig
       continue;
     }
     // The centre sits at the junction, where the arms part: its height above the stem is the
-    // crotch's, the top seams' lowest point in distance from the stem loop; the concave corners
+    // crotch's (times options.concave_corner_height), the top seams' lowest point in distance
+    // from the stem loop; the concave corners
     // are the side seams' points at that height and the top corners the top seam's points
     // nearest to them on either side of the crotch (a compact centre also when the arms are
     // long, as in a handle's ring).
@@ -317,10 +320,11 @@ bool lay_out_t_shape(mesh::TriangleMesh& pants_mesh, std::vector<int>& face_orig
       return best_i;
     };
     const int crotch_f = lowest(sF01), crotch_b = lowest(sB01);
-    const double crotch = std::min(height[sF01[crotch_f]], height[sB01[crotch_b]]);
+    const double concave_height =
+        options.concave_corner_height * std::min(height[sF01[crotch_f]], height[sB01[crotch_b]]);
     // sF02 and sF12 run from the arm loops to the stem loop.
-    const int p02 = at_height(sF02, crotch), p12 = at_height(sF12, crotch);
-    const int p02b = at_height(sB02, crotch), p12b = at_height(sB12, crotch);
+    const int p02 = at_height(sF02, concave_height), p12 = at_height(sF12, concave_height);
+    const int p02b = at_height(sB02, concave_height), p12b = at_height(sB12, concave_height);
     auto top_corners = [&](const std::vector<int>& seam, int crotch_i, int left, int right) {
       const int n_seam = static_cast<int>(seam.size());
       int a = nearest_on(seam, 1, std::max(2, crotch_i), left);

@@ -33,6 +33,14 @@ struct TShapeLayout {
   std::array<std::array<int, 2>, 2> concave_edges{};
 };
 
+/// Where lay_out_t_shape puts the centre's concave corners.
+struct TShapeLayoutOptions {
+  /// Their graph distance from the stem loop as a fraction of the crotch's (the top seams' lowest
+  /// point), in (0, 1]: below 1 the centre reaches further down the stem, taller than the crotch
+  /// alone makes it.
+  double concave_corner_height = 1.0;
+};
+
 /// Cuts a pants into a centre cuboid and three arms. Deviation from Algorithm 3's three cylinder
 /// cuts: the pants is cut by 6 disjoint seams between the 12 loop corners (every loop's two
 /// opposite rim arcs face the other two loops; of the 64 choices the valid one with the
@@ -50,10 +58,11 @@ struct TShapeLayout {
 /// `vertex_identity` (per pants vertex, or empty): equal for the two copies of a vertex of a cut
 /// whose both sides bound the pants; then the seams between those two loops join each corner to
 /// its own copy where possible (no twist around the handle).
+/// `options`: how far down the stem the concave corners sit.
 /// Returns false with the reason in *why.
 bool lay_out_t_shape(mesh::TriangleMesh& pants_mesh, std::vector<int>& face_origin, std::vector<double>& vertex_value,
                      const std::array<std::vector<int>, 3>& loops, const std::array<bool, 3>& piece_forward,
                      const std::array<std::array<int, 4>, 3>& corners, const std::vector<int>& vertex_identity,
-                     TShapeLayout& out, std::string* why);
+                     TShapeLayout& out, std::string* why, const TShapeLayoutOptions& options = {});
 
 }  // namespace volspline::polycube

@@ -791,6 +791,27 @@ TEST_CASE("limbs: the three ends of a T-shaped solid become caps around one T-sh
   CHECK(blob.stats.cuboids == 1);
 }
 
+TEST_CASE("gpc job: the retry with taller T-shape centres keeps the better hex mesh") {
+  pipeline::GpcOptions o = small_grid();
+  o.taller_centres_below = -1.0;
+  const pipeline::GpcResult first = pipeline::run_gpc(make_t_solid(3), "T", o);
+  CHECK(first.stats.taller_centres.empty());
+  // Below a least scaled Jacobian of 1 every hex mesh is retried.
+  o.taller_centres_below = 1.0;
+  const pipeline::GpcResult retried = pipeline::run_gpc(make_t_solid(3), "T", o);
+  CHECK(retried.stats.taller_centres.rfind("concave corners at 0.85 of the crotch's height: ", 0) == 0);
+  CHECK(retried.stats.t_shapes == 1);
+  CHECK(retried.stats.interface_gap_rel <= 1e-12);
+  const bool kept = retried.stats.taller_centres.find("; kept it") != std::string::npos;
+  CHECK(kept == (retried.stats.grid_min_scaled_jacobian != first.stats.grid_min_scaled_jacobian));
+  CHECK(retried.stats.grid_inverted_hexes <= first.stats.grid_inverted_hexes);
+  if (retried.stats.grid_inverted_hexes == first.stats.grid_inverted_hexes)
+    CHECK(retried.stats.grid_min_scaled_jacobian >= first.stats.grid_min_scaled_jacobian);
+  o.taller_centres_below = 1.5;
+  CHECK_THROWS_WITH_AS(pipeline::run_gpc(make_t_solid(3), "T", o), doctest::Contains("taller_centres_below must be in [-1, 1]"),
+                       Error);
+}
+
 TEST_CASE("gpc job: the eight's handles close without a twist") {
   // Each T-shape of the eight has both sides of one cut as its arms (a handle): its seams join
   // every corner of the cut to its own copy, so the merged ring closes without a twist.

@@ -6,4 +6,5 @@ set(TEST_SOURCES
   cube_faces_test.cpp
   cap_corners_test.cpp
   surface_paths_test.cpp
+  t_shape_layout_test.cpp
 )
