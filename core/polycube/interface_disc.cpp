@@ -182,10 +182,23 @@ DiscEmbedding check_interface_discs(const mesh::TriangleMesh& surface, const std
           for (int x = c0[0]; x <= c1[0]; ++x)
             buckets[(static_cast<long>(z) * res[1] + y) * res[0] + x].push_back(static_cast<int>(t));
     }
+    // Plane prune: a triangle strictly on one side of disc triangle t's plane meets that plane
+    // nowhere, so none of its edges crosses t and none of t's edges (in the plane) crosses it. The
+    // margin (relative 1e-6 of the grid's extent, far above the crossing test's rounding) keeps
+    // every pair the crossing test could count, so the counts are those of the full test.
+    const double extent = (hi - lo).norm() + cell;
     std::vector<long> seen_pair_stamp(tris.size(), -1);
     for (std::size_t t = first_disc_tri[0]; t < tris.size(); ++t) {
       std::array<int, 3> c0, c1;
       if (!cell_range(tris[t], c0, c1)) continue;
+      const Eigen::Vector3d e1 = tris[t][1] - tris[t][0], e2 = tris[t][2] - tris[t][0];
+      const Eigen::Vector3d normal = e1.cross(e2);
+      const double margin = 1e-6 * e1.norm() * e2.norm() * extent;
+      auto off_plane = [&](const Tri& other) {
+        const double s0 = (other[0] - tris[t][0]).dot(normal), s1 = (other[1] - tris[t][0]).dot(normal),
+                     s2 = (other[2] - tris[t][0]).dot(normal);
+        return (s0 > margin && s1 > margin && s2 > margin) || (s0 < -margin && s1 < -margin && s2 < -margin);
+      };
       for (int z = c0[2]; z <= c1[2]; ++z)
         for (int y = c0[1]; y <= c1[1]; ++y)
           for (int x = c0[0]; x <= c1[0]; ++x) {
@@ -196,6 +209,7 @@ DiscEmbedding check_interface_discs(const mesh::TriangleMesh& surface, const std
               seen_pair_stamp[s] = static_cast<long>(t);
               if (owner[s] == owner[t]) continue;  // a disc against itself: embedded by construction
               if (owner[s] >= 0 && s > static_cast<int>(t)) continue;  // disc pairs once
+              if (off_plane(tris[s])) continue;
               bool shared = false;
               for (int i : ids[t])
                 for (int j : ids[s]) shared = shared || i == j;
