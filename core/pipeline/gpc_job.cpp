@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <numeric>
 #include <optional>
 #include <sstream>
@@ -78,10 +79,27 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
   polycube::SolidDecomposition decomposition;
   std::string stage_prefix;  // names a fallback construction's stages in the progress
   polycube::TShapeLayoutOptions t_shape;
-  // The arguments of the last construction, so that a retry can build it again.
-  std::pair<double, bool> built_with{0.0, false};
+  // The decomposition the last construction was built from (after any refinement and flips),
+  // so that a retry can lay it out again without decomposing anew.
+  std::shared_ptr<const polycube::SolidDecomposition> prebuilt;
+  // Meridian certificate of every cut of `decomposition`, with the construction's discs.
+  auto certify_cuts = [&] {
+    if (decomposition.loops.empty()) return;
+    std::vector<std::vector<int>> loop_ids;
+    for (const polycube::CutLoop& l : decomposition.loops) loop_ids.push_back(l.vertices);
+    const polycube::DiscEmbedding embedding =
+        polycube::check_interface_discs(decomposition.mesh, result.construction.discs, loop_ids);
+    stats.cut_disc_intersections = embedding.num_intersections;
+    stats.cut_discs_outside = embedding.num_outside;
+    stats.cut_disc_problem = embedding.first_problem;
+    stats.cut_disc_crossings = embedding.crossings;
+    for (std::size_t k = 0; k < embedding.winding.size(); ++k)
+      if (embedding.winding[k] < 0.5)
+        throw polycube::DecompositionError("meridian check: the interface disc of cut " + std::to_string(k) +
+                                           " lies outside the solid (winding number " +
+                                           std::to_string(embedding.winding[k]) + " at its centre)");
+  };
   auto construct = [&](double limb_persistence, bool tighten_caps) {
-    built_with = {limb_persistence, tighten_caps};
     polycube::DecompositionOptions d;
     d.snap = options.snap;
     d.cuts = options.cuts;
@@ -119,7 +137,9 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
     if (cut) unflipped = decomposition;
     for (int attempt = 0;; ++attempt) {
       try {
+        auto before = std::make_shared<const polycube::SolidDecomposition>(decomposition);
         result.construction = polycube::build_gpc(decomposition, 1.0, options.corners, options.merge_cuboids, t_shape);
+        prebuilt = std::move(before);
         break;
       } catch (const polycube::DecompositionError& e) {
         // Refining helps narrow T-shapes; past 200,000 faces it only costs time.
@@ -142,22 +162,7 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
         attempt = -1;
       }
     }
-    // Meridian certificate of every cut.
-    if (cut) {
-      std::vector<std::vector<int>> loop_ids;
-      for (const polycube::CutLoop& l : decomposition.loops) loop_ids.push_back(l.vertices);
-      const polycube::DiscEmbedding embedding =
-          polycube::check_interface_discs(decomposition.mesh, result.construction.discs, loop_ids);
-      stats.cut_disc_intersections = embedding.num_intersections;
-      stats.cut_discs_outside = embedding.num_outside;
-      stats.cut_disc_problem = embedding.first_problem;
-      stats.cut_disc_crossings = embedding.crossings;
-      for (std::size_t k = 0; k < embedding.winding.size(); ++k)
-        if (embedding.winding[k] < 0.5)
-          throw polycube::DecompositionError("meridian check: the interface disc of cut " + std::to_string(k) +
-                                             " lies outside the solid (winding number " +
-                                             std::to_string(embedding.winding[k]) + " at its centre)");
-    }
+    certify_cuts();
   };
   // The map's phases are the rest of the job (the T-to-cube stages took the first 15 %). A
   // fallback construction maps again from 15 %, its stages named so that the bar says why.
@@ -183,17 +188,17 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
     polycube::GpcConstruction construction;
     param::GpcVolumetricMap map;
     polycube::SolidDecomposition decomposition;
-    std::pair<double, bool> built_with;
+    std::shared_ptr<const polycube::SolidDecomposition> prebuilt;
   };
   auto set_aside = [&] {
-    return Built{stats, std::move(result.construction), std::move(result.map), std::move(decomposition), built_with};
+    return Built{stats, std::move(result.construction), std::move(result.map), std::move(decomposition), prebuilt};
   };
   auto restore = [&](Built& b) {
     const std::map<std::string, double> times = stats.times_s;
     result.construction = std::move(b.construction);
     result.map = std::move(b.map);
     decomposition = std::move(b.decomposition);
-    built_with = b.built_with;
+    prebuilt = b.prebuilt;
     stats = b.stats;
     stats.times_s = times;
   };
@@ -306,7 +311,11 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
     bool mapped = true;
     try {
       t0 = Clock::now();
-      construct(kept.built_with.first, kept.built_with.second);
+      progress.report(stage_prefix + "T-to-cube", 0.05);
+      decomposition = *kept.prebuilt;
+      result.construction =
+          polycube::build_gpc(decomposition, 1.0, options.corners, options.merge_cuboids, t_shape);
+      certify_cuts();
       stats.times_s["t_to_cube"] += seconds_since(t0);
       map_volume();
     } catch (const polycube::DecompositionError& e) {
