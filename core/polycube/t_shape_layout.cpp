@@ -286,10 +286,9 @@ bool lay_out_t_shape(mesh::TriangleMesh& pants_mesh, std::vector<int>& face_orig
       last_reason += std::string(last_reason.empty() ? "" : "; ") + "a seam borders no hexagon";
       continue;
     }
-    // The centre sits at the junction, where the arms part: its height above the stem is the
-    // crotch's (times options.concave_corner_height), the top seams' lowest point in distance
-    // from the stem loop; the concave corners
-    // are the side seams' points at that height and the top corners the top seam's points
+    // The centre sits at the junction, where the arms part: its concave corners are the side
+    // seams' points at options.concave_corner_height times the crotch's height (the top seams'
+    // lowest point in distance from the stem loop), its top corners the top seam's points
     // nearest to them on either side of the crotch (a compact centre also when the arms are
     // long, as in a handle's ring).
     const mesh::GraphDistances from_stem = mesh::graph_distances(pants, loops[l2]);
