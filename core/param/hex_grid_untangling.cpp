@@ -177,11 +177,7 @@ class Energy {
       double pa[8][3], pb[8][3], ea[8], eb[8];
       gather(a, pa);
       gather(b, pb);
-      const double(*p[2])[3] = {pa, pb};
-      const double inv_h[2] = {a.inv_h, b.inv_h};
-      const unsigned corners[2] = {a.corners, b.corners};
-      double* const e[2] = {ea, eb};
-      detail::hex_corner_terms2(p, inv_h, eps2, theta, corners, e, nullptr);
+      corner_terms2(a, b, pa, pb, eps2, theta, ea, eb, nullptr, nullptr);
       for (int c = 0; c < 8; ++c)
         if (a.corners & (1u << c)) total += ea[c];
       if (total > bound) return total;
@@ -259,12 +255,7 @@ class Energy {
       double pa[8][3], pb[8][3], ea[8], eb[8], ga[8][3], gb[8][3];
       gather(a, pa);
       gather(b, pb);
-      const double(*p[2])[3] = {pa, pb};
-      const double inv_h[2] = {a.inv_h, b.inv_h};
-      const unsigned corners[2] = {a.corners, b.corners};
-      double* const e[2] = {ea, eb};
-      double(*const g[2])[3] = {g_out ? ga : nullptr, g_out ? gb : nullptr};
-      detail::hex_corner_terms2(p, inv_h, eps2, theta, corners, e, g);
+      corner_terms2(a, b, pa, pb, eps2, theta, ea, eb, g_out ? ga : nullptr, g_out ? gb : nullptr);
       add(a, ea, ga);
       add(b, eb, gb);
     }
@@ -320,6 +311,17 @@ class Energy {
     std::array<int, 8> var{};
     unsigned corners = 0;
   };
+
+  // Hexes a and b (their node positions pa, pb) through one two-hex kernel call.
+  static void corner_terms2(const Hex& a, const Hex& b, const double (*pa)[3], const double (*pb)[3], double eps2,
+                            double theta, double* ea, double* eb, double (*ga)[3], double (*gb)[3]) {
+    const double(*p[2])[3] = {pa, pb};
+    const double inv_h[2] = {a.inv_h, b.inv_h};
+    const unsigned corners[2] = {a.corners, b.corners};
+    double* const e[2] = {ea, eb};
+    double(*const g[2])[3] = {ga, gb};
+    detail::hex_corner_terms2(p, inv_h, eps2, theta, corners, e, g);
+  }
 
   std::vector<Corner> corners_;
   std::vector<Hex> hexes_;
