@@ -137,7 +137,8 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
     if (cut) unflipped = decomposition;
     for (int attempt = 0;; ++attempt) {
       try {
-        auto before = std::make_shared<const polycube::SolidDecomposition>(decomposition);
+        // Only a cut solid has T-shapes, which the retry lays out again.
+        auto before = cut ? std::make_shared<const polycube::SolidDecomposition>(decomposition) : nullptr;
         result.construction = polycube::build_gpc(decomposition, 1.0, options.corners, options.merge_cuboids, t_shape);
         prebuilt = std::move(before);
         break;
