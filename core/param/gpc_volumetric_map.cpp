@@ -63,9 +63,11 @@ constexpr int kBarrierSweeps = 10;
 // slide_and_raise's MinQualityOptions::min_edge: this times each node's shortest edge on entry.
 constexpr double kMinEdgeShrink = 0.05;
 // relax_worst_hexes: the band above the least value that seeds the region, the rings of hexes
-// grown around it, and the passes at most (each kept only if it raises the least value).
+// grown around it (a pass that fails is tried once more up to kRelaxMaxRings wide), and the
+// passes at most (each kept only if it raises the least value).
 constexpr double kRelaxBand = 0.02;
 constexpr int kRelaxRings = 2;
+constexpr int kRelaxMaxRings = 3;
 constexpr int kRelaxPasses = 3;
 // grid.padded_reference Better: a folded corner whose determinant against the mean cell is under
 // this fraction of the untangler's first ε is one the mean cell's barrier does not see, and where
@@ -175,20 +177,20 @@ int untangle_either_reference(HexMesh& pm, const std::vector<char>& fixed, const
 }
 
 // The hexes within kRelaxBand of the least scaled Jacobian (and kRelaxBand short of the target)
-// and kRelaxRings rings of hexes around them relaxed together (improve_hex_mesh on those hexes
+// and `rings` rings of hexes around them relaxed together (improve_hex_mesh on those hexes
 // alone, the rest held: its reference cell is their own mean), then the least value raised again
 // over the whole mesh; kept if it rose without a fold. The greedy raise moves one node at a time and
 // stops where the worst corner needs several nodes to move together (a T-shape's junction, a
 // thin strip of a surface face); the barrier energy moves the whole neighbourhood at once.
 // Returns true if kept.
 bool relax_worst_hexes(const std::vector<char>& fixed, const SlidingNodes& sliding, const GpcGridOptions& options,
-                       const MinQualityOptions& quality, HexMesh& pm) {
+                       const MinQualityOptions& quality, int rings, HexMesh& pm) {
   const HexMeshQuality start = hex_mesh_quality(pm);
   // Hexes just below the target are where the raise stops by design, not a spot to relax.
   const double seed_bound = std::min(start.min_scaled_jacobian + kRelaxBand, options.min_quality_target - kRelaxBand);
   if (start.num_inverted > 0 || !(start.min_scaled_jacobian < seed_bound)) return false;
   std::vector<char> region = nodes_of_hexes_below(pm, seed_bound);
-  for (int ring = 0; ring < kRelaxRings; ++ring) region = grown_by_hexes(pm.hexes, region);
+  for (int ring = 0; ring < rings; ++ring) region = grown_by_hexes(pm.hexes, region);
   std::vector<std::array<int, 8>> local;
   for (const auto& hex : pm.hexes)
     if (std::any_of(hex.begin(), hex.end(), [&](int v) { return region[v] != 0; })) local.push_back(hex);
@@ -296,8 +298,14 @@ int slide_and_raise(const polycube::GpcConstruction& construction, const std::ve
     }
   }
   pm.xyz = best;
-  for (int pass = 0; pass < kRelaxPasses; ++pass)
-    if (!relax_worst_hexes(fixed, sliding, options, quality, pm)) break;
+  // A region too narrow holds the worst corner's neighbours where they are: where the relaxation
+  // fails, the next try grows one ring wider (and later passes keep that width).
+  for (int pass = 0, rings = kRelaxRings; pass < kRelaxPasses;) {
+    if (relax_worst_hexes(fixed, sliding, options, quality, rings, pm))
+      ++pass;
+    else if (++rings > kRelaxMaxRings)
+      break;
+  }
   // Folds left where crease nodes are held: a surface quad with three held nodes in a row (a
   // claw's ridge) has a flat corner whatever the free nodes do. Around the folded hexes (two
   // rings) those nodes slide too, for one more untangle and raise, kept if it leaves fewer folds
