@@ -185,7 +185,8 @@ void cell_power_sum(const Cell& cell, const Entry* entries, const std::uint32_t*
 
 // The cell polynomials of build_cell_polynomials, for the cells holding a function with
 // changed[function] set (all if changed is null); each is recomputed whole, so the result is the
-// same as a full build. Cell and Entry are TSpline's (deduced: private types).
+// same as a full build. dimension 0: the denominators alone. Cell and Entry are TSpline's
+// (deduced: private types).
 template <class Cell, class Entry>
 void fill_cell_polynomials(const std::vector<Cell>& cells, const std::vector<Entry>& entries,
                            const std::vector<std::uint32_t>& cell_pieces,
@@ -476,8 +477,11 @@ bool TSpline::use_cell_polynomials() {
 void TSpline::build_cell_polynomials() {
   cell_numerator_.assign(cells_.size() * 64 * dimension_ + kPolynomialPad, 0.0);
   cell_denominator_.assign(cells_.size() * 64 + kPolynomialPad, 0.0);
-  fill_cell_polynomials(cells_, entries_, cell_pieces_, pieces_, weighted_points_, weights_, dimension_, nullptr,
-                        cell_numerator_, cell_denominator_);
+  // A spline built before its control points are known (all zero, as GpcSpline's patches) has a
+  // zero numerator: Σ w_i B_i is summed alone (its channel's sums do not depend on the others).
+  const bool zero = std::all_of(weighted_points_.begin(), weighted_points_.end(), [](double x) { return x == 0.0; });
+  fill_cell_polynomials(cells_, entries_, cell_pieces_, pieces_, weighted_points_, weights_, zero ? 0 : dimension_,
+                        nullptr, cell_numerator_, cell_denominator_);
 }
 
 std::array<int, 3> TSpline::cell_index(int cell) const {

@@ -193,6 +193,26 @@ TEST_CASE("use_cell_polynomials switches a function-list spline to polynomials w
   CHECK(worst < 1e-12);  // the same sums in another order: rounding only (values O(1))
 }
 
+TEST_CASE("a T-spline built with zero control points and given them later has the bits of one built with them") {
+  // The zero-point build sums Σ w_i B_i alone; set_points then rebuilds every cell whole.
+  const TSpline reference = random_tspline(70, 3, 6, TSplineAcceleration::CellPolynomials);
+  TSpline later(reference.knots(), reference.weights(), Eigen::MatrixXd::Zero(reference.num_functions(), 3),
+                TSplineAcceleration::CellPolynomials);
+  const Eigen::Vector3d middle = 0.5 * (reference.domain_min() + reference.domain_max());
+  CHECK(later.evaluate(middle).norm() == 0.0);
+  CHECK(later.weight_sum(middle) == reference.weight_sum(middle));
+  later.set_points(reference.points());
+  const auto params = random_parameters(reference.domain_min(), reference.domain_max(), 200, 9);
+  for (const Eigen::Vector3d& p : params) {
+    double a[3], b[3], ja[9], jb[9];
+    later.evaluate_with_jacobian(p, TSplineForm::SemiStandard, a, ja);
+    reference.evaluate_with_jacobian(p, TSplineForm::SemiStandard, b, jb);
+    CHECK(std::memcmp(a, b, sizeof a) == 0);
+    CHECK(std::memcmp(ja, jb, sizeof ja) == 0);
+    CHECK(later.weight_sum(p) == reference.weight_sum(p));
+  }
+}
+
 TEST_CASE("batch evaluation equals single evaluation") {
   const TSpline spline = from_bspline_volume(random_volume(2, 4));
   const auto params = random_parameters(spline.domain_min(), spline.domain_max(), 40, 2);
