@@ -628,6 +628,21 @@ class Hierarchy {
   std::map<Key, std::vector<std::pair<int, double>>> children_;
 };
 
+}  // namespace
+
+namespace detail {
+// The Hierarchy with its own copy of the domain it refers to, shared between splines.
+struct GpcHierarchy {
+  GpcHierarchy(const GpcDomain& d, const KnotLines& base, const std::vector<GpcFaceJoin>& join, double tol,
+               LevelBasis level0)
+      : domain(d), levels(domain, base, join, tol, std::move(level0)) {}
+  const GpcDomain domain;
+  Hierarchy levels;
+};
+}  // namespace detail
+
+namespace {
+
 // One refinement step on the active functions (key → weight): the listed ones and the closure
 // replaced by their children. `from` (n×... old order) receives, per new function in key order,
 // the old functions it draws on with their factors (weights: Σ factors; points: Σ factor·p / w).
@@ -805,21 +820,43 @@ GpcSpline::GpcSpline(const polycube::GpcDomain& domain, const GpcSplineOptions& 
 
 void GpcSpline::build_hierarchy(detail::GpcLevelBasis level0, const std::vector<std::vector<int>>& steps,
                                 long max_functions, double tol) {
-  const int nc = num_cuboids();
-  Hierarchy h(domain_, lines_, interface_join_, tol, std::move(level0));
-  std::map<Hierarchy::Key, double> active;
-  for (int i = 0; i < h.level(0).count; ++i) active[{0, i}] = 1.0;
+  hierarchy_ = std::make_shared<detail::GpcHierarchy>(domain_, lines_, interface_join_, tol, std::move(level0));
+  Hierarchy& h = hierarchy_->levels;
+  active_.clear();
+  for (int i = 0; i < h.level(0).count; ++i) active_[{0, i}] = 1.0;
   splits_.clear();
   for (const std::vector<int>& step : steps) {
-    StepRecord record = refine_step(h, active, step, max_functions);
+    StepRecord record = refine_step(h, active_, step, max_functions);
     splits_.push_back(std::move(record.split));
     last_step_from_ = std::move(record.from);
   }
-  num_functions_ = static_cast<int>(active.size());
+  build_patches(tol);
+}
+
+GpcSpline::GpcSpline(const GpcSpline& from, const std::vector<int>& split)
+    : domain_(from.domain_),
+      dimension_(from.dimension_),
+      intervals_(from.intervals_),
+      lines_(from.lines_),
+      interface_join_(from.interface_join_),
+      splits_(from.splits_),
+      clamped_option_(from.clamped_option_),
+      hierarchy_(from.hierarchy_),
+      active_(from.active_) {
+  StepRecord record = refine_step(hierarchy_->levels, active_, split, 0);
+  splits_.push_back(std::move(record.split));
+  last_step_from_ = std::move(record.from);
+  build_patches(length_tolerance(domain_));
+}
+
+void GpcSpline::build_patches(double tol) {
+  const int nc = num_cuboids();
+  Hierarchy& h = hierarchy_->levels;
+  num_functions_ = static_cast<int>(active_.size());
   level_of_.clear();
   level_id_.clear();
   std::vector<double> weight;
-  for (const auto& [key, w] : active) {
+  for (const auto& [key, w] : active_) {
     level_of_.push_back(key.first);
     level_id_.push_back(key.second);
     weight.push_back(w);
@@ -873,13 +910,16 @@ int GpcSpline::max_level() const {
 }
 
 GpcSpline GpcSpline::refined(const std::vector<int>& split) const {
-  GpcSplineOptions o;
-  o.knot_lines = lines_;
-  o.clamped_interfaces = clamped_option_;
-  o.dimension = dimension_;
-  o.splits = splits_;
-  o.splits.push_back(split);
-  GpcSpline out(domain_, o);
+  auto build = [&] {
+    if (hierarchy_) return GpcSpline(*this, split);
+    GpcSplineOptions o;
+    o.knot_lines = lines_;
+    o.clamped_interfaces = clamped_option_;
+    o.dimension = dimension_;
+    o.splits = {split};
+    return GpcSpline(domain_, o);
+  };
+  GpcSpline out = build();
   // F unchanged: each new point is the weighted mean of the points it draws on (Eq. 4.9).
   Eigen::MatrixXd points(out.num_functions_, dimension_);
   for (int k = 0; k < out.num_functions_; ++k) {

@@ -2,6 +2,9 @@
 #pragma once
 
 #include <array>
+#include <map>
+#include <memory>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -14,6 +17,7 @@ namespace volspline::spline {
 
 namespace detail {
 struct GpcLevelBasis;
+struct GpcHierarchy;
 }
 
 /// How the spline meets one face of a cuboid.
@@ -133,7 +137,8 @@ class GpcSpline {
   /// children one level finer, and the closure (see the class comment); F and Σ w_i B_i are the
   /// same function before and after (the points are carried over exactly). Throws volspline::Error
   /// if an id is out of range, a function would go below kMaxLevel, or the finer level would
-  /// hold more than kMaxLevelFunctions functions.
+  /// hold more than kMaxLevelFunctions functions. The result shares this spline's cache of the
+  /// levels, so refined() is not thread-safe between splines refined from one another.
   GpcSpline refined(const std::vector<int>& split) const;
   /// The size bound that refined() checks against kMaxLevelFunctions for a level: the functions
   /// of all cuboids' knot lines with every interval cut into 2^level.
@@ -208,6 +213,10 @@ class GpcSpline {
   // Replays options.splits from the level-0 basis (a LevelBasis of the .cpp) and builds the patches.
   void build_hierarchy(detail::GpcLevelBasis level0, const std::vector<std::vector<int>>& steps, long max_functions,
                        double tol);
+  // refined(split) of a hierarchical spline: from's levels and active functions, one more step.
+  GpcSpline(const GpcSpline& from, const std::vector<int>& split);
+  // The functions, anchors and patches of the active functions (active_, hierarchy_).
+  void build_patches(double tol);
 
   polycube::GpcDomain domain_;
   int dimension_ = 3;
@@ -225,6 +234,11 @@ class GpcSpline {
   std::vector<int> clamped_option_;  // options.clamped_interfaces
   // Per function: the functions before the last split step it draws on, with their factors.
   std::vector<std::vector<std::pair<int, double>>> last_step_from_;
+  // Hierarchical splines: the levels and their refinement relation (a cache that only grows, the
+  // same for every spline refined from one base, so refined() shares it instead of replaying the
+  // split steps), and the active functions (level, id) → weight.
+  std::shared_ptr<detail::GpcHierarchy> hierarchy_;
+  std::map<std::pair<int, int>, double> active_;
 };
 
 /// Knot intervals for GpcSplineOptions::intervals: per class of axes glued together as tangent

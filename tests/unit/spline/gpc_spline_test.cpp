@@ -688,13 +688,30 @@ TEST_CASE("gpc spline: hierarchical splits keep F and a C² partition of unity a
         CHECK(j.d1 <= 1e-9);
         CHECK(j.d2 <= 1e-6);
       }
-    // The splits replay: the same functions from the options alone.
+    // The splits replay: the same functions from the options alone (refined() goes on from the
+    // levels of the spline it refines), and with the same points the same bits.
     GpcSplineOptions replay;
     replay.knot_lines = gpc_uniform_knot_lines(d, o.intervals);
     replay.splits = twice.splits();
-    const GpcSpline again_built(d, replay);
+    GpcSpline again_built(d, replay);
     REQUIRE(again_built.num_functions() == twice.num_functions());
-    for (int c = 0; c < twice.num_cuboids(); ++c) CHECK(again_built.patch(c).weights() == twice.patch(c).weights());
+    for (int c = 0; c < twice.num_cuboids(); ++c) {
+      CHECK(again_built.patch(c).weights() == twice.patch(c).weights());
+      CHECK(again_built.patch(c).knots() == twice.patch(c).knots());
+      CHECK(again_built.patch_function_ids(c) == twice.patch_function_ids(c));
+    }
+    for (int i = 0; i < twice.num_functions(); ++i) {
+      CHECK(again_built.anchor(i).cuboid == twice.anchor(i).cuboid);
+      CHECK(again_built.anchor(i).uvw == twice.anchor(i).uvw);
+      CHECK(again_built.function_level(i) == twice.function_level(i));
+    }
+    again_built.set_points(twice.points());
+    std::mt19937_64 bits_rng(seed++);
+    for (int k = 0; k < 200; ++k) {
+      const int c = static_cast<int>(bits_rng() % d.cuboids.size());
+      const Eigen::Vector3d uvw = random_uvw(d, c, bits_rng);
+      CHECK(again_built.evaluate(c, uvw) == twice.evaluate(c, uvw));
+    }
   }
 }
 
