@@ -4,7 +4,7 @@
 # implicit solid f < 0, written as a closed, consistently oriented OFF mesh. These shapes are not
 # among ../shared/data's meshes and check gpc / mesh2spline on layouts they were not tuned on.
 # usage: make_implicit_solid.py NAME CELLS OUT.off   (NAME: dtorus pretzel mug plate2 grid4
-#        ring_fin star suitcase trihole frame wheel ladder; CELLS: lattice cells per side, e.g. 64)
+#        ring_fin star suitcase trihole frame wheel ladder hand chair ball3 bottle twocup bent; CELLS: lattice cells per side, e.g. 64)
 import sys, math
 def mt(f, lo, hi, n, out):
     h = [(hi[d]-lo[d])/n for d in range(3)]
@@ -115,6 +115,32 @@ def ladder(x,y,z):
     for yy in (-1.1,-0.35,0.35,1.1):
         d=smin(d, capsule((x,y,z),(-0.6,yy,0),(0.6,yy,0),0.12),0.1)
     return d
+def hand(x,y,z):
+    d=box(x,y,z,0.5,0.12,0.45)-0.08
+    d=smin(d, capsule((x,y,z),(0,0,-0.4),(0,0,-1.3),0.22),0.15)
+    for fx,L in ((-0.36,0.75),(-0.12,0.9),(0.12,0.85),(0.36,0.7)):
+        d=smin(d, capsule((x,y,z),(fx,0,0.4),(fx,0,0.4+L),0.09),0.06)
+    return smin(d, capsule((x,y,z),(0.5,0,-0.1),(1.0,0,0.35),0.1),0.08)
+def chair(x,y,z):
+    d=box(x,y,z,0.6,0.6,0.06)-0.02
+    for sx in (-1,1):
+        for sy in (-1,1):
+            d=smin(d, capsule((x,y,z),(0.5*sx,0.5*sy,0),(0.5*sx,0.5*sy,-0.9),0.06),0.05)
+    return smin(d, box(x,y-0.56,z-0.6,0.6,0.05,0.6)-0.02, 0.05)
+def ball3(x,y,z):
+    d=math.sqrt(x*x+y*y+z*z)-0.9
+    for k in range(3):
+        c,s=math.cos(2*math.pi*k/3),math.sin(2*math.pi*k/3)
+        d=smin(d, torus(x*c+y*s-0.95, z, -x*s+y*c, 0.4, 0.1), 0.08)
+    return d
+def bottle(x,y,z):
+    body=math.sqrt(x*x+y*y)-0.6 if abs(z)<0.7 else math.sqrt(x*x+y*y+(abs(z)-0.7)**2)-0.6
+    return smin(body, capsule((x,y,z),(0,0,0.8),(0,0,1.8),0.15), 0.3)
+def twocup(x,y,z):
+    d=max(math.sqrt(x*x+y*y)-0.7, abs(z)-0.9)-0.05
+    return smin(smin(d, torus(x-0.8,z,y,0.45,0.12),0.12), torus(x+0.8,z,y,0.45,0.12),0.12)
+def bent(x,y,z):
+    th=math.atan2(y,x); return torus(x,y,z,1.0,0.1+0.3*(0.5+0.5*math.cos(th)))
 shapes = {
  # genus 2: two tori blended
  'dtorus': (lambda x,y,z: smin(torus(x+0.9,y,z,0.9,0.3), torus(x-0.9,y,z,0.9,0.3), 0.3), (-2.2,-1.3,-0.5),(2.2,1.3,0.5)),
@@ -140,6 +166,18 @@ shapes = {
  'wheel': (wheel, (-1.45,-1.45,-0.3),(1.45,1.45,0.3)),
  # genus 3: two rails joined by 4 rungs
  'ladder': (ladder, (-0.85,-1.75,-0.25),(0.85,1.75,0.25)),
+ # genus 0: a palm with 4 close fingers, a thumb and a wrist (a many-way junction of thin limbs)
+ 'hand': (hand, (-0.75,-0.35,-1.6),(1.2,0.35,1.45)),
+ # genus 0: a thin seat and back on 4 thin legs
+ 'chair': (chair, (-0.8,-0.8,-1.05),(0.8,0.8,1.3)),
+ # genus 3: a ball with 3 thin handles standing on it
+ 'ball3': (ball3, (-1.6,-1.6,-1.1),(1.6,1.6,1.1)),
+ # genus 0: a round body with a long thin neck
+ 'bottle': (bottle, (-0.8,-0.8,-1.45),(0.8,0.8,2.0)),
+ # genus 2: a cylinder with two handles
+ 'twocup': (twocup, (-1.5,-0.9,-1.1),(1.5,0.9,1.1)),
+ # genus 1: a ring whose thickness varies 4 times around it
+ 'bent': (bent, (-1.5,-1.5,-0.5),(1.5,1.5,0.5)),
 }
 if len(sys.argv) != 4 or sys.argv[1] not in shapes:
     sys.exit("usage: make_implicit_solid.py NAME CELLS OUT.off; NAME one of " + " ".join(sorted(shapes)))
