@@ -70,6 +70,8 @@ class CertificateRounds {
   bool stop(int round, int uncertified, const Eigen::MatrixXd& points, int max_rounds);
   int stalled() const { return stalled_; }  ///< rounds since the count last fell
   int final_uncertified() const { return best_; }
+  /// The points of the round with the fewest.
+  const Eigen::MatrixXd& best_points() const { return best_points_; }
   /// The points of the round with the fewest (moved out).
   Eigen::MatrixXd take_best_points() { return std::move(best_points_); }
 

@@ -137,3 +137,23 @@ TEST_CASE("untangle_gpc_certificate: without rounds the ring's reflex long edges
     CHECK((spline.evaluate(0, a) - spline.evaluate(0, b)).norm() <= 1e-12);
   }
 }
+
+TEST_CASE("untangle_gpc_certificate: cells left uncertified run the rounds a second time, the better attempt kept") {
+  // One round per attempt, whose data term all but pins the fit: the ring's fit has 8 folded
+  // cells, which that pass and the crease tilt cannot all certify, so a second attempt (passes
+  // moving the functions at its round's cells only) runs from the same start, and the kept
+  // spline's certificate is the result's.
+  const GpcSamples samples = ring_samples();
+  GpcSpline spline = fitted_ring(samples);
+  volspline::spline::SplineUntangleOptions options;
+  options.certificate_rounds = 1;
+  options.data_weight = 1e8;
+  const auto result = untangle_gpc_certificate(spline, samples, options);
+  const auto after = certify_gpc_jacobian(spline);
+  CHECK(result.initial_uncertified == 8);
+  CHECK(after.uncertified.size() == static_cast<std::size_t>(result.final_uncertified));
+  CHECK(result.final_uncertified < result.initial_uncertified);
+  CHECK(result.final_uncertified > 0);
+  // Two attempts of one pass each where cells stay uncertified.
+  if (result.final_uncertified > 0) CHECK(result.certificate_passes == 2);
+}
