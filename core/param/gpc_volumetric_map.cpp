@@ -63,8 +63,8 @@ constexpr int kBarrierSweeps = 10;
 // slide_and_raise's MinQualityOptions::min_edge: this times each node's shortest edge on entry.
 constexpr double kMinEdgeShrink = 0.05;
 // relax_worst_hexes: the band above the least value that seeds the region, the rings of hexes
-// grown around it (a pass that fails is tried once more up to kRelaxMaxRings wide), and the
-// passes at most (each kept only if it raises the least value).
+// grown around it (a pass that fails is tried once more up to kRelaxMaxRings wide, below
+// grid.wider_relax_below), and the passes at most (each kept only if it raises the least value).
 constexpr double kRelaxBand = 0.02;
 constexpr int kRelaxRings = 2;
 constexpr int kRelaxMaxRings = 3;
@@ -299,11 +299,13 @@ int slide_and_raise(const polycube::GpcConstruction& construction, const std::ve
   }
   pm.xyz = best;
   // A region too narrow holds the worst corner's neighbours where they are: where the relaxation
-  // fails, the next try grows one ring wider (and later passes keep that width).
+  // fails, the next try grows one ring wider (and later passes keep that width) while the mesh is
+  // below grid.wider_relax_below: above it the mesh meets the quality the job aims at, and the try
+  // costs a raise over the whole mesh.
   for (int pass = 0, rings = kRelaxRings; pass < kRelaxPasses;) {
     if (relax_worst_hexes(fixed, sliding, options, quality, rings, pm))
       ++pass;
-    else if (++rings > kRelaxMaxRings)
+    else if (++rings > kRelaxMaxRings || !(hex_mesh_quality(pm).min_scaled_jacobian < options.wider_relax_below))
       break;
   }
   // Folds left where crease nodes are held: a surface quad with three held nodes in a row (a

@@ -35,6 +35,10 @@ struct GpcGridOptions {
   /// except at creases: its hexes below this corner scaled Jacobian are worked on, in (−1, 1]
   double min_quality_target = 0.3;
   int min_quality_sweeps = 300;  ///< its sweeps at most (0: off, the padded mesh as improve_hex_mesh leaves it)
+  /// The last stage's worst-spot relaxation, where a pass is not kept, is tried once more one ring
+  /// of hexes wider while the least scaled Jacobian is below this (the try costs a raise over the
+  /// whole mesh), in [−1, 1]; −1: never.
+  double wider_relax_below = 0.2;
 };
 
 /// The grid of one cuboid: node (i, j, k) at row i + n0·(j + n1·k), parameter (i/(n0−1), …).

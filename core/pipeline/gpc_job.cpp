@@ -37,6 +37,8 @@ void check_options(const GpcOptions& o) {
     fail("grid.quality_iterations must be in [0, 100000]");
   if (!(o.grid.min_quality_target > -1.0 && o.grid.min_quality_target <= 1.0))
     fail("grid.min_quality_target must be in (-1, 1]");
+  if (!(o.grid.wider_relax_below >= -1.0 && o.grid.wider_relax_below <= 1.0))
+    fail("grid.wider_relax_below must be in [-1, 1]");
   if (o.grid.min_quality_sweeps < 0 || o.grid.min_quality_sweeps > 100000)
     fail("grid.min_quality_sweeps must be in [0, 100000]");
   if (!(o.taller_centres_below >= -1.0 && o.taller_centres_below <= 1.0)) fail("taller_centres_below must be in [-1, 1]");
