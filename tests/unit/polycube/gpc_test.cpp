@@ -810,6 +810,10 @@ TEST_CASE("gpc job: the retry with taller T-shape centres keeps the better hex m
   o.taller_centres_below = 1.5;
   CHECK_THROWS_WITH_AS(pipeline::run_gpc(make_t_solid(3), "T", o), doctest::Contains("taller_centres_below must be in [-1, 1]"),
                        Error);
+  o.taller_centres_below = 0.2;
+  o.grid.wider_relax_below = -1.5;
+  CHECK_THROWS_WITH_AS(pipeline::run_gpc(make_t_solid(3), "T", o), doctest::Contains("grid.wider_relax_below must be in [-1, 1]"),
+                       Error);
 }
 
 TEST_CASE("gpc job: the eight's handles close without a twist") {
