@@ -182,10 +182,11 @@ int untangle_either_reference(HexMesh& pm, const std::vector<char>& fixed, const
 // over the whole mesh; kept if it rose without a fold. The greedy raise moves one node at a time and
 // stops where the worst corner needs several nodes to move together (a T-shape's junction, a
 // thin strip of a surface face); the barrier energy moves the whole neighbourhood at once.
-// Returns true if kept.
+// Returns true if kept; *least: pm's least scaled Jacobian on return.
 bool relax_worst_hexes(const std::vector<char>& fixed, const SlidingNodes& sliding, const GpcGridOptions& options,
-                       const MinQualityOptions& quality, int rings, HexMesh& pm) {
+                       const MinQualityOptions& quality, int rings, HexMesh& pm, double* least) {
   const HexMeshQuality start = hex_mesh_quality(pm);
+  *least = start.min_scaled_jacobian;
   // Hexes just below the target are where the raise stops by design, not a spot to relax.
   const double seed_bound = std::min(start.min_scaled_jacobian + kRelaxBand, options.min_quality_target - kRelaxBand);
   if (start.num_inverted > 0 || !(start.min_scaled_jacobian < seed_bound)) return false;
@@ -200,7 +201,10 @@ bool relax_worst_hexes(const std::vector<char>& fixed, const SlidingNodes& slidi
   improve_hex_mesh(local, held, pm.xyz, options.quality_iterations, 0.5, &sliding);
   raise_min_scaled_jacobian(pm.hexes, fixed, pm.xyz, quality, &sliding);
   const HexMeshQuality after = hex_mesh_quality(pm);
-  if (after.num_inverted == 0 && after.min_scaled_jacobian > start.min_scaled_jacobian) return true;
+  if (after.num_inverted == 0 && after.min_scaled_jacobian > start.min_scaled_jacobian) {
+    *least = after.min_scaled_jacobian;
+    return true;
+  }
   pm.xyz = before;
   return false;
 }
@@ -303,9 +307,10 @@ int slide_and_raise(const polycube::GpcConstruction& construction, const std::ve
   // below grid.wider_relax_below: above it the mesh meets the quality the job aims at, and the try
   // costs a raise over the whole mesh.
   for (int pass = 0, rings = kRelaxRings; pass < kRelaxPasses;) {
-    if (relax_worst_hexes(fixed, sliding, options, quality, rings, pm))
+    double least = 0.0;
+    if (relax_worst_hexes(fixed, sliding, options, quality, rings, pm, &least))
       ++pass;
-    else if (++rings > kRelaxMaxRings || !(hex_mesh_quality(pm).min_scaled_jacobian < options.wider_relax_below))
+    else if (++rings > kRelaxMaxRings || !(least < options.wider_relax_below))
       break;
   }
   // Folds left where crease nodes are held: a surface quad with three held nodes in a row (a

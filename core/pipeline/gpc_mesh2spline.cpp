@@ -303,9 +303,8 @@ int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& sample
     // over 200,000 lattice points unfolds 42 → 35 there).
     uo.polish_min_unfolded = 0.5;
     // The polish lattice no finer than the measured one (measure_lattice's 64³ cell centres per
-    // cuboid): on a finer one a pass's coarse free functions span hundreds of thousands of nodes
-    // (kitten: 84³, 200,000 nodes for 70 functions), and the certificate rounds below hold the
-    // folds between its points anyway.
+    // cuboid): on a finer one a pass's few coarse free functions span hundreds of thousands of
+    // nodes, and the certificate rounds below hold the folds between its points anyway.
     uo.polish_max_per_axis = 64;
     const auto& size = spline.domain().cuboids[c].size;
     const double longest = *std::max_element(size.begin(), size.end());

@@ -527,8 +527,9 @@ SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSample
   // the cells uncertified in its round only. A pass over every point held so far moves most of
   // the spline and re-folds cells that earlier rounds certified between its guard points, so the
   // rounds trade cells back and forth around a cell that needs many of them; local passes do
-  // not, but converge slower where hundreds of cells fold and move the surface more. The attempt whose certificate is better (fewer uncertified
-  // cells, then the higher det_j_lower_bound_rel) is kept.
+  // not, but converge slower where hundreds of cells fold and move the surface more. The attempt
+  // whose certificate is better (fewer uncertified cells, then the higher det_j_lower_bound_rel)
+  // is kept.
   const double first_bound = certify_gpc_jacobian(spline, gpc_certificate_options(), &certificates).det_j_lower_bound_rel;
   const Eigen::MatrixXd first = spline.points();
   spline.set_points(start);
