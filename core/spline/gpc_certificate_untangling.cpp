@@ -37,10 +37,83 @@ struct PointJacobian {
   std::vector<Eigen::Vector3d> g;
 };
 
+// A guard point of a pass (GpcCertificatePass::add_guard_points) and the number of active cells
+// whose 3×3×3 grid has it.
+struct GuardPoint {
+  int cuboid;
+  Eigen::Vector3d p;
+  int weight;
+};
+
+// PointJacobian's rest, columns and g at a sequence of points, in the order they were asked for.
+class PointJacobianStore {
+ public:
+  std::size_t size() const { return rest_.size(); }
+  void clear() {
+    rest_.clear();
+    start_.assign(1, 0);
+    columns_.clear();
+    g_.clear();
+  }
+  // Point q's parts into out's rest, columns and g.
+  void get(std::size_t q, PointJacobian& out) const {
+    out.rest = rest_[q];
+    out.columns.assign(columns_.begin() + start_[q], columns_.begin() + start_[q + 1]);
+    out.g.assign(g_.begin() + start_[q], g_.begin() + start_[q + 1]);
+  }
+  void append(const PointJacobian& j) {
+    rest_.push_back(j.rest);
+    columns_.insert(columns_.end(), j.columns.begin(), j.columns.end());
+    g_.insert(g_.end(), j.g.begin(), j.g.end());
+    start_.push_back(static_cast<int>(columns_.size()));
+  }
+
+ private:
+  std::vector<Eigen::Matrix3d> rest_;
+  std::vector<int> start_{0}, columns_;
+  std::vector<Eigen::Vector3d> g_;
+};
+
+// What a pass computes from the free functions and the other functions' control points alone,
+// kept from pass to pass: the guard points, and the fixed functions' part of J (PointJacobian's
+// rest, columns and g) at the barrier nodes and the guard points. The next round's pass often
+// has the same free functions, and only they moved in between; its active cells, and so its
+// nodes and guard points, are then the same, in the same order. Valid while the free functions
+// are the same and the other control points are as they were when it was filled.
+class PassCache {
+ public:
+  // Empties the cache unless free_ids are the ones it was filled for and every other function's
+  // control point is unchanged.
+  void prepare(const std::vector<int>& free_ids, const Eigen::MatrixXd& points) {
+    bool valid = free_ids == free_ids_ && points.rows() == points_.rows() && points.cols() == points_.cols();
+    if (valid) {
+      std::vector<char> is_free(static_cast<std::size_t>(points.rows()), 0);
+      for (int f : free_ids) is_free[f] = 1;
+      for (Eigen::Index f = 0; f < points.rows() && valid; ++f) valid = is_free[f] || points.row(f) == points_.row(f);
+    }
+    if (valid) return;
+    free_ids_ = free_ids;
+    points_ = points;
+    guards_known = false;
+    guards.clear();
+    nodes.clear();
+    guard_parts.clear();
+  }
+
+  bool guards_known = false;
+  std::vector<GuardPoint> guards;  // add_guard_points' points, if guards_known
+  PointJacobianStore nodes, guard_parts;  // per barrier node, per guard point (a prefix of them)
+
+ private:
+  std::vector<int> free_ids_;
+  Eigen::MatrixXd points_;
+};
+
 class GpcCertificatePass {
  public:
-  GpcCertificatePass(GpcSpline& spline, const GpcSamples& samples, const SplineUntangleOptions& options)
-      : spline_(spline), samples_(samples), options_(options), merges_(spline.num_cuboids()) {}
+  GpcCertificatePass(GpcSpline& spline, const GpcSamples& samples, const SplineUntangleOptions& options,
+                     PassCache& cache)
+      : spline_(spline), samples_(samples), options_(options), merges_(spline.num_cuboids()), cache_(cache) {}
 
   // One pass over the held points (per cuboid, in cuboid coordinates), moving the functions at
   // the points `seeds` (held itself, or a part of it); returns the result's free_functions and
@@ -53,6 +126,7 @@ class GpcCertificatePass {
     result.free_functions = static_cast<int>(free_ids_.size());
     if (free_ids_.empty()) return result;
     const Eigen::MatrixXd& points = spline_.points();
+    cache_.prepare(free_ids_, points);
     Eigen::VectorXd x(3 * free_ids_.size());
     for (std::size_t c = 0; c < free_ids_.size(); ++c) x.segment<3>(3 * c) = points.row(free_ids_[c]).transpose();
     points_xyz_.resize(3 * static_cast<std::size_t>(points.rows()));
@@ -150,9 +224,19 @@ class GpcCertificatePass {
   // J at (cuboid, uvw) with the free functions' part apart (x: their current points), into a
   // buffer reused from call to call (valid until the next call). The fixed functions' points are
   // read from points_xyz_ (three adjacent values per function).
-  const PointJacobian& jacobian_at(int cuboid, const Eigen::Vector3d& uvw, const Eigen::VectorXd& x) {
-    global_basis(cuboid, uvw, Basis::Gradient, gradient_.data());
+  // store (or null): the parts of the points asked for so far with it, in order, this one at
+  // `index` if the store has it, appended if it has the points before it only.
+  const PointJacobian& jacobian_at(int cuboid, const Eigen::Vector3d& uvw, const Eigen::VectorXd& x,
+                                   PointJacobianStore* store = nullptr, std::size_t index = 0) {
     PointJacobian& out = point_;
+    if (store && index < store->size()) {
+      store->get(index, out);
+      out.full = out.rest;
+      for (std::size_t e = 0; e < out.columns.size(); ++e)
+        out.full += x.segment<3>(3 * out.columns[e]) * out.g[e].transpose();
+      return out;
+    }
+    global_basis(cuboid, uvw, Basis::Gradient, gradient_.data());
     out.columns.clear();
     out.g.clear();
     // rest(r, a) += p(r)·g(a) per fixed function, in id order (the bits of rest += p·gᵀ).
@@ -170,6 +254,7 @@ class GpcCertificatePass {
       }
     }
     out.rest = Eigen::Map<const Eigen::Matrix3d>(rest);
+    if (store && index == store->size()) store->append(out);
     out.full = out.rest;
     for (std::size_t e = 0; e < out.columns.size(); ++e) out.full += x.segment<3>(3 * out.columns[e]) * out.g[e].transpose();
     return out;
@@ -259,7 +344,7 @@ class GpcCertificatePass {
           const Eigen::Vector3d s((n % kNodesPerCell + 0.5) / kNodesPerCell,
                                   (n / kNodesPerCell % kNodesPerCell + 0.5) / kNodesPerCell,
                                   (n / (kNodesPerCell * kNodesPerCell) + 0.5) / kNodesPerCell);
-          const PointJacobian& j = jacobian_at(cuboid, lo + s.cwiseProduct(width), x);
+          const PointJacobian& j = jacobian_at(cuboid, lo + s.cwiseProduct(width), x, &cache_.nodes, full.size());
           full.push_back(j.full);
           columns.insert(columns.end(), j.columns.begin(), j.columns.end());
           g.insert(g.end(), j.g.begin(), j.g.end());
@@ -309,6 +394,28 @@ class GpcCertificatePass {
   // the cells around it between the barrier's nodes (a cuboid edge, where det J → 0). A grid
   // point shared by k active cells is one hinge of weight k (the same energy, evaluated once).
   void add_guard_points(const Eigen::VectorXd& x, Region& region) {
+    if (!cache_.guards_known) {
+      cache_.guards = guard_points();
+      cache_.guards_known = true;
+    }
+    for (std::size_t q = 0; q < cache_.guards.size(); ++q) {
+      const GuardPoint& guard = cache_.guards[q];
+      const PointJacobian& j = jacobian_at(guard.cuboid, guard.p, x, &cache_.guard_parts, q);
+      if (j.columns.empty()) continue;
+      const double scale = std::max(j.full.col(0).norm() * j.full.col(1).norm() * j.full.col(2).norm(), 1e-300);
+      region.point_scale.push_back(scale);
+      region.point_fixed.push_back(j.rest);
+      region.point_target.push_back(std::min(options_.min_scaled_jacobian, j.full.determinant() / scale));
+      region.point_weight.push_back(guard.weight);
+      region.point_columns.insert(region.point_columns.end(), j.columns.begin(), j.columns.end());
+      region.point_g.insert(region.point_g.end(), j.g.begin(), j.g.end());
+      region.point_start.push_back(static_cast<int>(region.point_columns.size()));
+    }
+  }
+
+  // add_guard_points' points, each once, in the order of their first appearance over the active
+  // cells' grids.
+  std::vector<GuardPoint> guard_points() const {
     struct Guard {
       int cuboid;
       Eigen::Vector3d p;
@@ -351,19 +458,13 @@ class GpcCertificatePass {
     std::vector<int> order(unique.size());
     std::iota(order.begin(), order.end(), 0);
     std::sort(order.begin(), order.end(), [&](int a, int b) { return unique[a].first < unique[b].first; });
+    std::vector<GuardPoint> out;
+    out.reserve(order.size());
     for (int u : order) {
       const Guard& guard = guards[unique[u].second];
-      const PointJacobian& j = jacobian_at(guard.cuboid, guard.p, x);
-      if (j.columns.empty()) continue;
-      const double scale = std::max(j.full.col(0).norm() * j.full.col(1).norm() * j.full.col(2).norm(), 1e-300);
-      region.point_scale.push_back(scale);
-      region.point_fixed.push_back(j.rest);
-      region.point_target.push_back(std::min(options_.min_scaled_jacobian, j.full.determinant() / scale));
-      region.point_weight.push_back(count[u]);
-      region.point_columns.insert(region.point_columns.end(), j.columns.begin(), j.columns.end());
-      region.point_g.insert(region.point_g.end(), j.g.begin(), j.g.end());
-      region.point_start.push_back(static_cast<int>(region.point_columns.size()));
+      out.push_back({guard.cuboid, guard.p, count[u]});
     }
+    return out;
   }
 
   // The samples in active cells, over the free functions.
@@ -405,6 +506,7 @@ class GpcCertificatePass {
   std::vector<std::vector<CellMerge>> merges_;  // per cuboid, per patch cell (filled on first use)
   std::vector<double> points_xyz_;  // the control points at the pass's start, x, y, z per function
   PointJacobian point_;             // jacobian_at's result
+  PassCache& cache_;
   double held_weight_ = 1.0;        // factor on the held points' hinge
 };
 
@@ -459,7 +561,7 @@ enum class FreeFunctions {
 // the best one's points (the points of the cells it folded stay held).
 SplineUntangleResult certificate_rounds(GpcSpline& spline, const GpcSamples& samples, const SplineUntangleOptions& options,
                                         const Progress& progress, JacobianCertificateCache& certificates,
-                                        FreeFunctions free) {
+                                        PassCache& jacobians, FreeFunctions free) {
   SplineUntangleResult total;
   const int nc = spline.num_cuboids();
   std::vector<std::vector<Eigen::Vector3d>> held(static_cast<std::size_t>(nc));
@@ -501,7 +603,7 @@ SplineUntangleResult certificate_rounds(GpcSpline& spline, const GpcSamples& sam
     }
     for (int c = 0; c < nc; ++c) detail::merge_points(held[c], std::move(more[c]));
     const double held_weight = std::pow(kStallWeight, rounds.stalled());
-    const SplineUntangleResult r = GpcCertificatePass(spline, samples, options)
+    const SplineUntangleResult r = GpcCertificatePass(spline, samples, options, jacobians)
                                        .run(held, free == FreeFunctions::CurrentCells ? current : held, held_weight);
     ++total.certificate_passes;
     total.free_functions += r.free_functions;
@@ -521,7 +623,9 @@ SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSample
   JacobianCertificateCache own_cache;
   JacobianCertificateCache& certificates = cache ? *cache : own_cache;
   const Eigen::MatrixXd start = spline.points();
-  SplineUntangleResult total = certificate_rounds(spline, samples, options, progress, certificates, FreeFunctions::AllHeld);
+  PassCache jacobians;
+  SplineUntangleResult total =
+      certificate_rounds(spline, samples, options, progress, certificates, jacobians, FreeFunctions::AllHeld);
   if (total.final_uncertified == 0 || options.certificate_rounds == 0) return total;
   // Cells left uncertified: the rounds again from the start, each pass moving the functions at
   // the cells uncertified in its round only. A pass over every point held so far moves most of
@@ -534,7 +638,7 @@ SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSample
   const Eigen::MatrixXd first = spline.points();
   spline.set_points(start);
   SplineUntangleResult second =
-      certificate_rounds(spline, samples, options, progress, certificates, FreeFunctions::CurrentCells);
+      certificate_rounds(spline, samples, options, progress, certificates, jacobians, FreeFunctions::CurrentCells);
   const double second_bound = certify_gpc_jacobian(spline, gpc_certificate_options(), &certificates).det_j_lower_bound_rel;
   const bool keep_second = second.final_uncertified < total.final_uncertified ||
                            (second.final_uncertified == total.final_uncertified && second_bound > first_bound);
