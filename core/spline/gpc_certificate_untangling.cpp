@@ -75,8 +75,8 @@ class PointJacobianStore {
 };
 
 // What a pass computes from the free functions and the other functions' control points alone,
-// kept from pass to pass: the guard points, and the fixed functions' part of J (PointJacobian's
-// rest, columns and g) at the barrier nodes and the guard points. The next round's pass often
+// kept from pass to pass: the guard points, the fixed functions' part of J (PointJacobian's
+// rest, columns and g) at the barrier nodes and the guard points, and the sample terms. The next round's pass often
 // has the same free functions, and only they moved in between; its active cells, and so its
 // nodes and guard points, are then the same, in the same order. Valid while the free functions
 // are the same and the other control points are as they were when it was filled.
@@ -98,10 +98,14 @@ class PassCache {
     guards.clear();
     nodes.clear();
     guard_parts.clear();
+    samples_known = false;
+    samples = detail::SampleTerms();
   }
 
   bool guards_known = false;
   std::vector<GuardPoint> guards;  // add_guard_points' points, if guards_known
+  bool samples_known = false;
+  detail::SampleTerms samples;  // make_samples' terms, if samples_known
   PointJacobianStore nodes, guard_parts;  // per barrier node, per guard point (a prefix of them)
 
  private:
@@ -138,7 +142,11 @@ class GpcCertificatePass {
     add_nodes(x, region, step);
     add_held_points(held, x, region);
     add_guard_points(x, region);
-    const SampleTerms samples = make_samples();
+    if (!cache_.samples_known) {
+      cache_.samples = make_samples();
+      cache_.samples_known = true;
+    }
+    const SampleTerms& samples = cache_.samples;
     detail::RegionEnergyOptions energy_options = detail::region_energy_options(options_, step, 1.0);
     // The folded points are hinge terms, not barrier nodes, so the barrier nodes' being unfolded
     // says nothing about them: the ε continuation runs until the energy settles (a pass stopped
