@@ -578,10 +578,34 @@ HexGridUntangleReport untangle_hex_mesh(const std::vector<std::array<int, 8>>& h
       for (int v : hexes[q]) seeding[q] = seeding[q] || zone[v];
     }
   }
+  // Per corner (corners[8h + c] is corner c of hex h): folded, movable and of a seeding hex, as
+  // at the last count. A count recomputes only the corners of hexes with a node that moved since
+  // (the free region is a small part of the mesh).
+  std::vector<char> folded(corners.size(), 0);
+  mesh::Positions counted;  // xyz at the last count (empty before the first)
+  std::vector<int> hex_stamp(hexes.size(), -1);
+  int stamp = 0;
+  auto refresh = [&](std::size_t c) {
+    folded[c] = seeding[corners[c].hex] && movable(corners[c]) && !(corner_edges(corners[c], xyz).determinant() > 0.0);
+  };
   auto count_inverted = [&](std::vector<char>* seeds) {
+    if (counted.rows() != xyz.rows()) {
+      for (std::size_t c = 0; c < corners.size(); ++c) refresh(c);
+    } else {
+      ++stamp;
+      for (int v = 0; v < total; ++v) {
+        if (xyz(v, 0) == counted(v, 0) && xyz(v, 1) == counted(v, 1) && xyz(v, 2) == counted(v, 2)) continue;
+        for (int q : node_hexes[v]) {
+          if (hex_stamp[q] == stamp) continue;
+          hex_stamp[q] = stamp;
+          for (int c = 0; c < 8; ++c) refresh(8 * static_cast<std::size_t>(q) + c);
+        }
+      }
+    }
+    counted = xyz;
     int count = 0;
     for (std::size_t c = 0; c < corners.size(); ++c) {
-      if (!seeding[corners[c].hex] || !movable(corners[c]) || corner_edges(corners[c], xyz).determinant() > 0.0) continue;
+      if (!folded[c]) continue;
       ++count;
       if (seeds)
         for (int v : hexes[corners[c].hex]) (*seeds)[v] = 1;
