@@ -461,10 +461,43 @@ HexGridUntangleReport untangle_hex_grid(const std::array<int, 3>& n, const std::
   double mean_det = 0.0;
   for (const Corner& c : corners) mean_det += corner_edges(c, xyz).determinant() / corners.size();
   const double h = std::cbrt(std::max(mean_det, 1e-300));
+  // Per corner (corners[8h + c] is corner c of hex h): folded and movable, as at the last count.
+  // A count recomputes only the corners of hexes with a node that moved since.
+  std::vector<char> folded(corners.size(), 0);
+  mesh::Positions counted;  // xyz at the last count (empty before the first)
+  auto refresh_hex = [&](int hex) {
+    for (int c = 0; c < 8; ++c) {
+      const Corner& corner = corners[8 * static_cast<std::size_t>(hex) + c];
+      folded[8 * static_cast<std::size_t>(hex) + c] =
+          movable(corner) && !(corner_edges(corner, xyz).determinant() > 0.0);
+    }
+  };
+  std::vector<int> hex_stamp(hex_nodes.size(), -1);
+  int stamp = 0;
   auto count_inverted = [&](std::vector<char>* seeds) {
+    if (counted.rows() != xyz.rows()) {
+      for (std::size_t h = 0; h < hex_nodes.size(); ++h) refresh_hex(static_cast<int>(h));
+    } else {
+      ++stamp;
+      for (int k = 0; k < n[2]; ++k)
+        for (int j = 0; j < n[1]; ++j)
+          for (int i = 0; i < n[0]; ++i) {
+            const int v = node_id(n, i, j, k);
+            if (xyz(v, 0) == counted(v, 0) && xyz(v, 1) == counted(v, 1) && xyz(v, 2) == counted(v, 2)) continue;
+            for (int hk = std::max(0, k - 1); hk <= std::min(n[2] - 2, k); ++hk)
+              for (int hj = std::max(0, j - 1); hj <= std::min(n[1] - 2, j); ++hj)
+                for (int hi = std::max(0, i - 1); hi <= std::min(n[0] - 2, i); ++hi) {
+                  const int hex = hi + (n[0] - 1) * (hj + (n[1] - 1) * hk);
+                  if (hex_stamp[hex] == stamp) continue;
+                  hex_stamp[hex] = stamp;
+                  refresh_hex(hex);
+                }
+          }
+    }
+    counted = xyz;
     int count = 0;
     for (std::size_t c = 0; c < corners.size(); ++c) {
-      if (!movable(corners[c]) || corner_edges(corners[c], xyz).determinant() > 0.0) continue;
+      if (!folded[c]) continue;
       ++count;
       if (!seeds) continue;
       // All 8 nodes of the corner's hex seed the free region.
