@@ -23,6 +23,7 @@ int run_gpc(const std::vector<std::string>& argv) {
       {"corners", "FILE", "8 corner vertex ids of a genus-0 solid's cuboid (cube corner c at (c&1, c>>1&1, c>>2&1))"},
       {"grid-nodes", "N", "about N volumetric grid nodes over all cuboids (default 24000)"},
       {"area-balance", "N", "stretch-reweighting rounds of every cuboid's surface map (default 4, 0 = the plain Tutte/Floater map)"},
+      {"squeezed-below", "D", "widen every cuboid's surface map where a vertex's linear parameter density is below D (default 0 = off; mesh2spline: 0.1)"},
       {"no-untangle", "", "keep the harmonic grid's folds (the thesis's plain Eq. 3.1 map)"},
       {"no-padding", "", "the hex mesh without the padding layer under the surface (the cuboid grids alone)"},
       {"quality-sweeps", "N", "sweeps of the last stage, which raises the hex mesh's least scaled Jacobian with every surface node sliding on the surface (default 300; 0 = off)"},
@@ -47,6 +48,7 @@ int run_gpc(const std::vector<std::string>& argv) {
   options.threads = args.get_int("threads", options.threads);
   options.grid.target_nodes = args.get_int("grid-nodes", options.grid.target_nodes);
   options.grid.area_balance_iterations = args.get_int("area-balance", options.grid.area_balance_iterations);
+  options.grid.squeezed_below = args.get_double("squeezed-below", options.grid.squeezed_below);
   if (args.has("no-untangle")) options.grid.untangle = param::GpcGridOptions::Untangle::Off;
   if (args.has("no-padding")) options.grid.padding = param::GpcGridOptions::Padding::Off;
   options.grid.min_quality_sweeps = args.get_int("quality-sweeps", options.grid.min_quality_sweeps);

@@ -75,6 +75,7 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
   options.measure_samples = m.measure_samples;
   options.seed = m.seed;
   options.gpc.grid.area_balance_iterations = m.area_balance_iterations;
+  options.squeezed_below = m.squeezed_below;
   if (args.has("no-padding")) options.gpc.grid.padding = param::GpcGridOptions::Padding::Off;
   if (args.has("adaptive-knots")) options.refinement = pipeline::GpcMesh2SplineOptions::Refinement::Adaptive;
   if (args.has("hierarchical")) options.refinement = pipeline::GpcMesh2SplineOptions::Refinement::Hierarchical;
@@ -186,6 +187,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
       {"corners", "FILE", "8 corner vertex ids (cube corner c at (c&1, c>>1&1, c>>2&1)); default automatic"},
       {"weights", "meanvalue|cotan", "surface map weights (default meanvalue)"},
       {"area-balance", "N", "stretch-reweighting rounds of the surface map, 0 = plain Floater map (default 4)"},
+      {"squeezed-below", "D", "widen the surface map where a vertex's linear parameter density is below D (thin tips: ears, tails, claws), 0 = off (default 0.1)"},
       {"repair-jacobian", "Q", "move interior control points until the scaled Jacobian is >= Q (0 = off, default; slow)"},
       {"initial-cells", "N", "spline cells along the longest cuboid axis at level 0 (default 4)"},
       {"compare-uniform", "", "also fit uniform B-splines to the same rms_rel (stats: uniform_control_points)"},
@@ -219,6 +221,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
   options.max_rms_rel = args.get_double("max-rms", options.max_rms_rel);
   options.max_surface_error_rel = args.get_double("max-surface-error", options.max_surface_error_rel);
   options.area_balance_iterations = args.get_int("area-balance", options.area_balance_iterations);
+  options.squeezed_below = args.get_double("squeezed-below", options.squeezed_below);
   options.min_scaled_jacobian = args.get_double("repair-jacobian", options.min_scaled_jacobian);
   options.max_control_points = args.get_int("max-control-points", options.max_control_points);
   options.max_levels = args.get_int("max-levels", options.max_levels);

@@ -22,6 +22,7 @@ const FieldFlag kFieldFlags[] = {
     {"max_levels", "--max-levels"},
     {"initial_cells", "--initial-cells"},
     {"area_balance_iterations", "--area-balance"},
+    {"squeezed_below", "--squeezed-below"},
     {"min_scaled_jacobian", "--repair-jacobian"},
     {"threads", "--threads"},
     {"corners", "--corners"},

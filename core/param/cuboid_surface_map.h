@@ -34,6 +34,13 @@ struct CuboidSurfaceMapOptions {
   /// Stretch-reweighting rounds that give squeezed parts more parameter area (0 = the plain
   /// Tutte/Floater map), in [0, 20]; every round is still a convex-combination map.
   int area_balance_iterations = 0;
+  /// Squeeze rescue after those rounds: while some vertex inside a rectangle has a linear
+  /// parameter density √(parameter share / surface share of its cube face) below squeezed_below,
+  /// rounds that only widen squeezed parts, up to squeezed_rounds; in [0, 1), 0 = off. Thin tips
+  /// (ears, tails, claws) left crowded into a spot no spline cell resolves get room; a map
+  /// above the bound is unchanged.
+  double squeezed_below = 0.0;
+  int squeezed_rounds = 20;  ///< in [0, 40]
   SurfaceSolver solver = SurfaceSolver::Multigrid;
 };
 
@@ -43,6 +50,10 @@ struct CuboidSurfaceMap {
   std::vector<int> face_region;  ///< per mesh face, cube face id 0..5 (see polycube)
   int num_flipped = 0;  ///< triangles with non-positive oriented area in their cube face
   int cg_iterations = 0;  ///< largest CG iteration count over the 6 faces
+  int squeeze_rounds = 0;  ///< squeeze rescue rounds run (CuboidSurfaceMapOptions::squeezed_below)
+  /// Least linear parameter density of a vertex inside a rectangle (see squeezed_below) in the
+  /// final map; +inf without such vertices.
+  double least_density = 0.0;
 };
 
 /// The cube-face coordinates of the surface map (polycube/cube_faces.h).

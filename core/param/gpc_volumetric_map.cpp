@@ -511,6 +511,7 @@ GpcVolumetricMap compute_gpc_volumetric_map(polycube::GpcConstruction& construct
     const mesh::HalfedgeMesh& hm = *built;
     CuboidSurfaceMapOptions map_options;
     map_options.area_balance_iterations = options.area_balance_iterations;
+    map_options.squeezed_below = options.squeezed_below;
     try {
       out.surface_maps.push_back(compute_cuboid_surface_map(hm, s.layout, map_options));
     } catch (const Error& e) {

@@ -19,6 +19,10 @@ struct GpcGridOptions {
   int max_nodes = 96;        ///< per axis, ≥ min_nodes
   double tolerance = 1e-9;   ///< relative CG residual of the Laplacian solve (unitless)
   int area_balance_iterations = 4;  ///< of every cuboid's surface map (see CuboidSurfaceMapOptions)
+  /// Squeeze rescue of every cuboid's surface map (CuboidSurfaceMapOptions::squeezed_below), in
+  /// [0, 1); off here: the hex mesh's own quality stages are tuned on the balanced maps, and
+  /// mesh2spline turns it on (GpcMesh2SplineOptions::squeezed_below).
+  double squeezed_below = 0.0;
   enum class Untangle { Off, On } untangle = Untangle::On;  ///< remove hex folds (untangle_hex_grid)
   /// The output hex mesh: the cuboid grids as they are, or with a padding layer under the
   /// surface (pad_hex_mesh), untangled again with only the surface held.

@@ -32,6 +32,7 @@ void check_options(const GpcOptions& o) {
   if (!(o.grid.tolerance > 0.0 && o.grid.tolerance < 1.0)) fail("grid.tolerance must be in (0, 1)");
   if (o.grid.area_balance_iterations < 0 || o.grid.area_balance_iterations > 20)
     fail("grid.area_balance_iterations must be in [0, 20]");
+  if (!(o.grid.squeezed_below >= 0.0 && o.grid.squeezed_below < 1.0)) fail("grid.squeezed_below must be in [0, 1)");
   if (!(o.grid.padding_depth > 0.0 && o.grid.padding_depth < 1.0)) fail("grid.padding_depth must be in (0, 1)");
   if (o.grid.quality_iterations < 0 || o.grid.quality_iterations > 100000)
     fail("grid.quality_iterations must be in [0, 100000]");

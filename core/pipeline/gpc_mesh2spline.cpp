@@ -38,6 +38,7 @@ void check_options(const GpcMesh2SplineOptions& o) {
   if (o.hierarchy_depth < 1 || o.hierarchy_depth > spline::GpcSpline::kMaxLevel)
     fail("`hierarchy_depth` must be in [1, " + std::to_string(spline::GpcSpline::kMaxLevel) + "]");
   if (!(o.fit_damping >= 0.0 && o.fit_damping <= 1.0)) fail("`fit_damping` must be in [0, 1]");
+  if (!(o.squeezed_below >= 0.0 && o.squeezed_below < 1.0)) fail("`squeezed_below` must be in [0, 1)");
 }
 
 // Fitting samples in the unit-box frame: every (cuboid, node) of the volumetric map's hex mesh
@@ -371,6 +372,8 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
   gpc_options.grid.min_quality_sweeps = 0;
   gpc_options.grid.padded_reference = param::GpcGridOptions::PaddedReference::MeanCell;
   gpc_options.taller_centres_below = -1.0;
+  // A tip crowded into a spot of its cuboid face needs cells finer than the hierarchy reaches.
+  gpc_options.grid.squeezed_below = options.squeezed_below;
   const GpcResult gpc = run_gpc(mesh, name, gpc_options, gpc_progress);
   timer.end_stage("gpc");
   const polycube::GpcDomain& domain = gpc.construction.domain;

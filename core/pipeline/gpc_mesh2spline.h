@@ -55,6 +55,9 @@ struct GpcMesh2SplineOptions {
   /// vertices' parameters (the surface map is linear on a triangle of one cuboid face).
   enum class SurfaceSamples { Vertices, VerticesAndCentroids } surface_samples = SurfaceSamples::Vertices;
   GpcOptions gpc;                 ///< the domain and its volumetric map (run_gpc)
+  /// The squeeze rescue of the cuboids' surface maps (param::CuboidSurfaceMapOptions::
+  /// squeezed_below), in [0, 1), 0 = off; replaces gpc.grid.squeezed_below.
+  double squeezed_below = 0.1;
   /// Unfold the fitted spline with the control points inside each cuboid (spline::untangle_spline
   /// on its patch, restricted to its box); faces, surface and glued faces stay as they are.
   enum class Untangle { Off, On } untangle = Untangle::On;

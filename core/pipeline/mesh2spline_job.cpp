@@ -52,6 +52,7 @@ void check_options(const Mesh2SplineOptions& o) {
   if (o.max_levels < 0 || o.max_levels > 10) fail("`max_levels` must be in [0, 10]");
   if (o.area_balance_iterations < 0 || o.area_balance_iterations > 20)
     fail("`area_balance_iterations` must be in [0, 20]");
+  if (!(o.squeezed_below >= 0.0 && o.squeezed_below < 1.0)) fail("`squeezed_below` must be in [0, 1)");
   if (o.initial_cells < 1 || o.initial_cells > 64) fail("`initial_cells` must be in [1, 64]");
   if (o.grid_nodes != 0 && (o.grid_nodes < 5 || o.grid_nodes > 256))
     fail("`grid_nodes` must be 0 (auto) or in [5, 256]");
@@ -665,6 +666,7 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
   param::CuboidSurfaceMapOptions map_options;
   map_options.weights = options.weights;
   map_options.area_balance_iterations = options.area_balance_iterations;
+  map_options.squeezed_below = options.squeezed_below;
   // IC(0) and full-accuracy balancing rounds keep this job's outputs and measured figures
   // (README) as they are; on its meshes (tens of thousands of vertices) the savings are small.
   map_options.solver = param::SurfaceSolver::IncompleteCholesky;

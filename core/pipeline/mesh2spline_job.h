@@ -33,6 +33,9 @@ struct Mesh2SplineOptions {
   std::vector<int> corners;         ///< 8 corner vertex ids, or empty for the automatic layout
   param::SurfaceWeights weights = param::SurfaceWeights::MeanValue;
   int area_balance_iterations = 4;  ///< surface map stretch-reweighting rounds (§3.4.1 deviation), [0, 20]
+  /// Squeeze rescue of the surface map after those rounds (param::CuboidSurfaceMapOptions::
+  /// squeezed_below): thin tips get parameter room the spline's cells can resolve; [0, 1), 0 = off
+  double squeezed_below = 0.1;
   int initial_cells = 4;            ///< spline cells along the longest cuboid axis at level 0, [1, 64]
   int grid_nodes = 0;               ///< volumetric grid nodes along the longest axis; 0 = auto; else [5, 256]
   double smoothing = 1e-4;          ///< weight of the Eq. 4.7 fairing rows (grid fit), ≥ 0
