@@ -134,6 +134,8 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
     j["interface_gap_rel"] = s.interface_gap_rel;
     j["interface_normal_jump_deg"] = s.interface_normal_jump_deg;
     j["flipped_triangles"] = s.flipped_triangles;
+    j["squeeze_rounds"] = s.squeeze_rounds;
+    j["surface_least_density"] = std::isfinite(s.surface_least_density) ? nlohmann::ordered_json(s.surface_least_density) : nlohmann::ordered_json(nullptr);
     j["grid_inverted_hexes"] = s.grid_inverted_hexes;
     j["grid_min_scaled_jacobian"] = s.grid_min_scaled_jacobian;
     j["samples"] = s.samples;
@@ -291,6 +293,8 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
     j["semi_standard_max_error"] = s.semi_standard_max_error;
     j["cuboids"] = s.cuboids;
     j["flipped_triangles"] = s.flipped_triangles;
+    j["squeeze_rounds"] = s.squeeze_rounds;
+    j["surface_least_density"] = std::isfinite(s.surface_least_density) ? nlohmann::ordered_json(s.surface_least_density) : nlohmann::ordered_json(nullptr);
     j["negative_jacobian_fraction_fit"] = s.negative_jacobian_fraction_fit;
     j["repaired_control_points"] = s.repaired_control_points;
     j["untangled_control_points"] = s.untangled_control_points;

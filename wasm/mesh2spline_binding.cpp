@@ -131,6 +131,7 @@ val stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name, co
   out.set("semi_standard_max_error", s.semi_standard_max_error);
   out.set("cuboids", s.cuboids);
   out.set("flipped_triangles", s.flipped_triangles);
+  out.set("squeeze_rounds", s.squeeze_rounds);
   out.set("grid_inverted_hexes", s.grid_inverted_hexes);
   out.set("grid_min_scaled_jacobian", s.grid_min_scaled_jacobian);
   out.set("samples", s.samples);
@@ -236,6 +237,7 @@ val gpc_stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name
   out.set("interface_gap_rel", s.interface_gap_rel);
   out.set("interface_normal_jump_deg", s.interface_normal_jump_deg);
   out.set("flipped_triangles", s.flipped_triangles);
+  out.set("squeeze_rounds", s.squeeze_rounds);
   out.set("grid_inverted_hexes", s.grid_inverted_hexes);
   out.set("grid_min_scaled_jacobian", s.grid_min_scaled_jacobian);
   out.set("samples", s.samples);

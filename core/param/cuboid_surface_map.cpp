@@ -242,33 +242,50 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
       if (vertex_face[v] >= 0) least = std::min(least, 1.0 / stretch[v]);
     return least;
   };
+  // Flipped or degenerate triangles of the current map, and the first of them (−1 if none).
+  auto count_flipped = [&](int* first) {
+    int count = 0;
+    *first = -1;
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+      const int face = layout.face_region[f];
+      const auto c = mesh.face_vertices(f);
+      const Eigen::Vector2d p0 = cube_face_coordinates(face, map.uvw.row(c[0]).transpose());
+      const Eigen::Vector2d d1 = cube_face_coordinates(face, map.uvw.row(c[1]).transpose()) - p0;
+      const Eigen::Vector2d d2 = cube_face_coordinates(face, map.uvw.row(c[2]).transpose()) - p0;
+      const double area = 0.5 * (d1.x() * d2.y() - d1.y() * d2.x());
+      if (!((face % 2 == 1 ? area : -area) > 0.0)) {
+        ++count;
+        if (*first < 0) *first = f;
+      }
+    }
+    return count;
+  };
   std::vector<double> stretch = measure_stretch();
   map.least_density = least_density(stretch);
+  // A round is kept only if its map is bijective and less squeezed: where the weights' range
+  // outruns double precision (a squeeze the rounds cannot open, e.g. where a cut crowds a face),
+  // the rounds stop at the last good map instead of failing the job.
+  int unused = -1;
   for (int round = 0; round < options.squeezed_rounds && map.least_density < options.squeezed_below; ++round) {
+    if (round == 0 && count_flipped(&unused) > 0) break;
+    const mesh::Positions kept = map.uvw;
     for (double& s : stretch) s = std::clamp(s, 1.0, kSqueezedStretchBound);
     reweight(stretch);
     solve(weight, std::min(options.tolerance, kSqueezedTolerance));
-    stretch = measure_stretch();
-    map.least_density = least_density(stretch);
+    std::vector<double> next = measure_stretch();
+    const double density = least_density(next);
+    if (!(density > map.least_density) || count_flipped(&unused) > 0) {
+      map.uvw = kept;
+      break;
+    }
+    stretch = std::move(next);
+    map.least_density = density;
     map.squeeze_rounds = round + 1;
   }
 
   progress.report("surface map", 1.0);
   int first_flipped = -1;
-  for (int f = 0; f < mesh.num_faces(); ++f) {
-    const int face = layout.face_region[f];
-    const auto c = mesh.face_vertices(f);
-    const Eigen::Vector2d p0 = cube_face_coordinates(face, map.uvw.row(c[0]).transpose());
-    const Eigen::Vector2d p1 = cube_face_coordinates(face, map.uvw.row(c[1]).transpose());
-    const Eigen::Vector2d p2 = cube_face_coordinates(face, map.uvw.row(c[2]).transpose());
-    const Eigen::Vector2d d1 = p1 - p0, d2 = p2 - p0;
-    const double area = 0.5 * (d1.x() * d2.y() - d1.y() * d2.x());
-    const double oriented = face % 2 == 1 ? area : -area;
-    if (!(oriented > 0.0)) {
-      ++map.num_flipped;
-      if (first_flipped < 0) first_flipped = f;
-    }
-  }
+  map.num_flipped = count_flipped(&first_flipped);
   if (map.num_flipped > 0)
     throw Error("mesh '" + mesh.source_name() + "': the cuboid surface map is not bijective: " +
                 std::to_string(map.num_flipped) + " flipped or degenerate triangles (first: face " +

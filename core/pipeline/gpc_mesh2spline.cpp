@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <optional>
 
@@ -383,6 +384,11 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
   stats.ill_points = gpc.stats.ill_points;
   stats.interfaces = gpc.stats.interfaces;
   stats.flipped_triangles = gpc.stats.flipped_triangles;
+  stats.surface_least_density = std::numeric_limits<double>::infinity();
+  for (const param::CuboidSurfaceMap& map : gpc.map.surface_maps) {
+    stats.squeeze_rounds = std::max(stats.squeeze_rounds, map.squeeze_rounds);
+    stats.surface_least_density = std::min(stats.surface_least_density, map.least_density);
+  }
   stats.grid_inverted_hexes = gpc.stats.grid_inverted_hexes;
   stats.grid_min_scaled_jacobian = gpc.stats.grid_min_scaled_jacobian;
 

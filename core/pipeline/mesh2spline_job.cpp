@@ -673,6 +673,8 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
   map_options.balance_tolerance = map_options.tolerance;
   const param::CuboidSurfaceMap surface_map = param::compute_cuboid_surface_map(hm, layout, map_options, job_share(progress, 0.1, 0.2));
   stats.flipped_triangles = surface_map.num_flipped;
+  stats.squeeze_rounds = surface_map.squeeze_rounds;
+  stats.surface_least_density = surface_map.least_density;
   const param::CuboidSurfaceLocator locator(hm, surface_map);
   timer.end_stage("surface_map");
 

@@ -93,6 +93,11 @@ struct Mesh2SplineStats {
   double lattice_negative_fraction = 0;
   long lattice_samples = 0;
   int flipped_triangles = 0;           ///< of the surface map (0: bijective)
+  /// Squeeze rescue rounds of the surface map (most over the cuboids' maps; squeezed_below).
+  int squeeze_rounds = 0;
+  /// Least linear parameter density of a surface vertex inside a cube face, over all maps: below
+  /// squeezed_below, the rescue ran out of rounds.
+  double surface_least_density = 0;
   int grid_inverted_hexes = 0;         ///< of the volumetric grid map (grid fit)
   double grid_min_scaled_jacobian = 1; ///< of the volumetric grid map (grid fit)
   /// of the fit before the untangling and the repair, at the points the untangler (24³ cell

@@ -40,3 +40,5 @@ contains "$TMP/err" "grid.min_quality_sweeps"
 expect 2 "$BIN" gpc "$DATA/meshes/torus.off" -o "$TMP/ga.json" --area-balance 21 --quiet
 contains "$TMP/err" "grid.area_balance_iterations"
 if [ -e "$TMP/ga.json" ]; then bad "gpc --area-balance 21 wrote its output"; else ok; fi
+expect 2 "$BIN" gpc "$DATA/meshes/torus.off" -o "$TMP/gs.json" --squeezed-below 1 --quiet
+contains "$TMP/err" "grid.squeezed_below"

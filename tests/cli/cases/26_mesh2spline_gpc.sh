@@ -65,6 +65,10 @@ contains "$TMP/gs_stats.json" "\"genus\": 0"
 contains "$TMP/gs_stats.json" "\"cuboids\": 1"
 expect 2 "$BIN" mesh2spline "$DATA/meshes/sphere.off" --limbs 1.5 -o "$TMP/gs.json" --quiet
 contains "$TMP/err" "--limbs"
+# The sphere's map has room everywhere: no squeeze rescue round; a bound out of range is refused.
+contains "$TMP/gs_stats.json" "\"squeeze_rounds\": 0"
+expect 2 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gq_bad.json" --squeezed-below 1 --quiet
+contains "$TMP/err" "--squeezed-below"
 # --centroid-samples: every surface triangle's centroid is a sample too (the surface refined along
 # the cut has at least the input's triangles).
 expect 0 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gc.json" --stats-json "$TMP/gc_stats.json" --quiet --centroid-samples
