@@ -228,17 +228,16 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
     solve(weight, round_tolerance(iteration + 1));
   }
 
-  // Squeeze rescue. In a thin protrusion the stretch grows ring by ring towards the tip and only
-  // the weights' gradient along it moves the map, so rounds bounded by 5 open a deep squeeze
-  // (armadillo's ears: a linear density of 1e-4) slowly; rounds bounded by 20 open it in a few.
-  // They only widen (stretch below 1 is left at 1): rounds that also shrink the parts with room
-  // overshoot and crowd the poly-edges next to a tip. The weights then span many orders of
-  // magnitude, where a relative residual of 1e-10 leaves triangles of the light region flipped:
-  // these rounds are solved to 1e-14.
+  // Squeeze rescue (a §3.4.1 deviation, as the balancing): in a thin protrusion the stretch grows
+  // ring by ring towards the tip and only the weights' gradient along it moves the map, so rounds
+  // bounded by 5 open a deep squeeze slowly; rounds bounded by 20 open it in a few. They only
+  // widen (stretch below 1 is left at 1): rounds that also shrink the parts with room overshoot
+  // and crowd the poly-edges next to a tip. The weights then span many orders of magnitude, where
+  // a relative residual of 1e-10 leaves triangles of the light region flipped: these rounds are
+  // solved to 1e-14.
   constexpr double kSqueezedStretchBound = 20.0, kSqueezedTolerance = 1e-14;
-  // A tip opens by a factor of about 2 per round (armadillo: 1.4–2.5); a round that gains less
-  // than this meets a squeeze the rounds hardly move (the held-out pretzel: 1.2 per round, at
-  // the cost of a 1e-14 solve each), and it is the last.
+  // A tip opens by about 2× per round; a round that gains less than this meets a squeeze the
+  // rounds hardly move (where cuts crowd a face), and each costs a 1e-14 solve: it is the last.
   constexpr double kSqueezedMinGain = 1.3;
   auto least_density = [&](const std::vector<double>& stretch) {
     double least = std::numeric_limits<double>::infinity();
@@ -249,7 +248,7 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
   // Flipped or degenerate triangles of the current map, and the first of them (−1 if none).
   auto count_flipped = [&](int* first) {
     int count = 0;
-    *first = -1;
+    if (first) *first = -1;
     for (int f = 0; f < mesh.num_faces(); ++f) {
       const int face = layout.face_region[f];
       const auto c = mesh.face_vertices(f);
@@ -259,7 +258,7 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
       const double area = 0.5 * (d1.x() * d2.y() - d1.y() * d2.x());
       if (!((face % 2 == 1 ? area : -area) > 0.0)) {
         ++count;
-        if (*first < 0) *first = f;
+        if (first && *first < 0) *first = f;
       }
     }
     return count;
@@ -268,16 +267,15 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
   map.least_density = least_density(stretch);
   // A round is kept only if its map is bijective and less squeezed: where the weights' range
   // outruns double precision, the rounds stop at the last good map instead of failing the job.
-  int unused = -1;
   for (int round = 0; round < options.squeezed_rounds && map.least_density < options.squeezed_below; ++round) {
-    if (round == 0 && count_flipped(&unused) > 0) break;
+    if (round == 0 && count_flipped(nullptr) > 0) break;
     const mesh::Positions kept = map.uvw;
     for (double& s : stretch) s = std::clamp(s, 1.0, kSqueezedStretchBound);
     reweight(stretch);
     solve(weight, std::min(options.tolerance, kSqueezedTolerance));
     std::vector<double> next = measure_stretch();
     const double density = least_density(next);
-    if (!(density > map.least_density) || count_flipped(&unused) > 0) {
+    if (!(density > map.least_density) || count_flipped(nullptr) > 0) {
       map.uvw = kept;
       break;
     }
