@@ -237,7 +237,8 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
   // solved to 1e-14.
   constexpr double kSqueezedStretchBound = 20.0, kSqueezedTolerance = 1e-14;
   // A tip opens by about 2× per round; a round that gains less than this meets a squeeze the
-  // rounds hardly move (where cuts crowd a face), and each costs a 1e-14 solve: it is the last.
+  // rounds hardly move (where cuts crowd a face): it is undone and the rounds stop, so such a map
+  // stays the balanced one instead of paying 1e-14 solves for a change of a few per cent.
   constexpr double kSqueezedMinGain = 1.3;
   auto least_density = [&](const std::vector<double>& stretch) {
     double least = std::numeric_limits<double>::infinity();
@@ -265,8 +266,8 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
   };
   std::vector<double> stretch = measure_stretch();
   map.least_density = least_density(stretch);
-  // A round is kept only if its map is bijective and less squeezed: where the weights' range
-  // outruns double precision, the rounds stop at the last good map instead of failing the job.
+  // A round is kept only if its map is bijective and gains kSqueezedMinGain: where the weights'
+  // range outruns double precision, the rounds stop at the last good map instead of failing.
   for (int round = 0; round < options.squeezed_rounds && map.least_density < options.squeezed_below; ++round) {
     if (round == 0 && count_flipped(nullptr) > 0) break;
     const mesh::Positions kept = map.uvw;
@@ -275,15 +276,13 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
     solve(weight, std::min(options.tolerance, kSqueezedTolerance));
     std::vector<double> next = measure_stretch();
     const double density = least_density(next);
-    if (!(density > map.least_density) || count_flipped(nullptr) > 0) {
+    if (!(density >= kSqueezedMinGain * map.least_density) || count_flipped(nullptr) > 0) {
       map.uvw = kept;
       break;
     }
     stretch = std::move(next);
-    const double gain = density / map.least_density;
     map.least_density = density;
     map.squeeze_rounds = round + 1;
-    if (gain < kSqueezedMinGain) break;
   }
 
   progress.report("surface map", 1.0);
