@@ -195,17 +195,23 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
                                 .norm();
     face_area[layout.face_region[f]] += surface_area[f];
   }
+  // Area of mesh face f in its cube face's parameters, positive if not flipped.
+  auto oriented_param_area = [&](int f) {
+    const int face = layout.face_region[f];
+    const auto c = mesh.face_vertices(f);
+    const Eigen::Vector2d p0 = cube_face_coordinates(face, map.uvw.row(c[0]).transpose());
+    const Eigen::Vector2d d1 = cube_face_coordinates(face, map.uvw.row(c[1]).transpose()) - p0;
+    const Eigen::Vector2d d2 = cube_face_coordinates(face, map.uvw.row(c[2]).transpose()) - p0;
+    const double area = 0.5 * (d1.x() * d2.y() - d1.y() * d2.x());
+    return face % 2 == 1 ? area : -area;
+  };
   // Per vertex √(surface share / parameter share) within its cube face: the linear stretch.
   auto measure_stretch = [&]() {
     std::vector<double> vertex_surface(n, 0.0), vertex_param(n, 0.0);
     for (int f = 0; f < mesh.num_faces(); ++f) {
       const int face = layout.face_region[f];
-      const auto c = mesh.face_vertices(f);
-      const Eigen::Vector2d p0 = cube_face_coordinates(face, map.uvw.row(c[0]).transpose());
-      const Eigen::Vector2d d1 = cube_face_coordinates(face, map.uvw.row(c[1]).transpose()) - p0;
-      const Eigen::Vector2d d2 = cube_face_coordinates(face, map.uvw.row(c[2]).transpose()) - p0;
-      const double param_area = 0.5 * std::abs(d1.x() * d2.y() - d1.y() * d2.x());
-      for (int v : c) {
+      const double param_area = std::abs(oriented_param_area(f));
+      for (int v : mesh.face_vertices(f)) {
         vertex_surface[v] += face_area[face] > 0.0 ? surface_area[f] / face_area[face] : 0.0;
         vertex_param[v] += param_area;
       }
@@ -251,13 +257,7 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
     int count = 0;
     if (first) *first = -1;
     for (int f = 0; f < mesh.num_faces(); ++f) {
-      const int face = layout.face_region[f];
-      const auto c = mesh.face_vertices(f);
-      const Eigen::Vector2d p0 = cube_face_coordinates(face, map.uvw.row(c[0]).transpose());
-      const Eigen::Vector2d d1 = cube_face_coordinates(face, map.uvw.row(c[1]).transpose()) - p0;
-      const Eigen::Vector2d d2 = cube_face_coordinates(face, map.uvw.row(c[2]).transpose()) - p0;
-      const double area = 0.5 * (d1.x() * d2.y() - d1.y() * d2.x());
-      if (!((face % 2 == 1 ? area : -area) > 0.0)) {
+      if (!(oriented_param_area(f) > 0.0)) {
         ++count;
         if (first && *first < 0) *first = f;
       }
