@@ -96,7 +96,7 @@ struct Mesh2SplineStats {
   /// Squeeze rescue rounds of the surface map (most over the cuboids' maps; squeezed_below).
   int squeeze_rounds = 0;
   /// Least linear parameter density of a surface vertex inside a cube face, over all maps: below
-  /// squeezed_below, the rescue ran out of rounds.
+  /// squeezed_below where the rescue could not open a squeeze.
   double surface_least_density = 0;
   int grid_inverted_hexes = 0;         ///< of the volumetric grid map (grid fit)
   double grid_min_scaled_jacobian = 1; ///< of the volumetric grid map (grid fit)
