@@ -437,10 +437,7 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
       const int n = best->num_functions();
       const int room = static_cast<int>(std::min<double>((options.adaptive_growth - 1.0) * n / 16.0,
                                                          (options.max_control_points - n) / 16.0));
-      // The closure may split a function at the deepest level once more: that level's virtual
-      // grid must stay within GpcSpline::kMaxLevelFunctions.
-      int depth = options.hierarchy_depth;
-      while (depth > 0 && best->level_functions_bound(depth + 1) > spline::GpcSpline::kMaxLevelFunctions) --depth;
+      const int depth = options.hierarchy_depth;
       if (room >= 1 && depth > 0)
         marked = spline::gpc_marked_functions(*best, data.samples, options.marking_fraction, room, depth, beyond);
       // Every function with misfit at hierarchy_depth: the next uniform level instead.

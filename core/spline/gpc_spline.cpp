@@ -4,10 +4,13 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <map>
+#include <memory>
 #include <numeric>
 #include <string>
 #include <tuple>
+#include <unordered_map>
 #include <utility>
 
 #include "core/common/error.h"
@@ -269,11 +272,13 @@ class JoinRule {
 
 // A cuboid's local functions are the tensor products of its three chain knot vectors (u fastest):
 // the grid index of local function l, and its knots.
-std::array<int, 3> local_index3(const std::array<std::vector<double>, 3>& knots, int l) {
-  const int m0 = static_cast<int>(knots[0].size()) - 4, m1 = static_cast<int>(knots[1].size()) - 4;
-  return {l % m0, (l / m0) % m1, l / (m0 * m1)};
+// Indices are 64-bit: a fine level of the hierarchy can have more local functions than an int
+// holds, of which only the few near its splits are ever visited.
+std::array<int, 3> local_index3(const std::array<std::vector<double>, 3>& knots, long long l) {
+  const long long m0 = static_cast<long long>(knots[0].size()) - 4, m1 = static_cast<long long>(knots[1].size()) - 4;
+  return {static_cast<int>(l % m0), static_cast<int>((l / m0) % m1), static_cast<int>(l / (m0 * m1))};
 }
-BlendingKnots local_blending(const std::array<std::vector<double>, 3>& knots, int l) {
+BlendingKnots local_blending(const std::array<std::vector<double>, 3>& knots, long long l) {
   const std::array<int, 3> j = local_index3(knots, l);
   BlendingKnots out;
   for (int a = 0; a < 3; ++a)
@@ -309,49 +314,66 @@ class Assembly {
     }
   }
 
-  int count(int c) const {
-    return static_cast<int>((knots_[c][0].size() - 4) * (knots_[c][1].size() - 4) * (knots_[c][2].size() - 4));
+  long long count(int c) const {
+    return static_cast<long long>(knots_[c][0].size() - 4) * static_cast<long long>(knots_[c][1].size() - 4) *
+           static_cast<long long>(knots_[c][2].size() - 4);
   }
-  int total() const { return offsets_.back(); }
+  long long total() const { return offsets_.back(); }
   const std::array<std::vector<double>, 3>& knots(int c) const { return knots_[c]; }
-  int offset(int c) const { return offsets_[c]; }
-  std::array<int, 3> index3(int c, int l) const { return local_index3(knots_[c], l); }
-  int index1(int c, const std::array<int, 3>& j) const {
-    const int m0 = static_cast<int>(knots_[c][0].size()) - 4, m1 = static_cast<int>(knots_[c][1].size()) - 4;
+  long long offset(int c) const { return offsets_[c]; }
+  std::array<int, 3> index3(int c, long long l) const { return local_index3(knots_[c], l); }
+  long long index1(int c, const std::array<int, 3>& j) const {
+    const long long m0 = static_cast<long long>(knots_[c][0].size()) - 4,
+                    m1 = static_cast<long long>(knots_[c][1].size()) - 4;
     return j[0] + m0 * (j[1] + m1 * j[2]);
   }
-  BlendingKnots blending(int c, int l) const { return local_blending(knots_[c], l); }
+  BlendingKnots blending(int c, long long l) const { return local_blending(knots_[c], l); }
+
+  // The local function of the neighbour across glued face f of cuboid c that local function l
+  // of c is one global function with: a copy across a Continued face it crosses, the other
+  // side's face function across a Clamped face. Returns 1 with it in `out`, 0 if there is none
+  // (l does not cross the Continued face, is zero on the Clamped one), −1 if l has no match (a
+  // configuration the continuity rule did not foresee).
+  int match(int c, int f, long long l, long long& out) const {
+    const int i = domain_.cuboids[c].face_interface[f];
+    const Link across = link_of(domain_, c, f);
+    const int a = f / 2, d = across.cuboid, g = across.face;
+    const BlendingKnots k = blending(c, l);
+    const std::array<int, 3> j = index3(c, l);
+    std::array<int, 3> jd{};
+    if (join_[i] == GpcFaceJoin::Continued) {
+      const double size = domain_.cuboids[c].size[a];
+      const bool crosses = f % 2 == 0 ? k[a][0] < 0.0 : k[a][4] > size;
+      if (!crosses) return 0;
+      for (int b = 0; b < 3; ++b)
+        if ((jd[across.to.axis[b]] = find_start(d, across.to, b, k[b])) < 0) return -1;
+    } else {
+      const int m = static_cast<int>(knots_[c][a].size()) - 4;
+      if (j[a] != (f % 2 == 0 ? 0 : m - 1)) return 0;  // zero on the face
+      for (int b = 0; b < 3; ++b) {
+        if (b == a) continue;
+        if ((jd[across.to.axis[b]] = find_start(d, across.to, b, k[b])) < 0) return -1;
+      }
+      const int md = static_cast<int>(knots_[d][g / 2].size()) - 4;
+      jd[g / 2] = g % 2 == 0 ? 0 : md - 1;
+    }
+    out = index1(d, jd);
+    return 1;
+  }
 
   // Identifies copies of one function (across Continued faces) and the two sides' face functions
-  // (across Clamped faces). Returns −1 on success, else the interface whose functions did not
-  // match (a configuration the continuity rule did not foresee).
+  // (across Clamped faces) over every local function (total() must fit an int). Returns −1 on
+  // success, else the interface whose functions did not match.
   int identify(UnionFind& uf) const {
     for (int i = 0; i < static_cast<int>(domain_.interfaces.size()); ++i)
       for (int s = 0; s < 2; ++s) {
         const int c = domain_.interfaces[i].cuboid[s], f = domain_.interfaces[i].face[s];
-        const Link across = link_of(domain_, c, f);
-        const int a = f / 2, d = across.cuboid, g = across.face;
-        const Eigen::Vector3d size = size_of(domain_, c);
-        for (int l = 0; l < count(c); ++l) {
-          const BlendingKnots k = blending(c, l);
-          const std::array<int, 3> j = index3(c, l);
-          std::array<int, 3> jd{};
-          if (join_[i] == GpcFaceJoin::Continued) {
-            const bool crosses = f % 2 == 0 ? k[a][0] < 0.0 : k[a][4] > size(a);
-            if (!crosses) continue;
-            for (int b = 0; b < 3; ++b)
-              if ((jd[across.to.axis[b]] = find_start(d, across.to, b, k[b])) < 0) return i;
-          } else {
-            const int m = static_cast<int>(knots_[c][a].size()) - 4;
-            if (j[a] != (f % 2 == 0 ? 0 : m - 1)) continue;  // zero on the face
-            for (int b = 0; b < 3; ++b) {
-              if (b == a) continue;
-              if ((jd[across.to.axis[b]] = find_start(d, across.to, b, k[b])) < 0) return i;
-            }
-            const int md = static_cast<int>(knots_[d][g / 2].size()) - 4;
-            jd[g / 2] = g % 2 == 0 ? 0 : md - 1;
-          }
-          uf.unite(offset(c) + l, offset(d) + index1(d, jd));
+        const int d = domain_.interfaces[i].cuboid[1 - s];
+        for (long long l = 0; l < count(c); ++l) {
+          long long ld = 0;
+          const int r = match(c, f, l, ld);
+          if (r < 0) return i;
+          if (r > 0) uf.unite(static_cast<int>(offset(c) + l), static_cast<int>(offset(d) + ld));
         }
       }
     return -1;
@@ -437,27 +459,31 @@ class Assembly {
   const std::vector<GpcFaceJoin>& join_;
   double tol_;
   std::vector<std::array<std::vector<double>, 3>> knots_;
-  std::vector<int> offsets_;
+  std::vector<long long> offsets_;
 };
 
-}  // namespace
+// One level of a hierarchical GPC-spline: the B-spline over the GPC on its knot lines with the
+// fixed joins, its functions made on demand. A deep level's dense basis (every local function of
+// every cuboid, identified across the faces by union–find) grows 8× per level while the splits
+// visit only a few of its functions, so a function is identified from its local function by a
+// walk over the faces it reaches instead. Its id is the smallest global local index
+// (Assembly::offset(c) + l) over its pieces: ids order like the dense basis's first-appearance
+// ids (cuboid, then local function).
+class SparseLevel {
+ public:
+  SparseLevel(const GpcDomain& domain, KnotLines lines, const std::vector<GpcFaceJoin>& join, double tol, int level)
+      : domain_(domain), lines_(std::move(lines)), assembly_(domain, lines_, join, tol), level_(level) {}
+  SparseLevel(const SparseLevel&) = delete;
+  SparseLevel& operator=(const SparseLevel&) = delete;
 
-namespace detail {
-// The B-spline over the GPC on one set of knot lines with fixed joins: per cuboid its chain
-// knot vectors and the global id of every local function (ids in order of first appearance:
-// cuboid, then local function), and per global id the local functions that are its pieces.
-struct GpcLevelBasis {
-  std::vector<std::array<std::vector<double>, 3>> knots;
-  std::vector<std::vector<int>> ids;
-  std::vector<std::vector<std::pair<int, int>>> pieces;
-  int count = 0;
+  const Assembly& assembly() const { return assembly_; }
+  BlendingKnots blending(int c, long long l) const { return assembly_.blending(c, l); }
 
-  BlendingKnots blending(int c, int l) const { return local_blending(knots[c], l); }
   // Local function of cuboid c with knots k (to tol), −1 if none.
-  int local_of(int c, const BlendingKnots& k, double tol) const {
+  long long local_of(int c, const BlendingKnots& k, double tol) const {
     std::array<int, 3> j{};
     for (int a = 0; a < 3; ++a) {
-      const std::vector<double>& v = knots[c][a];
+      const std::vector<double>& v = assembly_.knots(c)[a];
       const int m = static_cast<int>(v.size()) - 4;
       j[a] = -1;
       int s = static_cast<int>(std::lower_bound(v.begin(), v.end(), k[a][0] - tol) - v.begin());
@@ -468,38 +494,48 @@ struct GpcLevelBasis {
       }
       if (j[a] < 0) return -1;
     }
-    const int m0 = static_cast<int>(knots[c][0].size()) - 4, m1 = static_cast<int>(knots[c][1].size()) - 4;
-    return j[0] + m0 * (j[1] + m1 * j[2]);
+    return assembly_.index1(c, j);
   }
-};
 
-}  // namespace detail
-
-namespace {
-
-using LevelBasis = detail::GpcLevelBasis;
-
-LevelBasis make_basis(const Assembly& assembly, UnionFind& uf, int nc) {
-  LevelBasis b;
-  b.knots.resize(nc);
-  b.ids.resize(nc);
-  std::vector<int> id_of_root(static_cast<std::size_t>(assembly.total()), -1);
-  for (int c = 0; c < nc; ++c) {
-    b.knots[c] = assembly.knots(c);
-    const int m = assembly.count(c);
-    b.ids[c].resize(m);
-    for (int l = 0; l < m; ++l) {
-      int& id = id_of_root[uf.find(assembly.offset(c) + l)];
-      if (id < 0) {
-        id = b.count++;
-        b.pieces.emplace_back();
+  // Id of the global function that local function l of cuboid c is a piece of.
+  long long id_of(int c, long long l) {
+    const long long g = assembly_.offset(c) + l;
+    auto it = id_.find(g);
+    if (it != id_.end()) return it->second;
+    // The pieces: the local functions reached through Assembly::match, sorted by global index.
+    std::vector<std::pair<int, long long>> pieces{{c, l}};
+    for (std::size_t next = 0; next < pieces.size(); ++next) {
+      const auto [x, lx] = pieces[next];
+      for (int f = 0; f < 6; ++f) {
+        if (domain_.cuboids[x].face_interface[f] < 0) continue;
+        long long ly = 0;
+        const int r = assembly_.match(x, f, lx, ly);
+        if (r < 0)
+          throw Error("GpcSpline: the level-" + str(level_) + " functions do not match across interface " +
+                      str(domain_.cuboids[x].face_interface[f]));
+        const int y = link_of(domain_, x, f).cuboid;
+        if (r > 0 && std::find(pieces.begin(), pieces.end(), std::make_pair(y, ly)) == pieces.end())
+          pieces.emplace_back(y, ly);
       }
-      b.ids[c][l] = id;
-      b.pieces[id].emplace_back(c, l);
     }
+    std::sort(pieces.begin(), pieces.end());
+    const long long id = assembly_.offset(pieces.front().first) + pieces.front().second;
+    for (const auto& [x, lx] : pieces) id_.emplace(assembly_.offset(x) + lx, id);
+    pieces_.emplace(id, std::move(pieces));
+    return id;
   }
-  return b;
-}
+
+  // The local functions (cuboid, local index) that function id (from id_of) is made of, sorted.
+  const std::vector<std::pair<int, long long>>& pieces(long long id) const { return pieces_.at(id); }
+
+ private:
+  const GpcDomain& domain_;
+  KnotLines lines_;
+  Assembly assembly_;
+  int level_;
+  std::unordered_map<long long, long long> id_;  // global local index → function id
+  std::unordered_map<long long, std::vector<std::pair<int, long long>>> pieces_;
+};
 
 // Children of a cubic B-spline with local knots r when the midpoint of every non-empty interval
 // is inserted (Eq. 4.8 repeated): N_r = Σ coefficient · N_child, children with r0 < r4 only.
@@ -539,30 +575,27 @@ std::vector<std::pair<LocalKnots, double>> midpoint_children(const LocalKnots& r
 // GpcSpline's class comment): level ℓ's lines cut every base interval into 2^ℓ parts.
 class Hierarchy {
  public:
-  using Key = std::pair<int, int>;  // (level, id among that level's functions)
+  using Key = std::pair<int, long long>;  // (level, SparseLevel id)
 
-  Hierarchy(const GpcDomain& domain, const KnotLines& base, const std::vector<GpcFaceJoin>& join, double tol,
-            LevelBasis level0)
-      : domain_(domain), base_(base), join_(join), tol_(tol) {
-    levels_.push_back(std::move(level0));
-  }
+  Hierarchy(const GpcDomain& domain, const KnotLines& base, const std::vector<GpcFaceJoin>& join, double tol)
+      : domain_(domain), base_(base), join_(join), tol_(tol) {}
 
-  const LevelBasis& level(int l) {
+  SparseLevel& level(int l) {
     while (static_cast<int>(levels_.size()) <= l) build(static_cast<int>(levels_.size()));
-    return levels_[l];
+    return *levels_[l];
   }
 
   // B_key = Σ coefficient · B_child over the children one level finer.
-  const std::vector<std::pair<int, double>>& children(const Key& key) {
+  const std::vector<std::pair<long long, double>>& children(const Key& key) {
     auto it = children_.find(key);
     if (it != children_.end()) return it->second;
     const int l = key.first;
     if (l + 1 > GpcSpline::kMaxLevel)
       throw Error("GpcSpline: refinement below level " + str(GpcSpline::kMaxLevel) + " (the deepest allowed)");
-    const LevelBasis& fine = level(l + 1);
-    const LevelBasis& coarse = levels_[l];
-    std::vector<std::pair<int, double>> out;
-    for (const auto& [c, local] : coarse.pieces[key.second]) {
+    SparseLevel& fine = level(l + 1);
+    const SparseLevel& coarse = level(l);
+    std::vector<std::pair<long long, double>> out;
+    for (const auto& [c, local] : coarse.pieces(key.second)) {
       const BlendingKnots k = coarse.blending(c, local);
       const Eigen::Vector3d size = size_of(domain_, c);
       std::array<std::vector<std::pair<LocalKnots, double>>, 3> one;
@@ -574,11 +607,11 @@ class Hierarchy {
             bool meets = true;
             for (int a = 0; a < 3 && meets; ++a) meets = child[a][0] < size(a) - tol_ && child[a][4] > tol_;
             if (!meets) continue;
-            const int lc = fine.local_of(c, child, 4.0 * tol_);
+            const long long lc = fine.local_of(c, child, 4.0 * tol_);
             if (lc < 0)
               throw Error("GpcSpline: a child of a level-" + str(l) + " function in cuboid " + str(c) +
                           " is not a level-" + str(l + 1) + " function (inconsistent knot lines)");
-            const int j = fine.ids[c][lc];
+            const long long j = fine.id_of(c, lc);
             const double coefficient = c0 * c1 * c2;
             auto at = std::find_if(out.begin(), out.end(), [&](const auto& e) { return e.first == j; });
             if (at == out.end()) {
@@ -597,35 +630,22 @@ class Hierarchy {
   void build(int l) {
     const int parts = 1 << l;
     KnotLines lines(base_.size());
-    long estimate = 0;
-    for (std::size_t c = 0; c < base_.size(); ++c) {
-      long local = 1;
+    for (std::size_t c = 0; c < base_.size(); ++c)
       for (int a = 0; a < 3; ++a) {
         const std::vector<double>& b = base_[c][a];
         for (std::size_t k = 0; k + 1 < b.size(); ++k)
           for (int q = 0; q < parts; ++q) lines[c][a].push_back(b[k] + (b[k + 1] - b[k]) * q / parts);
         lines[c][a].push_back(b.back());
-        local *= static_cast<long>(lines[c][a].size()) + 2;
       }
-      estimate += local;
-    }
-    if (estimate > GpcSpline::kMaxLevelFunctions)
-      throw Error("GpcSpline: refinement level " + str(l) + " would hold about " + std::to_string(estimate) +
-                  " functions (at most " + std::to_string(GpcSpline::kMaxLevelFunctions) + ")");
-    const Assembly assembly(domain_, lines, join_, tol_);
-    UnionFind uf(assembly.total());
-    const int failed = assembly.identify(uf);
-    if (failed >= 0)
-      throw Error("GpcSpline: the level-" + str(l) + " functions do not match across interface " + str(failed));
-    levels_.push_back(make_basis(assembly, uf, static_cast<int>(base_.size())));
+    levels_.push_back(std::make_unique<SparseLevel>(domain_, std::move(lines), join_, tol_, l));
   }
 
   const GpcDomain& domain_;
   KnotLines base_;
   std::vector<GpcFaceJoin> join_;
   double tol_;
-  std::vector<LevelBasis> levels_;
-  std::map<Key, std::vector<std::pair<int, double>>> children_;
+  std::vector<std::unique_ptr<SparseLevel>> levels_;
+  std::map<Key, std::vector<std::pair<long long, double>>> children_;
 };
 
 }  // namespace
@@ -633,9 +653,8 @@ class Hierarchy {
 namespace detail {
 // The Hierarchy with its own copy of the domain it refers to, shared between splines.
 struct GpcHierarchy {
-  GpcHierarchy(const GpcDomain& d, const KnotLines& base, const std::vector<GpcFaceJoin>& join, double tol,
-               LevelBasis level0)
-      : domain(d), levels(domain, base, join, tol, std::move(level0)) {}
+  GpcHierarchy(const GpcDomain& d, const KnotLines& base, const std::vector<GpcFaceJoin>& join, double tol)
+      : domain(d), levels(domain, base, join, tol) {}
   const GpcDomain domain;
   Hierarchy levels;
 };
@@ -755,7 +774,9 @@ GpcSpline::GpcSpline(const polycube::GpcDomain& domain, const GpcSplineOptions& 
     while (rule.pass()) {
     }
     const Assembly assembly(domain_, lines_, interface_join_, tol);
-    UnionFind uf(assembly.total());
+    if (assembly.total() > std::numeric_limits<int>::max())
+      throw Error("GpcSpline: the knot lines give more than 2^31 local functions");
+    UnionFind uf(static_cast<int>(assembly.total()));
     const int failed = assembly.identify(uf);
     if (failed >= 0) {
       bool changed = false;
@@ -775,7 +796,7 @@ GpcSpline::GpcSpline(const polycube::GpcDomain& domain, const GpcSplineOptions& 
     }
     const int nc = num_cuboids();
     if (!options.splits.empty()) {
-      build_hierarchy(make_basis(assembly, uf, nc), options.splits, options.max_functions, tol);
+      build_hierarchy(options.splits, options.max_functions, tol);
       break;
     }
     // Global ids in order of first appearance (cuboid, then local function).
@@ -786,13 +807,13 @@ GpcSpline::GpcSpline(const polycube::GpcDomain& domain, const GpcSplineOptions& 
     num_functions_ = 0;
     std::vector<char> anchored;
     for (int c = 0; c < nc; ++c) {
-      const int m = assembly.count(c);
+      const int m = static_cast<int>(assembly.count(c));
       std::vector<BlendingKnots> knots(static_cast<std::size_t>(m));
       patch_ids_[c].resize(m);
       const Eigen::Vector3d size = size_of(domain_, c);
       for (int l = 0; l < m; ++l) {
         knots[l] = assembly.blending(c, l);
-        int& id = id_of_root[uf.find(assembly.offset(c) + l)];
+        int& id = id_of_root[uf.find(static_cast<int>(assembly.offset(c)) + l)];
         if (id < 0) {
           id = num_functions_++;
           anchors_.push_back({});
@@ -818,12 +839,13 @@ GpcSpline::GpcSpline(const polycube::GpcDomain& domain, const GpcSplineOptions& 
   }
 }
 
-void GpcSpline::build_hierarchy(detail::GpcLevelBasis level0, const std::vector<std::vector<int>>& steps,
-                                long max_functions, double tol) {
-  hierarchy_ = std::make_shared<detail::GpcHierarchy>(domain_, lines_, interface_join_, tol, std::move(level0));
+void GpcSpline::build_hierarchy(const std::vector<std::vector<int>>& steps, long max_functions, double tol) {
+  hierarchy_ = std::make_shared<detail::GpcHierarchy>(domain_, lines_, interface_join_, tol);
   Hierarchy& h = hierarchy_->levels;
   active_.clear();
-  for (int i = 0; i < h.level(0).count; ++i) active_[{0, i}] = 1.0;
+  SparseLevel& level0 = h.level(0);
+  for (int c = 0; c < num_cuboids(); ++c)
+    for (long long l = 0; l < level0.assembly().count(c); ++l) active_[{0, level0.id_of(c, l)}] = 1.0;
   splits_.clear();
   for (const std::vector<int>& step : steps) {
     StepRecord record = refine_step(h, active_, step, max_functions);
@@ -870,8 +892,8 @@ void GpcSpline::build_patches(double tol) {
   std::vector<std::vector<BlendingKnots>> knots(nc);
   std::vector<std::vector<double>> weights(nc);
   for (int k = 0; k < num_functions_; ++k) {
-    const LevelBasis& basis = h.level(level_of_[k]);
-    for (const auto& [c, local] : basis.pieces[level_id_[k]]) {
+    const SparseLevel& basis = h.level(level_of_[k]);
+    for (const auto& [c, local] : basis.pieces(level_id_[k])) {
       const BlendingKnots b = basis.blending(c, local);
       knots[c].push_back(b);
       weights[c].push_back(weight[k]);
@@ -893,16 +915,6 @@ void GpcSpline::build_patches(double tol) {
                           Eigen::MatrixXd::Zero(m, dimension_));
   }
   points_ = Eigen::MatrixXd::Zero(num_functions_, dimension_);
-}
-
-long GpcSpline::level_functions_bound(int level) const {
-  long bound = 0;
-  for (const auto& cuboid : lines_) {
-    long local = 1;
-    for (const std::vector<double>& axis : cuboid) local *= (static_cast<long>(axis.size()) - 1) * (1L << level) + 3;
-    bound += local;
-  }
-  return bound;
 }
 
 int GpcSpline::max_level() const {

@@ -16,7 +16,6 @@
 namespace volspline::spline {
 
 namespace detail {
-struct GpcLevelBasis;
 struct GpcHierarchy;
 }
 
@@ -111,8 +110,8 @@ class GpcSpline {
   /// a tangent axis (naming the interface and the axes), a clamped_interfaces id is out of
   /// range, D is not in 1..4, the transitions make a continued knot vector decrease, the face
   /// functions of a clamped face cannot be matched even with its tangent faces clamped (a gluing
-  /// no GPC builder makes), or a splits entry names no function of its step, goes below kMaxLevel,
-  /// needs a level of more than kMaxLevelFunctions functions or more than max_functions.
+  /// no GPC builder makes), or a splits entry names no function of its step, goes below kMaxLevel
+  /// or gives more than max_functions functions.
   GpcSpline(const polycube::GpcDomain& domain, const GpcSplineOptions& options);
 
   const polycube::GpcDomain& domain() const { return domain_; }
@@ -136,15 +135,12 @@ class GpcSpline {
   /// This spline with the given functions (ids, any order, repeats allowed) split into their
   /// children one level finer, and the closure (see the class comment); F and Σ w_i B_i are the
   /// same function before and after (the points are carried over exactly). Throws volspline::Error
-  /// if an id is out of range, a function would go below kMaxLevel, or the finer level would
-  /// hold more than kMaxLevelFunctions functions. The result shares this spline's cache of the
-  /// levels, so refined() is not thread-safe between splines refined from one another.
+  /// if an id is out of range or a function would go below kMaxLevel. The levels are made only
+  /// where functions are split (their cost follows the active functions, not the finest grid).
+  /// The result shares this spline's cache of the levels, so refined() is not thread-safe
+  /// between splines refined from one another.
   GpcSpline refined(const std::vector<int>& split) const;
-  /// The size bound that refined() checks against kMaxLevelFunctions for a level: the functions
-  /// of all cuboids' knot lines with every interval cut into 2^level.
-  long level_functions_bound(int level) const;
   static constexpr int kMaxLevel = 6;
-  static constexpr long kMaxLevelFunctions = 2000000;
   /// How face f (0..5, polycube/cube_faces.h numbering) of cuboid c is joined.
   GpcFaceJoin face_join(int cuboid, int face) const;
   /// Continued or Clamped for an interface of the domain.
@@ -210,9 +206,8 @@ class GpcSpline {
 
  private:
   Eigen::Vector3d checked(int cuboid, const Eigen::Vector3d& uvw) const;
-  // Replays options.splits from the level-0 basis (a LevelBasis of the .cpp) and builds the patches.
-  void build_hierarchy(detail::GpcLevelBasis level0, const std::vector<std::vector<int>>& steps, long max_functions,
-                       double tol);
+  // Replays options.splits from the level-0 functions and builds the patches.
+  void build_hierarchy(const std::vector<std::vector<int>>& steps, long max_functions, double tol);
   // refined(split) of a hierarchical spline: from's levels and active functions, one more step.
   GpcSpline(const GpcSpline& from, const std::vector<int>& split);
   // The functions, anchors and patches of the active functions (active_, hierarchy_).
@@ -230,7 +225,7 @@ class GpcSpline {
   Eigen::MatrixXd points_;
   std::vector<std::vector<int>> splits_;
   std::vector<int> level_of_;  // per global function
-  std::vector<int> level_id_;  // per global function: its id among the functions of its level
+  std::vector<long long> level_id_;  // per global function: its id among the functions of its level
   std::vector<int> clamped_option_;  // options.clamped_interfaces
   // Per function: the functions before the last split step it draws on, with their factors.
   std::vector<std::vector<std::pair<int, double>>> last_step_from_;
@@ -238,7 +233,7 @@ class GpcSpline {
   // same for every spline refined from one base, so refined() shares it instead of replaying the
   // split steps), and the active functions (level, id) → weight.
   std::shared_ptr<detail::GpcHierarchy> hierarchy_;
-  std::map<std::pair<int, int>, double> active_;
+  std::map<std::pair<int, long long>, double> active_;
 };
 
 /// Knot intervals for GpcSplineOptions::intervals: per class of axes glued together as tangent

@@ -715,6 +715,77 @@ TEST_CASE("gpc spline: hierarchical splits keep F and a C² partition of unity a
   }
 }
 
+TEST_CASE("gpc spline: splits down to the deepest level next to an interface stay local") {
+  // The T with 6 knot intervals per axis: level 6 holds (6·64 + 3)³ local functions per cuboid,
+  // 2.9·10⁸ over the five, of which the splits visit a few hundred. Split the function largest
+  // at a point of a glued face (clamped next to an ill-point, continued between the arms) level
+  // by level down to kMaxLevel.
+  const GpcDomain d = t_shape_domain();
+  GpcSplineOptions o;
+  o.intervals = intervals_of(d, 1.0 / 6.0);
+  REQUIRE(o.intervals[0] == std::array<int, 3>{6, 6, 6});
+  GpcSpline base(d, o);
+  random_points(base, 400);
+  unsigned seed = 401;
+  for (int i = 0; i < static_cast<int>(d.interfaces.size()); ++i) {
+    const auto& in = d.interfaces[i];
+    const bool arm_to_arm = std::min(in.cuboid[0], in.cuboid[1]) == 1 && std::max(in.cuboid[0], in.cuboid[1]) == 2;
+    if (i > 0 && !arm_to_arm) continue;
+    REQUIRE(base.interface_join(i) == (arm_to_arm ? GpcFaceJoin::Continued : GpcFaceJoin::Clamped));
+    const Eigen::Vector3d target = face_point(d, in.cuboid[0], in.face[0], 0.37, 0.61);
+    GpcSpline spline = base;
+    std::vector<int> ids;
+    std::vector<double> values;
+    for (int level = 0; level < GpcSpline::kMaxLevel; ++level) {
+      spline.basis_at(in.cuboid[0], target, {0, 0, 0}, ids, values);
+      int largest = -1;
+      for (std::size_t k = 0; k < ids.size(); ++k)
+        if (spline.function_level(ids[k]) == level && (largest < 0 || values[k] > values[largest]))
+          largest = static_cast<int>(k);
+      REQUIRE(largest >= 0);
+      spline = spline.refined({ids[largest]});
+    }
+    CAPTURE(i);
+    CHECK(spline.max_level() == GpcSpline::kMaxLevel);
+    CHECK(spline.num_functions() < base.num_functions() + 1000);
+    // F is the same function (Eq. 4.9), Σ w B = 1 (Eq. 4.3) and the sides agree, in the finest
+    // cells around the target and anywhere.
+    const double finest = 1.0 / (6 * 64);
+    std::mt19937_64 rng(seed++);
+    std::uniform_real_distribution<double> near(-3.0 * finest, 3.0 * finest);
+    GpcSpline fresh = spline;
+    random_points(fresh, seed++);
+    double worst = 0.0, partition = 0.0, gap = 0.0;
+    const int a = in.face[0] / 2;
+    for (int k = 0; k < 4000; ++k) {
+      Eigen::Vector3d p = target;
+      for (int b = 0; b < 3; ++b) p(b) += near(rng);
+      p(a) = target(a) - (in.face[0] % 2 == 0 ? -1.0 : 1.0) * std::abs(p(a) - target(a));  // inside cuboid[0]
+      const int c = in.cuboid[0];
+      worst = std::max(worst, (spline.evaluate(c, p) - base.evaluate(c, p)).cwiseAbs().maxCoeff());
+      partition = std::max(partition, std::abs(fresh.weight_sum(c, p) - 1.0));
+      Eigen::Vector3d on_face = p;
+      on_face(a) = target(a);
+      gap = std::max(gap, (fresh.evaluate(c, on_face) - fresh.evaluate(in.cuboid[1], in.transition.apply(on_face))).norm());
+    }
+    CHECK(worst <= 1e-12);
+    CHECK(partition <= 1e-12);
+    CHECK(gap <= 1e-12);
+    CHECK(partition_error(fresh, 5000, seed++) <= 1e-12);
+    // The same functions from the options alone.
+    GpcSplineOptions replay = o;
+    replay.splits = spline.splits();
+    CHECK(GpcSpline(d, replay).num_functions() == spline.num_functions());
+    // No level below kMaxLevel.
+    spline.basis_at(in.cuboid[0], target, {0, 0, 0}, ids, values);
+    std::vector<int> deepest;
+    for (int id : ids)
+      if (spline.function_level(id) == GpcSpline::kMaxLevel) deepest.push_back(id);
+    REQUIRE(!deepest.empty());
+    CHECK_THROWS_AS(spline.refined(deepest), volspline::Error);
+  }
+}
+
 TEST_CASE("gpc spline: splitting every function is the uniform level with halved knot intervals") {
   const GpcDomain d = torus_domain(true);
   GpcSplineOptions o;
