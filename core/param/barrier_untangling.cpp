@@ -139,6 +139,10 @@ namespace detail {
 
 void hex_corner_terms(const double (*p)[3], double inv_h, double eps2, double theta, unsigned corners, double* e,
                       double (*grad)[3]) {
+#if defined(VOLSPLINE_AVX512_KERNELS)
+  static const bool avx512 = __builtin_cpu_supports("avx512f");
+  if (avx512) return hex_corner_kernel_avx512(p, inv_h, eps2, theta, corners, e, grad);
+#endif
 #if defined(VOLSPLINE_AVX2_KERNELS)
   static const bool avx2 = __builtin_cpu_supports("avx2");
   if (avx2) return hex_corner_kernel_avx2(p, inv_h, eps2, theta, corners, e, grad);
@@ -148,6 +152,10 @@ void hex_corner_terms(const double (*p)[3], double inv_h, double eps2, double th
 
 void hex_corner_terms2(const double (*const p[2])[3], const double inv_h[2], double eps2, double theta,
                        const unsigned corners[2], double* const e[2], double (*const grad[2])[3]) {
+#if defined(VOLSPLINE_AVX512_KERNELS)
+  static const bool avx512 = __builtin_cpu_supports("avx512f");
+  if (avx512) return hex_corner_kernel2_avx512(p, inv_h, eps2, theta, corners, e, grad);
+#endif
 #if defined(VOLSPLINE_AVX2_KERNELS)
   static const bool avx2 = __builtin_cpu_supports("avx2");
   if (avx2) return hex_corner_kernel2_avx2(p, inv_h, eps2, theta, corners, e, grad);

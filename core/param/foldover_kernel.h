@@ -172,8 +172,8 @@ inline void hex_corner_kernel(const double (*p)[3], double inv_h, double eps2, d
 
 }  // namespace
 
-/// hex_corner_kernel, run in AVX2 registers where the CPU has them (the same bits): the entry
-/// point of the hex untanglers (barrier_untangling.cpp).
+/// hex_corner_kernel, run in AVX-512 or AVX2 registers where the CPU has them (the same bits):
+/// the entry point of the hex untanglers (barrier_untangling.cpp).
 void hex_corner_terms(const double (*p)[3], double inv_h, double eps2, double theta, unsigned corners, double* e,
                       double (*grad)[3]);
 
@@ -193,6 +193,15 @@ void hex_corner_kernel2_avx2(const double (*const p[2])[3], const double inv_h[2
                              const unsigned corners[2], double* const e[2], double (*const grad[2])[3]);
 /// foldover_kernel<4> built for AVX2 (foldover_batch_avx2.cpp).
 void foldover_kernel4_avx2(const double* j, double eps, double theta, double* energy, double* gradient);
+#endif
+
+#if defined(VOLSPLINE_AVX512_KERNELS)
+/// hex_corner_kernel in AVX-512 registers, a hex's 8 corners in one (foldover_batch_avx512.cpp).
+void hex_corner_kernel_avx512(const double (*p)[3], double inv_h, double eps2, double theta, unsigned corners,
+                              double* e, double (*grad)[3]);
+/// hex_corner_kernel_avx512 for two hexes at once, as hex_corner_kernel2_avx2.
+void hex_corner_kernel2_avx512(const double (*const p[2])[3], const double inv_h[2], double eps2, double theta,
+                               const unsigned corners[2], double* const e[2], double (*const grad[2])[3]);
 #endif
 
 }  // namespace volspline::param::detail

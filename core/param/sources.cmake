@@ -8,6 +8,7 @@ list(APPEND VOLSPLINE_CORE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/hex_grid_untangling.cpp
   ${CMAKE_CURRENT_LIST_DIR}/barrier_untangling.cpp
   ${CMAKE_CURRENT_LIST_DIR}/foldover_batch_avx2.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/foldover_batch_avx512.cpp
   ${CMAKE_CURRENT_LIST_DIR}/hex_padding.cpp
   ${CMAKE_CURRENT_LIST_DIR}/hex_min_quality.cpp
 )

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <utility>
+#include <vector>
 
 #include <Eigen/LU>
 
@@ -150,6 +152,59 @@ TEST_CASE("the hex corner terms of two hexes in one call give the bits of two po
     }
   }
 }
+
+#if defined(VOLSPLINE_AVX2_KERNELS) || defined(VOLSPLINE_AVX512_KERNELS)
+TEST_CASE("every SIMD build of the hex corner kernel that the CPU runs gives the bits of the portable kernel") {
+  // The dispatch of hex_corner_terms picks one build; each is checked here on its own.
+  using Kernel1 = void (*)(const double(*)[3], double, double, double, unsigned, double*, double(*)[3]);
+  using Kernel2 = void (*)(const double(*const[2])[3], const double[2], double, double, const unsigned[2],
+                           double* const[2], double(*const[2])[3]);
+  std::vector<std::pair<Kernel1, Kernel2>> builds;
+#if defined(VOLSPLINE_AVX2_KERNELS)
+  if (__builtin_cpu_supports("avx2"))
+    builds.emplace_back(param::detail::hex_corner_kernel_avx2, param::detail::hex_corner_kernel2_avx2);
+#endif
+#if defined(VOLSPLINE_AVX512_KERNELS)
+  if (__builtin_cpu_supports("avx512f"))
+    builds.emplace_back(param::detail::hex_corner_kernel_avx512, param::detail::hex_corner_kernel2_avx512);
+#endif
+  for (const auto& [one, two] : builds) {
+    std::mt19937_64 rng(17);
+    std::normal_distribution<double> jitter(0.0, 1.0);
+    for (int round = 0; round < 2000; ++round) {
+      // Two unit cubes jittered independently (folded corners among them), with their own edge
+      // lengths and corner flags; now and then a hex crushed so far that χ underflows.
+      double p[2][8][3];
+      for (int h = 0; h < 2; ++h)
+        for (int q = 0; q < 8; ++q)
+          for (int d = 0; d < 3; ++d) p[h][q][d] = ((q >> d) & 1) + ((round + h) % 4 == 0 ? 0.7 : 0.2) * jitter(rng);
+      if (round % 50 == 0)
+        for (int q = 0; q < 8; ++q)
+          for (int d = 0; d < 3; ++d) p[1][q][d] *= (q >> d) & 1 ? -1000.0 : 1000.0;
+      const unsigned corners[2] = {round % 5 == 0 ? 0xFFu : static_cast<unsigned>(rng() & 0xFF),
+                                   static_cast<unsigned>(rng() & 0xFF)};
+      const double inv_h[2] = {round % 2 == 0 ? 1.0 : 3.7, 0.8};
+      const double eps2 = round % 3 == 0 ? 1e-16 : 0.04, theta = round % 7 == 0 ? 0.0 : 0.5;
+      double e[2][8], grad[2][8][3], e_ref[2][8], grad_ref[2][8][3], e_only[2][8], e_one[8], grad_one[8][3];
+      const double(*pp[2])[3] = {p[0], p[1]};
+      double* const ee[2] = {e[0], e[1]};
+      double(*const gg[2])[3] = {grad[0], grad[1]};
+      two(pp, inv_h, eps2, theta, corners, ee, gg);
+      double* const ee_only[2] = {e_only[0], e_only[1]};
+      two(pp, inv_h, eps2, theta, corners, ee_only, nullptr);
+      for (int h = 0; h < 2; ++h) {
+        param::detail::hex_corner_kernel(p[h], inv_h[h], eps2, theta, corners[h], e_ref[h], grad_ref[h]);
+        REQUIRE(std::memcmp(e[h], e_ref[h], sizeof e[h]) == 0);
+        REQUIRE(std::memcmp(grad[h], grad_ref[h], sizeof grad[h]) == 0);
+        REQUIRE(std::memcmp(e_only[h], e_ref[h], sizeof e_only[h]) == 0);
+        one(p[h], inv_h[h], eps2, theta, corners[h], e_one, grad_one);
+        REQUIRE(std::memcmp(e_one, e_ref[h], sizeof e_one) == 0);
+        REQUIRE(std::memcmp(grad_one, grad_ref[h], sizeof grad_one) == 0);
+      }
+    }
+  }
+}
+#endif
 
 TEST_CASE("untangle unfolds a single free corner of an inverted tetrahedron") {
   const param::UntangleProblem problem = corner_problem();
