@@ -18,6 +18,33 @@ using namespace volspline;
 
 namespace {
 
+// Two unit cubes jittered independently (one may fold where the other does not), with their own
+// edge lengths and corner flags, for the kernel tests; with `crushed`, now and then the second
+// crushed so far that χ underflows.
+struct HexPair {
+  double p[2][8][3];
+  unsigned corners[2];
+  double inv_h[2];
+  double eps2, theta;
+};
+HexPair random_hex_pair(std::mt19937_64& rng, int round, bool crushed) {
+  std::normal_distribution<double> jitter(0.0, 1.0);
+  HexPair out;
+  for (int h = 0; h < 2; ++h)
+    for (int q = 0; q < 8; ++q)
+      for (int d = 0; d < 3; ++d) out.p[h][q][d] = ((q >> d) & 1) + ((round + h) % 4 == 0 ? 0.7 : 0.2) * jitter(rng);
+  if (crushed && round % 50 == 0)
+    for (int q = 0; q < 8; ++q)
+      for (int d = 0; d < 3; ++d) out.p[1][q][d] *= (q >> d) & 1 ? -1000.0 : 1000.0;
+  out.corners[0] = round % 5 == 0 ? 0xFFu : static_cast<unsigned>(rng() & 0xFF);
+  out.corners[1] = static_cast<unsigned>(rng() & 0xFF);
+  out.inv_h[0] = round % 2 == 0 ? 1.0 : 3.7;
+  out.inv_h[1] = 0.8;
+  out.eps2 = round % 3 == 0 ? 1e-16 : 0.04;
+  out.theta = round % 7 == 0 ? 0.0 : 0.5;
+  return out;
+}
+
 // Corner x with fixed neighbours e0, e1, e2: J = [e_a − x]. A start beyond the plane of the
 // neighbours has det < 0; the unique fold-free region is on the origin's side.
 Eigen::Matrix3d corner_jacobian(const Eigen::VectorXd& x) {
@@ -124,18 +151,12 @@ TEST_CASE("the hex corner terms (AVX2 where the CPU has it) give the bits of the
 
 TEST_CASE("the hex corner terms of two hexes in one call give the bits of two portable calls") {
   std::mt19937_64 rng(11);
-  std::normal_distribution<double> jitter(0.0, 1.0);
   for (int round = 0; round < 2000; ++round) {
-    // Two unit cubes jittered independently (one may fold where the other does not), with their
-    // own edge lengths and corner flags.
-    double p[2][8][3];
-    for (int h = 0; h < 2; ++h)
-      for (int q = 0; q < 8; ++q)
-        for (int d = 0; d < 3; ++d) p[h][q][d] = ((q >> d) & 1) + ((round + h) % 4 == 0 ? 0.7 : 0.2) * jitter(rng);
-    const unsigned corners[2] = {round % 5 == 0 ? 0xFFu : static_cast<unsigned>(rng() & 0xFF),
-                                 static_cast<unsigned>(rng() & 0xFF)};
-    const double inv_h[2] = {round % 2 == 0 ? 1.0 : 3.7, 0.8};
-    const double eps2 = round % 3 == 0 ? 1e-16 : 0.04, theta = round % 7 == 0 ? 0.0 : 0.5;
+    HexPair pair = random_hex_pair(rng, round, false);
+    const auto& p = pair.p;
+    const auto& corners = pair.corners;
+    const auto& inv_h = pair.inv_h;
+    const double eps2 = pair.eps2, theta = pair.theta;
     double e[2][8], grad[2][8][3], e_ref[2][8], grad_ref[2][8][3], e_only[2][8];
     const double(*pp[2])[3] = {p[0], p[1]};
     double* const ee[2] = {e[0], e[1]};
@@ -170,21 +191,12 @@ TEST_CASE("every SIMD build of the hex corner kernel that the CPU runs gives the
 #endif
   for (const auto& [one, two] : builds) {
     std::mt19937_64 rng(17);
-    std::normal_distribution<double> jitter(0.0, 1.0);
     for (int round = 0; round < 2000; ++round) {
-      // Two unit cubes jittered independently (folded corners among them), with their own edge
-      // lengths and corner flags; now and then a hex crushed so far that χ underflows.
-      double p[2][8][3];
-      for (int h = 0; h < 2; ++h)
-        for (int q = 0; q < 8; ++q)
-          for (int d = 0; d < 3; ++d) p[h][q][d] = ((q >> d) & 1) + ((round + h) % 4 == 0 ? 0.7 : 0.2) * jitter(rng);
-      if (round % 50 == 0)
-        for (int q = 0; q < 8; ++q)
-          for (int d = 0; d < 3; ++d) p[1][q][d] *= (q >> d) & 1 ? -1000.0 : 1000.0;
-      const unsigned corners[2] = {round % 5 == 0 ? 0xFFu : static_cast<unsigned>(rng() & 0xFF),
-                                   static_cast<unsigned>(rng() & 0xFF)};
-      const double inv_h[2] = {round % 2 == 0 ? 1.0 : 3.7, 0.8};
-      const double eps2 = round % 3 == 0 ? 1e-16 : 0.04, theta = round % 7 == 0 ? 0.0 : 0.5;
+      HexPair pair = random_hex_pair(rng, round, true);
+      const auto& p = pair.p;
+      const auto& corners = pair.corners;
+      const auto& inv_h = pair.inv_h;
+      const double eps2 = pair.eps2, theta = pair.theta;
       double e[2][8], grad[2][8][3], e_ref[2][8], grad_ref[2][8][3], e_only[2][8], e_one[8], grad_one[8][3];
       const double(*pp[2])[3] = {p[0], p[1]};
       double* const ee[2] = {e[0], e[1]};
