@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // hex_corner_kernel (one or two hexes a call) compiled with -mavx512f: a hex's 8 corners fill one
-// register. Built with -ffp-contract=off, since AVX-512F has fused multiply-adds of its own that
-// -mno-fma does not turn off: the lanes keep the scalar bits.
+// register. Built with -ffp-contract=off, since AVX-512F brings fused multiply-adds with it (no
+// -mno-fma: clang would drop AVX-512F with it): the lanes keep the scalar bits.
 #include "core/param/foldover_kernel.h"
 
 #if defined(VOLSPLINE_AVX512_KERNELS)
