@@ -437,9 +437,9 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
       const int n = best->num_functions();
       const int room = static_cast<int>(std::min<double>((options.adaptive_growth - 1.0) * n / 16.0,
                                                          (options.max_control_points - n) / 16.0));
-      const int depth = options.hierarchy_depth;
-      if (room >= 1 && depth > 0)
-        marked = spline::gpc_marked_functions(*best, data.samples, options.marking_fraction, room, depth, beyond);
+      if (room >= 1)
+        marked = spline::gpc_marked_functions(*best, data.samples, options.marking_fraction, room,
+                                              options.hierarchy_depth, beyond);
       // Every function with misfit at hierarchy_depth: the next uniform level instead.
       splitting = !marked.empty();
     }
