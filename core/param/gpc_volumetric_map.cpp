@@ -391,8 +391,8 @@ int untangle_padded_mesh(const polycube::GpcConstruction& construction, const st
   }
   for (int r = 0; r < rows; ++r)
     if (slides[r] && !patches[slides[r] - 1]) slides[r] = 0, fixed[r] = 1;
-  // settle: first with the whole surface held; then the folds left, with the face nodes sliding;
-  // then improved around the poor hexes if fold-free. Run with the reference cells that
+  // settle: first with the whole surface held; then the folds left, with the face nodes sliding
+  // (grid.face_sliding); then improved around the poor hexes if fold-free. Run with the reference cells that
   // grid.padded_reference asks for, each from the same start.
   std::vector<char> held(rows);
   for (int r = 0; r < rows; ++r) held[r] = fixed[r] || pm.on_surface[r];
@@ -422,7 +422,7 @@ int untangle_padded_mesh(const polycube::GpcConstruction& construction, const st
     moved += held_report.free_nodes;
     if (settle_or_give_up && held_report.final_inverted > held_report.initial_inverted) return moved;
     const int held_count = hex_mesh_quality(pm).num_inverted;
-    if (held_count > 0) {
+    if (held_count > 0 && options.face_sliding == GpcGridOptions::FaceSliding::On) {
       const mesh::Positions held_result = pm.xyz;
       HexGridUntangleOptions slide_options = held_options;
       moved += untangle_hex_mesh(pm.hexes, fixed, pm.xyz, {}, slide_options, &sliding, share_of(share, 0.5, 1.0)).free_nodes;

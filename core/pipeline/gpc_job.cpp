@@ -174,10 +174,21 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
     progress.report(stage_prefix + stage, 0.15 + 0.85 * fraction);
     return true;
   });
+  // The choice between constructions below (limb fallback, finer limbs) compares their hex meshes'
+  // folds after the sliding untangling; where the solid has limb tips at a persistence the job may
+  // try, its maps keep that untangling whatever grid.face_sliding asks, so the choice stays the same.
+  param::GpcGridOptions grid = options.grid;
+  if (grid.face_sliding == param::GpcGridOptions::FaceSliding::Off && options.corners.empty()) {
+    const double first = options.limb_persistence >= 0.0 ? options.limb_persistence : kDefaultLimbPersistence;
+    const std::size_t tips = first > 0.0 ? polycube::morse_poles(*solid_mesh, first).limb_tips.size() : 0;
+    const bool finer = options.limb_persistence < 0.0 &&
+                       polycube::morse_poles(*solid_mesh, kFinerLimbPersistence).limb_tips.size() > tips;
+    if (tips > 0 || finer) grid.face_sliding = param::GpcGridOptions::FaceSliding::On;
+  }
   auto map_volume = [&] {
     t0 = Clock::now();
     progress.report(stage_prefix + "volumetric map", 0.15);
-    result.map = param::compute_gpc_volumetric_map(result.construction, 1.0, options.grid, map_progress);
+    result.map = param::compute_gpc_volumetric_map(result.construction, 1.0, grid, map_progress);
     stats.times_s["volumetric_map"] += seconds_since(t0);
   };
   auto two_pole = [&] {

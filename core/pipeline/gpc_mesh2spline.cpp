@@ -369,9 +369,13 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
   // either by the padded mesh's own quality does not predict what the spline's fit and
   // untangling need (README, "Any genus"), and without the quality stage most meshes would pay
   // for the second construction.
+  // For the same reason the padded mesh's second untangling, which slides face nodes to open the
+  // folds that the first one leaves with the surface held, is left out: those folds are the
+  // spline untangling's to open.
   GpcOptions gpc_options = options.gpc;
   gpc_options.grid.min_quality_sweeps = 0;
   gpc_options.grid.padded_reference = param::GpcGridOptions::PaddedReference::MeanCell;
+  gpc_options.grid.face_sliding = param::GpcGridOptions::FaceSliding::Off;
   gpc_options.taller_centres_below = -1.0;
   // A tip crowded into a spot of its cuboid face needs cells finer than the hierarchy reaches.
   gpc_options.grid.squeezed_below = options.squeezed_below;

@@ -35,6 +35,11 @@ expect 0 /usr/bin/python3 "$SRC/tests/cli/check_hex_quality.py" "$TMP/gk.vtu" 0.
 expect 0 "$BIN" gpc "$DATA/meshes/kitten.off" -o "$TMP/gk0.json" --vtk "$TMP/gk0.vtu" --grid-nodes 4000 --quality-sweeps 0 --quiet
 expect 1 /usr/bin/python3 "$SRC/tests/cli/check_hex_quality.py" "$TMP/gk0.vtu" 0.2
 contains "$TMP/err" "below 0.200"
+# The padded mesh's folds that the surface-held untangling leaves, kept (mesh2spline's setting).
+expect 0 "$BIN" gpc --help
+contains "$TMP/out" "--no-face-sliding"
+expect 0 "$BIN" gpc "$DATA/meshes/eight.off" -o "$TMP/gf.json" --stats-json "$TMP/gf_stats.json" --grid-nodes 4000 --no-face-sliding --quality-sweeps 0 --quiet
+has_keys "$TMP/gf_stats.json" grid_inverted_hexes grid_min_scaled_jacobian
 expect 2 "$BIN" gpc "$DATA/meshes/torus.off" -o "$TMP/gq.json" --quality-sweeps -1 --quiet
 contains "$TMP/err" "grid.min_quality_sweeps"
 expect 2 "$BIN" gpc "$DATA/meshes/torus.off" -o "$TMP/ga.json" --area-balance 21 --quiet
