@@ -5,6 +5,7 @@
 #include <array>
 #include <cassert>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numeric>
 #include <string>
@@ -24,6 +25,8 @@ namespace {
 
 // Barrier nodes per axis per cell in the free functions' supports: the centres of equal parts.
 constexpr int kNodesPerCell = 2;
+// Barrier cells per axis of a polynomial piece that spans more grid cells (add_pieces).
+constexpr int kPieceParts = 4;
 // Free functions are at most this many times as wide as the narrowest function at the held
 // point per axis (2: one dyadic level coarser).
 constexpr double kSupportRatio = 2.0;
@@ -307,16 +310,22 @@ class GpcCertificatePass {
       }
   }
 
-  // Per cuboid, the patch cells inside its box where a free function is non-zero.
+  // Per cuboid, the patch cells inside its box where a free function is non-zero, and the
+  // polynomial pieces they make up (pieces_).
   void mark_active_cells() {
     active_.assign(spline_.num_cuboids(), {});
+    pieces_.clear();
     std::vector<int> local;
+    std::vector<std::array<double, 6>> boxes;  // per active cell of the cuboid, in cell order
+    std::vector<int> cells;
     for (int cuboid = 0; cuboid < spline_.num_cuboids(); ++cuboid) {
       const TSpline& patch = spline_.patch(cuboid);
       const std::vector<int>& global = spline_.patch_function_ids(cuboid);
       const auto& size = spline_.domain().cuboids[cuboid].size;
       std::vector<char>& active = active_[cuboid];
       active.assign(patch.num_cells(), 0);
+      boxes.clear();
+      cells.clear();
       for (int cell = 0; cell < patch.num_cells(); ++cell) {
         const std::array<int, 3> k = patch.cell_index(cell);
         bool inside = true;
@@ -327,7 +336,109 @@ class GpcCertificatePass {
         if (!inside) continue;
         patch.cell_functions(cell, local);
         active[cell] = std::any_of(local.begin(), local.end(), [&](int f) { return column_of_[global[f]] >= 0; });
+        if (!active[cell]) continue;
+        cells.push_back(cell);
+        boxes.push_back(piece_box(patch, cell, local, size));
       }
+      add_pieces(cuboid, cells, boxes);
+    }
+  }
+
+  // The polynomial piece of the patch holding cell (of functions `local`): per axis the widest
+  // interval around the cell that no knot of those functions crosses, cut to the cuboid box. The
+  // patch's knot-line grid carries every line of every function of the cuboid, so a split's
+  // lines cut cells far from where its functions reach; J is one polynomial over such a piece
+  // (Eq. 4.3), and the barrier's nodes and guards belong to it, not to the grid's cells.
+  static std::array<double, 6> piece_box(const TSpline& patch, int cell, const std::vector<int>& local,
+                                         const std::array<double, 3>& size) {
+    const std::array<int, 3> k = patch.cell_index(cell);
+    std::array<double, 6> box;
+    for (int a = 0; a < 3; ++a) {
+      const double c0 = patch.knot_lines(a)[k[a]], c1 = patch.knot_lines(a)[k[a] + 1];
+      double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
+      for (int f : local)
+        for (double t : patch.knots()[f][a]) {
+          if (t <= c0) lo = std::max(lo, t);
+          if (t >= c1) hi = std::min(hi, t);
+        }
+      box[a] = std::max(lo, std::min(c0, 0.0));
+      box[a + 3] = std::min(hi, std::max(c1, size[a]));
+    }
+    return box;
+  }
+
+  // Appends the cuboid's barrier cells to pieces_, in the order of their first grid cell. The
+  // active cells (increasing, with their piece_box) sharing a box are one polynomial piece if they
+  // are every grid cell in it (then they have the same functions). Along an axis where a piece
+  // spans up to kPieceParts grid cells its barrier cells are those cells; where it spans more
+  // (lines of deeper splits elsewhere in the cuboid), kPieceParts equal parts: the nodes stay as
+  // dense as two dyadic levels below the piece, and far splits no longer multiply them. A cell
+  // whose box is not a whole piece is its own barrier cell.
+  void add_pieces(int cuboid, const std::vector<int>& cells, const std::vector<std::array<double, 6>>& boxes) {
+    const TSpline& patch = spline_.patch(cuboid);
+    std::vector<int> order(cells.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return boxes[a] < boxes[b]; });
+    std::vector<int> group(cells.size(), -1);  // per active cell: the first cell of its piece (−1: none)
+    // Per piece's first cell: grid cells per axis, and the grid index of its first cell per axis.
+    std::vector<std::array<std::size_t, 3>> spans(cells.size());
+    std::vector<std::array<int, 3>> firsts(cells.size());
+    for (std::size_t i = 0; i < order.size();) {
+      std::size_t j = i;
+      while (j < order.size() && boxes[order[j]] == boxes[order[i]]) ++j;
+      const std::array<double, 6>& box = boxes[order[i]];
+      std::array<std::size_t, 3> span;
+      std::array<int, 3> lead;
+      for (int a = 0; a < 3; ++a) {
+        const std::vector<double>& lines = patch.knot_lines(a);
+        const auto first = std::lower_bound(lines.begin(), lines.end(), box[a]);
+        const auto last = std::upper_bound(lines.begin(), lines.end(), box[a + 3]);
+        span[a] = static_cast<std::size_t>(std::max<std::ptrdiff_t>(last - first - 1, 0));
+        lead[a] = static_cast<int>(first - lines.begin());
+      }
+      if (span[0] * span[1] * span[2] == j - i) {
+        std::vector<int> members(order.begin() + static_cast<std::ptrdiff_t>(i), order.begin() + static_cast<std::ptrdiff_t>(j));
+        const int head = *std::min_element(members.begin(), members.end());
+        for (int q : members) group[q] = head;
+        spans[head] = span;
+        firsts[head] = lead;
+      }
+      i = j;
+    }
+    std::vector<std::uint64_t> emitted(cells.size(), 0);  // per piece's first cell: parts emitted
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      const std::array<int, 3> k = patch.cell_index(cells[i]);
+      Piece piece{cuboid, {}, {}};
+      for (int a = 0; a < 3; ++a) {
+        piece.lo(a) = patch.knot_lines(a)[k[a]];
+        piece.hi(a) = patch.knot_lines(a)[k[a] + 1];
+      }
+      const int head = group[i];
+      if (head >= 0) {
+        const std::array<double, 6>& box = boxes[i];
+        int part = 0;  // the barrier cell's position in the piece, kPieceParts-ary digits w, v, u
+        bool whole_cells = true;
+        for (int a = 2; a >= 0; --a) {
+          part *= kPieceParts;
+          if (spans[head][a] <= static_cast<std::size_t>(kPieceParts)) {
+            part += k[a] - firsts[head][a];
+            continue;
+          }
+          whole_cells = false;
+          const double width = (box[a + 3] - box[a]) / kPieceParts;
+          const double centre = 0.5 * (piece.lo(a) + piece.hi(a));
+          const int q = std::clamp(static_cast<int>((centre - box[a]) / width), 0, kPieceParts - 1);
+          part += q;
+          piece.lo(a) = box[a] + q * width;
+          piece.hi(a) = q == kPieceParts - 1 ? box[a + 3] : box[a] + (q + 1) * width;
+        }
+        if (!whole_cells) {
+          const std::uint64_t bit = std::uint64_t{1} << part;
+          if (emitted[head] & bit) continue;
+          emitted[head] |= bit;
+        }
+      }
+      pieces_.push_back(piece);
     }
   }
 
@@ -338,29 +449,20 @@ class GpcCertificatePass {
     std::vector<int> start{0}, columns;
     std::vector<Eigen::Vector3d> g;
     double step_sum = 0.0;
-    for (int cuboid = 0; cuboid < spline_.num_cuboids(); ++cuboid) {
-      const TSpline& patch = spline_.patch(cuboid);
-      for (int cell = 0; cell < patch.num_cells(); ++cell) {
-        if (!active_[cuboid][cell]) continue;
-        const std::array<int, 3> k = patch.cell_index(cell);
-        Eigen::Vector3d lo, width;
-        for (int a = 0; a < 3; ++a) {
-          lo(a) = patch.knot_lines(a)[k[a]];
-          width(a) = patch.knot_lines(a)[k[a] + 1] - lo(a);
-        }
-        for (int n = 0; n < kNodesPerCell * kNodesPerCell * kNodesPerCell; ++n) {
-          const Eigen::Vector3d s((n % kNodesPerCell + 0.5) / kNodesPerCell,
-                                  (n / kNodesPerCell % kNodesPerCell + 0.5) / kNodesPerCell,
-                                  (n / (kNodesPerCell * kNodesPerCell) + 0.5) / kNodesPerCell);
-          const PointJacobian& j = jacobian_at(cuboid, lo + s.cwiseProduct(width), x, &cache_.nodes, full.size());
-          full.push_back(j.full);
-          columns.insert(columns.end(), j.columns.begin(), j.columns.end());
-          g.insert(g.end(), j.g.begin(), j.g.end());
-          start.push_back(static_cast<int>(columns.size()));
-          const Eigen::Vector3d norms(j.full.col(0).norm(), j.full.col(1).norm(), j.full.col(2).norm());
-          region.mean_scale += norms;
-          step_sum += norms.dot(width) / 3.0;
-        }
+    for (const Piece& piece : pieces_) {
+      const Eigen::Vector3d width = piece.hi - piece.lo;
+      for (int n = 0; n < kNodesPerCell * kNodesPerCell * kNodesPerCell; ++n) {
+        const Eigen::Vector3d s((n % kNodesPerCell + 0.5) / kNodesPerCell,
+                                (n / kNodesPerCell % kNodesPerCell + 0.5) / kNodesPerCell,
+                                (n / (kNodesPerCell * kNodesPerCell) + 0.5) / kNodesPerCell);
+        const PointJacobian& j = jacobian_at(piece.cuboid, piece.lo + s.cwiseProduct(width), x, &cache_.nodes, full.size());
+        full.push_back(j.full);
+        columns.insert(columns.end(), j.columns.begin(), j.columns.end());
+        g.insert(g.end(), j.g.begin(), j.g.end());
+        start.push_back(static_cast<int>(columns.size()));
+        const Eigen::Vector3d norms(j.full.col(0).norm(), j.full.col(1).norm(), j.full.col(2).norm());
+        region.mean_scale += norms;
+        step_sum += norms.dot(width) / 3.0;
       }
     }
     const std::size_t count = full.size();
@@ -430,21 +532,14 @@ class GpcCertificatePass {
       std::size_t first;  // position among all cells' grid points, for the order of the hinges
     };
     std::vector<Guard> guards;
-    for (int cuboid = 0; cuboid < spline_.num_cuboids(); ++cuboid) {
-      const TSpline& patch = spline_.patch(cuboid);
-      const auto& size = spline_.domain().cuboids[cuboid].size;
-      for (int cell = 0; cell < patch.num_cells(); ++cell) {
-        if (!active_[cuboid][cell]) continue;
-        const std::array<int, 3> k = patch.cell_index(cell);
-        for (int n = 0; n < 27; ++n) {
-          const int idx[3] = {n % 3, n / 3 % 3, n / 9};
-          Eigen::Vector3d p;
-          for (int a = 0; a < 3; ++a) p(a) = idx[a] == 2 ? patch.knot_lines(a)[k[a] + 1]
-                                            : idx[a] == 0 ? patch.knot_lines(a)[k[a]]
-                                                          : 0.5 * (patch.knot_lines(a)[k[a]] + patch.knot_lines(a)[k[a] + 1]);
-          for (int a = 0; a < 3; ++a) p(a) = std::clamp(p(a), 0.0, size[a]);
-          guards.push_back({cuboid, p, guards.size()});
-        }
+    for (const Piece& piece : pieces_) {
+      const auto& size = spline_.domain().cuboids[piece.cuboid].size;
+      for (int n = 0; n < 27; ++n) {
+        const int idx[3] = {n % 3, n / 3 % 3, n / 9};
+        Eigen::Vector3d p;
+        for (int a = 0; a < 3; ++a) p(a) = idx[a] == 2 ? piece.hi(a) : idx[a] == 0 ? piece.lo(a) : 0.5 * (piece.lo(a) + piece.hi(a));
+        for (int a = 0; a < 3; ++a) p(a) = std::clamp(p(a), 0.0, size[a]);
+        guards.push_back({piece.cuboid, p, guards.size()});
       }
     }
     auto same_point = [](const Guard& a, const Guard& b) { return a.cuboid == b.cuboid && a.p == b.p; };
@@ -508,6 +603,11 @@ class GpcCertificatePass {
   const SplineUntangleOptions& options_;
   std::vector<int> column_of_, free_ids_;  // function → column (−1: fixed); column → function
   std::vector<std::vector<char>> active_;  // per cuboid, per patch cell
+  struct Piece {
+    int cuboid;
+    Eigen::Vector3d lo, hi;  // its box in cuboid coordinates
+  };
+  std::vector<Piece> pieces_;  // the active cells' polynomial pieces (mark_active_cells)
   std::vector<int> ids_, local_ids_;
   std::array<std::vector<double>, 3> local_values_;
   std::array<std::vector<double>, 3> gradient_;

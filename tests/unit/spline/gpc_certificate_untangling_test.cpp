@@ -157,3 +157,40 @@ TEST_CASE("untangle_gpc_certificate: cells left uncertified run the rounds a sec
   // Two attempts of one pass each where cells stay uncertified.
   if (result.final_uncertified > 0) CHECK(result.certificate_passes == 2);
 }
+
+TEST_CASE("untangle_gpc_certificate: a ring split five levels deep at one spot ends certified, seam and surface kept") {
+  // The ring's folded fit with the function largest at a point of its outer surface split level
+  // by level five times: the finest split's knot lines cut every cell of the tube (one knot-line
+  // grid per cuboid), so far from the spot one polynomial piece spans many grid cells and the
+  // rounds' barrier cells are its parts. F is unchanged by the splits (Eq. 4.9), so the same 8
+  // cells fold, now over many more grid cells.
+  const GpcSamples samples = ring_samples();
+  GpcSpline spline = fitted_ring(samples);
+  const double misfit_before = max_misfit(spline, samples);
+  const Eigen::Vector3d spot(0.53, 0.3, 0.07);
+  std::vector<int> ids;
+  std::vector<double> values;
+  for (int level = 0; level < 5; ++level) {
+    spline.basis_at(0, spot, {0, 0, 0}, ids, values);
+    int largest = -1;
+    for (std::size_t k = 0; k < ids.size(); ++k)
+      if (spline.function_level(ids[k]) == level && (largest < 0 || values[k] > values[largest]))
+        largest = static_cast<int>(k);
+    REQUIRE(largest >= 0);
+    spline = spline.refined({ids[largest]});
+  }
+  REQUIRE(spline.max_level() == 5);
+  const auto before = certify_gpc_jacobian(spline);
+  CHECK(before.cells > 8 * 64);
+  CHECK(before.certified_cells < before.cells);
+  CHECK(max_misfit(spline, samples) <= misfit_before + 1e-12);
+
+  const auto result = untangle_gpc_certificate(spline, samples);
+  CHECK(result.final_uncertified == 0);
+  CHECK(certify_gpc_jacobian(spline).det_j_lower_bound_rel >= 0.0);
+  for (int q = 0; q < 25; ++q) {
+    const Eigen::Vector3d a(0.0, 0.3 * (q % 5) / 4.0, 0.2 * (q / 5) / 4.0), b(1.0, a(1), a(2));
+    CHECK((spline.evaluate(0, a) - spline.evaluate(0, b)).norm() <= 1e-12);
+  }
+  CHECK(max_misfit(spline, samples) <= misfit_before + 0.015);
+}
