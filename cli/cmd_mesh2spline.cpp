@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -85,9 +86,14 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
     throw UsageError("--uniform-knots, --adaptive-knots and --hierarchical exclude each other");
   options.fit_damping = args.get_double("fit-damping", options.fit_damping);
   options.hierarchy_depth = args.get_int("hierarchy-depth", options.hierarchy_depth);
+  if (args.has("hierarchy-depth") && options.hierarchy_depth < 1)  // 0 is the core's automatic depth
+    throw UsageError("--hierarchy-depth must be in 1..6, got " + std::to_string(options.hierarchy_depth));
   options.adaptive_growth = args.get_double("knot-growth", options.adaptive_growth);
   options.surface_weight = args.get_double("surface-weight", options.surface_weight);
+  if (args.has("centroid-samples") && args.has("vertex-samples"))
+    throw UsageError("--centroid-samples and --vertex-samples exclude each other");
   if (args.has("centroid-samples")) options.surface_samples = pipeline::GpcMesh2SplineOptions::SurfaceSamples::VerticesAndCentroids;
+  if (args.has("vertex-samples")) options.surface_samples = pipeline::GpcMesh2SplineOptions::SurfaceSamples::Vertices;
   options.measure_lattice = args.get_int("measure-lattice", options.measure_lattice);
   options.threads = args.get_int("threads", 1);
   if (args.has("limbs")) options.gpc.limb_persistence = args.get_double("limbs", 0.0);
@@ -136,6 +142,8 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
     j["flipped_triangles"] = s.flipped_triangles;
     j["squeeze_rounds"] = s.squeeze_rounds;
     j["surface_least_density"] = std::isfinite(s.surface_least_density) ? nlohmann::ordered_json(s.surface_least_density) : nlohmann::ordered_json(nullptr);
+    j["hierarchy_depth"] = s.hierarchy_depth;
+    j["centroid_samples"] = s.centroid_samples;
     j["grid_inverted_hexes"] = s.grid_inverted_hexes;
     j["grid_min_scaled_jacobian"] = s.grid_min_scaled_jacobian;
     j["samples"] = s.samples;
@@ -199,10 +207,12 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
       {"adaptive-knots", "", "genus > 0: each level adds knot lines where the misfit is instead of dividing the spacing by 1.5"},
       {"hierarchical", "", "genus > 0 (default): past the uniform levels, split the functions at the surface samples beyond --max-surface-error and those holding the most misfit (T-spline refinement)"},
       {"uniform-knots", "", "genus > 0: every level divides the knot spacing by 1.5 (no T-spline splits)"},
-      {"hierarchy-depth", "L", "genus > 0, --hierarchical: split functions at most L dyadic levels below the last uniform level (default 3, 1..6)"},
+      {"hierarchy-depth", "L", "genus > 0, --hierarchical: split functions at most L dyadic levels below the last uniform level (1..6; default 3, or 6 where a cuboid's surface map is squeezed: squeeze_rounds > 0 or surface_least_density below --squeezed-below)"},
       {"fit-damping", "D", "genus > 0: pull of every level's least squares towards the previous level's spline, relative to the mean sample weight of a function (default 0.01, 0..1)"},
       {"measure-lattice", "N", "genus > 0: lattice_negative_fraction at the cell centres of an N^3 lattice per cuboid (default 64, 4..256)"},
-      {"centroid-samples", "", "genus > 0: also fit every surface triangle's centroid at its surface-map parameter"},
+      {"centroid-samples", "", "genus > 0: also fit every surface triangle's centroid at its surface-map parameter (default: where a cuboid's surface map is squeezed)"},
+      {"vertex-samples", "", "genus > 0: fit the surface vertices only, no centroids, squeezed or not"},
+      {"one-cuboid", "", "genus 0: one cuboid even where its surface map is squeezed (default: a squeezed solid, squeeze_rounds > 0, goes through the GPC with its limbs as caps)"},
       {"surface-weight", "W", "genus > 0: least-squares weight of a surface vertex against a grid node (default 1)"},
       {"knot-growth", "G", "genus > 0, --adaptive-knots: each level adds lines until the control points grow by G (default 1.4)"},
   }, "genus > 0: the cuboids' untangling on N threads (default 1); genus 0 runs on one (same output for any N)");
@@ -264,9 +274,20 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
     run_gpc_mesh2spline_command(args, input, path, options, vtk_linear, files);
     return 0;
   }
-  ProgressBar bar(!args.has("quiet"));
-  const pipeline::Mesh2SplineResult result = pipeline::run_mesh2spline(input, path, options, bar.progress());
-  bar.finish();
+  if (!args.has("one-cuboid")) options.squeezed = pipeline::Mesh2SplineOptions::Squeezed::Refuse;
+  std::optional<pipeline::Mesh2SplineResult> run;
+  try {
+    ProgressBar bar(!args.has("quiet"));
+    run = pipeline::run_mesh2spline(input, path, options, bar.progress());
+    bar.finish();
+  } catch (const pipeline::SqueezedOneCuboid& e) {
+    if (!args.has("quiet"))
+      std::fprintf(stderr, "mesh2spline: %s; going through the GPC with its limbs as caps (--one-cuboid keeps one cuboid)\n",
+                   e.what());
+    run_gpc_mesh2spline_command(args, input, path, options, vtk_linear, files);
+    return 0;
+  }
+  const pipeline::Mesh2SplineResult& result = *run;
 
   files.stage(output, io::serialize_spline_json(result.spline));
   if (args.has("vtk")) {

@@ -238,6 +238,8 @@ val gpc_stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name
   out.set("interface_normal_jump_deg", s.interface_normal_jump_deg);
   out.set("flipped_triangles", s.flipped_triangles);
   out.set("squeeze_rounds", s.squeeze_rounds);
+  out.set("hierarchy_depth", s.hierarchy_depth);
+  out.set("centroid_samples", s.centroid_samples);
   out.set("grid_inverted_hexes", s.grid_inverted_hexes);
   out.set("grid_min_scaled_jacobian", s.grid_min_scaled_jacobian);
   out.set("samples", s.samples);
@@ -347,7 +349,16 @@ val mesh2spline(const val& bytes, const std::string& name, const val& options, c
     const mesh::TriangleMesh input =
         io::parse_mesh(bytes_from_js(bytes, "mesh '" + name + "'"), io::mesh_format_from_path(name), name);
     if (surface_genus(input, name) > 0) return gpc_mesh2spline(input, name, options, job, progress);
-    const pipeline::Mesh2SplineResult result = pipeline::run_mesh2spline(input, name, job, progress_from_js(progress));
+    // A squeezed one-cuboid map goes through the GPC with the limbs as caps, as on the CLI.
+    pipeline::Mesh2SplineOptions one = job;
+    if (!bool_option(options, "one_cuboid", false)) one.squeezed = pipeline::Mesh2SplineOptions::Squeezed::Refuse;
+    std::optional<pipeline::Mesh2SplineResult> run;
+    try {
+      run = pipeline::run_mesh2spline(input, name, one, progress_from_js(progress));
+    } catch (const pipeline::SqueezedOneCuboid&) {
+      return gpc_mesh2spline(input, name, options, job, progress);
+    }
+    const pipeline::Mesh2SplineResult& result = *run;
 
     val out = val::object();
     out.set("ok", true);

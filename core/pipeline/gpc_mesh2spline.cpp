@@ -36,8 +36,8 @@ void check_options(const GpcMesh2SplineOptions& o) {
   if (o.threads < 1) fail("`threads` must be ≥ 1");
   if (!(o.hierarchical_from >= 1.0) || !std::isfinite(o.hierarchical_from)) fail("`hierarchical_from` must be ≥ 1");
   if (!(o.marking_fraction > 0.0 && o.marking_fraction <= 1.0)) fail("`marking_fraction` must be in (0, 1]");
-  if (o.hierarchy_depth < 1 || o.hierarchy_depth > spline::GpcSpline::kMaxLevel)
-    fail("`hierarchy_depth` must be in [1, " + std::to_string(spline::GpcSpline::kMaxLevel) + "]");
+  if (o.hierarchy_depth < 0 || o.hierarchy_depth > spline::GpcSpline::kMaxLevel)
+    fail("`hierarchy_depth` must be 0 (automatic) or in [1, " + std::to_string(spline::GpcSpline::kMaxLevel) + "]");
   if (!(o.fit_damping >= 0.0 && o.fit_damping <= 1.0)) fail("`fit_damping` must be in [0, 1]");
   if (!(o.squeezed_below >= 0.0 && o.squeezed_below < 1.0)) fail("`squeezed_below` must be in [0, 1)");
 }
@@ -395,6 +395,18 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
   }
   stats.grid_inverted_hexes = gpc.stats.grid_inverted_hexes;
   stats.grid_min_scaled_jacobian = gpc.stats.grid_min_scaled_jacobian;
+  // A squeezed surface map (the rescue ran, or a spot stays below squeezed_below) crowds a tip
+  // into a spot of its face: deeper splits resolve it, and the triangles' centroids give those
+  // splits samples between the vertices (a level holds at most a quarter of the samples'
+  // functions, and the spline is held between the vertices, where the Hausdorff distance is).
+  const bool squeezed = stats.squeeze_rounds > 0 || stats.surface_least_density < options.squeezed_below;
+  const int hierarchy_depth =
+      options.hierarchy_depth > 0 ? options.hierarchy_depth : squeezed ? kSqueezedHierarchyDepth : kHierarchyDepth;
+  const bool centroids =
+      options.surface_samples == GpcMesh2SplineOptions::SurfaceSamples::VerticesAndCentroids ||
+      (options.surface_samples == GpcMesh2SplineOptions::SurfaceSamples::Auto && squeezed);
+  stats.hierarchy_depth = hierarchy_depth;
+  stats.centroid_samples = centroids;
 
   // Unit-box frame of the input (results do not depend on where the model sits or its units).
   const Eigen::RowVector3d lo = mesh.positions.colwise().minCoeff(), hi = mesh.positions.colwise().maxCoeff();
@@ -404,8 +416,7 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
                                          ? options.gpc.grid.padding_depth
                                          : 0.0,
                                 options.surface_weight,
-                                options.surface_samples == GpcMesh2SplineOptions::SurfaceSamples::VerticesAndCentroids,
-                                centre, diagonal);
+                                centroids, centre, diagonal);
   stats.samples = static_cast<int>(data.samples.cuboid.size());
 
   // Knot refinement (§4.3, Algorithm 4) until rms_rel ≤ max_rms_rel, the levels or the budget run
@@ -443,7 +454,7 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
                                                          (options.max_control_points - n) / 16.0));
       if (room >= 1)
         marked = spline::gpc_marked_functions(*best, data.samples, options.marking_fraction, room,
-                                              options.hierarchy_depth, beyond);
+                                              hierarchy_depth, beyond);
       // Every function with misfit at hierarchy_depth: the next uniform level instead.
       splitting = !marked.empty();
     }

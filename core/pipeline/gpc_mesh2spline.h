@@ -12,6 +12,12 @@
 
 namespace volspline::pipeline {
 
+/// GpcMesh2SplineOptions::hierarchy_depth's automatic values: split functions this many dyadic
+/// levels below the last uniform one; where a surface map is squeezed, a tip crowded into a spot
+/// of its cuboid face needs the deeper one (each level halves a cell).
+constexpr int kHierarchyDepth = 3;
+constexpr int kSqueezedHierarchyDepth = 6;
+
 /// Options of the multi-cuboid mesh2spline job (the Mesh2SplineOptions fields it uses, plus the
 /// GPC construction's).
 struct GpcMesh2SplineOptions {
@@ -43,7 +49,9 @@ struct GpcMesh2SplineOptions {
   double adaptive_growth = 1.4;  ///< in (1, 8]; for Hierarchical the growth cap of one step
   double hierarchical_from = 2.5;  ///< ≥ 1
   double marking_fraction = 0.5;   ///< Dörfler fraction of the misfit marked per step, in (0, 1]
-  int hierarchy_depth = 3;         ///< in [1, GpcSpline::kMaxLevel]
+  /// In [1, GpcSpline::kMaxLevel], or 0: automatic, kSqueezedHierarchyDepth where a cuboid's
+  /// surface map is squeezed (squeezed_surface_map), else kHierarchyDepth.
+  int hierarchy_depth = 0;
   /// Every level's least squares pulls each control point towards the previous level's spline at
   /// its anchor with this weight relative to the mean diagonal of the normal matrix
   /// (spline::GpcSplineFitOptions::regularization, ≥ 0): a function with few samples near the
@@ -52,8 +60,9 @@ struct GpcMesh2SplineOptions {
   /// Least-squares weight of a surface vertex relative to a volumetric grid node (> 0).
   double surface_weight = 1.0;
   /// Surface samples: the vertices, or also every triangle's centroid at the mean of its
-  /// vertices' parameters (the surface map is linear on a triangle of one cuboid face).
-  enum class SurfaceSamples { Vertices, VerticesAndCentroids } surface_samples = SurfaceSamples::Vertices;
+  /// vertices' parameters (the surface map is linear on a triangle of one cuboid face); Auto:
+  /// with the centroids where a cuboid's surface map is squeezed (squeezed_surface_map).
+  enum class SurfaceSamples { Auto, Vertices, VerticesAndCentroids } surface_samples = SurfaceSamples::Auto;
   GpcOptions gpc;                 ///< the domain and its volumetric map (run_gpc)
   /// The squeeze rescue of the cuboids' surface maps (param::CuboidSurfaceMapOptions::
   /// squeezed_below), in [0, 1), 0 = off; replaces gpc.grid.squeezed_below.

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <random>
 #include <string>
@@ -675,6 +676,17 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
   stats.flipped_triangles = surface_map.num_flipped;
   stats.squeeze_rounds = surface_map.squeeze_rounds;
   stats.surface_least_density = surface_map.least_density;
+  if (options.squeezed == Mesh2SplineOptions::Squeezed::Refuse &&
+      (surface_map.squeeze_rounds > 0 || surface_map.least_density < options.squeezed_below))
+  {
+    char density[32];
+    std::snprintf(density, sizeof density, "%.3g", surface_map.least_density);
+    throw SqueezedOneCuboid("mesh '" + name + "': its one-cuboid surface map is squeezed (" +
+                                std::to_string(surface_map.squeeze_rounds) + " rescue rounds, least density " +
+                                density + " against squeezed_below " + std::to_string(options.squeezed_below) +
+                                "): a limb or tip crowds into a spot of a cube face",
+                            surface_map.squeeze_rounds);
+  }
   const param::CuboidSurfaceLocator locator(hm, surface_map);
   timer.end_stage("surface_map");
 

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -47,6 +48,12 @@ struct Mesh2SplineOptions {
   /// Unfold the fitted spline near its folds with the interior control points (spline::
   /// untangle_spline; the boundary stays, so the surface fit is untouched). Off = the thesis's fit.
   enum class Untangle { Off, On } untangle = Untangle::On;
+  /// Where the one cuboid's surface map is squeezed (the rescue ran, squeeze_rounds > 0, or a
+  /// density stays below squeezed_below: a limb or tip crowded into a spot of a cube face):
+  /// OneCuboid fits it all the same; Refuse throws
+  /// SqueezedOneCuboid after the surface map, for the caller to take the solid through the GPC
+  /// with its limbs as caps (run_gpc_mesh2spline), where each limb has cuboids of its own.
+  enum class Squeezed { OneCuboid, Refuse } squeezed = Squeezed::OneCuboid;
   std::uint64_t seed = 1;           ///< seeds the random parameters of semi_standard_max_error
   /// Also fit uniform tensor B-splines to the same rms_rel (stats uniform_control_points).
   enum class CompareUniform { Off, On } compare_uniform = CompareUniform::Off;
@@ -98,6 +105,10 @@ struct Mesh2SplineStats {
   /// Least linear parameter density of a surface vertex inside a cube face, over all maps: below
   /// squeezed_below where the rescue could not open a squeeze.
   double surface_least_density = 0;
+  /// GPC splines: the hierarchy depth used (GpcMesh2SplineOptions::hierarchy_depth, resolved)
+  /// and whether the triangles' centroids were fitted (surface_samples, resolved).
+  int hierarchy_depth = 0;
+  bool centroid_samples = false;
   int grid_inverted_hexes = 0;         ///< of the volumetric grid map (grid fit)
   double grid_min_scaled_jacobian = 1; ///< of the volumetric grid map (grid fit)
   /// of the fit before the untangling and the repair, at the points the untangler (24³ cell
@@ -120,6 +131,15 @@ struct Mesh2SplineStats {
 /// Puts a det J certificate (DESIGN §6) into the stats: jacobian_certified_fraction,
 /// det_j_lower_bound_rel, certificate_cells, uncertified_cells (moved out of `certificate`).
 void record_certificate(Mesh2SplineStats& stats, spline::JacobianCertificate certificate);
+
+/// Thrown by run_mesh2spline (options.squeezed Refuse) when the one cuboid's surface map is
+/// squeezed: the input is fine, one cuboid is the wrong domain for it.
+class SqueezedOneCuboid : public std::runtime_error {
+ public:
+  SqueezedOneCuboid(const std::string& message, int squeeze_rounds)
+      : std::runtime_error(message), squeeze_rounds(squeeze_rounds) {}
+  int squeeze_rounds;  ///< of the one cuboid's surface map
+};
 
 /// Result of the mesh2spline job.
 struct Mesh2SplineResult {

@@ -58,6 +58,16 @@ contains "$TMP/out" "MFEM: 27 patches"
 same_bytes "$TMP/gh.json" "$TMP/gh2.json" "hierarchical GPC spline JSON differs between two runs"
 expect 2 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gh_bad.json" --quiet --hierarchical --hierarchy-depth 0
 contains "$TMP/err" "--hierarchy-depth"
+# A genus-0 solid whose one-cuboid surface map is squeezed goes through the GPC (the shared
+# sphere's least density 0.886 is squeezed below 0.9); --one-cuboid keeps one cuboid.
+expect 0 "$BIN" mesh2spline "$DATA/meshes/sphere.off" --squeezed-below 0.9 -o "$TMP/sq.json" --stats-json "$TMP/sq_stats.json"
+contains "$TMP/sq.json" "\"format\": \"volspline-gpc-spline\""
+contains "$TMP/err" "its one-cuboid surface map is squeezed"
+contains "$TMP/err" "--one-cuboid keeps one cuboid"
+contains "$TMP/sq_stats.json" "\"hierarchy_depth\": 6"
+contains "$TMP/sq_stats.json" "\"centroid_samples\": true"
+expect 0 "$BIN" mesh2spline "$DATA/meshes/sphere.off" --squeezed-below 0.9 --one-cuboid -o "$TMP/sq1.json" --quiet
+contains "$TMP/sq1.json" "\"format\": \"volspline-tspline\""
 # --limbs P > 0 sends a genus-0 solid through the GPC; the sphere has no limb: one cuboid.
 expect 0 "$BIN" mesh2spline "$DATA/meshes/sphere.off" --limbs 0.15 -o "$TMP/gs.json" --stats-json "$TMP/gs_stats.json" --quiet
 contains "$TMP/gs.json" "\"format\": \"volspline-gpc-spline\""

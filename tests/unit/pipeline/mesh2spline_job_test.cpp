@@ -87,6 +87,31 @@ TEST_CASE("mesh2spline's untangler works toward the certificate: every cell of t
   CHECK(spline::certify_jacobian(result.spline).jacobian_certified_fraction == 1.0);
 }
 
+TEST_CASE("mesh2spline refuses a squeezed one-cuboid map when asked, for the GPC route") {
+  // The shared sphere's map has least density 0.886 (no rescue round gains): squeezed below 0.9.
+  const mesh::TriangleMesh sphere = io::read_mesh(std::string(VOLSPLINE_SHARED_DATA) + "/meshes/sphere.off");
+  pipeline::Mesh2SplineOptions options;
+  options.squeezed_below = 0.9;
+  options.squeezed = pipeline::Mesh2SplineOptions::Squeezed::Refuse;
+  bool refused = false;
+  try {
+    pipeline::run_mesh2spline(sphere, "sphere", options);
+  } catch (const pipeline::SqueezedOneCuboid& e) {
+    refused = true;
+    CHECK(std::string(e.what()).find("mesh 'sphere'") != std::string::npos);
+    CHECK(std::string(e.what()).find("squeezed") != std::string::npos);
+    CHECK(e.squeeze_rounds == 0);
+  }
+  CHECK(refused);
+  // Under the bound, or fitted all the same: one cuboid.
+  options.squeezed_below = 0.85;
+  options.max_levels = 0;
+  CHECK(pipeline::run_mesh2spline(sphere, "sphere", options).stats.cuboids == 1);
+  options.squeezed_below = 0.9;
+  options.squeezed = pipeline::Mesh2SplineOptions::Squeezed::OneCuboid;
+  CHECK(pipeline::run_mesh2spline(sphere, "sphere", options).stats.squeeze_rounds == 0);
+}
+
 TEST_CASE("mesh2spline accepts an inward-oriented mesh by flipping it") {
   auto m = test::subdivided_cube(2);
   m.triangles.col(1).swap(m.triangles.col(2));
