@@ -25,8 +25,10 @@ namespace {
 
 // Barrier nodes per axis per cell in the free functions' supports: the centres of equal parts.
 constexpr int kNodesPerCell = 2;
-// Barrier cells per axis of a polynomial piece that spans more grid cells (add_pieces).
-constexpr int kPieceParts = 4;
+// A polynomial piece spanning up to kPieceCells grid cells along an axis keeps them as barrier
+// cells there; one spanning more is cut into kPieceParts equal parts (add_pieces).
+constexpr int kPieceCells = 4;
+constexpr int kPieceParts = 2;
 // Free functions are at most this many times as wide as the narrowest function at the held
 // point per axis (2: one dyadic level coarser).
 constexpr double kSupportRatio = 2.0;
@@ -370,10 +372,10 @@ class GpcCertificatePass {
   // Appends the cuboid's barrier cells to pieces_, in the order of their first grid cell. The
   // active cells (increasing, with their piece_box) sharing a box are one polynomial piece if they
   // are every grid cell in it (then they have the same functions). Along an axis where a piece
-  // spans up to kPieceParts grid cells its barrier cells are those cells; where it spans more
-  // (lines of deeper splits elsewhere in the cuboid), kPieceParts equal parts: the nodes stay as
-  // dense as two dyadic levels below the piece, and far splits no longer multiply them. A cell
-  // whose box is not a whole piece is its own barrier cell.
+  // spans up to kPieceCells grid cells its barrier cells are those cells, as for a spline split
+  // a level or two below it; where it spans more (lines of deeper splits elsewhere in the
+  // cuboid), kPieceParts equal parts, so far splits no longer multiply its nodes. A cell whose box
+  // is not a whole piece is its own barrier cell.
   void add_pieces(int cuboid, const std::vector<int>& cells, const std::vector<std::array<double, 6>>& boxes) {
     const TSpline& patch = spline_.patch(cuboid);
     std::vector<int> order(cells.size());
@@ -416,11 +418,11 @@ class GpcCertificatePass {
       const int head = group[i];
       if (head >= 0) {
         const std::array<double, 6>& box = boxes[i];
-        int part = 0;  // the barrier cell's position in the piece, kPieceParts-ary digits w, v, u
+        int part = 0;  // the barrier cell's position in the piece, base-kPieceCells digits w, v, u
         bool whole_cells = true;
         for (int a = 2; a >= 0; --a) {
-          part *= kPieceParts;
-          if (spans[head][a] <= static_cast<std::size_t>(kPieceParts)) {
+          part *= kPieceCells;
+          if (spans[head][a] <= static_cast<std::size_t>(kPieceCells)) {
             part += k[a] - firsts[head][a];
             continue;
           }
@@ -442,7 +444,7 @@ class GpcCertificatePass {
     }
   }
 
-  // Barrier nodes: kNodesPerCell³ per active cell, their rows (with S⁻¹ applied) and fixed parts;
+  // Barrier nodes: kNodesPerCell³ per barrier cell (pieces_), their rows (with S⁻¹ applied) and fixed parts;
   // step: the mean knot interval in model units there.
   void add_nodes(const Eigen::VectorXd& x, Region& region, double& step) {
     std::vector<Eigen::Matrix3d> full;
@@ -499,7 +501,7 @@ class GpcCertificatePass {
       }
   }
 
-  // Guards: the 3×3×3 grid on every active closed cell, each held by the hinge at no less than
+  // Guards: the 3×3×3 grid on every closed barrier cell (pieces_), each held by the hinge at no less than
   // min(min_scaled_jacobian, its scaled Jacobian now), so that unfolding one cell does not fold
   // the cells around it between the barrier's nodes (a cuboid edge, where det J → 0). A grid
   // point shared by k active cells is one hinge of weight k (the same energy, evaluated once).

@@ -22,8 +22,10 @@ namespace volspline::spline {
 /// functions would make a pass global), whatever cuboids they reach: a function crossing a Continued face
 /// or shared on a Clamped face moves as one control point, so both sides of every glued face stay
 /// one surface. The barrier of Garanzha et al. 2021 holds the 2³ centres of equal parts of every
-/// knot-line cell (of any cuboid) where a free function is non-zero, the hinge also guards the
-/// 3×3×3 grid on each such closed cell at no less than min(min_scaled_jacobian, its scaled
+/// knot-line cell (of any cuboid) where a free function is non-zero (where deep splits elsewhere
+/// in its cuboid cut one polynomial piece into more than 4 such cells along an axis, the piece's
+/// halves along it instead), the hinge also guards the 3×3×3 grid on each such closed cell at
+/// no less than min(min_scaled_jacobian, its scaled
 /// Jacobian now), and the data term (data_weight per squared knot interval in model units) holds
 /// every sample there, which keeps the surface on the mesh. Rounds stop when every cell is
 /// certified or the uncertified count has not fallen for 3 rounds; the spline of the round with
