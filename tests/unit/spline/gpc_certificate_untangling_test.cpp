@@ -167,18 +167,7 @@ TEST_CASE("untangle_gpc_certificate: a ring split five levels deep at one spot e
   const GpcSamples samples = ring_samples();
   GpcSpline spline = fitted_ring(samples);
   const double misfit_before = max_misfit(spline, samples);
-  const Eigen::Vector3d spot(0.53, 0.3, 0.07);
-  std::vector<int> ids;
-  std::vector<double> values;
-  for (int level = 0; level < 5; ++level) {
-    spline.basis_at(0, spot, {0, 0, 0}, ids, values);
-    int largest = -1;
-    for (std::size_t k = 0; k < ids.size(); ++k)
-      if (spline.function_level(ids[k]) == level && (largest < 0 || values[k] > values[largest]))
-        largest = static_cast<int>(k);
-    REQUIRE(largest >= 0);
-    spline = spline.refined({ids[largest]});
-  }
+  REQUIRE(split_down_at(spline, 0, Eigen::Vector3d(0.53, 0.3, 0.07), 5));
   REQUIRE(spline.max_level() == 5);
   const auto before = certify_gpc_jacobian(spline);
   CHECK(before.cells > 8 * 64);

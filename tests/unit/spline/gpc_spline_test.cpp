@@ -734,17 +734,7 @@ TEST_CASE("gpc spline: splits down to the deepest level next to an interface sta
     REQUIRE(base.interface_join(i) == (arm_to_arm ? GpcFaceJoin::Continued : GpcFaceJoin::Clamped));
     const Eigen::Vector3d target = face_point(d, in.cuboid[0], in.face[0], 0.37, 0.61);
     GpcSpline spline = base;
-    std::vector<int> ids;
-    std::vector<double> values;
-    for (int level = 0; level < GpcSpline::kMaxLevel; ++level) {
-      spline.basis_at(in.cuboid[0], target, {0, 0, 0}, ids, values);
-      int largest = -1;
-      for (std::size_t k = 0; k < ids.size(); ++k)
-        if (spline.function_level(ids[k]) == level && (largest < 0 || values[k] > values[largest]))
-          largest = static_cast<int>(k);
-      REQUIRE(largest >= 0);
-      spline = spline.refined({ids[largest]});
-    }
+    REQUIRE(split_down_at(spline, in.cuboid[0], target, GpcSpline::kMaxLevel));
     CAPTURE(i);
     CHECK(spline.max_level() == GpcSpline::kMaxLevel);
     CHECK(spline.num_functions() < base.num_functions() + 1000);
@@ -777,6 +767,8 @@ TEST_CASE("gpc spline: splits down to the deepest level next to an interface sta
     replay.splits = spline.splits();
     CHECK(GpcSpline(d, replay).num_functions() == spline.num_functions());
     // No level below kMaxLevel.
+    std::vector<int> ids;
+    std::vector<double> values;
     spline.basis_at(in.cuboid[0], target, {0, 0, 0}, ids, values);
     std::vector<int> deepest;
     for (int id : ids)

@@ -215,4 +215,21 @@ inline spline::GpcSpline placed_gpc_spline(const std::vector<PlacedCuboid>& boxe
   return spline;
 }
 
+/// Splits, for ℓ = 0 .. levels − 1 in turn, the level-ℓ function largest at (cuboid, uvw) (a
+/// chain of splits down to level `levels` at one point); false if a level had no function there.
+inline bool split_down_at(spline::GpcSpline& spline, int cuboid, const Eigen::Vector3d& uvw, int levels) {
+  std::vector<int> ids;
+  std::vector<double> values;
+  for (int level = 0; level < levels; ++level) {
+    spline.basis_at(cuboid, uvw, {0, 0, 0}, ids, values);
+    int largest = -1;
+    for (std::size_t k = 0; k < ids.size(); ++k)
+      if (spline.function_level(ids[k]) == level && (largest < 0 || values[k] > values[largest]))
+        largest = static_cast<int>(k);
+    if (largest < 0) return false;
+    spline = spline.refined({ids[largest]});
+  }
+  return true;
+}
+
 }  // namespace volspline::test
