@@ -212,7 +212,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
       {"measure-lattice", "N", "genus > 0: lattice_negative_fraction at the cell centres of an N^3 lattice per cuboid (default 64, 4..256)"},
       {"centroid-samples", "", "genus > 0: also fit every surface triangle's centroid at its surface-map parameter (default: where a cuboid's surface map is squeezed)"},
       {"vertex-samples", "", "genus > 0: fit the surface vertices only, no centroids, squeezed or not"},
-      {"one-cuboid", "", "genus 0: one cuboid even where its surface map is squeezed (default: a squeezed solid, squeeze_rounds > 0, goes through the GPC with its limbs as caps)"},
+      {"one-cuboid", "", "genus 0: one cuboid even where its surface map is squeezed (default: a squeezed solid, squeeze_rounds > 0 or surface_least_density below --squeezed-below, goes through the GPC with its limbs as caps)"},
       {"surface-weight", "W", "genus > 0: least-squares weight of a surface vertex against a grid node (default 1)"},
       {"knot-growth", "G", "genus > 0, --adaptive-knots: each level adds lines until the control points grow by G (default 1.4)"},
   }, "genus > 0: the cuboids' untangling on N threads (default 1); genus 0 runs on one (same output for any N)");

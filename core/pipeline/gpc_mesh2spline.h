@@ -50,7 +50,8 @@ struct GpcMesh2SplineOptions {
   double hierarchical_from = 2.5;  ///< ≥ 1
   double marking_fraction = 0.5;   ///< Dörfler fraction of the misfit marked per step, in (0, 1]
   /// In [1, GpcSpline::kMaxLevel], or 0: automatic, kSqueezedHierarchyDepth where a cuboid's
-  /// surface map is squeezed (squeezed_surface_map), else kHierarchyDepth.
+  /// surface map is squeezed (squeeze rounds ran, or a density stays below squeezed_below), else
+  /// kHierarchyDepth.
   int hierarchy_depth = 0;
   /// Every level's least squares pulls each control point towards the previous level's spline at
   /// its anchor with this weight relative to the mean diagonal of the normal matrix
@@ -61,7 +62,7 @@ struct GpcMesh2SplineOptions {
   double surface_weight = 1.0;
   /// Surface samples: the vertices, or also every triangle's centroid at the mean of its
   /// vertices' parameters (the surface map is linear on a triangle of one cuboid face); Auto:
-  /// with the centroids where a cuboid's surface map is squeezed (squeezed_surface_map).
+  /// with the centroids where a cuboid's surface map is squeezed (as for hierarchy_depth).
   enum class SurfaceSamples { Auto, Vertices, VerticesAndCentroids } surface_samples = SurfaceSamples::Auto;
   GpcOptions gpc;                 ///< the domain and its volumetric map (run_gpc)
   /// The squeeze rescue of the cuboids' surface maps (param::CuboidSurfaceMapOptions::

@@ -677,13 +677,12 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
   stats.squeeze_rounds = surface_map.squeeze_rounds;
   stats.surface_least_density = surface_map.least_density;
   if (options.squeezed == Mesh2SplineOptions::Squeezed::Refuse &&
-      (surface_map.squeeze_rounds > 0 || surface_map.least_density < options.squeezed_below))
-  {
-    char density[32];
-    std::snprintf(density, sizeof density, "%.3g", surface_map.least_density);
+      (surface_map.squeeze_rounds > 0 || surface_map.least_density < options.squeezed_below)) {
+    char density[96];
+    std::snprintf(density, sizeof density, "least density %.3g against squeezed_below %.3g",
+                  surface_map.least_density, options.squeezed_below);
     throw SqueezedOneCuboid("mesh '" + name + "': its one-cuboid surface map is squeezed (" +
-                                std::to_string(surface_map.squeeze_rounds) + " rescue rounds, least density " +
-                                density + " against squeezed_below " + std::to_string(options.squeezed_below) +
+                                std::to_string(surface_map.squeeze_rounds) + " rescue rounds, " + density +
                                 "): a limb or tip crowds into a spot of a cube face",
                             surface_map.squeeze_rounds);
   }

@@ -50,9 +50,9 @@ struct Mesh2SplineOptions {
   enum class Untangle { Off, On } untangle = Untangle::On;
   /// Where the one cuboid's surface map is squeezed (the rescue ran, squeeze_rounds > 0, or a
   /// density stays below squeezed_below: a limb or tip crowded into a spot of a cube face):
-  /// OneCuboid fits it all the same; Refuse throws
-  /// SqueezedOneCuboid after the surface map, for the caller to take the solid through the GPC
-  /// with its limbs as caps (run_gpc_mesh2spline), where each limb has cuboids of its own.
+  /// OneCuboid fits it all the same; Refuse throws SqueezedOneCuboid after the surface map, for
+  /// the caller to take the solid through the GPC with its limbs as caps (run_gpc_mesh2spline),
+  /// where each limb has cuboids of its own.
   enum class Squeezed { OneCuboid, Refuse } squeezed = Squeezed::OneCuboid;
   std::uint64_t seed = 1;           ///< seeds the random parameters of semi_standard_max_error
   /// Also fit uniform tensor B-splines to the same rms_rel (stats uniform_control_points).
