@@ -56,6 +56,13 @@ struct CuboidSurfaceMap {
   double least_density = 0.0;
 };
 
+/// Whether a surface map is squeezed: the rescue ran (squeeze_rounds > 0) or a vertex's linear
+/// parameter density stays below `below` (CuboidSurfaceMapOptions::squeezed_below), i.e. a tip
+/// crowded into a spot of a cube face. One rule for every job that acts on it.
+inline bool squeezed_map(int squeeze_rounds, double least_density, double below) {
+  return squeeze_rounds > 0 || least_density < below;
+}
+
 /// The cube-face coordinates of the surface map (polycube/cube_faces.h).
 using polycube::cube_face_coordinates;
 using polycube::cube_face_point;

@@ -9,6 +9,7 @@
 
 #include "core/common/error.h"
 #include "core/linalg/parallel_for.h"
+#include "core/param/cuboid_surface_map.h"
 #include "core/pipeline/gpc_spline_measures.h"
 #include "core/pipeline/stage_timer.h"
 #include "core/spline/gpc_certificate_untangling.h"
@@ -399,7 +400,7 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
   // into a spot of its face: deeper splits resolve it, and the triangles' centroids give those
   // splits samples between the vertices (a level holds at most a quarter of the samples'
   // functions, and the spline is held between the vertices, where the Hausdorff distance is).
-  const bool squeezed = stats.squeeze_rounds > 0 || stats.surface_least_density < options.squeezed_below;
+  const bool squeezed = param::squeezed_map(stats.squeeze_rounds, stats.surface_least_density, options.squeezed_below);
   const int hierarchy_depth =
       options.hierarchy_depth > 0 ? options.hierarchy_depth : squeezed ? kSqueezedHierarchyDepth : kHierarchyDepth;
   const bool centroids =

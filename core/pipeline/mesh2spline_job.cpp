@@ -677,7 +677,7 @@ Mesh2SplineResult run_mesh2spline(const mesh::TriangleMesh& input, const std::st
   stats.squeeze_rounds = surface_map.squeeze_rounds;
   stats.surface_least_density = surface_map.least_density;
   if (options.squeezed == Mesh2SplineOptions::Squeezed::Refuse &&
-      (surface_map.squeeze_rounds > 0 || surface_map.least_density < options.squeezed_below)) {
+      param::squeezed_map(surface_map.squeeze_rounds, surface_map.least_density, options.squeezed_below)) {
     char density[96];
     std::snprintf(density, sizeof density, "least density %.3g against squeezed_below %.3g",
                   surface_map.least_density, options.squeezed_below);
