@@ -78,6 +78,7 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
   options.gpc.grid.area_balance_iterations = m.area_balance_iterations;
   options.squeezed_below = m.squeezed_below;
   if (args.has("no-padding")) options.gpc.grid.padding = param::GpcGridOptions::Padding::Off;
+  if (args.has("no-refit")) options.refit_folded_nodes = false;
   if (args.has("adaptive-knots")) options.refinement = pipeline::GpcMesh2SplineOptions::Refinement::Adaptive;
   if (args.has("hierarchical")) options.refinement = pipeline::GpcMesh2SplineOptions::Refinement::Hierarchical;
   if (args.has("uniform-knots")) options.refinement = pipeline::GpcMesh2SplineOptions::Refinement::Uniform;
@@ -144,6 +145,7 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
     j["surface_least_density"] = std::isfinite(s.surface_least_density) ? nlohmann::ordered_json(s.surface_least_density) : nlohmann::ordered_json(nullptr);
     j["hierarchy_depth"] = s.hierarchy_depth;
     j["centroid_samples"] = s.centroid_samples;
+    j["refit_dropped_nodes"] = s.refit_dropped_nodes;
     j["grid_inverted_hexes"] = s.grid_inverted_hexes;
     j["grid_min_scaled_jacobian"] = s.grid_min_scaled_jacobian;
     j["samples"] = s.samples;
@@ -204,6 +206,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
       {"no-untangle", "", "skip the untangling of folded interior control points after the fit (the thesis's plain fit)"},
       {"grid-nodes", "N", "genus > 0: about N volumetric grid nodes over all cuboids (default 24000, see volspline gpc)"},
       {"no-padding", "", "genus > 0: fit the cuboid grids without the padding layer under the surface (see volspline gpc)"},
+      {"no-refit", "", "genus > 0: where cells stay uncertified, keep the fit (default: fit and untangle again without the grid nodes of inverted hexes, keep the better certificate; stats refit_dropped_nodes)"},
       {"adaptive-knots", "", "genus > 0: each level adds knot lines where the misfit is instead of dividing the spacing by 1.5"},
       {"hierarchical", "", "genus > 0 (default): past the uniform levels, split the functions at the surface samples beyond --max-surface-error and those holding the most misfit (T-spline refinement)"},
       {"uniform-knots", "", "genus > 0: every level divides the knot spacing by 1.5 (no T-spline splits)"},

@@ -240,6 +240,7 @@ val gpc_stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name
   out.set("squeeze_rounds", s.squeeze_rounds);
   out.set("hierarchy_depth", s.hierarchy_depth);
   out.set("centroid_samples", s.centroid_samples);
+  out.set("refit_dropped_nodes", s.refit_dropped_nodes);
   out.set("grid_inverted_hexes", s.grid_inverted_hexes);
   out.set("grid_min_scaled_jacobian", s.grid_min_scaled_jacobian);
   out.set("samples", s.samples);

@@ -9,6 +9,7 @@
 
 #include "core/common/error.h"
 #include "core/linalg/parallel_for.h"
+#include "core/mesh/hex_quality.h"
 #include "core/param/cuboid_surface_map.h"
 #include "core/pipeline/gpc_spline_measures.h"
 #include "core/pipeline/stage_timer.h"
@@ -48,6 +49,7 @@ void check_options(const GpcMesh2SplineOptions& o) {
 struct FitData {
   spline::GpcSamples samples;
   std::vector<GpcSurfacePoint> surface;  // model units (for the measures)
+  int dropped_nodes = 0;                 // grid nodes of inverted hexes left out (skip_folded)
 };
 
 // The padding layer (param::pad_hex_mesh) puts an inner copy of every surface node `depth` of the
@@ -56,9 +58,21 @@ struct FitData {
 // A shared node appears once per cuboid it belongs to, at the parameters of that cuboid (the
 // transition maps them onto each other).
 FitData fit_data(const GpcResult& gpc, double padding_depth, double surface_weight, bool centroids,
-                 const Eigen::RowVector3d& centre, double diagonal) {
+                 const Eigen::RowVector3d& centre, double diagonal, bool skip_folded) {
   const polycube::GpcDomain& domain = gpc.construction.domain;
   const param::HexMesh& hm = gpc.map.hex_mesh;
+  FitData data;
+  // skip_folded: the nodes of the hex mesh's inverted hexes (least corner scaled Jacobian ≤ 0)
+  // that are not on the surface are a folded guess, not data.
+  std::vector<char> folded(static_cast<std::size_t>(hm.xyz.rows()), 0);
+  if (skip_folded)
+    for (const std::array<int, 8>& hex : hm.hexes) {
+      std::array<Eigen::Vector3d, 8> x;
+      for (int q = 0; q < 8; ++q) x[q] = hm.xyz.row(hex[q]).transpose();
+      if (mesh::hex_min_scaled_jacobian(x) > 0.0) continue;
+      for (int q = 0; q < 8; ++q)
+        if (hm.on_surface.empty() || !hm.on_surface[hex[q]]) folded[hex[q]] = 1;
+    }
   std::vector<int> cuboid;
   std::vector<Eigen::Vector3d> uvw, xyz;
   auto add = [&](int c, const Eigen::Vector3d& p, const Eigen::RowVector3d& x) {
@@ -85,6 +99,10 @@ FitData fit_data(const GpcResult& gpc, double padding_depth, double surface_weig
             Eigen::Vector3d p;
             for (int a = 0; a < 3; ++a) p(a) = step(a) * g[a];
             const int original = hm.copy_of.empty() ? -1 : hm.copy_of[id];
+            if (folded[id]) {
+              ++data.dropped_nodes;
+              continue;
+            }
             if (original < 0) {
               add(c, p, hm.xyz.row(id));
               continue;
@@ -102,7 +120,6 @@ FitData fit_data(const GpcResult& gpc, double padding_depth, double surface_weig
           }
         }
   }
-  FitData data;
   for (int c = 0; c < static_cast<int>(domain.cuboids.size()); ++c) {
     const polycube::CuboidSurface& surface = gpc.construction.surfaces[c];
     const mesh::Positions& map_uvw = gpc.map.surface_maps[c].uvw;
@@ -167,6 +184,16 @@ Eigen::MatrixXd prior_points(const spline::GpcSpline& spline, const spline::GpcS
     p.row(i) = ((x.transpose() - centre) / diagonal);
   }
   return p;
+}
+
+// The fields fit_levels writes, back from a copy taken before it ran.
+void restore_fit_stats(Mesh2SplineStats& stats, const Mesh2SplineStats& from) {
+  stats.samples = from.samples;
+  stats.level_history = from.level_history;
+  stats.levels = from.levels;
+  stats.rms_rel = from.rms_rel;
+  stats.max_rel = from.max_rel;
+  stats.control_points = from.control_points;
 }
 
 // Per cuboid axis, the mean length of the volumetric grid's lines along it in the unit-box
@@ -413,22 +440,13 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
   const Eigen::RowVector3d lo = mesh.positions.colwise().minCoeff(), hi = mesh.positions.colwise().maxCoeff();
   const Eigen::RowVector3d centre = 0.5 * (lo + hi);
   const double diagonal = (hi - lo).norm();
-  const FitData data = fit_data(gpc, options.gpc.grid.padding == param::GpcGridOptions::Padding::On
-                                         ? options.gpc.grid.padding_depth
-                                         : 0.0,
-                                options.surface_weight,
-                                centroids, centre, diagonal);
-  stats.samples = static_cast<int>(data.samples.cuboid.size());
+  const double padding_depth =
+      options.gpc.grid.padding == param::GpcGridOptions::Padding::On ? options.gpc.grid.padding_depth : 0.0;
+  const FitData data = fit_data(gpc, padding_depth, options.surface_weight, centroids, centre, diagonal, false);
 
-  // Knot refinement (§4.3, Algorithm 4) until rms_rel ≤ max_rms_rel, the levels or the budget run
-  // out: level 0 uniform, then per level either the misfit's marking on knot intervals or the
-  // uniform spacing shrunk by refinement_ratio.
-  std::optional<spline::GpcSpline> best;
-  std::vector<int> beyond;  // surface samples of the last level beyond max_surface_error_rel
   const std::vector<std::array<double, 3>> lengths = grid_line_lengths(gpc, diagonal);
   double longest = 0.0;
   for (const auto& l : lengths) longest = std::max({longest, l[0], l[1], l[2]});
-  double spacing = longest / options.initial_cells;
   const bool adaptive = options.refinement == GpcMesh2SplineOptions::Refinement::Adaptive;
   // No knot interval below the volumetric grid's step: every function keeps grid nodes.
   std::vector<std::array<double, 3>> grid_step;
@@ -438,73 +456,85 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
     grid_step.push_back(step);
   }
   const bool hierarchical = options.refinement == GpcMesh2SplineOptions::Refinement::Hierarchical;
-  bool splitting = false;  // Hierarchical: past the uniform levels
-  bool rebase = false;     // Hierarchical: the splits stalled, the next level is the next uniform one
-  // level counts the uniform levels (max_levels), step every fit (stage names, level_history).
-  for (int level = 0, step = 0; level <= options.max_levels && step <= options.max_levels + 40; ++step) {
-    progress.report("fit level " + std::to_string(step), 0.6 + 0.3 * level / (options.max_levels + 1));
-    splitting = !rebase && (splitting || (hierarchical && best && stats.rms_rel <= options.hierarchical_from * options.max_rms_rel &&
-                                          two_intervals_per_axis(*best)));
-    rebase = false;
-    std::optional<spline::GpcSpline> next;
-    std::vector<int> marked;
-    if (splitting) {
-      // About 16 new functions per split (children shared between neighbours).
-      const int n = best->num_functions();
-      const int room = static_cast<int>(std::min<double>((options.adaptive_growth - 1.0) * n / 16.0,
-                                                         (options.max_control_points - n) / 16.0));
-      if (room >= 1)
-        marked = spline::gpc_marked_functions(*best, data.samples, options.marking_fraction, room,
-                                              hierarchy_depth, beyond);
-      // Every function with misfit at hierarchy_depth: the next uniform level instead.
-      splitting = !marked.empty();
-    }
-    if (splitting) {
-      next = best->refined(marked);  // F carried over exactly: the fit starts from the last level
-    } else {
-      spline::GpcSplineOptions so;
-      if (adaptive && best)
-        so.knot_lines = spline::gpc_refined_knot_lines(*best, data.samples, options.adaptive_growth, grid_step, beyond);
-      else
-        so.intervals = spline::gpc_uniform_intervals(domain, spacing, &lengths);
-      spacing /= options.refinement_ratio;
-      next.emplace(domain, so);
-      ++level;
-      // After stalled splits, the first uniform level with more functions than the splits reached.
-      while (hierarchical && best && next->num_functions() <= best->num_functions() &&
-             next->num_functions() <= options.max_control_points) {
-        so.intervals = spline::gpc_uniform_intervals(domain, spacing, &lengths);
+  // Knot refinement (§4.3, Algorithm 4) until rms_rel ≤ max_rms_rel, the levels or the budget run
+  // out: level 0 uniform, then per level either the misfit's marking on knot intervals or the
+  // uniform spacing shrunk by refinement_ratio. Writes the fit's stats (FitStats); stage: the
+  // prefix of the levels' stage names.
+  auto fit_levels = [&](const FitData& fit, const std::string& stage) {
+    stats.samples = static_cast<int>(fit.samples.cuboid.size());
+    stats.level_history.clear();
+    std::optional<spline::GpcSpline> best;
+    std::vector<int> beyond;  // surface samples of the last level beyond max_surface_error_rel
+    double spacing = longest / options.initial_cells;
+    bool splitting = false;  // Hierarchical: past the uniform levels
+    bool rebase = false;     // Hierarchical: the splits stalled, the next level is the next uniform one
+    // level counts the uniform levels (max_levels), step every fit (stage names, level_history).
+    for (int level = 0, step = 0; level <= options.max_levels && step <= options.max_levels + 40; ++step) {
+      progress.report("fit level " + std::to_string(step), 0.6 + 0.3 * level / (options.max_levels + 1));
+      splitting = !rebase && (splitting || (hierarchical && best && stats.rms_rel <= options.hierarchical_from * options.max_rms_rel &&
+                                            two_intervals_per_axis(*best)));
+      rebase = false;
+      std::optional<spline::GpcSpline> next;
+      std::vector<int> marked;
+      if (splitting) {
+        // About 16 new functions per split (children shared between neighbours).
+        const int n = best->num_functions();
+        const int room = static_cast<int>(std::min<double>((options.adaptive_growth - 1.0) * n / 16.0,
+                                                           (options.max_control_points - n) / 16.0));
+        if (room >= 1)
+          marked = spline::gpc_marked_functions(*best, fit.samples, options.marking_fraction, room,
+                                                hierarchy_depth, beyond);
+        // Every function with misfit at hierarchy_depth: the next uniform level instead.
+        splitting = !marked.empty();
+      }
+      if (splitting) {
+        next = best->refined(marked);  // F carried over exactly: the fit starts from the last level
+      } else {
+        spline::GpcSplineOptions so;
+        if (adaptive && best)
+          so.knot_lines = spline::gpc_refined_knot_lines(*best, fit.samples, options.adaptive_growth, grid_step, beyond);
+        else
+          so.intervals = spline::gpc_uniform_intervals(domain, spacing, &lengths);
         spacing /= options.refinement_ratio;
         next.emplace(domain, so);
+        ++level;
+        // After stalled splits, the first uniform level with more functions than the splits reached.
+        while (hierarchical && best && next->num_functions() <= best->num_functions() &&
+               next->num_functions() <= options.max_control_points) {
+          so.intervals = spline::gpc_uniform_intervals(domain, spacing, &lengths);
+          spacing /= options.refinement_ratio;
+          next.emplace(domain, so);
+        }
       }
+      spline::GpcSpline& candidate = *next;
+      // More functions than a quarter of the samples: the least squares would be fixed mostly by the
+      // regularization, not by data (and CG slows down by orders of magnitude).
+      if (best && (candidate.num_functions() > options.max_control_points ||
+                   4 * candidate.num_functions() > stats.samples))
+        break;
+      if (!splitting) candidate.set_points(prior_points(candidate, best ? &*best : nullptr, centre, diagonal));
+      const double last_rms = stats.rms_rel;
+      spline::GpcSplineFitOptions fit_options;
+      fit_options.regularization = options.fit_damping;
+      const spline::GpcSplineFitReport report = spline::fit_gpc_spline(candidate, fit.samples, fit_options);
+      timer.end_stage(stage + std::to_string(step));
+      stats.levels = step;
+      stats.rms_rel = report.rms_error;  // unit diagonal: already relative
+      stats.max_rel = report.max_error;
+      stats.control_points = candidate.num_functions();
+      const Eigen::VectorXd misfit = surface_misfit(candidate, fit.samples, fit.surface.size());
+      if (options.max_surface_error_rel > 0.0)
+        beyond = surface_samples_beyond(misfit, fit.samples, options.max_surface_error_rel);
+      stats.level_history.push_back({candidate.num_functions(), report.rms_error, misfit.size() ? misfit.maxCoeff() : 0.0});
+      best = std::move(candidate);
+      if (stats.rms_rel <= options.max_rms_rel && beyond.empty()) break;
+      // A split step that gains under 2 % of the rms has met functions at hierarchy_depth only: the
+      // next level is the next uniform one, and splitting goes on from there.
+      if (splitting && stats.rms_rel > 0.98 * last_rms) rebase = true;
     }
-    spline::GpcSpline& candidate = *next;
-    // More functions than a quarter of the samples: the least squares would be fixed mostly by the
-    // regularization, not by data (and CG slows down by orders of magnitude).
-    if (best && (candidate.num_functions() > options.max_control_points ||
-                 4 * candidate.num_functions() > stats.samples))
-      break;
-    if (!splitting) candidate.set_points(prior_points(candidate, best ? &*best : nullptr, centre, diagonal));
-    const double last_rms = stats.rms_rel;
-    spline::GpcSplineFitOptions fit_options;
-    fit_options.regularization = options.fit_damping;
-    const spline::GpcSplineFitReport report = spline::fit_gpc_spline(candidate, data.samples, fit_options);
-    timer.end_stage("fit_level_" + std::to_string(step));
-    stats.levels = step;
-    stats.rms_rel = report.rms_error;  // unit diagonal: already relative
-    stats.max_rel = report.max_error;
-    stats.control_points = candidate.num_functions();
-    const Eigen::VectorXd misfit = surface_misfit(candidate, data.samples, data.surface.size());
-    if (options.max_surface_error_rel > 0.0)
-      beyond = surface_samples_beyond(misfit, data.samples, options.max_surface_error_rel);
-    stats.level_history.push_back({candidate.num_functions(), report.rms_error, misfit.size() ? misfit.maxCoeff() : 0.0});
-    best = std::move(candidate);
-    if (stats.rms_rel <= options.max_rms_rel && beyond.empty()) break;
-    // A split step that gains under 2 % of the rms has met functions at hierarchy_depth only: the
-    // next level is the next uniform one, and splitting goes on from there.
-    if (splitting && stats.rms_rel > 0.98 * last_rms) rebase = true;
-  }
-  spline::GpcSpline& fitted = *best;
+    return std::move(*best);
+  };
+  spline::GpcSpline fitted = fit_levels(data, "fit_level_");
   stats.continued_interfaces = fitted.num_continued_interfaces();
   if (options.compare_uniform == GpcMesh2SplineOptions::CompareUniform::On) {
     progress.report("uniform comparison", 0.88);
@@ -518,6 +548,37 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
     progress.report("untangle", 0.9);
     stats.untangled_control_points = untangle_cuboids(fitted, data.samples, options.threads, certificates);
     timer.end_stage("untangle");
+    // Cells left uncertified: a second fit without the grid nodes of the hex mesh's inverted
+    // hexes, untangled the same way; the spline with fewer uncertified cells, then the higher
+    // det_j_lower_bound_rel, is kept. Not in the thesis: the interior nodes are a harmonic guess
+    // (Eq. 3.1), and where the padded mesh stays inverted the least squares copy its fold into
+    // the spline, where the untangler's sample term then holds it; the spline's smoothness fills
+    // the gap instead. Only a second attempt: on most solids the folded nodes' neighbours keep
+    // the fit closer to the mesh, and their fit certifies.
+    const spline::JacobianCertificate first =
+        spline::certify_gpc_jacobian(fitted, spline::gpc_certificate_options(), &certificates);
+    const FitData unfolded = options.refit_folded_nodes && !first.uncertified.empty()
+                                 ? fit_data(gpc, padding_depth, options.surface_weight, centroids, centre, diagonal, true)
+                                 : FitData();
+    if (unfolded.dropped_nodes > 0) {
+      progress.report("refit without folded grid nodes", 0.9);
+      const Mesh2SplineStats kept = stats;
+      spline::GpcSpline second = fit_levels(unfolded, "refit_level_");
+      spline::JacobianCertificateCache second_certificates;
+      const int free = untangle_cuboids(second, unfolded.samples, options.threads, second_certificates);
+      timer.end_stage("refit_untangle");
+      const spline::JacobianCertificate c =
+          spline::certify_gpc_jacobian(second, spline::gpc_certificate_options(), &second_certificates);
+      if (c.uncertified.size() < first.uncertified.size() ||
+          (c.uncertified.size() == first.uncertified.size() && c.det_j_lower_bound_rel > first.det_j_lower_bound_rel)) {
+        fitted = std::move(second);
+        certificates = std::move(second_certificates);
+        stats.untangled_control_points = free;
+        stats.refit_dropped_nodes = unfolded.dropped_nodes;
+      } else {
+        restore_fit_stats(stats, kept);
+      }
+    }
   }
 
   // Measures in the unit-box frame, against the normalized input surface.

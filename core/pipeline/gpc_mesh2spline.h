@@ -71,6 +71,10 @@ struct GpcMesh2SplineOptions {
   /// Unfold the fitted spline with the control points inside each cuboid (spline::untangle_spline
   /// on its patch, restricted to its box); faces, surface and glued faces stay as they are.
   enum class Untangle { Off, On } untangle = Untangle::On;
+  /// With untangle On, if cells stay uncertified: fit and untangle again without the grid nodes
+  /// of the hex mesh's inverted hexes (off the surface), and keep the spline with fewer
+  /// uncertified cells, then the higher det_j_lower_bound_rel (stats refit_dropped_nodes).
+  bool refit_folded_nodes = true;
   /// Also find the fewest functions of a uniform spline over the same GPC whose fit reaches the
   /// same rms_rel (stats uniform_control_points, uniform_rms_rel).
   enum class CompareUniform { Off, On } compare_uniform = CompareUniform::Off;

@@ -109,6 +109,9 @@ struct Mesh2SplineStats {
   /// and whether the triangles' centroids were fitted (surface_samples, resolved).
   int hierarchy_depth = 0;
   bool centroid_samples = false;
+  /// GPC splines: grid nodes of inverted hexes left out of the second fit (refit_folded_nodes),
+  /// 0 if the first fit was kept or no second fit ran.
+  int refit_dropped_nodes = 0;
   int grid_inverted_hexes = 0;         ///< of the volumetric grid map (grid fit)
   double grid_min_scaled_jacobian = 1; ///< of the volumetric grid map (grid fit)
   /// of the fit before the untangling and the repair, at the points the untangler (24³ cell

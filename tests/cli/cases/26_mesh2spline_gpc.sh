@@ -114,3 +114,23 @@ assert (a['genus'], a['cuboids'], a['control_points']) == (b['genus'], b['cuboid
 for k in ('rms_rel', 'hausdorff_rel'): assert abs(a[k] - b[k]) <= 0.1 * a[k], (k, a[k], b[k])
 assert b['negative_jacobian_fraction'] == 0 and b['lattice_negative_fraction'] == 0, b
 " "$TMP/gt_stats.json" "$TMP/gr_stats.json"
+# Cells the untangling leaves uncertified (eight on a coarse grid, 2,000 nodes: its hex mesh keeps
+# inverted hexes): a second fit without their grid nodes; the spline kept never has a worse
+# certificate than the first fit's (--no-refit), and a kept refit has a better one.
+expect 0 "$BIN" mesh2spline "$DATA/meshes/eight.off" -o "$TMP/rf.json" --grid-nodes 2000 --max-levels 2 --stats-json "$TMP/rf_stats.json" --quiet
+expect 0 "$BIN" mesh2spline "$DATA/meshes/eight.off" -o "$TMP/rf0.json" --grid-nodes 2000 --max-levels 2 --no-refit --stats-json "$TMP/rf0_stats.json" --quiet
+expect 0 /usr/bin/python3 -c "
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+assert b['refit_dropped_nodes'] == 0 and 'refit_untangle' not in b['times_s'], b['times_s']
+na, nb = len(a['uncertified_cells']), len(b['uncertified_cells'])
+better = na < nb or (na == nb and a['det_j_lower_bound_rel'] > b['det_j_lower_bound_rel'])
+assert better or (na == nb and a['det_j_lower_bound_rel'] == b['det_j_lower_bound_rel']), (na, nb)
+assert (a['refit_dropped_nodes'] > 0) == better, (a['refit_dropped_nodes'], na, nb)
+assert ('refit_untangle' in a['times_s']) == (nb > 0), (nb, a['times_s'])
+" "$TMP/rf_stats.json" "$TMP/rf0_stats.json"
+if cmp -s "$TMP/rf.json" "$TMP/rf0.json"; then
+  grep -q '"refit_dropped_nodes": 0,' "$TMP/rf_stats.json" && ok || bad "same spline, but a refit was kept"
+else
+  grep -q '"refit_dropped_nodes": 0,' "$TMP/rf_stats.json" && bad "a different spline, but no refit kept" || ok
+fi
