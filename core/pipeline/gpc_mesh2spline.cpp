@@ -458,8 +458,8 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
   const bool hierarchical = options.refinement == GpcMesh2SplineOptions::Refinement::Hierarchical;
   // Knot refinement (§4.3, Algorithm 4) until rms_rel ≤ max_rms_rel, the levels or the budget run
   // out: level 0 uniform, then per level either the misfit's marking on knot intervals or the
-  // uniform spacing shrunk by refinement_ratio. Writes the fit's stats (FitStats); stage: the
-  // prefix of the levels' stage names.
+  // uniform spacing shrunk by refinement_ratio. Writes the fields of stats that restore_fit_stats
+  // puts back; stage: the prefix of the levels' stage names.
   auto fit_levels = [&](const FitData& fit, const std::string& stage) {
     stats.samples = static_cast<int>(fit.samples.cuboid.size());
     stats.level_history.clear();
