@@ -127,7 +127,7 @@ na, nb = len(a['uncertified_cells']), len(b['uncertified_cells'])
 better = na < nb or (na == nb and a['det_j_lower_bound_rel'] > b['det_j_lower_bound_rel'])
 assert better or (na == nb and a['det_j_lower_bound_rel'] == b['det_j_lower_bound_rel']), (na, nb)
 assert (a['refit_dropped_nodes'] > 0) == better, (a['refit_dropped_nodes'], na, nb)
-assert ('refit_untangle' in a['times_s']) == (nb > 0), (nb, a['times_s'])
+assert 'refit_untangle' not in a['times_s'] or nb > 0, (nb, a['times_s'])
 " "$TMP/rf_stats.json" "$TMP/rf0_stats.json"
 if cmp -s "$TMP/rf.json" "$TMP/rf0.json"; then
   grep -q '"refit_dropped_nodes": 0,' "$TMP/rf_stats.json" && ok || bad "same spline, but a refit was kept"
