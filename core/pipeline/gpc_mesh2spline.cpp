@@ -459,8 +459,9 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
   // Knot refinement (§4.3, Algorithm 4) until rms_rel ≤ max_rms_rel, the levels or the budget run
   // out: level 0 uniform, then per level either the misfit's marking on knot intervals or the
   // uniform spacing shrunk by refinement_ratio. Writes the fields of stats that restore_fit_stats
-  // puts back; stage: the prefix of the levels' stage names.
-  auto fit_levels = [&](const FitData& fit, const std::string& stage) {
+  // puts back; stage: the prefix of the levels' stage names (and of their progress labels);
+  // progress runs from `from` over `width`.
+  auto fit_levels = [&](const FitData& fit, const std::string& stage, double from, double width) {
     stats.samples = static_cast<int>(fit.samples.cuboid.size());
     stats.level_history.clear();
     std::optional<spline::GpcSpline> best;
@@ -470,7 +471,9 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
     bool rebase = false;     // Hierarchical: the splits stalled, the next level is the next uniform one
     // level counts the uniform levels (max_levels), step every fit (stage names, level_history).
     for (int level = 0, step = 0; level <= options.max_levels && step <= options.max_levels + 40; ++step) {
-      progress.report("fit level " + std::to_string(step), 0.6 + 0.3 * level / (options.max_levels + 1));
+      std::string label = stage;
+      std::replace(label.begin(), label.end(), '_', ' ');
+      progress.report(label + std::to_string(step), from + width * level / (options.max_levels + 1));
       splitting = !rebase && (splitting || (hierarchical && best && stats.rms_rel <= options.hierarchical_from * options.max_rms_rel &&
                                             two_intervals_per_axis(*best)));
       rebase = false;
@@ -534,7 +537,7 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
     }
     return std::move(*best);
   };
-  spline::GpcSpline fitted = fit_levels(data, "fit_level_");
+  spline::GpcSpline fitted = fit_levels(data, "fit_level_", 0.6, 0.3);
   stats.continued_interfaces = fitted.num_continued_interfaces();
   if (options.compare_uniform == GpcMesh2SplineOptions::CompareUniform::On) {
     progress.report("uniform comparison", 0.88);
@@ -561,12 +564,12 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
                                  ? fit_data(gpc, padding_depth, options.surface_weight, centroids, centre, diagonal, true)
                                  : FitData();
     if (unfolded.dropped_nodes > 0) {
-      progress.report("refit without folded grid nodes", 0.9);
+      progress.report("refit without folded grid nodes", 0.9);  // the untangling's start, so no step back
       const Mesh2SplineStats kept = stats;
       // The first spline's certificates are dropped, not kept beside the second's: the final
       // certificate recomputes them if the first is kept (armadillo: 350 MB for 232,591 cells).
       certificates = spline::JacobianCertificateCache();
-      spline::GpcSpline second = fit_levels(unfolded, "refit_level_");
+      spline::GpcSpline second = fit_levels(unfolded, "refit_level_", 0.9, 0.02);
       spline::JacobianCertificateCache second_certificates;
       const int free = untangle_cuboids(second, unfolded.samples, options.threads, second_certificates);
       timer.end_stage("refit_untangle");
