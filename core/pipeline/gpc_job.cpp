@@ -259,7 +259,8 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
       stage_prefix = "two poles: ";
       two_pole();
     }
-    if (built && stats.limb_caps > 0 && result.map.grid_inverted_hexes > 0 && untangled) {
+    const bool by_folds = stats.genus > 0 || options.one_cuboid_fallback == GpcOptions::OneCuboidFallback::ByFolds;
+    if (built && by_folds && stats.limb_caps > 0 && result.map.grid_inverted_hexes > 0 && untangled) {
       // The map of a limb's cap can fold where its end is detailed (claws, fingers); the
       // two-pole construction is mapped too and the better hex mesh kept (folds left by an
       // untangler turned off say nothing of the construction).

@@ -48,6 +48,12 @@ struct GpcOptions {
   /// kept (fewer inverted hexes, then a higher least scaled Jacobian; a tie keeps the first), see
   /// GpcStats::finer_limbs.
   double limb_persistence = -1.0;
+  /// Genus 0 only: whether a limb construction that was built may still give way to the two-pole
+  /// one (one cuboid) because that hex mesh folds less. Off where the caller has already refused
+  /// the one-cuboid map as squeezed (mesh2spline): one cuboid is then kept only if no limb
+  /// construction can be built, since its few folds do not show the thin limbs it crowds.
+  enum class OneCuboidFallback { ByFolds, OnlyIfUnbuilt };
+  OneCuboidFallback one_cuboid_fallback = OneCuboidFallback::ByFolds;
   /// Scaled Jacobian in [−1, 1] (−1 = off): where the kept construction has T-shapes and its hex
   /// mesh (untangler on) has inverted hexes or a least scaled Jacobian below this, it is built and
   /// mapped again with every T-shape's concave corners at kTallerCentreHeight of the crotch's

@@ -407,6 +407,10 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
   gpc_options.taller_centres_below = -1.0;
   // A tip crowded into a spot of its cuboid face needs cells finer than the hierarchy reaches.
   gpc_options.grid.squeezed_below = options.squeezed_below;
+  // A genus-0 solid comes here only when its one-cuboid map is squeezed (thin limbs crowded
+  // into spots of a cube face): fewer folds of that one cuboid's padded mesh do not make it the
+  // better domain for the spline (a chair's legs fitted through one cuboid miss the surface).
+  gpc_options.one_cuboid_fallback = GpcOptions::OneCuboidFallback::OnlyIfUnbuilt;
   const GpcResult gpc = run_gpc(mesh, name, gpc_options, gpc_progress);
   timer.end_stage("gpc");
   const polycube::GpcDomain& domain = gpc.construction.domain;
