@@ -41,8 +41,9 @@ struct GpcOptions {
   /// diameter, 0 = off; negative = kDefaultLimbPersistence, any genus; a genus-0 blob has no
   /// limb and stays one cuboid, as in mesh2spline). If that construction fails, or its hex mesh
   /// has inverted hexes after untangling and the two-pole one's has fewer (or as many and a
-  /// higher least scaled Jacobian), the job keeps the two-pole one (a genus-0 solid: one cuboid)
-  /// and says why in GpcStats::limb_fallback. Negative (automatic) only: if the hex mesh kept
+  /// higher least scaled Jacobian), the job keeps the two-pole one (a genus-0 solid: one cuboid,
+  /// only if no limb construction was built when one_cuboid_fallback is OnlyIfUnbuilt) and says
+  /// why in GpcStats::limb_fallback. Negative (automatic) only: if the hex mesh kept
   /// still has inverted hexes (untangler on) and kFinerLimbPersistence finds more limb tips, the
   /// limb construction at kFinerLimbPersistence is built and mapped too and the better hex mesh
   /// kept (fewer inverted hexes, then a higher least scaled Jacobian; a tie keeps the first), see
