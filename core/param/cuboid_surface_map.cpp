@@ -121,7 +121,10 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
 
   const double num_solves = polycube::num_cube_faces * (options.area_balance_iterations + 1.0);
   int solves_done = 0;
-  auto solve = [&](const std::vector<double>& weight, double tolerance) {
+  // Solves every cube face's map; max_iterations < 0: the solver's default (2 × the face's
+  // unknowns). Returns false if a face's solve stopped at max_iterations short of the tolerance.
+  auto solve = [&](const std::vector<double>& weight, double tolerance, int max_iterations) {
+    bool converged = true;
     for (int face = 0; face < polycube::num_cube_faces; ++face) {
       progress.report("surface map", std::min(1.0, solves_done++ / num_solves));
       const std::vector<int>& interior = face_interior[face];
@@ -152,6 +155,7 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
       int iterations = 0;
       auto run = [&](auto& cg) {
         cg.set_tolerance(tolerance);
+        cg.set_max_iterations(max_iterations);
         cg.compute(system.a);
         st = cg.solve(rhs, x0);
         info = cg.info();
@@ -168,9 +172,11 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
         throw Error("mesh '" + mesh.source_name() + "': the harmonic map of cuboid face " +
                     std::to_string(face) + " has no SPD system (negative cotan weights?)");
       map.cg_iterations = std::max(map.cg_iterations, iterations);
+      converged = converged && info == linalg::SolverInfo::Success;
       for (int i = 0; i < m; ++i)
         map.uvw.row(interior[i]) = cube_face_point(face, st(i, 0), st(i, 1)).transpose();
     }
+    return converged;
   };
   // Warm start at the square's centre: the solution lies inside the square.
   for (int v = 0; v < n; ++v)
@@ -179,7 +185,7 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
   auto round_tolerance = [&](int round) {
     return round < options.area_balance_iterations ? options.balance_tolerance : options.tolerance;
   };
-  solve(weight, round_tolerance(0));
+  solve(weight, round_tolerance(0), -1);
 
   // Area balancing (after Yoshizawa, Belyaev & Seidel 2004, stretch minimization): a Tutte map
   // squeezes protrusions (ears, limbs) into tiny parameter areas that no spline cell can
@@ -231,7 +237,7 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
     std::vector<double> stretch = measure_stretch();
     for (double& s : stretch) s = std::clamp(s, 0.2, 5.0);
     reweight(stretch);
-    solve(weight, round_tolerance(iteration + 1));
+    solve(weight, round_tolerance(iteration + 1), -1);
   }
 
   // Squeeze rescue (a §3.4.1 deviation, as the balancing): in a thin protrusion the stretch grows
@@ -246,6 +252,11 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
   // rounds hardly move (where cuts crowd a face): it is undone and the rounds stop, so such a map
   // stays the balanced one instead of paying 1e-14 solves for a change of a few per cent.
   constexpr double kSqueezedMinGain = 1.3;
+  // The multigrid-preconditioned solves of these rounds converge in 15-150 iterations; where the
+  // weights' range leaves the 1e-14 residual out of reach, CG stalls and would run to twice the
+  // face's unknowns (a 29k-vertex face: 59k iterations, minutes). Such a round is undone and the
+  // rounds stop, as for a round that flips a triangle.
+  constexpr int kSqueezedMaxIterations = 500;
   auto least_density = [&](const std::vector<double>& stretch) {
     double least = std::numeric_limits<double>::infinity();
     for (int v = 0; v < n; ++v)
@@ -273,10 +284,10 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
     const mesh::Positions kept = map.uvw;
     for (double& s : stretch) s = std::clamp(s, 1.0, kSqueezedStretchBound);
     reweight(stretch);
-    solve(weight, std::min(options.tolerance, kSqueezedTolerance));
+    const bool converged = solve(weight, std::min(options.tolerance, kSqueezedTolerance), kSqueezedMaxIterations);
     std::vector<double> next = measure_stretch();
     const double density = least_density(next);
-    if (!(density >= kSqueezedMinGain * map.least_density) || count_flipped(nullptr) > 0) {
+    if (!converged || !(density >= kSqueezedMinGain * map.least_density) || count_flipped(nullptr) > 0) {
       map.uvw = kept;
       break;
     }
