@@ -31,8 +31,9 @@ struct GpcGridOptions {
   int quality_iterations = 100;  ///< improve_hex_mesh on the padded mesh once fold-free (0: off)
   /// Where the padded mesh's untangling with the whole surface held leaves folds: untangled once
   /// more with the surface nodes inside an exposed cube face sliding on its patch (On), or left as
-  /// they are (Off: every surface node stays where the surface maps put it, for a fit that samples
-  /// each node at its grid parameter; pipeline::run_gpc keeps On where its limb
+  /// they are (Off: every surface node stays where the surface maps put it, in the quality step
+  /// after the untangling too, for a fit that samples each node at its grid parameter;
+  /// pipeline::run_gpc keeps On where its limb
   /// constructions are chosen by their hex meshes' folds).
   enum class FaceSliding { Off, On } face_sliding = FaceSliding::On;
   /// The reference cell of the padded mesh's untanglers (HexGridUntangleOptions::reference):
