@@ -26,7 +26,7 @@ int run_gpc(const std::vector<std::string>& argv) {
       {"squeezed-below", "D", "widen every cuboid's surface map where a vertex's linear parameter density is below D (default 0 = off; mesh2spline: 0.1)"},
       {"no-untangle", "", "keep the harmonic grid's folds (the thesis's plain Eq. 3.1 map)"},
       {"no-padding", "", "the hex mesh without the padding layer under the surface (the cuboid grids alone)"},
-      {"no-face-sliding", "", "where the padded hex mesh's untangling with the surface held leaves folds, keep them (default: untangle again with the nodes inside each exposed cube face sliding on it; mesh2spline: off)"},
+      {"no-face-sliding", "", "keep the folds that the padded hex mesh's untangling with the surface held leaves, and its surface nodes where the surface maps put them up to the last stage (default: untangle again with the nodes inside each exposed cube face sliding on it; mesh2spline: off)"},
       {"quality-sweeps", "N", "sweeps of the last stage, which raises the hex mesh's least scaled Jacobian with every surface node sliding on the surface (default 300; 0 = off)"},
       {"padded-reference", "mean|own|better", "reference cell of the padded hex mesh's untanglers: one cube of the mean hex volume, each hex's own, or both and the one leaving fewer folds (default better)"},
       {"no-merge", "", "keep every T-shape arm, tube and cap its own cuboid (no merging across cuts)"},
