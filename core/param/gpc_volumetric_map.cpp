@@ -433,12 +433,12 @@ int untangle_padded_mesh(const polycube::GpcConstruction& construction, const st
       // Only around the poor hexes: nodes within 1 ring of a hex below scaled Jacobian 0.3.
       const std::vector<char> region = nodes_of_hexes_below(pm, 0.3);
       const std::vector<char> next = grown_by_hexes(pm.hexes, region);
-      // Without face sliding the surface nodes stay where the surface maps put them here too: a
-      // fit that samples each node at its grid parameter (mesh2spline) would read a node moved
-      // along the surface as a second surface map disagreeing with the vertices' one.
-      const bool hold_surface = options.face_sliding == GpcGridOptions::FaceSliding::Off;
+      // Without face sliding the surface stays held here too (as in the held untangling): a fit
+      // that samples each node at its grid parameter (mesh2spline) would read a node moved along
+      // the surface as a second surface map disagreeing with the vertices' one.
+      const std::vector<char>& kept = options.face_sliding == GpcGridOptions::FaceSliding::Off ? held : fixed;
       std::vector<char> frozen(rows);
-      for (int r = 0; r < rows; ++r) frozen[r] = fixed[r] || !next[r] || (hold_surface && pm.on_surface[r]);
+      for (int r = 0; r < rows; ++r) frozen[r] = kept[r] || !next[r];
       // The energy is a sum over corners: kept only if the worst corner did not get worse.
       const mesh::Positions before = pm.xyz;
       improve_hex_mesh(pm.hexes, frozen, pm.xyz, options.quality_iterations, 0.5, &sliding);
