@@ -155,13 +155,13 @@ std::string base64_decode(const char* text, std::size_t size, const std::string&
 }
 
 // The file-level settings that decide how an array's bytes are laid out.
-struct Encoding {
+struct ArrayLayout {
   bool big_endian = false;
   int header_bytes = 4;  // UInt32 or UInt64
   bool zlib = false;
 };
 
-std::uint64_t read_header_word(const std::string& bytes, std::size_t offset, const Encoding& e, const std::string& name) {
+std::uint64_t read_header_word(const std::string& bytes, std::size_t offset, const ArrayLayout& e, const std::string& name) {
   if (offset + e.header_bytes > bytes.size()) throw Error(name + ": truncated DataArray header");
   std::uint64_t value = 0;
   for (int k = 0; k < e.header_bytes; ++k) {
@@ -175,7 +175,7 @@ std::uint64_t read_header_word(const std::string& bytes, std::size_t offset, con
 // [blocks][block size][last block size][compressed sizes...][blocks...]. `decode` turns the
 // stored text into bytes (base64) or is null for raw bytes; with base64 the header and the
 // blocks of compressed data are separate streams, and must be decoded before their sizes are known.
-std::string array_bytes(const std::string& stored, const Encoding& e, std::uint64_t expected, const std::string& name) {
+std::string array_bytes(const std::string& stored, const ArrayLayout& e, std::uint64_t expected, const std::string& name) {
   if (!e.zlib) {
     const std::uint64_t size = read_header_word(stored, 0, e, name);
     if (size != expected)
@@ -205,7 +205,7 @@ std::string array_bytes(const std::string& stored, const Encoding& e, std::uint6
 }
 
 // Base64 text of a header-then-blocks array: decodes the header first to learn the blocks' sizes.
-std::string decode_base64_array(const char* text, std::size_t size, const Encoding& e, const std::string& name) {
+std::string decode_base64_array(const char* text, std::size_t size, const ArrayLayout& e, const std::string& name) {
   if (!e.zlib) return base64_decode(text, size, name);
   // The header is its own base64 stream: 4 characters per 3 bytes, padded.
   const auto stream_chars = [](std::size_t bytes) { return (bytes + 2) / 3 * 4; };
@@ -229,7 +229,7 @@ std::string decode_base64_array(const char* text, std::size_t size, const Encodi
 volume::Volume parse_vti(const std::string& xml, const std::string& name, std::int64_t max_voxels) {
   std::size_t pos = 0;
   Tag tag;
-  Encoding encoding;
+  ArrayLayout encoding;
   volume_data::DataLayout layout;
   std::array<long long, 6> extent{};
   bool in_point_data = false, has_image = false, has_piece = false;

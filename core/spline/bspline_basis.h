@@ -32,6 +32,9 @@ struct BasisDerivatives {
 
 namespace detail {
 
+// The parameter axes' names in messages.
+inline constexpr const char* kAxisName[3] = {"u", "v", "w"};
+
 // Cox-de Boor with the 0/0 := 0 convention: a zero-length knot span contributes nothing.
 inline double inverse_or_zero(double length) { return length > 0.0 ? 1.0 / length : 0.0; }
 

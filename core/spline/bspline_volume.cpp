@@ -13,7 +13,7 @@ namespace volspline::spline {
 
 namespace {
 
-const char* const kAxisName[3] = {"u", "v", "w"};
+using detail::kAxisName;
 
 void check_knot_vector(const std::vector<double>& knots, int axis) {
   const std::string where = std::string("B-spline volume: knot vector ") + kAxisName[axis];

@@ -21,12 +21,12 @@ namespace volspline::spline {
 
 namespace {
 
-const char* const kAxisName[3] = {"x", "y", "z"};
+const char* const kCoordinateName[3] = {"x", "y", "z"};
 
 void check_dims(const std::array<int, 3>& dims) {
   for (int a = 0; a < 3; ++a)
     if (dims[a] < 2)
-      throw Error(std::string("density fit: the grid needs at least 2 samples along ") + kAxisName[a] +
+      throw Error(std::string("density fit: the grid needs at least 2 samples along ") + kCoordinateName[a] +
                   ", got " + std::to_string(dims[a]));
 }
 
@@ -328,10 +328,10 @@ UniformBsplineFit fit_uniform_bspline(const GridSamples& samples, const std::arr
   std::array<Eigen::MatrixXd, 3> basis, pseudo_inverse;
   for (int a = 0; a < 3; ++a) {
     if (control_points[a] < 4)
-      throw Error(std::string("uniform B-spline fit: needs at least 4 control points along ") + kAxisName[a]);
+      throw Error(std::string("uniform B-spline fit: needs at least 4 control points along ") + kCoordinateName[a]);
     if (control_points[a] > samples.dims[a])
       throw Error(std::string("uniform B-spline fit: ") + std::to_string(control_points[a]) +
-                  " control points along " + kAxisName[a] + " but only " + std::to_string(samples.dims[a]) +
+                  " control points along " + kCoordinateName[a] + " but only " + std::to_string(samples.dims[a]) +
                   " samples");
     knots[a] = uniform_clamped_knots(control_points[a], samples.dims[a] - 1.0);
     basis[a] = basis_matrix(knots[a], samples.dims[a]);

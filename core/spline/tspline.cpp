@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "core/common/error.h"
+#include "core/spline/bspline_basis.h"
 #include "core/spline/bspline_volume.h"
 #include "core/spline/cell_polynomial_avx2.h"
 
@@ -19,7 +20,7 @@ namespace volspline::spline {
 
 namespace {
 
-const char* const kAxisName[3] = {"u", "v", "w"};
+using detail::kAxisName;
 constexpr long kMaxCells = long(1) << 26;
 // Smallest knot span, relative to the domain width along its axis.
 constexpr double kMinSpanRel = 1e-12;

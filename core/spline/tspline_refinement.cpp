@@ -14,7 +14,7 @@ namespace volspline::spline {
 
 namespace {
 
-const char* const kAxisName[3] = {"u", "v", "w"};
+using detail::kAxisName;
 
 // N_R = Σ c_m N_{R_m} after inserting every knot of `knots` (sorted) that lies strictly inside
 // the support of the function being split (Eq. 4.8 applied repeatedly).
