@@ -56,7 +56,7 @@ class NodeJacobians {
  private:
   std::vector<int> start_, column_;
   std::vector<float> gradient_;  // w∇B (S⁻ᵀw∇B after transform), 3 per entry
-  bool avx2_ = false;            // the CPU runs the AVX2 sweeps
+  [[maybe_unused]] bool avx2_ = false;  // the CPU runs the AVX2 sweeps (builds without them never read it)
 };
 
 /// Σ_e x_{column[e]}·g_eᵀ over entries begin .. end − 1 (scattered points' rows, g_e in double

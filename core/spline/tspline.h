@@ -256,7 +256,9 @@ class TSpline {
   // (Σ w p B) and one denominator coefficient (Σ w B). Empty unless CellPolynomials is used.
   std::vector<double> cell_numerator_;
   std::vector<double> cell_denominator_;
-  bool avx2_ = false;  // the CPU runs the AVX2 Horner passes (same bits as the portable ones)
+  // The CPU runs the AVX2 Horner passes (same bits as the portable ones); builds without them
+  // never read it.
+  [[maybe_unused]] bool avx2_ = false;
 };
 
 /// The T-spline of a full tensor grid: one blending function per control point of the volume,
