@@ -79,7 +79,8 @@ class PointJacobianStore {
   std::vector<Eigen::Vector3d> g_;
 };
 
-// What a pass computes from the free functions and the other functions' control points alone,
+// What a pass computes from the free functions, the other functions' control points and the
+// surface samples' factor alone,
 // kept from pass to pass: the guard points, the fixed functions' part of J (PointJacobian's
 // rest, columns and g) at the barrier nodes and the guard points, and the sample terms. The next round's pass often
 // has the same free functions, and only they moved in between; its active cells, and so its
@@ -87,10 +88,11 @@ class PointJacobianStore {
 // are the same and the other control points are as they were when it was filled.
 class PassCache {
  public:
-  // Empties the cache unless free_ids are the ones it was filled for and every other function's
-  // control point is unchanged.
-  void prepare(const std::vector<int>& free_ids, const Eigen::MatrixXd& points) {
-    bool valid = free_ids == free_ids_ && points.rows() == points_.rows() && points.cols() == points_.cols();
+  // Empties the cache unless free_ids and surface_factor are the ones it was filled for and every
+  // other function's control point is unchanged.
+  void prepare(const std::vector<int>& free_ids, const Eigen::MatrixXd& points, double surface_factor) {
+    bool valid = free_ids == free_ids_ && points.rows() == points_.rows() && points.cols() == points_.cols() &&
+                 surface_factor == surface_factor_;
     if (valid) {
       std::vector<char> is_free(static_cast<std::size_t>(points.rows()), 0);
       for (int f : free_ids) is_free[f] = 1;
@@ -99,6 +101,7 @@ class PassCache {
     if (valid) return;
     free_ids_ = free_ids;
     points_ = points;
+    surface_factor_ = surface_factor;
     guards_known = false;
     guards.clear();
     nodes.clear();
@@ -116,13 +119,16 @@ class PassCache {
  private:
   std::vector<int> free_ids_;
   Eigen::MatrixXd points_;
+  double surface_factor_ = 1.0;
 };
 
 class GpcCertificatePass {
  public:
+  // surface_factor: the factor on the data term of the samples on the solid's surface.
   GpcCertificatePass(GpcSpline& spline, const GpcSamples& samples, const SplineUntangleOptions& options,
-                     PassCache& cache)
-      : spline_(spline), samples_(samples), options_(options), merges_(spline.num_cuboids()), cache_(cache) {}
+                     PassCache& cache, double surface_factor)
+      : spline_(spline), samples_(samples), options_(options), merges_(spline.num_cuboids()), cache_(cache),
+        surface_factor_(surface_factor) {}
 
   // One pass over the held points (per cuboid, in cuboid coordinates), moving the functions at
   // the points `seeds` (held itself, or a part of it); returns the result's free_functions and
@@ -135,7 +141,7 @@ class GpcCertificatePass {
     result.free_functions = static_cast<int>(free_ids_.size());
     if (free_ids_.empty()) return result;
     const Eigen::MatrixXd& points = spline_.points();
-    cache_.prepare(free_ids_, points);
+    cache_.prepare(free_ids_, points, surface_factor_);
     Eigen::VectorXd x(3 * free_ids_.size());
     for (std::size_t c = 0; c < free_ids_.size(); ++c) x.segment<3>(3 * c) = points.row(free_ids_[c]).transpose();
     points_xyz_.resize(3 * static_cast<std::size_t>(points.rows()));
@@ -572,7 +578,19 @@ class GpcCertificatePass {
     return out;
   }
 
-  // The samples in active cells, over the free functions.
+  // True if uvw lies on a face of the cuboid that no other cuboid is glued to (the solid's surface).
+  bool on_surface(int cuboid, const Eigen::Vector3d& uvw) const {
+    const polycube::GpcCuboid& cu = spline_.domain().cuboids[cuboid];
+    for (int f = 0; f < 6; ++f) {
+      if (cu.face_interface[f] >= 0) continue;
+      const double at = f % 2 ? cu.size[f / 2] : 0.0;
+      if (std::abs(uvw(f / 2) - at) <= 1e-9 * (1.0 + cu.size[f / 2])) return true;
+    }
+    return false;
+  }
+
+  // The samples in active cells, over the free functions; a surface sample's term scaled by
+  // surface_factor_ (its residual by the square root).
   SampleTerms make_samples() {
     SampleTerms terms;
     std::vector<double> values;
@@ -594,6 +612,11 @@ class GpcCertificatePass {
         }
       }
       if (terms.column.size() == first) continue;
+      if (surface_factor_ != 1.0 && on_surface(cuboid, uvw)) {
+        const double root = std::sqrt(surface_factor_);
+        fixed *= root;
+        for (std::size_t k = first; k < terms.column.size(); ++k) terms.b[k] *= root;
+      }
       terms.offset.push_back(fixed);
       terms.start.push_back(static_cast<int>(terms.column.size()));
     }
@@ -618,6 +641,7 @@ class GpcCertificatePass {
   PointJacobian point_;             // jacobian_at's result
   PassCache& cache_;
   double held_weight_ = 1.0;        // factor on the held points' hinge
+  double surface_factor_ = 1.0;     // factor on the surface samples' data term
 };
 
 // After the rounds: the uncertified cells whose det J is negative on or next to a cuboid edge
@@ -671,7 +695,7 @@ enum class FreeFunctions {
 // the best one's points (the points of the cells it folded stay held).
 SplineUntangleResult certificate_rounds(GpcSpline& spline, const GpcSamples& samples, const SplineUntangleOptions& options,
                                         const Progress& progress, JacobianCertificateCache& certificates,
-                                        PassCache& jacobians, FreeFunctions free) {
+                                        PassCache& jacobians, FreeFunctions free, double surface_factor) {
   SplineUntangleResult total;
   const int nc = spline.num_cuboids();
   std::vector<std::vector<Eigen::Vector3d>> held(static_cast<std::size_t>(nc));
@@ -713,7 +737,7 @@ SplineUntangleResult certificate_rounds(GpcSpline& spline, const GpcSamples& sam
     }
     for (int c = 0; c < nc; ++c) detail::merge_points(held[c], std::move(more[c]));
     const double held_weight = std::pow(kStallWeight, rounds.stalled());
-    const SplineUntangleResult r = GpcCertificatePass(spline, samples, options, jacobians)
+    const SplineUntangleResult r = GpcCertificatePass(spline, samples, options, jacobians, surface_factor)
                                        .run(held, free == FreeFunctions::CurrentCells ? current : held, held_weight);
     ++total.certificate_passes;
     total.free_functions += r.free_functions;
@@ -729,36 +753,53 @@ SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSample
   if (spline.dimension() != 3)
     throw Error("GPC certificate untangling: the spline has dimension " + std::to_string(spline.dimension()) +
                 ", expected 3 (geometry)");
-  assert(options.certificate_rounds >= 0 && samples.uvw.rows() == samples.values.rows());
+  assert(options.certificate_rounds >= 0 && options.surface_data_factor >= 1.0 && samples.uvw.rows() == samples.values.rows());
   JacobianCertificateCache own_cache;
   JacobianCertificateCache& certificates = cache ? *cache : own_cache;
   const Eigen::MatrixXd start = spline.points();
+  // The attempts, each from the start, until one certifies every cell:
+  // 1. passes over every point held so far, the surface samples held surface_data_factor times
+  //    as hard as the interior ones;
+  // 2. the same with every sample alike, where holding the surface keeps a fold shut;
+  // 3. passes moving the functions at the cells uncertified in their round only. A pass over
+  //    every point held so far moves most of the spline and re-folds cells that earlier rounds
+  //    certified between its guard points, so the rounds trade cells back and forth around a
+  //    cell that needs many of them; local passes do not, but converge slower where hundreds of
+  //    cells fold and move the surface more.
+  // The attempt whose certificate is better (fewer uncertified cells, then the higher
+  // det_j_lower_bound_rel) is kept.
+  struct Attempt {
+    FreeFunctions free;
+    double surface_factor;
+  };
+  std::vector<Attempt> attempts = {{FreeFunctions::AllHeld, options.surface_data_factor}};
+  if (options.surface_data_factor != 1.0) attempts.push_back({FreeFunctions::AllHeld, 1.0});
+  attempts.push_back({FreeFunctions::CurrentCells, 1.0});
   PassCache jacobians;
-  SplineUntangleResult total =
-      certificate_rounds(spline, samples, options, progress, certificates, jacobians, FreeFunctions::AllHeld);
-  if (total.final_uncertified == 0 || options.certificate_rounds == 0) return total;
-  // Cells left uncertified: the rounds again from the start, each pass moving the functions at
-  // the cells uncertified in its round only. A pass over every point held so far moves most of
-  // the spline and re-folds cells that earlier rounds certified between its guard points, so the
-  // rounds trade cells back and forth around a cell that needs many of them; local passes do
-  // not, but converge slower where hundreds of cells fold and move the surface more. The attempt
-  // whose certificate is better (fewer uncertified cells, then the higher det_j_lower_bound_rel)
-  // is kept.
-  const double first_bound = certify_gpc_jacobian(spline, gpc_certificate_options(), &certificates).det_j_lower_bound_rel;
-  const Eigen::MatrixXd first = spline.points();
-  spline.set_points(start);
-  SplineUntangleResult second =
-      certificate_rounds(spline, samples, options, progress, certificates, jacobians, FreeFunctions::CurrentCells);
-  const double second_bound = certify_gpc_jacobian(spline, gpc_certificate_options(), &certificates).det_j_lower_bound_rel;
-  const bool keep_second = second.final_uncertified < total.final_uncertified ||
-                           (second.final_uncertified == total.final_uncertified && second_bound > first_bound);
-  if (!keep_second) spline.set_points(first);
-  SplineUntangleResult& kept = keep_second ? second : total;
-  const SplineUntangleResult& other = keep_second ? total : second;
-  kept.certificate_passes += other.certificate_passes;
-  kept.free_functions += other.free_functions;
-  kept.iterations += other.iterations;
-  kept.initial_uncertified = total.initial_uncertified;
+  SplineUntangleResult kept, sum;
+  Eigen::MatrixXd kept_points;
+  double kept_bound = -std::numeric_limits<double>::infinity();
+  for (std::size_t a = 0; a < attempts.size(); ++a) {
+    if (a > 0) spline.set_points(start);
+    const SplineUntangleResult r = certificate_rounds(spline, samples, options, progress, certificates, jacobians,
+                                                      attempts[a].free, attempts[a].surface_factor);
+    sum.certificate_passes += r.certificate_passes;
+    sum.free_functions += r.free_functions;
+    sum.iterations += r.iterations;
+    const double bound =
+        r.final_uncertified > 0 ? certify_gpc_jacobian(spline, gpc_certificate_options(), &certificates).det_j_lower_bound_rel : 0.0;
+    if (a == 0 || r.final_uncertified < kept.final_uncertified ||
+        (r.final_uncertified == kept.final_uncertified && bound > kept_bound)) {
+      kept = r;
+      kept_bound = bound;
+      kept_points = spline.points();
+    }
+    if (kept.final_uncertified == 0 || options.certificate_rounds == 0) break;
+  }
+  spline.set_points(std::move(kept_points));
+  kept.certificate_passes = sum.certificate_passes;
+  kept.free_functions = sum.free_functions;
+  kept.iterations = sum.iterations;
   return kept;
 }
 

@@ -27,15 +27,18 @@ namespace volspline::spline {
 /// halves along it instead), the hinge also guards the 3×3×3 grid on each such closed cell at
 /// no less than min(min_scaled_jacobian, its scaled
 /// Jacobian now), and the data term (data_weight per squared knot interval in model units) holds
-/// every sample there, which keeps the surface on the mesh. Rounds stop when every cell is
-/// certified or the uncertified count has not fallen for 3 rounds; the spline of the round with
-/// the fewest is kept. If cells stay uncertified, the rounds run again from the starting points
-/// with each pass moving only the functions at the points of the cells uncertified in its round
-/// (the earlier rounds' points still held where those reach them), a round that left more cells
-/// uncertified than the best one restarting from the best one's points; the attempt with fewer
-/// uncertified cells, then the higher det_j_lower_bound_rel, is kept. Samples: the fit's (cuboid,
+/// every sample there, which keeps the surface on the mesh; the samples on the solid's surface
+/// (on a cuboid face no other cuboid is glued to) are held surface_data_factor times as hard.
+/// Rounds stop when every cell is certified or the uncertified count has not fallen for 3
+/// rounds; the spline of the round with the fewest is kept. If cells stay uncertified, the
+/// rounds run again from the starting points with every sample held alike (if
+/// surface_data_factor is not 1), then, if cells still stay uncertified, with each pass moving
+/// only the functions at the points of the cells uncertified in its round (the earlier rounds'
+/// points still held where those reach them), a round that left more cells uncertified than the
+/// best one restarting from the best one's points; the attempt with fewer uncertified cells,
+/// then the higher det_j_lower_bound_rel, is kept. Samples: the fit's (cuboid,
 /// uvw, xyz) in the spline's frame; their weights are not used. Uses certificate_rounds, min_scaled_jacobian, data_weight,
-/// volume_weight, max_steps and max_inner of options (each pass's ε continuation runs until its
+/// surface_data_factor, volume_weight, max_steps and max_inner of options (each pass's ε continuation runs until its
 /// energy settles or max_steps, whatever stop_margin says: the held points are hinge terms,
 /// which the barrier nodes' margin does not see); returns certificate_passes,
 /// free_functions, iterations, initial_uncertified and final_uncertified (the other fields 0).

@@ -109,6 +109,13 @@ struct SplineUntangleOptions {
   /// spline's tangents there) in the passes that move boundary functions, in [0, 1]: a face whose
   /// own parameterization folds unfolds by sliding along the surface, which keeps its shape.
   double boundary_tangent_weight = 0.3;
+  /// GPC certificate rounds (untangle_gpc_certificate) only: the factor on data_weight for the
+  /// samples on the solid's surface (on a cuboid face no other cuboid is glued to) in their first
+  /// attempt, ≥ 1. The surface samples are the data the fit is measured against
+  /// (hausdorff_rel); the interior ones are the harmonic grid's guess (Eq. 3.1), folded where its
+  /// hexes invert, so the rounds should open folds by moving the interior. Where that attempt
+  /// leaves cells uncertified, the rounds run again from the start with factor 1.
+  double surface_data_factor = 10.0;
 };
 
 /// Outcome of untangle_spline.
