@@ -32,7 +32,8 @@ constexpr int kPieceParts = 2;
 // Free functions are at most this many times as wide as the narrowest function at the held
 // point per axis (2: one dyadic level coarser).
 constexpr double kSupportRatio = 2.0;
-// Factor on the held points' hinge per round since the uncertified count last fell.
+// Factor on the held points' hinge per round since the uncertified count last fell (in the
+// later attempts: the most such rounds in a row so far, the weight not lowered again).
 constexpr double kStallWeight = 8.0;
 
 // J at a point of a cuboid split into the free functions' part: J = rest + Σ_e x_{column_e}·g_eᵀ.
@@ -695,12 +696,14 @@ enum class FreeFunctions {
 // the best one's points (the points of the cells it folded stay held).
 SplineUntangleResult certificate_rounds(GpcSpline& spline, const GpcSamples& samples, const SplineUntangleOptions& options,
                                         const Progress& progress, JacobianCertificateCache& certificates,
-                                        PassCache& jacobians, FreeFunctions free, double surface_factor) {
+                                        PassCache& jacobians, FreeFunctions free, double surface_factor,
+                                        bool keep_weight_raised) {
   SplineUntangleResult total;
   const int nc = spline.num_cuboids();
   std::vector<std::vector<Eigen::Vector3d>> held(static_cast<std::size_t>(nc));
   detail::CertificateRounds rounds;
   std::vector<UncertifiedCell> best;  // the uncertified cells of the round with the fewest
+  int most_stalled = 0;               // the most rounds in a row without a new low so far
   for (int round = 0;; ++round) {
     JacobianCertificate certificate = certify_gpc_jacobian(spline, gpc_certificate_options(), &certificates);
     const int uncertified = static_cast<int>(certificate.uncertified.size());
@@ -736,7 +739,8 @@ SplineUntangleResult certificate_rounds(GpcSpline& spline, const GpcSamples& sam
       if (uncertified > rounds.final_uncertified()) spline.set_points(rounds.best_points());
     }
     for (int c = 0; c < nc; ++c) detail::merge_points(held[c], std::move(more[c]));
-    const double held_weight = std::pow(kStallWeight, rounds.stalled());
+    most_stalled = std::max(most_stalled, rounds.stalled());
+    const double held_weight = std::pow(kStallWeight, keep_weight_raised ? most_stalled : rounds.stalled());
     const SplineUntangleResult r = GpcCertificatePass(spline, samples, options, jacobians, surface_factor)
                                        .run(held, free == FreeFunctions::CurrentCells ? current : held, held_weight);
     ++total.certificate_passes;
@@ -767,14 +771,21 @@ SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSample
   //    cell that needs many of them; local passes do not, but converge slower where hundreds of
   //    cells fold and move the surface more.
   // The attempt whose certificate is better (fewer uncertified cells, then the higher
-  // det_j_lower_bound_rel) is kept.
+  // det_j_lower_bound_rel) is kept. In the first attempt the held points' weight falls back to 1
+  // whenever the uncertified count reaches a new low; in the later ones it stays at the highest
+  // it reached. Falling back lets the next pass's data term re-fold cells held so far (twocup's
+  // second attempt alternated 27, 66, 15, 44, 15, 8, 31, … uncertified cells and ran out of
+  // rounds; kept raised it certifies, Hausdorff 1.59 % against 2.54 % for the second fit that
+  // certified before); kept raised with the surface held hard it pulls the surface instead of
+  // opening the fold (the held-out chair's first attempt then stays uncertified).
   struct Attempt {
     FreeFunctions free;
     double surface_factor;
+    bool keep_weight_raised;
   };
-  std::vector<Attempt> attempts = {{FreeFunctions::AllHeld, options.surface_data_factor}};
-  if (options.surface_data_factor != 1.0) attempts.push_back({FreeFunctions::AllHeld, 1.0});
-  attempts.push_back({FreeFunctions::CurrentCells, 1.0});
+  std::vector<Attempt> attempts = {{FreeFunctions::AllHeld, options.surface_data_factor, false}};
+  if (options.surface_data_factor != 1.0) attempts.push_back({FreeFunctions::AllHeld, 1.0, true});
+  attempts.push_back({FreeFunctions::CurrentCells, 1.0, true});
   PassCache jacobians;
   SplineUntangleResult kept, sum;
   Eigen::MatrixXd kept_points;
@@ -782,7 +793,8 @@ SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSample
   for (std::size_t a = 0; a < attempts.size(); ++a) {
     if (a > 0) spline.set_points(start);
     const SplineUntangleResult r = certificate_rounds(spline, samples, options, progress, certificates, jacobians,
-                                                      attempts[a].free, attempts[a].surface_factor);
+                                                      attempts[a].free, attempts[a].surface_factor,
+                                                      attempts[a].keep_weight_raised);
     sum.certificate_passes += r.certificate_passes;
     sum.free_functions += r.free_functions;
     sum.iterations += r.iterations;

@@ -16,7 +16,8 @@ namespace volspline::spline {
 /// negative points of a 3×3×3 grid on the closed cell; and lowest_jacobian_point, the fold
 /// itself, which both can miss; in their cuboid, kept from round to round) by the hinge
 /// W·max(0, min_scaled_jacobian − det J/σ)², W multiplied by 8 per round since the uncertified
-/// count last fell (a fold the data term holds shut opens once its hinge outweighs it). The free functions are the
+/// count last fell (a fold the data term holds shut opens once its hinge outweighs it; in the
+/// attempts after the first, W is not lowered again when the count falls). The free functions are the
 /// global functions whose value or gradient is non-zero at a held point and whose support is at
 /// most twice as wide as the narrowest of those per axis (a hierarchical spline's coarser
 /// functions would make a pass global), whatever cuboids they reach: a function crossing a Continued face
