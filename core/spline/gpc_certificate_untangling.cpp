@@ -757,7 +757,8 @@ SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSample
   if (spline.dimension() != 3)
     throw Error("GPC certificate untangling: the spline has dimension " + std::to_string(spline.dimension()) +
                 ", expected 3 (geometry)");
-  assert(options.certificate_rounds >= 0 && options.surface_data_factor >= 1.0 && samples.uvw.rows() == samples.values.rows());
+  assert(options.certificate_rounds >= 0 && options.surface_data_factor >= 1.0 &&
+         samples.uvw.rows() == samples.values.rows());
   JacobianCertificateCache own_cache;
   JacobianCertificateCache& certificates = cache ? *cache : own_cache;
   const Eigen::MatrixXd start = spline.points();
@@ -773,11 +774,10 @@ SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSample
   // The attempt whose certificate is better (fewer uncertified cells, then the higher
   // det_j_lower_bound_rel) is kept. In the first attempt the held points' weight falls back to 1
   // whenever the uncertified count reaches a new low; in the later ones it stays at the highest
-  // it reached. Falling back lets the next pass's data term re-fold cells held so far (twocup's
-  // second attempt alternated 27, 66, 15, 44, 15, 8, 31, … uncertified cells and ran out of
-  // rounds; kept raised it certifies, Hausdorff 1.59 % against 2.54 % for the second fit that
-  // certified before); kept raised with the surface held hard it pulls the surface instead of
-  // opening the fold (the held-out chair's first attempt then stays uncertified).
+  // it reached. Falling back lets the next pass's data term re-fold cells held so far: the
+  // count then alternates between few and many uncertified cells until the rounds run out
+  // (held-out twocup). Kept raised with the surface held hard, the hinge pulls the surface
+  // instead of opening the fold (the held-out chair's first attempt then stays uncertified).
   struct Attempt {
     FreeFunctions free;
     double surface_factor;
@@ -798,8 +798,9 @@ SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSample
     sum.certificate_passes += r.certificate_passes;
     sum.free_functions += r.free_functions;
     sum.iterations += r.iterations;
-    const double bound =
-        r.final_uncertified > 0 ? certify_gpc_jacobian(spline, gpc_certificate_options(), &certificates).det_j_lower_bound_rel : 0.0;
+    double bound = 0.0;
+    if (r.final_uncertified > 0)
+      bound = certify_gpc_jacobian(spline, gpc_certificate_options(), &certificates).det_j_lower_bound_rel;
     if (a == 0 || r.final_uncertified < kept.final_uncertified ||
         (r.final_uncertified == kept.final_uncertified && bound > kept_bound)) {
       kept = r;

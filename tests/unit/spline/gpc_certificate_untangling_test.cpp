@@ -162,7 +162,7 @@ TEST_CASE("untangle_gpc_certificate: cells left uncertified run the rounds again
   }
 }
 
-TEST_CASE("untangle_gpc_certificate: the surface samples held harder keep the surface closer where the rounds certify") {
+TEST_CASE("untangle_gpc_certificate: surface samples held harder stay closer where the rounds certify") {
   // The ring's fit folds along the tube's long edges; its samples on the tube's faces are the
   // surface. Both factors certify every cell; with the surface held 10 times as hard as the
   // interior the surface samples end no farther from their targets than with every sample alike.
