@@ -25,6 +25,7 @@
 #include "core/pipeline/gpc_mesh2spline.h"
 #include "core/pipeline/mesh2spline_job.h"
 #include "core/pipeline/solid_mesh.h"
+#include "core/polycube/solid_decomposition.h"
 #include "core/spline/bspline_multipatch.h"
 
 namespace volspline::cli {
@@ -63,9 +64,8 @@ void add_certificate_json(nlohmann::ordered_json& j, const pipeline::Mesh2Spline
   j["uncertified_cells"] = uncertified;
 }
 
-// A solid of genus > 0: one spline over its generalized poly-cube (run_gpc_mesh2spline).
-void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& input, const std::string& path,
-                                 const pipeline::Mesh2SplineOptions& m, int vtk_cells, OutputFiles& files) {
+// The GPC job's options from the command line and the one-cuboid options already read.
+pipeline::GpcMesh2SplineOptions gpc_options(const Args& args, const pipeline::Mesh2SplineOptions& m) {
   pipeline::GpcMesh2SplineOptions options;
   options.max_rms_rel = m.max_rms_rel;
   if (args.has("max-surface-error")) options.max_surface_error_rel = m.max_surface_error_rel;
@@ -99,9 +99,20 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
   options.threads = args.get_int("threads", 1);
   if (args.has("limbs")) options.gpc.limb_persistence = args.get_double("limbs", 0.0);
   options.gpc.grid.target_nodes = args.get_int("grid-nodes", options.gpc.grid.target_nodes);
+  return options;
+}
+
+pipeline::GpcMesh2SplineResult run_gpc_job(const Args& args, const mesh::TriangleMesh& input, const std::string& path,
+                                           const pipeline::GpcMesh2SplineOptions& options) {
   ProgressBar bar(!args.has("quiet"));
-  const pipeline::GpcMesh2SplineResult result = pipeline::run_gpc_mesh2spline(input, path, options, bar.progress());
+  pipeline::GpcMesh2SplineResult result = pipeline::run_gpc_mesh2spline(input, path, options, bar.progress());
   bar.finish();
+  return result;
+}
+
+// Stages the GPC spline's outputs, commits them and prints the summary.
+void write_gpc_outputs(const Args& args, const std::string& path, const pipeline::GpcMesh2SplineOptions& options,
+                       const pipeline::GpcMesh2SplineResult& result, int vtk_cells, OutputFiles& files) {
   const std::string output = args.get("output");
   files.stage(output, io::serialize_gpc_spline_json(result.spline));
   if (args.has("vtk"))
@@ -164,6 +175,13 @@ void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& inp
                  s.interface_gap_rel);
 }
 
+// A solid of genus > 0: one spline over its generalized poly-cube (run_gpc_mesh2spline).
+void run_gpc_mesh2spline_command(const Args& args, const mesh::TriangleMesh& input, const std::string& path,
+                                 const pipeline::Mesh2SplineOptions& m, int vtk_cells, OutputFiles& files) {
+  const pipeline::GpcMesh2SplineOptions options = gpc_options(args, m);
+  write_gpc_outputs(args, path, options, run_gpc_job(args, input, path, options), vtk_cells, files);
+}
+
 // The genus of a valid closed solid, checked on a unit-box copy (0 if the box is degenerate:
 // run_mesh2spline then names the problem).
 int solid_genus(const mesh::TriangleMesh& input, const std::string& path) {
@@ -215,7 +233,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
       {"measure-lattice", "N", "genus > 0: lattice_negative_fraction at the cell centres of an N^3 lattice per cuboid (default 64, 4..256)"},
       {"centroid-samples", "", "genus > 0: also fit every surface triangle's centroid at its surface-map parameter (default: where a cuboid's surface map is squeezed)"},
       {"vertex-samples", "", "genus > 0: fit the surface vertices only, no centroids, squeezed or not"},
-      {"one-cuboid", "", "genus 0: one cuboid even where its surface map is squeezed (default: a squeezed solid, squeeze_rounds > 0 or surface_least_density below --squeezed-below, goes through the GPC with its limbs as caps)"},
+      {"one-cuboid", "", "genus 0: one cuboid even where its surface map is squeezed or its spline folds (default: a squeezed solid, squeeze_rounds > 0 or surface_least_density below --squeezed-below, goes through the GPC with its limbs as caps; a one-cuboid spline with negative_jacobian_fraction > 0 is made over the GPC too and the one folding at fewer Gauss points kept)"},
       {"surface-weight", "W", "genus > 0: least-squares weight of a surface vertex against a grid node (default 1)"},
       {"knot-growth", "G", "genus > 0, --adaptive-knots: each level adds lines until the control points grow by G (default 1.4)"},
   }, "genus > 0: the cuboids' untangling on N threads (default 1); genus 0 runs on one (same output for any N)");
@@ -291,6 +309,27 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
     return 0;
   }
   const pipeline::Mesh2SplineResult& result = *run;
+  if (!args.has("one-cuboid") && pipeline::one_cuboid_folds(result.stats)) {
+    if (!args.has("quiet"))
+      std::fprintf(stderr,
+                   "mesh2spline: the one-cuboid spline folds at %.3g of its Gauss points; going through the GPC with "
+                   "its limbs as caps too (--one-cuboid keeps one cuboid)\n",
+                   result.stats.negative_jacobian_fraction);
+    const pipeline::GpcMesh2SplineOptions gpc = gpc_options(args, options);
+    std::optional<pipeline::GpcMesh2SplineResult> over_gpc;
+    try {
+      over_gpc = run_gpc_job(args, input, path, gpc);
+    } catch (const polycube::DecompositionError& e) {
+      if (!args.has("quiet")) std::fprintf(stderr, "mesh2spline: no GPC (%s); keeping one cuboid\n", e.what());
+    }
+    if (over_gpc && pipeline::gpc_folds_less(over_gpc->stats, result.stats)) {
+      write_gpc_outputs(args, path, gpc, *over_gpc, vtk_linear, files);
+      return 0;
+    }
+    if (over_gpc && !args.has("quiet"))
+      std::fprintf(stderr, "mesh2spline: the GPC spline folds at %.3g of its Gauss points; keeping one cuboid\n",
+                   over_gpc->stats.negative_jacobian_fraction);
+  }
 
   files.stage(output, io::serialize_spline_json(result.spline));
   if (args.has("vtk")) {

@@ -264,8 +264,11 @@ val gpc_cut_to_js(const spline::GpcSplineCut& cut, int axis, double position) {
 
 // mesh2spline of a solid of genus > 0 (run_gpc_mesh2spline), in the genus-0 result's shape; the
 // boundary and lines also name each point's cuboid and carry its colour (io::segment_colour).
+// folded_one: the stats of a genus-0 solid's folded one-cuboid spline, or null; with them, the
+// result is undefined where no GPC is built or its spline does not fold less (one cuboid kept).
 val gpc_mesh2spline(const mesh::TriangleMesh& input, const std::string& name, const val& options,
-                    const pipeline::Mesh2SplineOptions& m, const val& progress) {
+                    const pipeline::Mesh2SplineOptions& m, const val& progress,
+                    const pipeline::Mesh2SplineStats* folded_one = nullptr) {
   const pipeline::GpcMesh2SplineOptions job = gpc_job_options_from_js(options, m);
   const int preview_samples = integer_option(options, "preview_samples", 25, 2, 129);
   const int preview_lines = integer_option(options, "preview_lines", 9, 2, 65);
@@ -279,10 +282,12 @@ val gpc_mesh2spline(const mesh::TriangleMesh& input, const std::string& name, co
   try {
     run = pipeline::run_gpc_mesh2spline(input, name, job, progress_from_js(progress));
   } catch (const polycube::DecompositionError& e) {
+    if (folded_one) return val::undefined();
     // The CLI's exit 1: the input was fine, the construction was not.
     return failure(std::string("mesh2spline failed: ") + e.what());
   }
   const pipeline::GpcMesh2SplineResult& result = *run;
+  if (folded_one && !pipeline::gpc_folds_less(result.stats, *folded_one)) return val::undefined();
 
   val out = val::object();
   out.set("ok", true);
@@ -360,6 +365,11 @@ val mesh2spline(const val& bytes, const std::string& name, const val& options, c
       return gpc_mesh2spline(input, name, options, job, progress);
     }
     const pipeline::Mesh2SplineResult& result = *run;
+    // A folded one-cuboid spline is made over the GPC too, as on the CLI.
+    if (!bool_option(options, "one_cuboid", false) && pipeline::one_cuboid_folds(result.stats)) {
+      val over_gpc = gpc_mesh2spline(input, name, options, job, progress, &result.stats);
+      if (!over_gpc.isUndefined()) return over_gpc;
+    }
 
     val out = val::object();
     out.set("ok", true);

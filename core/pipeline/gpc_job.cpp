@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "core/pipeline/gpc_job.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numeric>
 #include <optional>
@@ -102,12 +104,14 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
                                            " lies outside the solid (winding number " +
                                            std::to_string(embedding.winding[k]) + " at its centre)");
   };
+  bool pole_caps = false;  // the next construction keeps the poles' pieces as caps
   auto construct = [&](double limb_persistence, bool tighten_caps) {
     polycube::DecompositionOptions d;
     d.snap = options.snap;
     d.cuts = options.cuts;
     d.tighten_caps = tighten_caps;
     d.morse.limb_persistence = limb_persistence;
+    d.pole_caps = pole_caps;
     decomposition = polycube::SolidDecomposition{};
     // A genus-0 solid is cut only if it has a limb (its poles alone cost two graph sweeps, where
     // the decomposition's harmonic solve and level sets grow faster than the mesh).
@@ -312,6 +316,45 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
     } else {
       restore(kept);
       stats.finer_limbs = tried.str() + "; kept the first (" + describe(result.map) + ")";
+    }
+  }
+  // §3.3.1 (limbs as caps): a limb at an end of the graph diameter (two temples on a pair of rings) has no limb tip: its
+  // end is a pole, whose piece the decomposition merges into the T-shape the limb hangs from, and
+  // that T-shape's surface map crowds the whole limb into a spot of one face, beyond what the
+  // squeeze rescue opens. Where no cap was kept and a surface map stays that squeezed, the poles'
+  // pieces become caps and the construction is mapped too. It is kept if that opens the squeeze
+  // (least density kPoleCapsGain times the first's; a squeeze elsewhere, between the holes of a
+  // plate, stays about as it was) and its hex mesh folds no more.
+  auto least_density = [](const param::GpcVolumetricMap& m) {
+    double least = std::numeric_limits<double>::infinity();
+    for (const param::CuboidSurfaceMap& s : m.surface_maps) least = std::min(least, s.least_density);
+    return least;
+  };
+  if (options.pole_caps_below > 0.0 && stats.genus > 0 && options.corners.empty() &&
+      result.construction.domain.caps == 0 && least_density(result.map) < options.pole_caps_below) {
+    Built kept = set_aside();
+    stage_prefix = "caps at the poles: ";
+    pole_caps = true;
+    bool mapped = true;
+    try {
+      limbs(0.0);
+    } catch (const polycube::DecompositionError& e) {
+      mapped = false;
+      stats.pole_caps = std::string("no construction (") + e.what() + ")";
+    }
+    pole_caps = false;
+    auto describe = [&](const param::GpcVolumetricMap& m) {
+      std::ostringstream o;
+      o << "least surface density " << least_density(m) << ", " << m.grid_inverted_hexes << " inverted hexes";
+      return o.str();
+    };
+    const std::string tried = "caps at the poles: " + (mapped ? describe(result.map) : stats.pole_caps);
+    if (mapped && least_density(result.map) >= kPoleCapsGain * least_density(kept.map) &&
+        (!untangled || result.map.grid_inverted_hexes <= kept.map.grid_inverted_hexes)) {
+      stats.pole_caps = tried + "; kept it (the first: " + describe(kept.map) + ")";
+    } else {
+      restore(kept);
+      stats.pole_caps = tried + "; kept the first (" + describe(result.map) + ")";
     }
   }
   // A T-shape's centre as tall as the crotch's height can be too flat where thin tubes meet

@@ -26,6 +26,10 @@ inline constexpr double kFinerLimbPersistence = 0.05;
 /// (polycube::TShapeLayoutOptions::concave_corner_height), see GpcOptions::taller_centres_below.
 inline constexpr double kTallerCentreHeight = 0.85;
 
+/// How many times the least surface-map density of the first construction the one with caps at
+/// the poles must reach to be kept, see GpcOptions::pole_caps_below.
+inline constexpr double kPoleCapsGain = 10.0;
+
 /// Options of run_gpc.
 struct GpcOptions {
   /// Corner vertex ids (input numbering) of a genus-0 solid's one cuboid, in cube-corner order;
@@ -60,6 +64,13 @@ struct GpcOptions {
   /// mapped again with every T-shape's concave corners at kTallerCentreHeight of the crotch's
   /// height and the better hex mesh kept (as for limbs), see GpcStats::taller_centres.
   double taller_centres_below = 0.2;
+  /// Linear parameter density in [0, 1) (0 = off): where the kept construction of a solid of
+  /// genus > 0 has no cap and a cuboid's surface map keeps a spot below this density (after the
+  /// squeeze rescue, GpcGridOptions::squeezed_below), it is built and mapped again with the two
+  /// poles' pieces as caps (polycube::DecompositionOptions::pole_caps) and kept if its least
+  /// density is at least kPoleCapsGain times the first's and its hex mesh (untangler on) has no
+  /// more inverted hexes, see GpcStats::pole_caps.
+  double pole_caps_below = 1e-3;
   int threads = 1;             ///< ≥ 1; the stages run on one thread (same output for any value)
 };
 
@@ -102,6 +113,9 @@ struct GpcStats {
   /// The retry with taller T-shape centres: its inverted hexes and least scaled Jacobian and
   /// which construction was kept (empty if not tried).
   std::string taller_centres;
+  /// The retry with the poles' pieces as caps: its least surface-map density and inverted hexes
+  /// and which construction was kept (empty if not tried).
+  std::string pole_caps;
   int surface_vertices = 0;        ///< of the refined surface the cuboids partition
   std::map<std::string, double> times_s;
 };

@@ -96,6 +96,15 @@ struct GpcMesh2SplineResult {
   Mesh2SplineStats stats;    ///< rms/hausdorff/jacobian/semi-standard measures and the GPC ones
 };
 
+/// A genus-0 solid's one-cuboid spline (run_mesh2spline) that folds at a Gauss point
+/// (negative_jacobian_fraction > 0: its one cube crowds thin limbs, a fork's tines) is made over
+/// the GPC too, with the limbs as caps (run_gpc_mesh2spline); this says whether that one is kept:
+/// it folds at a smaller fraction of its Gauss points.
+inline bool one_cuboid_folds(const Mesh2SplineStats& one) { return one.negative_jacobian_fraction > 0.0; }
+inline bool gpc_folds_less(const Mesh2SplineStats& gpc, const Mesh2SplineStats& one) {
+  return gpc.negative_jacobian_fraction < one.negative_jacobian_fraction;
+}
+
 /// mesh2spline over a generalized poly-cube (thesis §3.5, ch. 4): run_gpc (decomposition,
 /// T-to-cube, surface and volumetric maps of every cuboid), then one cubic spline over all
 /// cuboids (spline::GpcSpline: C² across regular interfaces, C⁰ at ill-points) fitted by least

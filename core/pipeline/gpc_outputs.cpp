@@ -63,6 +63,7 @@ std::string gpc_stats_json(const GpcStats& s, const std::string& input) {
   j["limb_persistence"] = s.limb_persistence;
   if (!s.finer_limbs.empty()) j["finer_limbs"] = s.finer_limbs;
   if (!s.taller_centres.empty()) j["taller_centres"] = s.taller_centres;
+  if (!s.pole_caps.empty()) j["pole_caps"] = s.pole_caps;
   j["surface_vertices"] = s.surface_vertices;
   nlohmann::ordered_json times = nlohmann::ordered_json::object();
   for (const auto& [stage, seconds] : s.times_s) times[stage] = seconds;

@@ -157,12 +157,13 @@ SolidDecomposition decompose_solid(const mesh::HalfedgeMesh& input, int genus,
   }
 
   // Algorithm 1 by contraction: remove cuts while the merged piece keeps ≤ 3 loops. With limb
-  // poles, a piece holding a pole stays a cap (the limb's end), so no limb is merged away.
+  // poles (or options.pole_caps), a piece holding a pole stays a cap (the limb's end), so no limb
+  // is merged away.
   std::vector<int> group(num_pieces);
   std::iota(group.begin(), group.end(), 0);
   std::vector<int> count = loops_of_piece;
   std::vector<char> kept(loops.size(), 1);
-  const bool limbs = !morse.limb_tips.empty();
+  const bool limbs = !morse.limb_tips.empty() || options.pole_caps;
   std::vector<char> has_pole(num_pieces, 0);
   if (limbs) {
     std::vector<int> poles = morse.limb_tips;

@@ -88,6 +88,10 @@ struct DecompositionOptions {
   CutPlacement cuts = CutPlacement::Shortest;
   bool tighten_caps = true;  ///< with CutPlacement::Shortest, caps' cuts move too (tighten_cut_loops)
   MorseFunctionOptions morse;  ///< the Morse function (limb poles: morse.limb_persistence)
+  /// The pieces around the two poles stay caps even without limb tips (as limb ends do), so that
+  /// a limb at the graph diameter's end (two temples on a pair of rings) is a cap of its own
+  /// instead of part of the T-shape it hangs from.
+  bool pole_caps = false;
 };
 
 /// §3.3.1, Algorithm 1, by level sets of a fair Morse function (see compute_morse_function):

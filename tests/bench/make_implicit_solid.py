@@ -141,6 +141,30 @@ def twocup(x,y,z):
     return smin(smin(d, torus(x-0.8,z,y,0.45,0.12),0.12), torus(x+0.8,z,y,0.45,0.12),0.12)
 def bent(x,y,z):
     th=math.atan2(y,x); return torus(x,y,z,1.0,0.1+0.3*(0.5+0.5*math.cos(th)))
+def holecube(x,y,z):
+    d=box(x,y,z,0.8,0.8,0.8)-0.12
+    for a,b in ((x,y),(y,z),(z,x)):
+        d=max(d, -(math.sqrt(a*a+b*b)-0.35))
+    return d
+def glasses(x,y,z):
+    d=1e9
+    for sx in (-1,1):
+        d=smin(d, torus(x-0.75*sx,z,y,0.55,0.09),0.06)
+        d=smin(d, capsule((x,y,z),(1.3*sx,0,0),(1.35*sx,1.6,-0.1),0.07),0.06)
+    return smin(d, capsule((x,y,z),(-0.25,0,0.3),(0.25,0,0.3),0.07),0.06)
+def gemring(x,y,z):
+    return smin(torus(x,y,z,0.9,0.13), math.sqrt((x-1.15)**2+y*y+z*z)-0.35, 0.12)
+def tee(x,y,z):
+    d=smin(capsule((x,y,z),(-1.4,0,0),(1.4,0,0),0.4), capsule((x,y,z),(0,0,0),(0,0,-1.5),0.35),0.2)
+    return max(d, -capsule((x,y,z),(0,-1,0),(0,1,0),0.16))
+def fork(x,y,z):
+    d=capsule((x,y,z),(0,-2.0,0),(0,0.2,0),0.12)
+    d=smin(d, box(x,y-0.35,z,0.3,0.15,0.05)-0.03,0.1)
+    for fx in (-0.25,0.0,0.25):
+        d=smin(d, capsule((x,y,z),(fx,0.4,0),(fx,1.4,0),0.05),0.05)
+    return d
+def rings2(x,y,z):
+    return smin(torus(x+0.75,y,z,0.8,0.16), torus(x-0.75,z,y,0.8,0.16), 0.1)
 shapes = {
  # genus 2: two tori blended
  'dtorus': (lambda x,y,z: smin(torus(x+0.9,y,z,0.9,0.3), torus(x-0.9,y,z,0.9,0.3), 0.3), (-2.2,-1.3,-0.5),(2.2,1.3,0.5)),
@@ -178,6 +202,18 @@ shapes = {
  'twocup': (twocup, (-1.5,-0.9,-1.1),(1.5,0.9,1.1)),
  # genus 1: a ring whose thickness varies 4 times around it
  'bent': (bent, (-1.5,-1.5,-0.5),(1.5,1.5,0.5)),
+ # genus 3: a rounded cube drilled through along each axis
+ 'holecube': (holecube, (-1.05,-1.05,-1.05),(1.05,1.05,1.05)),
+ # genus 2: two thin rings, a bridge and two temples
+ 'glasses': (glasses, (-1.6,-0.75,-0.7),(1.6,1.8,0.7)),
+ # genus 1: a thin ring with a ball on it
+ 'gemring': (gemring, (-1.15,-1.15,-0.4),(1.6,1.15,0.4)),
+ # genus 1: a T of round bars with a hole through the junction
+ 'tee': (tee, (-1.9,-0.5,-2.0),(1.9,0.5,0.5)),
+ # genus 0: a handle with a flat head and three thin tines
+ 'fork': (fork, (-0.45,-2.2,-0.2),(0.45,1.55,0.2)),
+ # genus 2: two rings in perpendicular planes fused where they cross
+ 'rings2': (rings2, (-1.8,-1.05,-1.05),(1.8,1.05,1.05)),
 }
 if len(sys.argv) != 4 or sys.argv[1] not in shapes:
     sys.exit("usage: make_implicit_solid.py NAME CELLS OUT.off; NAME one of " + " ".join(sorted(shapes)))

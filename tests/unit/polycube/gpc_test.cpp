@@ -884,3 +884,51 @@ TEST_CASE("Morse decomposition and cut flips: a plate with 2 x 2 holes, its 4-wa
   CHECK(flips.length_after < 0.8 * flips.length_before);
   check_pieces();
 }
+
+// A square ring one voxel thick (5 × 5 cells around a 3 × 3 hole) with a long bar on each side,
+// in line: genus 1, the bars' tips the two ends of the graph diameter, no third limb.
+namespace {
+mesh::TriangleMesh make_ring_with_bars(int k) {
+  return test::voxel_solid(21, 5, 1, k, [](int x, int y, int) {
+    const bool ring = x >= 8 && x <= 12 && !(x >= 9 && x <= 11 && y >= 1 && y <= 3);
+    return ring || (y == 2 && (x < 8 || x > 12));
+  });
+}
+}  // namespace
+
+TEST_CASE("pole caps: the two poles' pieces stay caps, so a torus is 2 caps and 2 T-shapes") {
+  const mesh::HalfedgeMesh torus = outward(make_torus(32, 16));
+  polycube::DecompositionOptions o;
+  o.pole_caps = true;
+  const polycube::SolidDecomposition d = polycube::decompose_solid(torus, 1, o);
+  int caps = 0, tshapes = 0;
+  for (const auto& p : d.pieces) {
+    caps += p.kind == polycube::PieceKind::Cap;
+    tshapes += p.kind == polycube::PieceKind::TShape;
+  }
+  CHECK(caps == 2);
+  CHECK(tshapes == caps + 2 * 1 - 2);  // Euler characteristic count
+}
+
+TEST_CASE("gpc job: bars at the ends of the graph diameter become caps where the first map crowds them") {
+  const mesh::TriangleMesh ring = make_ring_with_bars(1);
+  pipeline::GpcOptions o = small_grid();
+  o.pole_caps_below = 0.0;
+  const pipeline::GpcResult first = pipeline::run_gpc(ring, "ring", o);
+  CHECK(first.stats.genus == 1);
+  CHECK(first.stats.caps == 0);
+  CHECK(first.stats.pole_caps.empty());
+  double first_least = 1.0;
+  for (const auto& m : first.map.surface_maps) first_least = std::min(first_least, m.least_density);
+  o.pole_caps_below = 1e-3;
+  const pipeline::GpcResult r = pipeline::run_gpc(ring, "ring", o);
+  CHECK(r.stats.caps == 2);
+  CHECK(r.stats.t_shapes == 2);
+  CHECK(r.stats.pole_caps.find("; kept it") != std::string::npos);
+  double least = 1.0;
+  for (const auto& m : r.map.surface_maps) least = std::min(least, m.least_density);
+  CHECK(least >= pipeline::kPoleCapsGain * first_least);
+  CHECK(r.stats.grid_inverted_hexes <= first.stats.grid_inverted_hexes);
+  CHECK(r.stats.interface_gap_rel <= 1e-12);
+  CHECK(r.stats.cut_discs_outside == 0);
+}
