@@ -165,6 +165,18 @@ def fork(x,y,z):
     return d
 def rings2(x,y,z):
     return smin(torus(x+0.75,y,z,0.8,0.16), torus(x-0.75,z,y,0.8,0.16), 0.1)
+def key(x,y,z):
+    d=smin(torus(x+1.1,z,y,0.45,0.12), capsule((x,y,z),(-0.6,0,0),(1.6,0,0),0.1),0.08)
+    for tx in (0.9,1.2,1.45):
+        d=smin(d, box(x-tx,y,z+0.18,0.05,0.06,0.14),0.04)
+    return d
+def coil(x,y,z):
+    d=1e9
+    for k in range(96):
+        t0,t1=k/96.0,(k+1)/96.0
+        p=lambda t:(0.8*math.cos(6*math.pi*t),0.8*math.sin(6*math.pi*t),-1.0+2.0*t)
+        d=min(d, capsule((x,y,z),p(t0),p(t1),0.16))
+    return d
 shapes = {
  # genus 2: two tori blended
  'dtorus': (lambda x,y,z: smin(torus(x+0.9,y,z,0.9,0.3), torus(x-0.9,y,z,0.9,0.3), 0.3), (-2.2,-1.3,-0.5),(2.2,1.3,0.5)),
@@ -212,6 +224,10 @@ shapes = {
  'tee': (tee, (-1.9,-0.5,-2.0),(1.9,0.5,0.5)),
  # genus 0: a handle with a flat head and three thin tines
  'fork': (fork, (-0.45,-2.2,-0.2),(0.45,1.55,0.2)),
+ # genus 1: a key: a ring, a long shaft and three teeth under it
+ 'key': (key, (-1.75,-0.3,-0.6),(1.8,0.3,0.6)),
+ # genus 0: a helix of three turns, one thin limb wound up
+ 'coil': (coil, (-1.1,-1.1,-1.3),(1.1,1.1,1.3)),
  # genus 2: two rings in perpendicular planes fused where they cross
  'rings2': (rings2, (-1.8,-1.05,-1.05),(1.8,1.05,1.05)),
 }
