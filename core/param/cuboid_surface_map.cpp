@@ -277,6 +277,7 @@ CuboidSurfaceMap compute_cuboid_surface_map(const mesh::HalfedgeMesh& mesh,
   };
   std::vector<double> stretch = measure_stretch();
   map.least_density = least_density(stretch);
+  map.unrescued_least_density = map.least_density;
   // A round is kept only if its map is bijective and gains kSqueezedMinGain: where the weights'
   // range outruns double precision, the rounds stop at the last good map instead of failing.
   for (int round = 0; round < options.squeezed_rounds && map.least_density < options.squeezed_below; ++round) {

@@ -54,6 +54,8 @@ struct CuboidSurfaceMap {
   /// Least linear parameter density of a vertex inside a rectangle (see squeezed_below) in the
   /// final map; +inf without such vertices.
   double least_density = 0.0;
+  /// The same before the squeeze rescue (the area-balanced map).
+  double unrescued_least_density = 0.0;
 };
 
 /// Whether a surface map is squeezed: the rescue ran (squeeze_rounds > 0) or a vertex's linear

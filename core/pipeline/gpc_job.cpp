@@ -45,6 +45,7 @@ void check_options(const GpcOptions& o) {
   if (o.grid.min_quality_sweeps < 0 || o.grid.min_quality_sweeps > 100000)
     fail("grid.min_quality_sweeps must be in [0, 100000]");
   if (!(o.taller_centres_below >= -1.0 && o.taller_centres_below <= 1.0)) fail("taller_centres_below must be in [-1, 1]");
+  if (!(o.pole_caps_below >= 0.0 && o.pole_caps_below < 1.0)) fail("pole_caps_below must be in [0, 1)");
 }
 
 }  // namespace
@@ -318,20 +319,24 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
       stats.finer_limbs = tried.str() + "; kept the first (" + describe(result.map) + ")";
     }
   }
-  // §3.3.1 (limbs as caps): a limb at an end of the graph diameter (two temples on a pair of rings) has no limb tip: its
-  // end is a pole, whose piece the decomposition merges into the T-shape the limb hangs from, and
-  // that T-shape's surface map crowds the whole limb into a spot of one face, beyond what the
-  // squeeze rescue opens. Where no cap was kept and a surface map stays that squeezed, the poles'
-  // pieces become caps and the construction is mapped too. It is kept if that opens the squeeze
-  // (least density kPoleCapsGain times the first's; a squeeze elsewhere, between the holes of a
-  // plate, stays about as it was) and its hex mesh folds no more.
-  auto least_density = [](const param::GpcVolumetricMap& m) {
+  // §3.3.1 (limbs as caps): a limb at an end of the graph diameter (a key's shaft, a pair of
+  // glasses' temples) has no limb tip: its end is a pole, whose piece the decomposition merges
+  // into the tube or T-shape the limb hangs from, and that piece's surface map crowds the whole
+  // limb into a spot of one face. Where no cap was kept and a surface map has such a spot (its
+  // density before the squeeze rescue, which widens it but leaves the limb's cells a sliver of
+  // the face), the poles' pieces become caps and the construction is mapped too. It is kept if
+  // that opens the spot (kPoleCapsGain times the first's least density; a squeeze elsewhere,
+  // between the holes of a plate, stays about as it was). Its hex mesh may fold more where the
+  // surface is held (key: 60 inverted hexes against 1): the spline's untangling opens those,
+  // while no untangling opens a squeezed map.
+  auto least_density = [](const param::GpcVolumetricMap& m, bool rescued) {
     double least = std::numeric_limits<double>::infinity();
-    for (const param::CuboidSurfaceMap& s : m.surface_maps) least = std::min(least, s.least_density);
+    for (const param::CuboidSurfaceMap& s : m.surface_maps)
+      least = std::min(least, rescued ? s.least_density : s.unrescued_least_density);
     return least;
   };
   if (options.pole_caps_below > 0.0 && stats.genus > 0 && options.corners.empty() &&
-      result.construction.domain.caps == 0 && least_density(result.map) < options.pole_caps_below) {
+      result.construction.domain.caps == 0 && least_density(result.map, false) < options.pole_caps_below) {
     Built kept = set_aside();
     stage_prefix = "caps at the poles: ";
     pole_caps = true;
@@ -345,12 +350,12 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
     pole_caps = false;
     auto describe = [&](const param::GpcVolumetricMap& m) {
       std::ostringstream o;
-      o << "least surface density " << least_density(m) << ", " << m.grid_inverted_hexes << " inverted hexes";
+      o << "least surface density " << least_density(m, false) << " (" << least_density(m, true)
+        << " after the squeeze rescue), " << m.grid_inverted_hexes << " inverted hexes";
       return o.str();
     };
     const std::string tried = "caps at the poles: " + (mapped ? describe(result.map) : stats.pole_caps);
-    if (mapped && least_density(result.map) >= kPoleCapsGain * least_density(kept.map) &&
-        (!untangled || result.map.grid_inverted_hexes <= kept.map.grid_inverted_hexes)) {
+    if (mapped && least_density(result.map, false) >= kPoleCapsGain * least_density(kept.map, false)) {
       stats.pole_caps = tried + "; kept it (the first: " + describe(kept.map) + ")";
     } else {
       restore(kept);

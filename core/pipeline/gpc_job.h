@@ -26,8 +26,8 @@ inline constexpr double kFinerLimbPersistence = 0.05;
 /// (polycube::TShapeLayoutOptions::concave_corner_height), see GpcOptions::taller_centres_below.
 inline constexpr double kTallerCentreHeight = 0.85;
 
-/// How many times the least surface-map density of the first construction the one with caps at
-/// the poles must reach to be kept, see GpcOptions::pole_caps_below.
+/// How many times the first construction's least surface-map density (before the squeeze
+/// rescue) the one with caps at the poles must reach to be kept, see GpcOptions::pole_caps_below.
 inline constexpr double kPoleCapsGain = 10.0;
 
 /// Options of run_gpc.
@@ -65,11 +65,10 @@ struct GpcOptions {
   /// height and the better hex mesh kept (as for limbs), see GpcStats::taller_centres.
   double taller_centres_below = 0.2;
   /// Linear parameter density in [0, 1) (0 = off): where the kept construction of a solid of
-  /// genus > 0 has no cap and a cuboid's surface map keeps a spot below this density (after the
-  /// squeeze rescue, GpcGridOptions::squeezed_below), it is built and mapped again with the two
-  /// poles' pieces as caps (polycube::DecompositionOptions::pole_caps) and kept if its least
-  /// density is at least kPoleCapsGain times the first's and its hex mesh (untangler on) has no
-  /// more inverted hexes, see GpcStats::pole_caps.
+  /// genus > 0 has no cap and a cuboid's surface map has a spot below this density before the
+  /// squeeze rescue (CuboidSurfaceMap::unrescued_least_density), it is built and mapped again
+  /// with the two poles' pieces as caps (polycube::DecompositionOptions::pole_caps) and kept if
+  /// that lifts the least unrescued density kPoleCapsGain times, see GpcStats::pole_caps.
   double pole_caps_below = 1e-3;
   int threads = 1;             ///< ≥ 1; the stages run on one thread (same output for any value)
 };

@@ -923,16 +923,18 @@ TEST_CASE("gpc job: bars at the ends of the graph diameter become caps where the
   CHECK(first.stats.caps == 0);
   CHECK(first.stats.pole_caps.empty());
   double first_least = 1.0;
-  for (const auto& m : first.map.surface_maps) first_least = std::min(first_least, m.least_density);
+  for (const auto& m : first.map.surface_maps) first_least = std::min(first_least, m.unrescued_least_density);
+  CHECK(first_least < 1e-3);
   o.pole_caps_below = 1e-3;
   const pipeline::GpcResult r = pipeline::run_gpc(ring, "ring", o);
   CHECK(r.stats.caps == 2);
   CHECK(r.stats.t_shapes == 2);
   CHECK(r.stats.pole_caps.find("; kept it") != std::string::npos);
   double least = 1.0;
-  for (const auto& m : r.map.surface_maps) least = std::min(least, m.least_density);
+  for (const auto& m : r.map.surface_maps) least = std::min(least, m.unrescued_least_density);
   CHECK(least >= pipeline::kPoleCapsGain * first_least);
-  CHECK(r.stats.grid_inverted_hexes <= first.stats.grid_inverted_hexes);
   CHECK(r.stats.interface_gap_rel <= 1e-12);
   CHECK(r.stats.cut_discs_outside == 0);
+  o.pole_caps_below = 1.0;
+  CHECK_THROWS_WITH_AS(pipeline::run_gpc(ring, "ring", o), doctest::Contains("pole_caps_below must be in [0, 1)"), Error);
 }
