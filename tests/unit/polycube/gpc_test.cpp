@@ -202,6 +202,19 @@ pipeline::GpcOptions without_untangling() {
   return o;
 }
 
+// The decomposition's caps and T-shapes.
+struct PieceCounts {
+  int caps = 0, t_shapes = 0;
+};
+PieceCounts count_pieces(const polycube::SolidDecomposition& d) {
+  PieceCounts c;
+  for (const auto& p : d.pieces) {
+    c.caps += p.kind == polycube::PieceKind::Cap;
+    c.t_shapes += p.kind == polycube::PieceKind::TShape;
+  }
+  return c;
+}
+
 mesh::HalfedgeMesh outward(const mesh::TriangleMesh& m) {
   mesh::HalfedgeMesh hm = mesh::HalfedgeMesh::build(m, "test");
   if (mesh::analyze_mesh(hm).signed_volume < 0) {
@@ -246,11 +259,7 @@ TEST_CASE("Morse decomposition: a torus is one tube closed on itself, a two-hole
   REQUIRE(mesh::analyze_mesh(slab).genus == 2);
   const polycube::SolidDecomposition e = polycube::decompose_solid(slab, 2);
   CHECK(e.num_saddles == 4);
-  int caps = 0, tshapes = 0;
-  for (const auto& p : e.pieces) {
-    caps += p.kind == polycube::PieceKind::Cap;
-    tshapes += p.kind == polycube::PieceKind::TShape;
-  }
+  const auto [caps, tshapes] = count_pieces(e);
   CHECK(tshapes == caps + 2 * 2 - 2);  // Euler characteristic count
   CHECK(e.loops.size() == 3);
 }
@@ -787,11 +796,7 @@ TEST_CASE("limbs: the three ends of a T-shaped solid become caps around one T-sh
   polycube::DecompositionOptions d;
   d.morse = limbs;
   const polycube::SolidDecomposition e = polycube::decompose_solid(t, 0, d);
-  int caps = 0, tshapes = 0;
-  for (const auto& p : e.pieces) {
-    caps += p.kind == polycube::PieceKind::Cap;
-    tshapes += p.kind == polycube::PieceKind::TShape;
-  }
+  const auto [caps, tshapes] = count_pieces(e);
   CHECK(caps == 3);
   CHECK(tshapes == 1);
   // Every cap's cut is a cross-section of its bar (a rounded voxel square: perimeter about 4
@@ -905,11 +910,7 @@ TEST_CASE("pole caps: the two poles' pieces stay caps, so a torus is 2 caps and 
   polycube::DecompositionOptions o;
   o.pole_caps = true;
   const polycube::SolidDecomposition d = polycube::decompose_solid(torus, 1, o);
-  int caps = 0, tshapes = 0;
-  for (const auto& p : d.pieces) {
-    caps += p.kind == polycube::PieceKind::Cap;
-    tshapes += p.kind == polycube::PieceKind::TShape;
-  }
+  const auto [caps, tshapes] = count_pieces(d);
   CHECK(caps == 2);
   CHECK(tshapes == caps + 2 * 1 - 2);  // Euler characteristic count
 }
