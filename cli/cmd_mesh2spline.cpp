@@ -309,7 +309,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
     return 0;
   }
   const pipeline::Mesh2SplineResult& result = *run;
-  if (!args.has("one-cuboid") && pipeline::one_cuboid_folds(result.stats)) {
+  if (!args.has("one-cuboid") && pipeline::one_cuboid_folds(options, result.stats)) {
     if (!args.has("quiet"))
       std::fprintf(stderr,
                    "mesh2spline: the one-cuboid spline folds at %.3g of its Gauss points; going through the GPC with "

@@ -366,7 +366,7 @@ val mesh2spline(const val& bytes, const std::string& name, const val& options, c
     }
     const pipeline::Mesh2SplineResult& result = *run;
     // A folded one-cuboid spline is made over the GPC too, as on the CLI.
-    if (!bool_option(options, "one_cuboid", false) && pipeline::one_cuboid_folds(result.stats)) {
+    if (!bool_option(options, "one_cuboid", false) && pipeline::one_cuboid_folds(one, result.stats)) {
       val over_gpc = gpc_mesh2spline(input, name, options, job, progress, &result.stats);
       if (!over_gpc.isUndefined()) return over_gpc;
     }

@@ -96,11 +96,14 @@ struct GpcMesh2SplineResult {
   Mesh2SplineStats stats;    ///< rms/hausdorff/jacobian/semi-standard measures and the GPC ones
 };
 
-/// A genus-0 solid's one-cuboid spline (run_mesh2spline) that folds at a Gauss point
-/// (negative_jacobian_fraction > 0: its one cube crowds thin limbs, a fork's tines) is made over
-/// the GPC too, with the limbs as caps (run_gpc_mesh2spline); this says whether that one is kept:
-/// it folds at a smaller fraction of its Gauss points.
-inline bool one_cuboid_folds(const Mesh2SplineStats& one) { return one.negative_jacobian_fraction > 0.0; }
+/// A genus-0 solid's one-cuboid spline (run_mesh2spline) that folds at a Gauss point after the
+/// untangling (negative_jacobian_fraction > 0: its one cube crowds thin limbs, a fork's tines) is
+/// made over the GPC too, with the limbs as caps (run_gpc_mesh2spline); gpc_folds_less says
+/// whether that one is kept: it folds at a smaller fraction of its Gauss points. Without the
+/// untangling (options.untangle Off) the folds are asked for and the one cuboid stays.
+inline bool one_cuboid_folds(const Mesh2SplineOptions& options, const Mesh2SplineStats& one) {
+  return options.untangle == Mesh2SplineOptions::Untangle::On && one.negative_jacobian_fraction > 0.0;
+}
 inline bool gpc_folds_less(const Mesh2SplineStats& gpc, const Mesh2SplineStats& one) {
   return gpc.negative_jacobian_fraction < one.negative_jacobian_fraction;
 }
