@@ -112,8 +112,8 @@ struct GpcStats {
   /// The retry with taller T-shape centres: its inverted hexes and least scaled Jacobian and
   /// which construction was kept (empty if not tried).
   std::string taller_centres;
-  /// The retry with the poles' pieces as caps: its least surface-map density and inverted hexes
-  /// and which construction was kept (empty if not tried).
+  /// The retry with the poles' pieces as caps: its least surface-map density (before and after the
+  /// squeeze rescue), its inverted hexes and which construction was kept (empty if not tried).
   std::string pole_caps;
   int surface_vertices = 0;        ///< of the refined surface the cuboids partition
   std::map<std::string, double> times_s;
