@@ -106,6 +106,7 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
                                            std::to_string(embedding.winding[k]) + " at its centre)");
   };
   bool pole_caps = false;  // the next construction keeps the poles' pieces as caps
+  double pole_offset = 0.0;  // the next construction's poles, off the diameter's ends (kOffAxisPoleOffset)
   auto construct = [&](double limb_persistence, bool tighten_caps) {
     polycube::DecompositionOptions d;
     d.snap = options.snap;
@@ -113,6 +114,7 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
     d.tighten_caps = tighten_caps;
     d.morse.limb_persistence = limb_persistence;
     d.pole_caps = pole_caps;
+    d.morse.pole_offset = pole_offset;
     decomposition = polycube::SolidDecomposition{};
     // A genus-0 solid is cut only if it has a limb (its poles alone cost two graph sweeps, where
     // the decomposition's harmonic solve and level sets grow faster than the mesh).
@@ -196,11 +198,44 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
     result.map = param::compute_gpc_volumetric_map(result.construction, 1.0, grid, map_progress);
     stats.times_s["volumetric_map"] += seconds_since(t0);
   };
-  auto two_pole = [&] {
+  auto two_pole_at = [&] {
     t0 = Clock::now();
     construct(0.0, false);
     stats.times_s["t_to_cube"] += seconds_since(t0);
     map_volume();
+  };
+  // §3.3.1 assumes simple saddles at distinct levels and level-set cuts that are meridians. A
+  // solid symmetric about its graph diameter (a cube drilled along its three axes: poles at
+  // opposite corners, a 3-fold axis) has saddles at one level and degenerate ones on the axis,
+  // and a frame's bars lying along a level give cuts that no re-split turns into meridians.
+  // Where the two-pole construction of a genus > 0 solid fails so, the poles move off the
+  // diameter's ends (kOffAxisPoleOffsets, in turn) and all of it is tried again; the last error
+  // is thrown if none works.
+  auto two_pole = [&] {
+    try {
+      two_pole_at();
+    } catch (const polycube::DecompositionError& e) {
+      if (stats.genus == 0 || pole_offset > 0.0) throw;
+      const std::string why = e.what();
+      const std::string prefix = stage_prefix;
+      for (std::size_t i = 0; i < kOffAxisPoleOffsets.size(); ++i) {
+        pole_offset = kOffAxisPoleOffsets[i];
+        std::ostringstream name;
+        name << "poles off the axis (" << pole_offset << "): ";
+        stage_prefix = name.str();
+        try {
+          two_pole_at();
+        } catch (const polycube::DecompositionError&) {
+          if (i + 1 == kOffAxisPoleOffsets.size()) throw;
+          continue;
+        }
+        break;
+      }
+      stage_prefix = prefix;
+      std::ostringstream o;
+      o << "pole offset " << pole_offset << " (at the diameter's ends: " << why << ")";
+      stats.off_axis_poles = o.str();
+    }
   };
   // One construction's outcome, set aside while another is tried (times stay with the job).
   struct Built {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <array>
 #include <map>
 #include <string>
 #include <vector>
@@ -29,6 +30,12 @@ inline constexpr double kTallerCentreHeight = 0.85;
 /// How many times the first construction's least surface-map density (before the squeeze
 /// rescue) the one with caps at the poles must reach to be kept, see GpcOptions::pole_caps_below.
 inline constexpr double kPoleCapsGain = 10.0;
+
+/// Pole offsets (polycube::MorseFunctionOptions::pole_offset) tried in this order where a genus > 0
+/// solid has no construction with the poles at the graph diameter's ends, see
+/// GpcStats::off_axis_poles. Which one works depends on where the levels cross the solid's bars
+/// (a cube's wireframe: 0.08; stretched 3 %: 0.15; 10 %: 0.05), so several are tried.
+inline constexpr std::array<double, 7> kOffAxisPoleOffsets = {0.08, 0.15, 0.05, 0.12, 0.2, 0.25, 0.3};
 
 /// Options of run_gpc.
 struct GpcOptions {
@@ -115,6 +122,9 @@ struct GpcStats {
   /// The retry with the poles' pieces as caps: its least surface-map density (before and after the
   /// squeeze rescue), its inverted hexes and which construction was kept (empty if not tried).
   std::string pole_caps;
+  /// Where the poles moved off the graph diameter's ends (kOffAxisPoleOffsets): why the
+  /// construction with the poles at its ends failed and the offset that worked (empty if they stayed).
+  std::string off_axis_poles;
   int surface_vertices = 0;        ///< of the refined surface the cuboids partition
   std::map<std::string, double> times_s;
 };

@@ -64,6 +64,7 @@ std::string gpc_stats_json(const GpcStats& s, const std::string& input) {
   if (!s.finer_limbs.empty()) j["finer_limbs"] = s.finer_limbs;
   if (!s.taller_centres.empty()) j["taller_centres"] = s.taller_centres;
   if (!s.pole_caps.empty()) j["pole_caps"] = s.pole_caps;
+  if (!s.off_axis_poles.empty()) j["off_axis_poles"] = s.off_axis_poles;
   j["surface_vertices"] = s.surface_vertices;
   nlohmann::ordered_json times = nlohmann::ordered_json::object();
   for (const auto& [stage, seconds] : s.times_s) times[stage] = seconds;

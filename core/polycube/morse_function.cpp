@@ -88,7 +88,7 @@ void classify_critical_points(const mesh::HalfedgeMesh& mesh, MorseFunction& fun
   }
 }
 
-MorsePoles morse_poles(const mesh::HalfedgeMesh& mesh, double limb_persistence) {
+MorsePoles morse_poles(const mesh::HalfedgeMesh& mesh, double limb_persistence, double pole_offset) {
   const int n = mesh.num_vertices();
   assert(n >= 4);
   int start = 0;
@@ -97,8 +97,26 @@ MorsePoles morse_poles(const mesh::HalfedgeMesh& mesh, double limb_persistence) 
   // Two sweeps: the second one's distances also give the limbs' persistence.
   const std::vector<double> length = mesh::edge_lengths(mesh);
   poles.source = farthest_vertex(mesh, start, mesh::graph_distances(mesh, {start}, length));
-  const mesh::GraphDistances from_source = mesh::graph_distances(mesh, {poles.source}, length);
+  mesh::GraphDistances from_source = mesh::graph_distances(mesh, {poles.source}, length);
   poles.sink = farthest_vertex(mesh, poles.source, from_source);
+  if (pole_offset > 0.0) {
+    // The vertex farthest by `d` among those at least `radius` from another by `from_other`.
+    auto farthest_off = [&](const mesh::GraphDistances& d, const mesh::GraphDistances& from_other, double radius,
+                            int fallback) {
+      int best = -1;
+      for (int v = 0; v < n; ++v) {
+        if (d.distance[v] == std::numeric_limits<double>::infinity() || from_other.distance[v] < radius) continue;
+        if (best < 0 || d.distance[v] > d.distance[best]) best = v;
+      }
+      return best < 0 ? fallback : best;
+    };
+    const double radius = pole_offset * from_source.distance[poles.sink];
+    const int diameter_source = poles.source;
+    poles.sink = farthest_off(from_source, mesh::graph_distances(mesh, {poles.sink}, length), radius, poles.sink);
+    poles.source =
+        farthest_off(mesh::graph_distances(mesh, {poles.sink}, length), from_source, radius, diameter_source);
+    from_source = mesh::graph_distances(mesh, {poles.source}, length);
+  }
   if (limb_persistence > 0.0) {
     for (int v : persistent_maxima(mesh, from_source.distance, limb_persistence * from_source.distance[poles.sink]))
       if (v != poles.source && v != poles.sink) poles.limb_tips.push_back(v);
@@ -106,13 +124,14 @@ MorsePoles morse_poles(const mesh::HalfedgeMesh& mesh, double limb_persistence) 
   return poles;
 }
 
-// Iterations per restart of the multigrid-preconditioned harmonic solve.
+// Iterations per restart of the harmonic solve, by preconditioner (see compute_morse_function).
 constexpr int kMultigridChunk = 100;
+constexpr int kIncompleteCholeskyChunk = 1000;
 
 MorseFunction compute_morse_function(const mesh::HalfedgeMesh& mesh, const MorseFunctionOptions& options) {
   const int n = mesh.num_vertices();
   MorseFunction function;
-  const MorsePoles poles = morse_poles(mesh, options.limb_persistence);
+  const MorsePoles poles = morse_poles(mesh, options.limb_persistence, options.pole_offset);
   function.source = poles.source;
   function.sink = poles.sink;
   function.limb_tips = poles.limb_tips;
@@ -147,34 +166,33 @@ MorseFunction compute_morse_function(const mesh::HalfedgeMesh& mesh, const Morse
     triplets.push_back({unknown[v], unknown[v], diagonal > 0.0 ? diagonal : 1.0});
   }
   const linalg::CsrMatrix a = linalg::CsrMatrix::from_triplets(m, m, triplets);
-  // IC(0)'s CG iterations grow like √n (a 650k-vertex sphere: minutes); smoothed-aggregation
-  // multigrid keeps them about constant (MorseFunctionOptions::multigrid_from).
-  auto run = [&](auto& cg) {
+  // The relative residual cannot fall much below √m·ε in double precision (6.9e-14 at 97k
+  // unknowns, 1.2e-13 at 288k): a tolerance near that floor would run CG to its iteration cap
+  // (a drilled cube's 97k unknowns with IC(0): 388k iterations, some ten minutes). Chunks of
+  // iterations, each restarted from the last iterate, stop at the tolerance or once a chunk no
+  // longer halves the residual. IC(0)'s CG iterations grow like √n (kitten's 10k unknowns: 250
+  // to the tolerance), smoothed-aggregation multigrid keeps them about constant (some 30 a
+  // decade) and takes over from MorseFunctionOptions::multigrid_from unknowns.
+  auto run = [&](auto& cg, int chunk_iterations) {
     cg.set_tolerance(options.tolerance);
-    cg.set_max_iterations(std::max(1000, 4 * m));
+    cg.set_max_iterations(chunk_iterations);
     cg.compute(a);
-    return Eigen::VectorXd(cg.solve(rhs, Eigen::VectorXd::Constant(m, 0.5)));
-  };
-  Eigen::VectorXd x;
-  if (m >= options.multigrid_from) {
-    // The relative residual cannot fall much below √m·ε in double precision (1.2e-13 at 288k
-    // unknowns): a tolerance under that floor would run CG to its iteration cap (hours). Chunks
-    // of kMultigridChunk iterations, each restarted from the last iterate, stop at the tolerance
-    // or once a chunk no longer halves the residual; multigrid needs some 30 iterations a decade.
-    linalg::ConjugateGradient<linalg::AlgebraicMultigrid> cg;
-    cg.set_tolerance(options.tolerance);
-    cg.set_max_iterations(kMultigridChunk);
-    cg.compute(a);
-    x = Eigen::VectorXd::Constant(m, 0.5);
+    Eigen::VectorXd x = Eigen::VectorXd::Constant(m, 0.5);
     double last = std::numeric_limits<double>::infinity();
-    for (int chunk = 0; chunk < std::max(10, 4 * m / kMultigridChunk); ++chunk) {
+    for (int chunk = 0; chunk < std::max(10, 4 * m / chunk_iterations); ++chunk) {
       x = cg.solve(rhs, x);
       if (cg.info() == linalg::SolverInfo::Success || !(cg.residual() < 0.5 * last)) break;
       last = cg.residual();
     }
+    return x;
+  };
+  Eigen::VectorXd x;
+  if (m >= options.multigrid_from) {
+    linalg::ConjugateGradient<linalg::AlgebraicMultigrid> cg;
+    x = run(cg, kMultigridChunk);
   } else {
     linalg::ConjugateGradient<linalg::IncompleteCholesky0> cg;
-    x = run(cg);
+    x = run(cg, kIncompleteCholeskyChunk);
   }
   for (int v = 0; v < n; ++v)
     if (unknown[v] >= 0) function.value[v] = std::clamp(x(unknown[v]), 0.0, 1.0);

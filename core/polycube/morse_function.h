@@ -34,19 +34,28 @@ struct MorseFunctionOptions {
   /// distance from the source whose persistence (height above the level where their branch
   /// joins a higher one) is at least this fraction of the graph diameter. 0 = off (two poles).
   double limb_persistence = 0.0;
+  /// Symmetry breaking: where this is > 0, each pole moves off the graph diameter's end. The sink
+  /// becomes the vertex farthest from the source among those at least this fraction of the
+  /// diameter from the diameter's sink, then the source the vertex farthest from the new sink
+  /// among those that far from the diameter's source (graph distances; ties by vertex id). A
+  /// shape symmetric about its diameter (a cube drilled along its three axes, poles at opposite
+  /// corners) has saddles at one level or degenerate ones on the axis; poles off the axis
+  /// separate them. 0 = the diameter's ends.
+  double pole_offset = 0.0;
   /// From this many unknowns the harmonic solve's CG is preconditioned by smoothed-aggregation
   /// multigrid (iterations about constant in n) instead of IC(0) (iterations growing like √n).
   int multigrid_from = 100000;
 };
 
 /// The poles of compute_morse_function: the two ends of the graph diameter and the limb tips
-/// (MorseFunctionOptions::limb_persistence; none if 0), without the harmonic solve.
+/// (MorseFunctionOptions::limb_persistence; none if 0), moved by MorseFunctionOptions::pole_offset,
+/// without the harmonic solve.
 struct MorsePoles {
   int source = -1;
   int sink = -1;
   std::vector<int> limb_tips;
 };
-MorsePoles morse_poles(const mesh::HalfedgeMesh& mesh, double limb_persistence);
+MorsePoles morse_poles(const mesh::HalfedgeMesh& mesh, double limb_persistence, double pole_offset = 0.0);
 
 /// §3.3.1 Step 1 deviation: the thesis segments by the shape diameter function and builds an
 /// abstraction graph from the segments, which guarantees neither the topology nor meridian cuts.

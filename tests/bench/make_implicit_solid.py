@@ -177,6 +177,21 @@ def coil(x,y,z):
         p=lambda t:(0.8*math.cos(6*math.pi*t),0.8*math.sin(6*math.pi*t),-1.0+2.0*t)
         d=min(d, capsule((x,y,z),p(t0),p(t1),0.16))
     return d
+def smoothcube(x,y,z):
+    # the drilled cube with its edges blended (no crease)
+    d=box(x,y,z,0.8,0.8,0.8)-0.12
+    for a,b in ((x,y),(y,z),(z,x)):
+        d=-smin(-d, math.sqrt(a*a+b*b)-0.35, 0.15)
+    return d
+def cubeframe(x,y,z):
+    d=1e9
+    for i in range(3):
+        for s1 in (-0.8,0.8):
+            for s2 in (-0.8,0.8):
+                a=[0,0,0]; b=[0,0,0]; a[i]=-0.8; b[i]=0.8
+                a[(i+1)%3]=b[(i+1)%3]=s1; a[(i+2)%3]=b[(i+2)%3]=s2
+                d=smin(d, capsule((x,y,z),a,b,0.15),0.08)
+    return d
 shapes = {
  # genus 2: two tori blended
  'dtorus': (lambda x,y,z: smin(torus(x+0.9,y,z,0.9,0.3), torus(x-0.9,y,z,0.9,0.3), 0.3), (-2.2,-1.3,-0.5),(2.2,1.3,0.5)),
@@ -227,6 +242,10 @@ shapes = {
  # genus 1: a key: a ring, a long shaft and three teeth under it
  'key': (key, (-1.75,-0.3,-0.6),(1.8,0.3,0.6)),
  # genus 0: a helix of three turns, one thin limb wound up
+ # genus 5: the drilled cube with blended edges
+ 'smoothcube': (smoothcube, (-1.05,-1.05,-1.05),(1.05,1.05,1.05)),
+ # genus 5: a cube's twelve edges as round bars
+ 'cubeframe': (cubeframe, (-1.05,-1.05,-1.05),(1.05,1.05,1.05)),
  'coil': (coil, (-1.1,-1.1,-1.3),(1.1,1.1,1.3)),
  # genus 2: two rings in perpendicular planes fused where they cross
  'rings2': (rings2, (-1.8,-1.05,-1.05),(1.8,1.05,1.05)),
