@@ -159,6 +159,7 @@ void write_gpc_outputs(const Args& args, const std::string& path, const pipeline
     j["refit_dropped_nodes"] = s.refit_dropped_nodes;
     j["grid_inverted_hexes"] = s.grid_inverted_hexes;
     j["grid_min_scaled_jacobian"] = s.grid_min_scaled_jacobian;
+    if (!s.domain_retries.empty()) j["domain_retries"] = s.domain_retries;
     j["samples"] = s.samples;
     j["untangled_control_points"] = s.untangled_control_points;
     j["times_s"] = stage_times_json(s.times_s);

@@ -243,6 +243,9 @@ val gpc_stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name
   out.set("refit_dropped_nodes", s.refit_dropped_nodes);
   out.set("grid_inverted_hexes", s.grid_inverted_hexes);
   out.set("grid_min_scaled_jacobian", s.grid_min_scaled_jacobian);
+  val retries = val::object();
+  for (const auto& [key, value] : s.domain_retries) retries.set(key, value);
+  out.set("domain_retries", retries);
   out.set("samples", s.samples);
   out.set("untangled_control_points", s.untangled_control_points);
   out.set("times_s", stage_times_object(s.times_s));

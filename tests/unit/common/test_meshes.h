@@ -246,4 +246,10 @@ inline mesh::TriangleMesh two_hole_slab(int k) {
   return voxel_solid(7, 3, 2, k, [](int x, int y, int) { return !(y == 1 && (x == 1 || x == 5)); });
 }
 
+/// A cube's wireframe of square bars: 3×3×3 voxels without those on the three centre lines
+/// (genus 5; symmetric about its diagonals), each voxel face split k × k.
+inline mesh::TriangleMesh cube_frame(int k) {
+  return voxel_solid(3, 3, 3, k, [](int x, int y, int z) { return (x == 1) + (y == 1) + (z == 1) < 2; });
+}
+
 }  // namespace volspline::test

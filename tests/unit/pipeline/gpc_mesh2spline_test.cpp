@@ -126,6 +126,22 @@ TEST_CASE("gpc mesh2spline: a two-hole slab (genus 2) converts without folds, on
   CHECK(s.rms_rel <= 0.01);
 }
 
+TEST_CASE("gpc mesh2spline: a cube's wireframe (genus 5) converts with the poles off its axis, and says so") {
+  pipeline::GpcMesh2SplineOptions o = small_options();
+  // The domain is what this case is about: the level-0 spline over it, not untangled (the voxel
+  // bars' sharp edges make the untangling the bulk of the job).
+  o.max_levels = 0;
+  o.untangle = pipeline::GpcMesh2SplineOptions::Untangle::Off;
+  const pipeline::GpcMesh2SplineResult r = pipeline::run_gpc_mesh2spline(test::cube_frame(2), "frame", o);
+  const pipeline::Mesh2SplineStats& s = r.stats;
+  CHECK(s.genus == 5);
+  CHECK(s.t_shapes == 8);
+  REQUIRE(s.domain_retries.count("off_axis_poles") == 1);
+  CHECK(s.domain_retries.at("off_axis_poles").find("pole offset") == 0);
+  CHECK(s.semi_standard_max_error <= 1e-12);
+  CHECK(s.interface_gap_rel <= 1e-9);
+}
+
 TEST_CASE("gpc spline JSON: write, read, write is byte-identical and evaluates the same") {
   const pipeline::GpcMesh2SplineResult& r = slab_result();
   const std::string text = io::serialize_gpc_spline_json(r.spline);

@@ -940,18 +940,8 @@ TEST_CASE("gpc job: bars at the ends of the graph diameter become caps where the
   CHECK_THROWS_WITH_AS(pipeline::run_gpc(ring, "ring", o), doctest::Contains("pole_caps_below must be in [0, 1)"), Error);
 }
 
-namespace {
-// A cube's wireframe of square bars: 3×3×3 voxels without those on the three centre lines
-// (genus 5), each voxel face split k × k, scaled by (sx, sy, sz).
-mesh::TriangleMesh make_cube_frame(int k, const Eigen::Vector3d& scale) {
-  mesh::TriangleMesh m = test::voxel_solid(3, 3, 3, k, [](int x, int y, int z) { return (x == 1) + (y == 1) + (z == 1) < 2; });
-  for (int i = 0; i < m.num_vertices(); ++i) m.positions.row(i) = m.positions.row(i).cwiseProduct(scale.transpose());
-  return m;
-}
-}  // namespace
-
 TEST_CASE("gpc job: a cube's wireframe, symmetric about its diameter, is built with the poles off the axis") {
-  const mesh::TriangleMesh frame = make_cube_frame(2, Eigen::Vector3d(1.0, 1.0, 1.0));
+  const mesh::TriangleMesh frame = test::cube_frame(2);
   // At the diameter's ends (opposite corners, on a 3-fold axis) saddles meet at one level.
   CHECK_THROWS_AS(polycube::decompose_solid(outward(frame), 5), polycube::DecompositionError);
   const pipeline::GpcResult r = pipeline::run_gpc(frame, "frame", without_untangling());
