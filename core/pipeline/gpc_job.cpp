@@ -106,7 +106,7 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
                                            std::to_string(embedding.winding[k]) + " at its centre)");
   };
   bool pole_caps = false;  // the next construction keeps the poles' pieces as caps
-  double pole_offset = 0.0;  // the next construction's poles, off the diameter's ends (kOffAxisPoleOffset)
+  double pole_offset = 0.0;  // the next construction's poles, off the diameter's ends (kOffAxisPoleOffsets)
   auto construct = [&](double limb_persistence, bool tighten_caps) {
     polycube::DecompositionOptions d;
     d.snap = options.snap;

@@ -580,6 +580,7 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
       // certificate recomputes them if the first is kept (armadillo: 350 MB for 232,591 cells).
       certificates = spline::JacobianCertificateCache();
       spline::GpcSpline second = fit_levels(unfolded, "refit_level_", 0.9, 0.02);
+      progress.report("refit: untangle", 0.92);
       spline::JacobianCertificateCache second_certificates;
       const int free = untangle_cuboids(second, unfolded.samples, options.threads, second_certificates);
       timer.end_stage("refit_untangle");

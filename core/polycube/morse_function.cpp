@@ -168,7 +168,7 @@ MorseFunction compute_morse_function(const mesh::HalfedgeMesh& mesh, const Morse
   const linalg::CsrMatrix a = linalg::CsrMatrix::from_triplets(m, m, triplets);
   // The relative residual cannot fall much below √m·ε in double precision (6.9e-14 at 97k
   // unknowns, 1.2e-13 at 288k): a tolerance near that floor would run CG to its iteration cap
-  // (a drilled cube's 97k unknowns with IC(0): 388k iterations, some ten minutes). Chunks of
+  // (a drilled cube's 97k unknowns with IC(0): a cap of 388k iterations, past 20 minutes). Chunks of
   // iterations, each restarted from the last iterate, stop at the tolerance or once a chunk no
   // longer halves the residual. IC(0)'s CG iterations grow like √n (kitten's 10k unknowns: 250
   // to the tolerance), smoothed-aggregation multigrid keeps them about constant (some 30 a
