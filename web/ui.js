@@ -171,7 +171,9 @@ const LABELS = {
   t_shapes: 'T-shapes', ill_points: 'ill-points (Type 1)', interface_gap_rel: 'glued-face gap (÷ bbox diagonal)',
   grid_nodes: 'grid nodes', surface_vertices: 'surface vertices (refined along the cuts)',
   cut_disc_intersections: 'cut-disc crossings (meridian check, 0)', tightened_cuts: 'cuts moved to the shortest loop', limb_caps: 'limb caps',
-  limb_fallback: 'limb construction dropped because', time_validate_s: 'validate (s)',
+  limb_fallback: 'limb construction dropped because', finer_limbs: 'retry with shorter limbs as caps',
+  pole_caps: 'retry with caps at the poles', taller_centres: 'retry with taller T-shape centres',
+  off_axis_poles: 'poles moved off the diameter', time_validate_s: 'validate (s)',
   time_decompose_s: 'decompose (s)', time_t_to_cube_s: 'T-to-cube (s)', time_volumetric_map_s: 'volumetric map (s)',
 };
 /** @param {string} key @returns {string} the label shown for a stats key */
