@@ -211,31 +211,39 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
   // Where the two-pole construction of a genus > 0 solid fails so, the poles move off the
   // diameter's ends (kOffAxisPoleOffsets, in turn) and all of it is tried again; the last error
   // is thrown if none works.
-  auto two_pole = [&] {
-    try {
-      two_pole_at();
-    } catch (const polycube::DecompositionError& e) {
-      if (stats.genus == 0 || pole_offset > 0.0) throw;
-      const std::string why = e.what();
-      const std::string prefix = stage_prefix;
-      for (std::size_t i = 0; i < kOffAxisPoleOffsets.size(); ++i) {
-        pole_offset = kOffAxisPoleOffsets[i];
-        std::ostringstream name;
-        name << "poles off the axis (" << pole_offset << "): ";
-        stage_prefix = name.str();
-        try {
-          two_pole_at();
-        } catch (const polycube::DecompositionError&) {
-          if (i + 1 == kOffAxisPoleOffsets.size()) throw;
-          continue;
-        }
-        break;
+  // `failed`: the error of an identical two-pole construction that already ran (the limb one
+  // without limb tips, caps at their levels), so that it is not built again; null if none ran.
+  auto two_pole = [&](const std::string* failed) {
+    std::string why;
+    if (failed) {
+      why = *failed;
+    } else {
+      try {
+        two_pole_at();
+        return;
+      } catch (const polycube::DecompositionError& e) {
+        if (stats.genus == 0 || pole_offset > 0.0) throw;
+        why = e.what();
       }
-      stage_prefix = prefix;
-      std::ostringstream o;
-      o << "pole offset " << pole_offset << " (at the diameter's ends: " << why << ")";
-      stats.off_axis_poles = o.str();
     }
+    const std::string prefix = stage_prefix;
+    for (std::size_t i = 0; i < kOffAxisPoleOffsets.size(); ++i) {
+      pole_offset = kOffAxisPoleOffsets[i];
+      std::ostringstream name;
+      name << "poles off the axis (" << pole_offset << "): ";
+      stage_prefix = name.str();
+      try {
+        two_pole_at();
+      } catch (const polycube::DecompositionError&) {
+        if (i + 1 == kOffAxisPoleOffsets.size()) throw;
+        continue;
+      }
+      break;
+    }
+    stage_prefix = prefix;
+    std::ostringstream o;
+    o << "pole offset " << pole_offset << " (at the diameter's ends: " << why << ")";
+    stats.off_axis_poles = o.str();
   };
   // One construction's outcome, set aside while another is tried (times stay with the job).
   struct Built {
@@ -297,7 +305,11 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
     }
     if (!built) {
       stage_prefix = "two poles: ";
-      two_pole();
+      // Without limb tips, the limb construction that failed last (caps at their levels) is the
+      // two-pole one of a genus > 0 solid.
+      const bool same = stats.genus > 0 && polycube::morse_poles(*solid_mesh, limb_persistence).limb_tips.empty();
+      const std::string failed = stats.limb_fallback;
+      two_pole(same ? &failed : nullptr);
     }
     const bool by_folds = stats.genus > 0 || options.one_cuboid_fallback == GpcOptions::OneCuboidFallback::ByFolds;
     if (built && by_folds && stats.limb_caps > 0 && result.map.grid_inverted_hexes > 0 && untangled) {
@@ -308,7 +320,7 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
       stage_prefix = "two poles: ";
       bool mapped = true;
       try {
-        two_pole();
+        two_pole(nullptr);
       } catch (const polycube::DecompositionError&) {
         mapped = false;
       }
@@ -322,7 +334,7 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
       }
     }
   } else {
-    two_pole();
+    two_pole(nullptr);
   }
   // The automatic persistence cuts only long limbs; where the kept hex mesh still folds, a thin
   // part that is no limb at that scale (a handle, a short arm) sits inside one cuboid and its

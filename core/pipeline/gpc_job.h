@@ -4,6 +4,7 @@
 #include <array>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/mesh/triangle_mesh.h"
@@ -127,6 +128,18 @@ struct GpcStats {
   std::string off_axis_poles;
   int surface_vertices = 0;        ///< of the refined surface the cuboids partition
   std::map<std::string, double> times_s;
+  /// The retried constructions' stats above that ran (non-empty), by their names, in this order:
+  /// limb_fallback, finer_limbs, taller_centres, pole_caps, off_axis_poles.
+  std::vector<std::pair<std::string, std::string>> retries() const {
+    std::vector<std::pair<std::string, std::string>> out;
+    for (const auto& [name, text] : {std::pair<const char*, const std::string*>{"limb_fallback", &limb_fallback},
+                                     {"finer_limbs", &finer_limbs},
+                                     {"taller_centres", &taller_centres},
+                                     {"pole_caps", &pole_caps},
+                                     {"off_axis_poles", &off_axis_poles}})
+      if (!text->empty()) out.emplace_back(name, *text);
+    return out;
+  }
 };
 
 /// The GPC domain of a solid and its volumetric parameterization, in model units.

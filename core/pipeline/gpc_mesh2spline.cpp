@@ -427,12 +427,7 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
   }
   stats.grid_inverted_hexes = gpc.stats.grid_inverted_hexes;
   stats.grid_min_scaled_jacobian = gpc.stats.grid_min_scaled_jacobian;
-  for (const auto& [key, value] : {std::pair<const char*, const std::string&>{"limb_fallback", gpc.stats.limb_fallback},
-                                   {"finer_limbs", gpc.stats.finer_limbs},
-                                   {"pole_caps", gpc.stats.pole_caps},
-                                   {"taller_centres", gpc.stats.taller_centres},
-                                   {"off_axis_poles", gpc.stats.off_axis_poles}})
-    if (!value.empty()) stats.domain_retries[key] = value;
+  for (const auto& [name, text] : gpc.stats.retries()) stats.domain_retries[name] = text;
   // A squeezed surface map (the rescue ran, or a spot stays below squeezed_below) crowds a tip
   // into a spot of its face: deeper splits resolve it, and the triangles' centroids give those
   // splits samples between the vertices (a level holds at most a quarter of the samples'

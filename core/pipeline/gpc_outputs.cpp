@@ -59,12 +59,8 @@ std::string gpc_stats_json(const GpcStats& s, const std::string& input) {
   }
   j["saddles"] = s.num_saddles;
   j["limb_caps"] = s.limb_caps;
-  if (!s.limb_fallback.empty()) j["limb_fallback"] = s.limb_fallback;
   j["limb_persistence"] = s.limb_persistence;
-  if (!s.finer_limbs.empty()) j["finer_limbs"] = s.finer_limbs;
-  if (!s.taller_centres.empty()) j["taller_centres"] = s.taller_centres;
-  if (!s.pole_caps.empty()) j["pole_caps"] = s.pole_caps;
-  if (!s.off_axis_poles.empty()) j["off_axis_poles"] = s.off_axis_poles;
+  for (const auto& [name, text] : s.retries()) j[name] = text;
   j["surface_vertices"] = s.surface_vertices;
   nlohmann::ordered_json times = nlohmann::ordered_json::object();
   for (const auto& [stage, seconds] : s.times_s) times[stage] = seconds;

@@ -115,9 +115,8 @@ struct Mesh2SplineStats {
   int refit_dropped_nodes = 0;
   int grid_inverted_hexes = 0;         ///< of the volumetric grid map (grid fit)
   double grid_min_scaled_jacobian = 1; ///< of the volumetric grid map (grid fit)
-  /// GPC splines: the GPC job's retried constructions, by its stat's name (GpcStats::limb_fallback,
-  /// finer_limbs, pole_caps, taller_centres, off_axis_poles), each saying what was tried and kept;
-  /// only those that ran.
+  /// GPC splines: the GPC job's retried constructions that ran (GpcStats::retries), by its stat's
+  /// name, each saying what was tried and kept.
   std::map<std::string, std::string> domain_retries;
   /// of the fit before the untangling and the repair, at the points the untangler (24³ cell
   /// centres) or the repair scans; without either, negative_jacobian_fraction
