@@ -44,6 +44,7 @@ const STAGE_WORDS = {
   validate: 'checking the input', 'cuboid layout': 'placing the cuboid corners', 'surface map': 'mapping the surface onto the cuboid',
   'volumetric map': 'mapping the volume', fit: 'fitting the spline', untangle: 'unfolding the spline',
   'untangle pass': 'unfolding the spline', 'untangle polish': 'polishing the unfolded spline', 'untangle certificate': 'unfolding the uncertified cells',
+  'untangle: cuboids': 'unfolding the spline cuboid by cuboid', 'untangle: certificate round': 'unfolding the uncertified cells',
   'Jacobian repair': 'repairing the Jacobian', measures: 'measuring the fit', measure: 'measuring the fit', certificate: 'certifying det J > 0 cell by cell',
   'uniform comparison': 'fitting a uniform spline to compare', 'local cubic fit': 'fitting local cubics to the voxels',
   'hessian frames': 'frames from the Hessians', classification: 'classifying the materials', parameterization: 'aligning the parameters with the frames',
@@ -58,7 +59,12 @@ export const stageWords = (stage) => {
   const trimmed = String(stage).trim();
   const level = /^fit level (\d+)$/.exec(trimmed);
   if (level) return `fitting the spline, level ${level[1]}`;
-  return STAGE_WORDS[trimmed] ?? STAGE_WORDS[trimmed.replace(/ \d.*$/, '')] ?? trimmed;
+  const words = STAGE_WORDS[trimmed] ?? STAGE_WORDS[trimmed.replace(/ \d.*$/, '')];
+  if (words) return words;
+  // A retried or repeated stage ("refit: untangle: cuboids", "caps at the poles: T-to-cube"): its
+  // prefix as it is, the stage after it in words.
+  const colon = trimmed.indexOf(': ');
+  return colon > 0 ? `${trimmed.slice(0, colon)}: ${stageWords(trimmed.slice(colon + 2))}` : trimmed;
 };
 
 /// Runs a job with the job bar; long-running or not, the UI stays responsive (the worker computes).

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <numeric>
 #include <optional>
 
@@ -309,10 +310,23 @@ double longest_size(const polycube::GpcDomain& domain) {
 // so the surface fit and both sides of every glued face stay as they are; then the certificate
 // rounds over all cuboids at once (spline::untangle_gpc_certificate), which move global
 // functions, shared ones as one control point. Returns the functions that were free to move.
+// progress: "<stage>: cuboids" (the share of cuboids done) at every pass of a cuboid, then
+// "<stage>: certificate round K" over [from, to]; both are where a cancel request stops the job.
 int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& samples, int threads,
-                     spline::JacobianCertificateCache& certificates) {
+                     spline::JacobianCertificateCache& certificates, const Progress& progress,
+                     const std::string& stage, double from, double to) {
   const double longest_side = longest_size(spline.domain());
   const int nc = spline.num_cuboids();
+  // The cuboids' passes report from their threads: one report at a time, the count of cuboids
+  // done as the fraction (the first half of [from, to]; the certificate rounds take the rest).
+  std::mutex report_mutex;
+  int cuboids_done = 0;
+  const double middle = 0.5 * (from + to);
+  const auto report_cuboids = [&](bool finished) {
+    std::lock_guard<std::mutex> lock(report_mutex);
+    if (finished) ++cuboids_done;
+    progress.report(stage + ": cuboids", from + (middle - from) * cuboids_done / nc);
+  };
   // Every cuboid starts from the fitted points and its moves are written back in cuboid order, so
   // the cuboids are independent jobs: the same result on any number of threads.
   std::vector<Eigen::MatrixXd> moved(static_cast<std::size_t>(nc));
@@ -351,8 +365,13 @@ int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& sample
     if (continued)
       uo.region = {{Eigen::Vector3d::Zero().cwiseMax(patch.domain_min()),
                     Eigen::Vector3d(size[0], size[1], size[2]).cwiseMin(patch.domain_max())}};
-    free[c] = spline::untangle_spline(patch, uvw, xyz, uo).free_functions;
+    const Progress cuboid_progress([&](const std::string&, double) {
+      report_cuboids(false);
+      return true;
+    });
+    free[c] = spline::untangle_spline(patch, uvw, xyz, uo, cuboid_progress).free_functions;
     moved[c] = patch.points();
+    report_cuboids(true);
   });
   Eigen::MatrixXd points = spline.points();
   for (int c = 0; c < nc; ++c) {
@@ -364,8 +383,16 @@ int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& sample
   // only a spline whose count still falls runs past 8.
   spline::SplineUntangleOptions rounds;
   rounds.certificate_rounds = 16;
+  // The rounds' own label is "untangle certificate K: N cells uncertified", K counting from 1 in
+  // every attempt (untangle_gpc_certificate): shown as the stage's certificate round.
+  const Progress round_progress([&](const std::string& label, double fraction) {
+    const std::string own = "untangle certificate ";
+    const std::string round = label.compare(0, own.size(), own) == 0 ? label.substr(own.size()) : label;
+    progress.report(stage + ": certificate round " + round, middle + (to - middle) * fraction);
+    return true;
+  });
   const spline::SplineUntangleResult certified =
-      spline::untangle_gpc_certificate(spline, samples, rounds, {}, &certificates);
+      spline::untangle_gpc_certificate(spline, samples, rounds, round_progress, &certificates);
   return std::accumulate(free.begin(), free.end(), 0) + certified.free_functions;
 }
 
@@ -554,7 +581,8 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
   spline::JacobianCertificateCache certificates;
   if (options.untangle == GpcMesh2SplineOptions::Untangle::On) {
     progress.report("untangle", 0.9);
-    stats.untangled_control_points = untangle_cuboids(fitted, data.samples, options.threads, certificates);
+    stats.untangled_control_points =
+        untangle_cuboids(fitted, data.samples, options.threads, certificates, progress, "untangle", 0.9, 0.91);
     timer.end_stage("untangle");
     // Cells left uncertified: a second fit without the grid nodes of the hex mesh's inverted
     // hexes, untangled the same way; the spline with fewer uncertified cells, then the higher
@@ -569,15 +597,16 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
                                  ? fit_data(gpc, padding_depth, options.surface_weight, centroids, centre, diagonal, true)
                                  : FitData();
     if (unfolded.dropped_nodes > 0) {
-      progress.report("refit without folded grid nodes", 0.9);  // the untangling's start, so no step back
+      progress.report("refit without folded grid nodes", 0.91);  // the first untangling's end, so no step back
       const Mesh2SplineStats kept = stats;
       // The first spline's certificates are dropped, not kept beside the second's: the final
       // certificate recomputes them if the first is kept (armadillo: 350 MB for 232,591 cells).
       certificates = spline::JacobianCertificateCache();
-      spline::GpcSpline second = fit_levels(unfolded, "refit_level_", 0.9, 0.02);
-      progress.report("refit: untangle", 0.92);
+      spline::GpcSpline second = fit_levels(unfolded, "refit_level_", 0.91, 0.005);
+      progress.report("refit: untangle", 0.915);
       spline::JacobianCertificateCache second_certificates;
-      const int free = untangle_cuboids(second, unfolded.samples, options.threads, second_certificates);
+      const int free = untangle_cuboids(second, unfolded.samples, options.threads, second_certificates, progress,
+                                        "refit: untangle", 0.915, 0.92);
       timer.end_stage("refit_untangle");
       const spline::JacobianCertificate c =
           spline::certify_gpc_jacobian(second, spline::gpc_certificate_options(), &second_certificates);

@@ -716,7 +716,8 @@ SplineUntangleResult certificate_rounds(GpcSpline& spline, const GpcSamples& sam
       tilt_gpc_creases(spline, best, total, certificates);
       return total;
     }
-    progress.report("untangle certificate " + std::to_string(round + 1),
+    progress.report("untangle certificate " + std::to_string(round + 1) + ": " + std::to_string(uncertified) +
+                        " cells uncertified",
                     static_cast<double>(round) / options.certificate_rounds);
     std::vector<std::vector<Eigen::Vector3d>> more(static_cast<std::size_t>(nc));
     for (const UncertifiedCell& u : certificate.uncertified) {

@@ -43,9 +43,10 @@ namespace volspline::spline {
 /// energy settles or max_steps, whatever stop_margin says: the held points are hinge terms,
 /// which the barrier nodes' margin does not see); returns certificate_passes,
 /// free_functions, iterations, initial_uncertified and final_uncertified (the other fields 0).
-/// progress: "untangle certificate K" before each round; throws volspline::Cancelled there if the
-/// callback asks to stop. cache (or null: one of its own): the rounds' certificates, kept for the
-/// caller's next certify_gpc_jacobian of the result. Throws volspline::Error if the dimension is not 3.
+/// progress: "untangle certificate K: N cells uncertified" before each round; throws
+/// volspline::Cancelled there if the callback asks to stop. cache (or null: one of its own): the
+/// rounds' certificates, kept for the caller's next certify_gpc_jacobian of the result. Throws
+/// volspline::Error if the dimension is not 3.
 SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSamples& samples,
                                               const SplineUntangleOptions& options = {},
                                               const Progress& progress = {},

@@ -197,7 +197,8 @@ void certificate_rounds(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eige
       if (!best.empty()) tilt_creases(spline, best, options, total);
       return;
     }
-    progress.report("untangle certificate " + std::to_string(round + 1),
+    progress.report("untangle certificate " + std::to_string(round + 1) + ": " + std::to_string(uncertified) +
+                        " cells uncertified",
                     (options.passes + options.polish_rounds + round) / steps);
     std::vector<Eigen::Vector3d> inner, boundary;
     std::vector<int> cells;

@@ -155,7 +155,8 @@ struct SplineUntangleResult {
 /// points between the nodes, held by a hinge in the later passes; the polish (polish_rounds)
 /// then holds the finest lattice.
 /// uvw, xyz: m×3 fitting samples (may be empty). Precondition: dimension() == 3.
-/// progress: "untangle pass K" / "untangle polish K" before each pass and polish round (fraction
+/// progress: "untangle pass K" / "untangle polish K" / "untangle certificate K: N cells
+/// uncertified" before each pass, polish and certificate round (fraction
 /// of the passes done); throws volspline::Cancelled there if the callback asks to stop (the
 /// spline then holds the points of the passes done so far).
 SplineUntangleResult untangle_spline(TSpline& spline, const Eigen::MatrixX3d& uvw, const Eigen::MatrixX3d& xyz,

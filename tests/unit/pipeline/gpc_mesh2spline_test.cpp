@@ -171,3 +171,43 @@ TEST_CASE("gpc spline JSON: write, read, write is byte-identical and evaluates t
   CHECK_THROWS_WITH_AS(io::parse_gpc_spline_json(huge, "h.json"), doctest::Contains("knot cells, more than the"), Error);
   CHECK_FALSE(io::is_gpc_spline_json("{\"format\": \"volspline-spline\"}"));
 }
+
+TEST_CASE("gpc mesh2spline: the untangling reports its cuboids and certificate rounds and stops in each") {
+  pipeline::GpcMesh2SplineOptions o = small_options();
+  o.threads = 2;  // the cuboids' reports come from their threads
+  std::vector<std::pair<std::string, double>> reports;
+  const Progress record([&reports](const std::string& stage, double fraction) {
+    reports.emplace_back(stage, fraction);
+    return true;
+  });
+  const mesh::TriangleMesh torus = test::torus(64, 24, 1.0, 0.35);
+  pipeline::run_gpc_mesh2spline(torus, "torus", o, record);
+  // The torus's fit folds slightly along the tube's 4 edges: a certificate round runs. Each kind
+  // of report, the count at which a second run cancels.
+  const std::vector<std::pair<std::string, int>> kinds = {{"untangle: cuboids", 2}, {"untangle: certificate round ", 1}};
+  double previous = 0.9;
+  for (const auto& [kind, at] : kinds) {
+    CAPTURE(kind);
+    int seen = 0;
+    for (const auto& [stage, fraction] : reports) {
+      if (stage.rfind(kind, 0) != 0) continue;
+      ++seen;
+      CHECK(fraction >= previous);  // no step back within the untangling
+      CHECK(fraction <= 0.91);
+      previous = fraction;
+    }
+    CHECK(seen >= at);
+    // A cancel request at that report stops the job there.
+    int count = 0;
+    std::string last;
+    const Progress stop([&, &kind = kind, at = at](const std::string& stage, double) {
+      last = stage;
+      return !(stage.rfind(kind, 0) == 0 && ++count == at);
+    });
+    CHECK_THROWS_AS(pipeline::run_gpc_mesh2spline(torus, "torus", o, stop), Cancelled);
+    CHECK(last.rfind(kind, 0) == 0);
+  }
+  // The rounds name the cells they start from.
+  for (const auto& [stage, fraction] : reports)
+    if (stage.rfind("untangle: certificate round ", 0) == 0) CHECK(stage.find(" cells uncertified") != std::string::npos);
+}
