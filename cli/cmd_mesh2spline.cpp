@@ -162,6 +162,7 @@ void write_gpc_outputs(const Args& args, const std::string& path, const pipeline
     if (!s.domain_retries.empty()) j["domain_retries"] = s.domain_retries;
     j["samples"] = s.samples;
     j["untangled_control_points"] = s.untangled_control_points;
+    j["untangle_surface_shift_rel"] = s.untangle_surface_shift_rel;
     j["times_s"] = stage_times_json(s.times_s);
     files.stage(args.get("stats-json"), j.dump(2) + "\n");
   }

@@ -248,6 +248,7 @@ val gpc_stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name
   out.set("domain_retries", retries);
   out.set("samples", s.samples);
   out.set("untangled_control_points", s.untangled_control_points);
+  out.set("untangle_surface_shift_rel", s.untangle_surface_shift_rel);
   out.set("times_s", stage_times_object(s.times_s));
   return out;
 }

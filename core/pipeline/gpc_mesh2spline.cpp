@@ -236,6 +236,15 @@ Eigen::VectorXd surface_misfit(const spline::GpcSpline& spline, const spline::Gp
   return out;
 }
 
+// F at the parameters of the last `count` samples (the surface vertices and centroids).
+Eigen::MatrixX3d surface_values(const spline::GpcSpline& spline, const spline::GpcSamples& samples, std::size_t count) {
+  const Eigen::Index m = samples.uvw.rows(), first = m - static_cast<Eigen::Index>(count);
+  Eigen::MatrixX3d out(static_cast<Eigen::Index>(count), 3);
+  for (Eigen::Index s = first; s < m; ++s)
+    out.row(s - first) = spline.evaluate(samples.cuboid[s], samples.uvw.row(s).transpose()).transpose();
+  return out;
+}
+
 // Sample ids of the surface vertices (misfit: surface_misfit) farther than `bound`, farthest first.
 std::vector<int> surface_samples_beyond(const Eigen::VectorXd& misfit, const spline::GpcSamples& samples,
                                         double bound) {
@@ -581,8 +590,15 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
   spline::JacobianCertificateCache certificates;
   if (options.untangle == GpcMesh2SplineOptions::Untangle::On) {
     progress.report("untangle", 0.9);
+    // The unit-box frame: distances are already relative to the diagonal.
+    const Eigen::MatrixX3d fitted_surface = surface_values(fitted, data.samples, data.surface.size());
     stats.untangled_control_points =
         untangle_cuboids(fitted, data.samples, options.threads, certificates, progress, "untangle", 0.9, 0.91);
+    const auto surface_shift = [](const Eigen::MatrixX3d& before, const Eigen::MatrixX3d& after) {
+      return before.rows() ? (after - before).rowwise().norm().maxCoeff() : 0.0;
+    };
+    stats.untangle_surface_shift_rel =
+        surface_shift(fitted_surface, surface_values(fitted, data.samples, data.surface.size()));
     timer.end_stage("untangle");
     // Cells left uncertified: a second fit without the grid nodes of the hex mesh's inverted
     // hexes, untangled the same way; the spline with fewer uncertified cells, then the higher
@@ -605,6 +621,7 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
       spline::GpcSpline second = fit_levels(unfolded, "refit_level_", 0.91, 0.005);
       progress.report("refit: untangle", 0.915);
       spline::JacobianCertificateCache second_certificates;
+      const Eigen::MatrixX3d second_surface = surface_values(second, unfolded.samples, unfolded.surface.size());
       const int free = untangle_cuboids(second, unfolded.samples, options.threads, second_certificates, progress,
                                         "refit: untangle", 0.915, 0.92);
       timer.end_stage("refit_untangle");
@@ -615,6 +632,8 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
         fitted = std::move(second);
         certificates = std::move(second_certificates);
         stats.untangled_control_points = free;
+        stats.untangle_surface_shift_rel =
+            surface_shift(second_surface, surface_values(fitted, unfolded.samples, unfolded.surface.size()));
         stats.refit_dropped_nodes = unfolded.dropped_nodes;
       } else {
         restore_fit_stats(stats, kept);

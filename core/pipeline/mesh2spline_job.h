@@ -123,6 +123,10 @@ struct Mesh2SplineStats {
   double negative_jacobian_fraction_fit = 0;
   int repaired_control_points = 0;            ///< interior control points the repair moved
   int untangled_control_points = 0;           ///< interior control points free in the untangling
+  /// GPC splines: the farthest the untangling moved the spline at a surface sample's parameter,
+  /// over the bbox diagonal (0 without untangling): the surface accuracy the unfolding cost,
+  /// which hausdorff_rel includes.
+  double untangle_surface_shift_rel = 0;
   /// bd-control-points the untangler's crease tilt moved (spline::convex_edge_creases; 0 if none)
   int creased_control_points = 0;
   int samples = 0;

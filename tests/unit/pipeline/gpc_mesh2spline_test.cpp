@@ -124,6 +124,9 @@ TEST_CASE("gpc mesh2spline: a two-hole slab (genus 2) converts without folds, on
   CHECK(s.interface_normal_jump_deg <= 1e-6);
   CHECK(s.negative_jacobian_fraction == 0.0);
   CHECK(s.rms_rel <= 0.01);
+  // Its fit folds: the untangling moves the surface, by less than the fit's own accuracy target.
+  CHECK(s.untangle_surface_shift_rel > 0.0);
+  CHECK(s.untangle_surface_shift_rel < 0.01);
 }
 
 TEST_CASE("gpc mesh2spline: a cube's wireframe (genus 5) converts with the poles off its axis, and says so") {
@@ -140,6 +143,7 @@ TEST_CASE("gpc mesh2spline: a cube's wireframe (genus 5) converts with the poles
   CHECK(s.domain_retries.at("off_axis_poles").find("pole offset") == 0);
   CHECK(s.semi_standard_max_error <= 1e-12);
   CHECK(s.interface_gap_rel <= 1e-9);
+  CHECK(s.untangle_surface_shift_rel == 0.0);
 }
 
 TEST_CASE("gpc spline JSON: write, read, write is byte-identical and evaluates the same") {
