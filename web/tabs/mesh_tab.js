@@ -319,6 +319,7 @@ export const meshTab = {
         ['flipped_triangles', s.flipped_triangles], ['grid_inverted_hexes', s.grid_inverted_hexes],
         ['grid_min_scaled_jacobian', fmt(s.grid_min_scaled_jacobian, 3)], ['samples', s.samples],
         ['untangled_control_points', s.untangled_control_points],
+        ['untangle_surface_shift_rel', fmt(s.untangle_surface_shift_rel, 3)],
         // The GPC job's retried constructions (only those that ran): what was tried and kept.
         ...Object.entries(s.domain_retries ?? {}),
         ['cut_min_scaled_jacobian', fmt(this.result.cut.min_scaled_jacobian, 3)],

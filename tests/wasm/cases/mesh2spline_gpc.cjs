@@ -30,13 +30,16 @@ module.exports = function (vs, { check, sourceDir, fs, path }) {
   check(s.control_points >= 64 && r.control_points.length === 3 * s.control_points, `torus: ${s.control_points} control points`);
   check(r.control_uvw.length === r.control_points.length && r.control_uvw.every((x) => x >= 0 && x <= 1), 'control_uvw: each anchor in its cuboid, [0, 1]');
   check(s.interface_gap_rel <= 1e-9 && s.continued_interfaces === 1, `the glued face is continued, gap ${s.interface_gap_rel}`);
+  check(s.untangle_surface_shift_rel >= 0 && s.untangle_surface_shift_rel < 0.01,
+        `the untangling moved the surface by ${s.untangle_surface_shift_rel} of the diagonal, under 1 %`);
   check(s.input === 'torus.off' && s.fit === 'grid' && s.times_s.total > 0 && s.times_s.gpc > 0, 'stats: input, fit, times_s');
   const h = s.level_history;
   check(s.knot_refinement === 'hierarchical' && h.length === s.levels + 1 && h[h.length - 1].control_points === s.control_points &&
         Math.abs(h[h.length - 1].rms_rel - s.rms_rel) < 1e-15 && h.every((l) => l.surface_max_rel >= 0),
         `knot_refinement ${s.knot_refinement}, level_history of ${h.length} levels ending at the result`);
   check(stages.length > 2 && stages.every(([st, f]) => typeof st === 'string' && f >= 0 && f <= 1) &&
-        stages.some(([st]) => /^fit level/.test(st)), `progress reported (${stages.length} calls, fit levels included)`);
+        stages.some(([st]) => /^fit level/.test(st)) && stages.some(([st]) => /^untangle: certificate round \d+: \d+ cells uncertified$/.test(st)),
+        `progress reported (${stages.length} calls, fit levels and certificate rounds included)`);
 
   // The view: 4 surface faces of 5×5 points (the glued pair is inside), each point's cuboid and colour.
   const b = r.boundary, n = b.positions.length / 3;
