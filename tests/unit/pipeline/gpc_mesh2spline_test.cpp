@@ -190,7 +190,9 @@ TEST_CASE("gpc mesh2spline: the untangling reports its cuboids and certificate r
   // of report, the count at which a second run cancels.
   const std::vector<std::pair<std::string, int>> kinds = {{"untangle: cuboids", 2}, {"untangle: certificate round ", 1}};
   double previous = 0.9;
-  for (const auto& [kind, at] : kinds) {
+  for (const auto& entry : kinds) {
+    const std::string& kind = entry.first;  // not a structured binding: CAPTURE's lambda reads it
+    const int at = entry.second;
     CAPTURE(kind);
     int seen = 0;
     for (const auto& [stage, fraction] : reports) {
@@ -204,7 +206,7 @@ TEST_CASE("gpc mesh2spline: the untangling reports its cuboids and certificate r
     // A cancel request at that report stops the job there.
     int count = 0;
     std::string last;
-    const Progress stop([&, &kind = kind, at = at](const std::string& stage, double) {
+    const Progress stop([&](const std::string& stage, double) {
       last = stage;
       return !(stage.rfind(kind, 0) == 0 && ++count == at);
     });
