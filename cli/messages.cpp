@@ -25,6 +25,7 @@ const FieldFlag kFieldFlags[] = {
     {"squeezed_below", "--squeezed-below"},
     {"min_scaled_jacobian", "--repair-jacobian"},
     {"threads", "--threads"},
+    {"certificate_rounds", "--certificate-rounds"},
     {"corners", "--corners"},
     {"rois", "--roi"},
     {"magnification", "--magnification"},

@@ -37,6 +37,7 @@ void check_options(const GpcMesh2SplineOptions& o) {
   if (!(o.surface_weight > 0.0) || !std::isfinite(o.surface_weight)) fail("`surface_weight` must be a positive number");
   if (o.measure_lattice < 4 || o.measure_lattice > 256) fail("`measure_lattice` must be in [4, 256]");
   if (o.threads < 1) fail("`threads` must be ≥ 1");
+  if (o.certificate_rounds < 0 || o.certificate_rounds > 64) fail("`certificate_rounds` must be in [0, 64]");
   if (!(o.hierarchical_from >= 1.0) || !std::isfinite(o.hierarchical_from)) fail("`hierarchical_from` must be ≥ 1");
   if (!(o.marking_fraction > 0.0 && o.marking_fraction <= 1.0)) fail("`marking_fraction` must be in (0, 1]");
   if (o.hierarchy_depth < 0 || o.hierarchy_depth > spline::GpcSpline::kMaxLevel)
@@ -322,7 +323,7 @@ double longest_size(const polycube::GpcDomain& domain) {
 // progress: "<stage>: cuboids" (the share of cuboids done) at every pass of a cuboid, then
 // "<stage>: certificate round K" over [from, to]; both are where a cancel request stops the job.
 int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& samples, int threads,
-                     spline::JacobianCertificateCache& certificates, const Progress& progress,
+                     int certificate_rounds, spline::JacobianCertificateCache& certificates, const Progress& progress,
                      const std::string& stage, double from, double to) {
   const double longest_side = longest_size(spline.domain());
   const int nc = spline.num_cuboids();
@@ -388,10 +389,10 @@ int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& sample
     for (std::size_t j = 0; j < ids.size(); ++j) points.row(ids[j]) = moved[c].row(static_cast<Eigen::Index>(j));
   }
   spline.set_points(std::move(points));
-  // Up to 16 rounds: they stop once every cell is certified or the count stalls for 3 rounds, so
-  // only a spline whose count still falls runs past 8.
+  // GpcMesh2SplineOptions::certificate_rounds (16 by default): the rounds stop once every cell is
+  // certified or the count stalls for 3 rounds, so only a spline whose count still falls runs past 8.
   spline::SplineUntangleOptions rounds;
-  rounds.certificate_rounds = 16;
+  rounds.certificate_rounds = certificate_rounds;
   // The rounds' own label is "untangle certificate K: N cells uncertified", K counting from 1 in
   // every attempt (untangle_gpc_certificate): shown as the stage's certificate round.
   const Progress round_progress([&](const std::string& label, double fraction) {
@@ -593,7 +594,8 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
     // The unit-box frame: distances are already relative to the diagonal.
     const Eigen::MatrixX3d fitted_surface = surface_values(fitted, data.samples, data.surface.size());
     stats.untangled_control_points =
-        untangle_cuboids(fitted, data.samples, options.threads, certificates, progress, "untangle", 0.9, 0.91);
+        untangle_cuboids(fitted, data.samples, options.threads, options.certificate_rounds, certificates, progress,
+                         "untangle", 0.9, 0.91);
     const auto surface_shift = [](const Eigen::MatrixX3d& before, const Eigen::MatrixX3d& after) {
       return before.rows() ? (after - before).rowwise().norm().maxCoeff() : 0.0;
     };
@@ -622,8 +624,8 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
       progress.report("refit: untangle", 0.915);
       spline::JacobianCertificateCache second_certificates;
       const Eigen::MatrixX3d second_surface = surface_values(second, unfolded.samples, unfolded.surface.size());
-      const int free = untangle_cuboids(second, unfolded.samples, options.threads, second_certificates, progress,
-                                        "refit: untangle", 0.915, 0.92);
+      const int free = untangle_cuboids(second, unfolded.samples, options.threads, options.certificate_rounds,
+                                        second_certificates, progress, "refit: untangle", 0.915, 0.92);
       timer.end_stage("refit_untangle");
       const spline::JacobianCertificate c =
           spline::certify_gpc_jacobian(second, spline::gpc_certificate_options(), &second_certificates);

@@ -58,6 +58,8 @@ contains "$TMP/out" "MFEM: 27 patches"
 same_bytes "$TMP/gh.json" "$TMP/gh2.json" "hierarchical GPC spline JSON differs between two runs"
 expect 2 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gh_bad.json" --quiet --hierarchical --hierarchy-depth 0
 contains "$TMP/err" "--hierarchy-depth"
+expect 2 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gh_bad.json" --quiet --certificate-rounds 65
+contains "$TMP/err" "--certificate-rounds"
 # A genus-0 solid whose one-cuboid surface map is squeezed goes through the GPC (the shared
 # sphere's least density 0.886 is squeezed below 0.9); --one-cuboid keeps one cuboid.
 expect 0 "$BIN" mesh2spline "$DATA/meshes/sphere.off" --squeezed-below 0.9 -o "$TMP/sq.json" --stats-json "$TMP/sq_stats.json"

@@ -216,4 +216,13 @@ TEST_CASE("gpc mesh2spline: the untangling reports its cuboids and certificate r
   // The rounds name the cells they start from.
   for (const auto& [stage, fraction] : reports)
     if (stage.rfind("untangle: certificate round ", 0) == 0) CHECK(stage.find(" cells uncertified") != std::string::npos);
+  // certificate_rounds 0: the untangling runs no round; out of [0, 64] it is refused.
+  o.certificate_rounds = 0;
+  reports.clear();
+  pipeline::run_gpc_mesh2spline(torus, "torus", o, record);
+  int rounds = 0;
+  for (const auto& [stage, fraction] : reports) rounds += stage.rfind("untangle: certificate round ", 0) == 0;
+  CHECK(rounds == 0);
+  o.certificate_rounds = 65;
+  CHECK_THROWS_WITH_AS(pipeline::run_gpc_mesh2spline(torus, "torus", o), doctest::Contains("`certificate_rounds`"), Error);
 }
