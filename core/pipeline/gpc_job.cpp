@@ -45,6 +45,8 @@ void check_options(const GpcOptions& o) {
   if (o.grid.min_quality_sweeps < 0 || o.grid.min_quality_sweeps > 100000)
     fail("grid.min_quality_sweeps must be in [0, 100000]");
   if (!(o.taller_centres_below >= -1.0 && o.taller_centres_below <= 1.0)) fail("taller_centres_below must be in [-1, 1]");
+  if (!(o.taller_centres_inverted_above > 0.0 && o.taller_centres_inverted_above <= 1.0))
+    fail("taller_centres_inverted_above must be in (0, 1]");
   if (!(o.pole_caps_below >= 0.0 && o.pole_caps_below < 1.0)) fail("pole_caps_below must be in [0, 1)");
 }
 
@@ -414,8 +416,12 @@ GpcResult run_gpc(const mesh::TriangleMesh& input, const std::string& name, cons
   // height): its corner hexes stay near flat whatever the hex optimizer does. The same
   // construction with the concave corners further down the stem is then mapped too, and the
   // better hex mesh kept.
-  if (untangled && options.taller_centres_below > -1.0 && result.construction.domain.t_shapes > 0 &&
-      (result.map.grid_inverted_hexes > 0 || result.map.grid_min_scaled_jacobian < options.taller_centres_below)) {
+  const bool folds_or_poor =
+      options.taller_centres_below > -1.0 &&
+      (result.map.grid_inverted_hexes > 0 || result.map.grid_min_scaled_jacobian < options.taller_centres_below);
+  const bool folds_widely = result.map.grid_inverted_hexes >
+                            options.taller_centres_inverted_above * static_cast<double>(result.map.hex_mesh.hexes.size());
+  if (untangled && result.construction.domain.t_shapes > 0 && (folds_or_poor || folds_widely)) {
     Built kept = set_aside();
     stage_prefix = "taller T-shape centres: ";
     t_shape.concave_corner_height = kTallerCentreHeight;

@@ -72,6 +72,11 @@ struct GpcOptions {
   /// mapped again with every T-shape's concave corners at kTallerCentreHeight of the crotch's
   /// height and the better hex mesh kept (as for limbs), see GpcStats::taller_centres.
   double taller_centres_below = 0.2;
+  /// Share of the hex mesh's hexes in (0, 1] (1 = off): the same retry also runs where the kept
+  /// construction has T-shapes and more than this share of its hexes stay inverted, whatever
+  /// taller_centres_below says. For a caller that leaves the hex mesh's few folds to a later
+  /// stage but not a layout that folds the volume around a whole junction (mesh2spline).
+  double taller_centres_inverted_above = 1.0;
   /// Linear parameter density in [0, 1) (0 = off): where the kept construction of a solid of
   /// genus > 0 has no cap and a cuboid's surface map has a spot below this density before the
   /// squeeze rescue (CuboidSurfaceMap::unrescued_least_density), it is built and mapped again

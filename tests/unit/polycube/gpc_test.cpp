@@ -844,6 +844,28 @@ TEST_CASE("gpc job: the retry with taller T-shape centres keeps the better hex m
   CHECK(retried.stats.grid_inverted_hexes <= first.stats.grid_inverted_hexes);
   if (retried.stats.grid_inverted_hexes == first.stats.grid_inverted_hexes)
     CHECK(retried.stats.grid_min_scaled_jacobian >= first.stats.grid_min_scaled_jacobian);
+  // By the share of inverted hexes alone (taller_centres_below off), with the hex mesh as
+  // mesh2spline has it (surface held, no quality stage), which leaves the first construction
+  // some inverted hexes: the retry runs iff more than that share of its hexes is inverted.
+  o.taller_centres_below = -1.0;
+  o.grid.face_sliding = param::GpcGridOptions::FaceSliding::Off;
+  o.grid.min_quality_sweeps = 0;
+  o.grid.padded_reference = param::GpcGridOptions::PaddedReference::MeanCell;
+  const pipeline::GpcResult held = pipeline::run_gpc(make_t_solid(3), "T", o);
+  CHECK(held.stats.taller_centres.empty());
+  REQUIRE(held.stats.grid_inverted_hexes > 0);
+  o.taller_centres_inverted_above = 0.5;  // far more than the few inverted hexes
+  CHECK(pipeline::run_gpc(make_t_solid(3), "T", o).stats.taller_centres.empty());
+  o.taller_centres_inverted_above = 1e-9;
+  const pipeline::GpcResult by_share = pipeline::run_gpc(make_t_solid(3), "T", o);
+  CHECK(by_share.stats.taller_centres.rfind("concave corners at 0.85 of the crotch's height: ", 0) == 0);
+  CHECK(by_share.stats.grid_inverted_hexes <= held.stats.grid_inverted_hexes);
+  for (const double bad : {0.0, 1.5}) {
+    o.taller_centres_inverted_above = bad;
+    CHECK_THROWS_WITH_AS(pipeline::run_gpc(make_t_solid(3), "T", o),
+                         doctest::Contains("taller_centres_inverted_above must be in (0, 1]"), Error);
+  }
+  o.taller_centres_inverted_above = 1.0;
   o.taller_centres_below = 1.5;
   CHECK_THROWS_WITH_AS(pipeline::run_gpc(make_t_solid(3), "T", o), doctest::Contains("taller_centres_below must be in [-1, 1]"),
                        Error);
