@@ -98,6 +98,11 @@ pipeline::GpcMesh2SplineOptions gpc_options(const Args& args, const pipeline::Me
   options.measure_lattice = args.get_int("measure-lattice", options.measure_lattice);
   options.threads = args.get_int("threads", 1);
   options.certificate_rounds = args.get_int("certificate-rounds", options.certificate_rounds);
+  const std::string start = args.get("untangle-start", "rounds");
+  if (start == "passes")
+    options.untangle_start = pipeline::GpcMesh2SplineOptions::UntangleStart::PassesFirst;
+  else if (start != "rounds")
+    throw UsageError("--untangle-start must be rounds or passes, got '" + start + "'");
   if (args.has("limbs")) options.gpc.limb_persistence = args.get_double("limbs", 0.0);
   options.gpc.grid.target_nodes = args.get_int("grid-nodes", options.gpc.grid.target_nodes);
   return options;
@@ -234,6 +239,7 @@ int run_mesh2spline(const std::vector<std::string>& argv) {
       {"hierarchy-depth", "L", "genus > 0, --hierarchical: split functions at most L dyadic levels below the last uniform level (1..6; default 3, or 6 where a cuboid's surface map is squeezed: squeeze_rounds > 0 or surface_least_density below --squeezed-below)"},
       {"fit-damping", "D", "genus > 0: pull of every level's least squares towards the previous level's spline, relative to the mean sample weight of a function (default 0.01, 0..1)"},
       {"certificate-rounds", "N", "genus > 0: certificate rounds per attempt of the untangling (0..64, default 16); they stop earlier once every cell is certified or the count stalls, so fewer bound the time on solids whose count still falls (sharp creases) and may leave cells uncertified"},
+      {"untangle-start", "rounds|passes", "genus > 0: rounds (default): the certificate rounds alone first, the per-cuboid passes only where they leave cells uncertified (then from the fit, as with passes); passes: the per-cuboid passes, then the certificate rounds"},
       {"measure-lattice", "N", "genus > 0: lattice_negative_fraction at the cell centres of an N^3 lattice per cuboid (default 64, 4..256)"},
       {"centroid-samples", "", "genus > 0: also fit every surface triangle's centroid at its surface-map parameter (default: where a cuboid's surface map is squeezed)"},
       {"vertex-samples", "", "genus > 0: fit the surface vertices only, no centroids, squeezed or not"},

@@ -324,23 +324,55 @@ double longest_size(const polycube::GpcDomain& domain) {
 // support lies inside the box and vanishes on its faces move (each belongs to this cuboid alone),
 // so the surface fit and both sides of every glued face stay as they are; then the certificate
 // rounds over all cuboids at once (spline::untangle_gpc_certificate), which move global
-// functions, shared ones as one control point. Returns the functions that were free to move.
-// progress: "<stage>: cuboids" (the share of cuboids done) at every pass of a cuboid, then
-// "<stage>: certificate round K" over [from, to]; both are where a cancel request stops the job.
+// functions, shared ones as one control point. RoundsFirst: the rounds' first attempt alone
+// before all that, which ends the untangling where it certifies every cell (see
+// GpcMesh2SplineOptions::untangle_start). Returns the functions that were free to move.
+// progress: "<stage>: certificate round K" (RoundsFirst), "<stage>: cuboids" (the share of
+// cuboids done) at every pass of a cuboid, then "<stage>: certificate round K", over [from, to]
+// in that order; each is where a cancel request stops the job.
 int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& samples, int threads,
-                     int certificate_rounds, spline::JacobianCertificateCache& certificates, const Progress& progress,
+                     int certificate_rounds, GpcMesh2SplineOptions::UntangleStart start,
+                     spline::JacobianCertificateCache& certificates, const Progress& progress,
                      const std::string& stage, double from, double to) {
+  // The rounds' own label is "untangle certificate K: N cells uncertified", K counting from 1 in
+  // every attempt (untangle_gpc_certificate): shown as the stage's certificate round, over [lo, hi].
+  const auto round_progress = [&](double lo, double hi) {
+    return Progress([&progress, &stage, lo, hi](const std::string& label, double fraction) {
+      const std::string own = "untangle certificate ";
+      const std::string round = label.compare(0, own.size(), own) == 0 ? label.substr(own.size()) : label;
+      progress.report(stage + ": certificate round " + round, lo + (hi - lo) * fraction);
+      return true;
+    });
+  };
+  spline::SplineUntangleOptions rounds;
+  rounds.certificate_rounds = certificate_rounds;
+  const bool rounds_first = start == GpcMesh2SplineOptions::UntangleStart::RoundsFirst;
+  const double passes_from = rounds_first ? from + (to - from) / 3.0 : from;
+  if (rounds_first) {
+    // Not in the thesis: most fits fold in a few hundred cells that the rounds alone certify
+    // (the shared solids, torus to fertility, and most held-out ones), where the per-cuboid
+    // passes, which scan and polish every cuboid's lattice, cost as much as the rounds. The fit
+    // is kept as a copy, not as its points: the cell polynomials follow moved points by adding
+    // their change, so points set back would round differently from the fit.
+    const spline::GpcSpline fit = spline;
+    spline::SplineUntangleOptions first = rounds;
+    first.certificate_attempts = 1;
+    const spline::SplineUntangleResult r =
+        spline::untangle_gpc_certificate(spline, samples, first, round_progress(from, passes_from), &certificates);
+    if (r.final_uncertified == 0) return r.free_functions;
+    spline = fit;
+  }
   const double longest_side = longest_size(spline.domain());
   const int nc = spline.num_cuboids();
   // The cuboids' passes report from their threads: one report at a time, the count of cuboids
-  // done as the fraction (the first half of [from, to]; the certificate rounds take the rest).
+  // done as the fraction (the first half of [passes_from, to]; the certificate rounds take the rest).
   std::mutex report_mutex;
   int cuboids_done = 0;
-  const double middle = 0.5 * (from + to);
+  const double middle = 0.5 * (passes_from + to);
   const auto report_cuboids = [&](bool finished) {
     std::lock_guard<std::mutex> lock(report_mutex);
     if (finished) ++cuboids_done;
-    progress.report(stage + ": cuboids", from + (middle - from) * cuboids_done / nc);
+    progress.report(stage + ": cuboids", passes_from + (middle - passes_from) * cuboids_done / nc);
   };
   // Every cuboid starts from the fitted points and its moves are written back in cuboid order, so
   // the cuboids are independent jobs: the same result on any number of threads.
@@ -396,18 +428,8 @@ int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& sample
   spline.set_points(std::move(points));
   // GpcMesh2SplineOptions::certificate_rounds (16 by default): the rounds stop once every cell is
   // certified or the count stalls for 3 rounds, so only a spline whose count still falls runs past 8.
-  spline::SplineUntangleOptions rounds;
-  rounds.certificate_rounds = certificate_rounds;
-  // The rounds' own label is "untangle certificate K: N cells uncertified", K counting from 1 in
-  // every attempt (untangle_gpc_certificate): shown as the stage's certificate round.
-  const Progress round_progress([&](const std::string& label, double fraction) {
-    const std::string own = "untangle certificate ";
-    const std::string round = label.compare(0, own.size(), own) == 0 ? label.substr(own.size()) : label;
-    progress.report(stage + ": certificate round " + round, middle + (to - middle) * fraction);
-    return true;
-  });
   const spline::SplineUntangleResult certified =
-      spline::untangle_gpc_certificate(spline, samples, rounds, round_progress, &certificates);
+      spline::untangle_gpc_certificate(spline, samples, rounds, round_progress(middle, to), &certificates);
   return std::accumulate(free.begin(), free.end(), 0) + certified.free_functions;
 }
 
@@ -604,7 +626,8 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
     // The unit-box frame: distances are already relative to the diagonal.
     const Eigen::MatrixX3d fitted_surface = surface_values(fitted, data.samples, data.surface.size());
     stats.untangled_control_points =
-        untangle_cuboids(fitted, data.samples, options.threads, options.certificate_rounds, certificates, progress,
+        untangle_cuboids(fitted, data.samples, options.threads, options.certificate_rounds, options.untangle_start,
+                         certificates, progress,
                          "untangle", 0.9, 0.91);
     const auto surface_shift = [](const Eigen::MatrixX3d& before, const Eigen::MatrixX3d& after) {
       return before.rows() ? (after - before).rowwise().norm().maxCoeff() : 0.0;
@@ -635,6 +658,7 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
       spline::JacobianCertificateCache second_certificates;
       const Eigen::MatrixX3d second_surface = surface_values(second, unfolded.samples, unfolded.surface.size());
       const int free = untangle_cuboids(second, unfolded.samples, options.threads, options.certificate_rounds,
+                                        options.untangle_start,
                                         second_certificates, progress, "refit: untangle", 0.915, 0.92);
       timer.end_stage("refit_untangle");
       const spline::JacobianCertificate c =

@@ -71,6 +71,12 @@ struct GpcMesh2SplineOptions {
   /// Unfold the fitted spline with the control points inside each cuboid (spline::untangle_spline
   /// on its patch, restricted to its box); faces, surface and glued faces stay as they are.
   enum class Untangle { Off, On } untangle = Untangle::On;
+  /// With untangle On, where the untangling starts: RoundsFirst runs the certificate rounds'
+  /// first attempt alone from the fit (spline::SplineUntangleOptions::certificate_attempts 1) and,
+  /// if that certifies every cell, skips the per-cuboid passes; otherwise the fit is restored
+  /// exactly and the untangling runs as with PassesFirst (the same bytes): the per-cuboid passes,
+  /// then the certificate rounds.
+  enum class UntangleStart { RoundsFirst, PassesFirst } untangle_start = UntangleStart::RoundsFirst;
   /// With untangle On, if cells stay uncertified: fit and untangle again without the grid nodes
   /// of the hex mesh's inverted hexes (off the surface), and keep the spline with fewer
   /// uncertified cells, then the higher det_j_lower_bound_rel (stats refit_dropped_nodes).

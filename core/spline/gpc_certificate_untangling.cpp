@@ -758,7 +758,7 @@ SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSample
   if (spline.dimension() != 3)
     throw Error("GPC certificate untangling: the spline has dimension " + std::to_string(spline.dimension()) +
                 ", expected 3 (geometry)");
-  assert(options.certificate_rounds >= 0 && options.surface_data_factor >= 1.0 &&
+  assert(options.certificate_rounds >= 0 && options.surface_data_factor >= 1.0 && options.certificate_attempts >= 1 &&
          samples.uvw.rows() == samples.values.rows());
   JacobianCertificateCache own_cache;
   JacobianCertificateCache& certificates = cache ? *cache : own_cache;
@@ -787,6 +787,7 @@ SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSample
   std::vector<Attempt> attempts = {{FreeFunctions::AllHeld, options.surface_data_factor, false}};
   if (options.surface_data_factor != 1.0) attempts.push_back({FreeFunctions::AllHeld, 1.0, true});
   attempts.push_back({FreeFunctions::CurrentCells, 1.0, true});
+  attempts.resize(std::min<std::size_t>(attempts.size(), static_cast<std::size_t>(options.certificate_attempts)));
   PassCache jacobians;
   SplineUntangleResult kept, sum;
   Eigen::MatrixXd kept_points;

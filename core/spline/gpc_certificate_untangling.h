@@ -37,7 +37,8 @@ namespace volspline::spline {
 /// only the functions at the points of the cells uncertified in its round (the earlier rounds'
 /// points still held where those reach them), a round that left more cells uncertified than the
 /// best one restarting from the best one's points; the attempt with fewer uncertified cells,
-/// then the higher det_j_lower_bound_rel, is kept. Samples: the fit's (cuboid,
+/// then the higher det_j_lower_bound_rel, is kept; at most options.certificate_attempts of the
+/// three run. Samples: the fit's (cuboid,
 /// uvw, xyz) in the spline's frame; their weights are not used. Uses certificate_rounds, min_scaled_jacobian, data_weight,
 /// surface_data_factor, volume_weight, max_steps and max_inner of options (each pass's ε continuation runs until its
 /// energy settles or max_steps, whatever stop_margin says: the held points are hinge terms,

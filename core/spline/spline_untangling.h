@@ -116,6 +116,9 @@ struct SplineUntangleOptions {
   /// hexes invert, so the rounds should open folds by moving the interior. Where that attempt
   /// leaves cells uncertified, the rounds run again from the start with factor 1.
   double surface_data_factor = 10.0;
+  /// GPC certificate rounds (untangle_gpc_certificate) only: how many of its attempts may run,
+  /// in [1, 3] (the later ones run only where the earlier leave cells uncertified).
+  int certificate_attempts = 3;
 };
 
 /// Outcome of untangle_spline.

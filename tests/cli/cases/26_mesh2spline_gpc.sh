@@ -60,6 +60,11 @@ expect 2 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gh_bad.json" --qui
 contains "$TMP/err" "--hierarchy-depth"
 expect 2 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gh_bad.json" --quiet --certificate-rounds 65
 contains "$TMP/err" "--certificate-rounds"
+# --untangle-start passes: the per-cuboid passes first; still certified. A bad value is refused.
+expect 0 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gp.json" --quiet --untangle-start passes --stats-json "$TMP/gp_stats.json"
+contains "$TMP/gp_stats.json" "\"jacobian_certified_fraction\": 1.0"
+expect 2 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gh_bad.json" --quiet --untangle-start both
+contains "$TMP/err" "--untangle-start must be rounds or passes"
 # A genus-0 solid whose one-cuboid surface map is squeezed goes through the GPC (the shared
 # sphere's least density 0.886 is squeezed below 0.9); --one-cuboid keeps one cuboid.
 expect 0 "$BIN" mesh2spline "$DATA/meshes/sphere.off" --squeezed-below 0.9 -o "$TMP/sq.json" --stats-json "$TMP/sq_stats.json"

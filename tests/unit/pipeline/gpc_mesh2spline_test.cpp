@@ -179,6 +179,7 @@ TEST_CASE("gpc spline JSON: write, read, write is byte-identical and evaluates t
 TEST_CASE("gpc mesh2spline: the untangling reports its cuboids and certificate rounds and stops in each") {
   pipeline::GpcMesh2SplineOptions o = small_options();
   o.threads = 2;  // the cuboids' reports come from their threads
+  o.untangle_start = pipeline::GpcMesh2SplineOptions::UntangleStart::PassesFirst;
   std::vector<std::pair<std::string, double>> reports;
   const Progress record([&reports](const std::string& stage, double fraction) {
     reports.emplace_back(stage, fraction);
@@ -225,4 +226,39 @@ TEST_CASE("gpc mesh2spline: the untangling reports its cuboids and certificate r
   CHECK(rounds == 0);
   o.certificate_rounds = 65;
   CHECK_THROWS_WITH_AS(pipeline::run_gpc_mesh2spline(torus, "torus", o), doctest::Contains("`certificate_rounds`"), Error);
+}
+
+TEST_CASE("gpc mesh2spline: the untangling starts with the certificate rounds and restores the fit exactly") {
+  pipeline::GpcMesh2SplineOptions o = small_options();
+  std::vector<std::string> stages;
+  const Progress record([&stages](const std::string& stage, double) {
+    stages.push_back(stage);
+    return true;
+  });
+  auto count = [&stages](const std::string& prefix) {
+    int n = 0;
+    for (const std::string& s : stages) n += s.rfind(prefix, 0) == 0;
+    return n;
+  };
+  const mesh::TriangleMesh torus = test::torus(64, 24, 1.0, 0.35);
+  // The torus's fit folds slightly along the tube's 4 edges, which the rounds alone certify: no
+  // per-cuboid pass runs.
+  const pipeline::GpcMesh2SplineResult rounds_first = pipeline::run_gpc_mesh2spline(torus, "torus", o, record);
+  CHECK(rounds_first.stats.jacobian_certified_fraction == 1.0);
+  CHECK(count("untangle: certificate round ") >= 1);
+  CHECK(count("untangle: cuboids") == 0);
+  // On the genus-2 slab one round leaves cells uncertified: the fit is restored and the passes,
+  // then one round, run, to the bytes of PassesFirst (the cell polynomials rebuilt exactly, not
+  // rounded back).
+  o.certificate_rounds = 1;
+  o.refit_folded_nodes = false;  // one untangling to compare
+  stages.clear();
+  const mesh::TriangleMesh slab = test::two_hole_slab(3);
+  const pipeline::GpcMesh2SplineResult restored = pipeline::run_gpc_mesh2spline(slab, "slab", o, record);
+  CHECK(restored.stats.jacobian_certified_fraction < 1.0);
+  CHECK(count("untangle: certificate round ") >= 2);  // the rounds first, then after the passes
+  CHECK(count("untangle: cuboids") >= 1);
+  o.untangle_start = pipeline::GpcMesh2SplineOptions::UntangleStart::PassesFirst;
+  CHECK(io::serialize_gpc_spline_json(pipeline::run_gpc_mesh2spline(slab, "slab", o).spline) ==
+        io::serialize_gpc_spline_json(restored.spline));
 }
