@@ -349,9 +349,9 @@ int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& sample
   const bool rounds_first = start == GpcMesh2SplineOptions::UntangleStart::RoundsFirst;
   const double passes_from = rounds_first ? from + (to - from) / 3.0 : from;
   if (rounds_first) {
-    // Not in the thesis: most fits fold in a few hundred cells that the rounds alone certify
-    // (the shared solids, torus to fertility, and most held-out ones), where the per-cuboid
-    // passes, which scan and polish every cuboid's lattice, cost as much as the rounds. The fit
+    // Not in the thesis: most fits fold in a few hundred cells that the rounds alone certify,
+    // where the per-cuboid passes, which scan and polish every cuboid's lattice, cost as much as
+    // the rounds (README, mesh2spline step 4). The fit
     // is kept as a copy, not as its points: the cell polynomials follow moved points by adding
     // their change, so points set back would round differently from the fit.
     const spline::GpcSpline fit = spline;
