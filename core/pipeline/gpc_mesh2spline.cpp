@@ -657,8 +657,11 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
       progress.report("refit: untangle", 0.915);
       spline::JacobianCertificateCache second_certificates;
       const Eigen::MatrixX3d second_surface = surface_values(second, unfolded.samples, unfolded.surface.size());
+      // The first untangling showed that the rounds alone leave cells uncertified on this solid:
+      // the second one starts with the passes (on large solids, armadillo's 230,000 cells, the
+      // rounds alone would cost as much as the whole untangling again).
       const int free = untangle_cuboids(second, unfolded.samples, options.threads, options.certificate_rounds,
-                                        options.untangle_start,
+                                        GpcMesh2SplineOptions::UntangleStart::PassesFirst,
                                         second_certificates, progress, "refit: untangle", 0.915, 0.92);
       timer.end_stage("refit_untangle");
       const spline::JacobianCertificate c =

@@ -75,7 +75,8 @@ struct GpcMesh2SplineOptions {
   /// first attempt alone from the fit (spline::SplineUntangleOptions::certificate_attempts 1) and,
   /// if that certifies every cell, skips the per-cuboid passes; otherwise the fit is restored
   /// exactly and the untangling runs as with PassesFirst (the same bytes): the per-cuboid passes,
-  /// then the certificate rounds.
+  /// then the certificate rounds. The second fit's untangling (refit_folded_nodes) always starts
+  /// with the passes: it runs only where the first left cells uncertified.
   enum class UntangleStart { RoundsFirst, PassesFirst } untangle_start = UntangleStart::RoundsFirst;
   /// With untangle On, if cells stay uncertified: fit and untangle again without the grid nodes
   /// of the hex mesh's inverted hexes (off the surface), and keep the spline with fewer
