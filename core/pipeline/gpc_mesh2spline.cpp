@@ -351,9 +351,9 @@ int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& sample
   if (rounds_first) {
     // Not in the thesis: most fits fold in a few hundred cells that the rounds alone certify,
     // where the per-cuboid passes, which scan and polish every cuboid's lattice, cost as much as
-    // the rounds (README, mesh2spline step 4). The fit
-    // is kept as a copy, not as its points: the cell polynomials follow moved points by adding
-    // their change, so points set back would round differently from the fit.
+    // the rounds (README, mesh2spline step 4). The fit is kept as a copy, not as its points: the
+    // cell polynomials follow moved points by adding their change, so points set back would round
+    // differently from the fit.
     const spline::GpcSpline fit = spline;
     spline::SplineUntangleOptions first = rounds;
     first.certificate_attempts = 1;
