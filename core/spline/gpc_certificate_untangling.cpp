@@ -35,6 +35,9 @@ constexpr double kSupportRatio = 2.0;
 // Factor on the held points' hinge per round since the uncertified count last fell (in the
 // later attempts: the most such rounds in a row so far, the weight not lowered again).
 constexpr double kStallWeight = 8.0;
+// A round's pass moves only the functions at the cells uncertified in that round where they are
+// at most this share of the functions at all the points held so far (certificate_rounds).
+constexpr int kLocalPassShare = 5;
 
 // J at a point of a cuboid split into the free functions' part: J = rest + Σ_e x_{column_e}·g_eᵀ.
 struct PointJacobian {
@@ -130,6 +133,12 @@ class GpcCertificatePass {
                      PassCache& cache, double surface_factor)
       : spline_(spline), samples_(samples), options_(options), merges_(spline.num_cuboids()), cache_(cache),
         surface_factor_(surface_factor) {}
+
+  // The number of functions a pass with these seeds would move.
+  int free_function_count(const std::vector<std::vector<Eigen::Vector3d>>& seeds) {
+    select_free_functions(seeds);
+    return static_cast<int>(free_ids_.size());
+  }
 
   // One pass over the held points (per cuboid, in cuboid coordinates), moving the functions at
   // the points `seeds` (held itself, or a part of it); returns the result's free_functions and
@@ -687,13 +696,15 @@ void tilt_gpc_creases(GpcSpline& spline, const std::vector<UncertifiedCell>& unc
 
 // Which functions a round's pass moves.
 enum class FreeFunctions {
-  AllHeld,       // those at every point held so far
+  AllHeld,       // those at every point held so far, or the CurrentCells ones where they are
+                 // at most 1/kLocalPassShare of those
   CurrentCells,  // those at the points of the cells uncertified in this round
 };
 
 // The certificate rounds from the spline's points as they are (see untangle_gpc_certificate).
-// CurrentCells also restarts a round that left more uncertified cells than the best one from
-// the best one's points (the points of the cells it folded stay held).
+// A pass moving the current cells' functions only (a local pass) starts from the best round's
+// points where its round left more uncertified cells than the best one (the points of the cells
+// it folded stay held).
 SplineUntangleResult certificate_rounds(GpcSpline& spline, const GpcSamples& samples, const SplineUntangleOptions& options,
                                         const Progress& progress, JacobianCertificateCache& certificates,
                                         PassCache& jacobians, FreeFunctions free, double surface_factor,
@@ -733,18 +744,24 @@ SplineUntangleResult certificate_rounds(GpcSpline& spline, const GpcSamples& sam
       points.push_back(p);
       more[u.cuboid].insert(more[u.cuboid].end(), points.begin(), points.end());
     }
-    std::vector<std::vector<Eigen::Vector3d>> current;
-    if (free == FreeFunctions::CurrentCells) {
-      current = more;
-      for (std::vector<Eigen::Vector3d>& c : current) std::sort(c.begin(), c.end(), detail::lexicographic_less);
-      if (uncertified > rounds.final_uncertified()) spline.set_points(rounds.best_points());
-    }
+    std::vector<std::vector<Eigen::Vector3d>> current = more;
+    for (std::vector<Eigen::Vector3d>& c : current) std::sort(c.begin(), c.end(), detail::lexicographic_less);
     for (int c = 0; c < nc; ++c) detail::merge_points(held[c], std::move(more[c]));
+    // A pass costs in proportion to the functions it moves: once the cells left need a small
+    // part of the held points' functions, a pass over all of them spends most of its time on
+    // cells certified already, and re-folds some of them between its guard points.
+    bool local = free == FreeFunctions::CurrentCells;
+    if (!local) {
+      GpcCertificatePass counter(spline, samples, options, jacobians, surface_factor);
+      local = kLocalPassShare * counter.free_function_count(current) <= counter.free_function_count(held);
+    }
+    if (local && uncertified > rounds.final_uncertified()) spline.set_points(rounds.best_points());
     most_stalled = std::max(most_stalled, rounds.stalled());
     const double held_weight = std::pow(kStallWeight, keep_weight_raised ? most_stalled : rounds.stalled());
     const SplineUntangleResult r = GpcCertificatePass(spline, samples, options, jacobians, surface_factor)
-                                       .run(held, free == FreeFunctions::CurrentCells ? current : held, held_weight);
+                                       .run(held, local ? current : held, held_weight);
     ++total.certificate_passes;
+    total.local_passes += local;
     total.free_functions += r.free_functions;
     total.iterations += r.iterations;
   }
@@ -765,13 +782,14 @@ SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSample
   const Eigen::MatrixXd start = spline.points();
   // The attempts, each from the start, until one certifies every cell:
   // 1. passes over every point held so far, the surface samples held surface_data_factor times
-  //    as hard as the interior ones;
+  //    as hard as the interior ones; local passes once the cells left need few of those
+  //    functions (FreeFunctions::AllHeld);
   // 2. the same with every sample alike, where holding the surface keeps a fold shut;
-  // 3. passes moving the functions at the cells uncertified in their round only. A pass over
-  //    every point held so far moves most of the spline and re-folds cells that earlier rounds
-  //    certified between its guard points, so the rounds trade cells back and forth around a
-  //    cell that needs many of them; local passes do not, but converge slower where hundreds of
-  //    cells fold and move the surface more.
+  // 3. local passes only: those moving the functions at the cells uncertified in their round.
+  //    A pass over every point held so far moves most of the spline and re-folds cells that
+  //    earlier rounds certified between its guard points, so the rounds trade cells back and
+  //    forth around a cell that needs many of them; local passes do not, but converge slower
+  //    where hundreds of cells fold and move the surface more.
   // The attempt whose certificate is better (fewer uncertified cells, then the higher
   // det_j_lower_bound_rel) is kept. In the first attempt the held points' weight falls back to 1
   // whenever the uncertified count reaches a new low; in the later ones it stays at the highest
@@ -798,6 +816,7 @@ SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSample
                                                       attempts[a].free, attempts[a].surface_factor,
                                                       attempts[a].keep_weight_raised);
     sum.certificate_passes += r.certificate_passes;
+    sum.local_passes += r.local_passes;
     sum.free_functions += r.free_functions;
     sum.iterations += r.iterations;
     double bound = 0.0;
@@ -813,6 +832,7 @@ SplineUntangleResult untangle_gpc_certificate(GpcSpline& spline, const GpcSample
   }
   spline.set_points(std::move(kept_points));
   kept.certificate_passes = sum.certificate_passes;
+  kept.local_passes = sum.local_passes;
   kept.free_functions = sum.free_functions;
   kept.iterations = sum.iterations;
   return kept;

@@ -30,19 +30,22 @@ namespace volspline::spline {
 /// Jacobian now), and the data term (data_weight per squared knot interval in model units) holds
 /// every sample there, which keeps the surface on the mesh; the samples on the solid's surface
 /// (on a cuboid face no other cuboid is glued to) are held surface_data_factor times as hard.
+/// A round whose uncertified cells' points free at most a fifth of the functions that all the
+/// held points free runs a local pass: it moves only the functions at the points of the cells uncertified in its round (the
+/// earlier rounds' points still held where those reach them), from the best round's points if
+/// its round left more cells uncertified than the best one (a pass over every held point costs
+/// in proportion to its functions, and re-folds cells certified already).
 /// Rounds stop when every cell is certified or the uncertified count has not fallen for 3
 /// rounds; the spline of the round with the fewest is kept. If cells stay uncertified, the
 /// rounds run again from the starting points with every sample held alike (if
-/// surface_data_factor is not 1), then, if cells still stay uncertified, with each pass moving
-/// only the functions at the points of the cells uncertified in its round (the earlier rounds'
-/// points still held where those reach them), a round that left more cells uncertified than the
-/// best one restarting from the best one's points; the attempt with fewer uncertified cells,
+/// surface_data_factor is not 1), then, if cells still stay uncertified, with every pass
+/// local; the attempt with fewer uncertified cells,
 /// then the higher det_j_lower_bound_rel, is kept; at most options.certificate_attempts of the
 /// three run. Samples: the fit's (cuboid,
 /// uvw, xyz) in the spline's frame; their weights are not used. Uses certificate_rounds, min_scaled_jacobian, data_weight,
 /// surface_data_factor, volume_weight, max_steps and max_inner of options (each pass's ε continuation runs until its
 /// energy settles or max_steps, whatever stop_margin says: the held points are hinge terms,
-/// which the barrier nodes' margin does not see); returns certificate_passes,
+/// which the barrier nodes' margin does not see); returns certificate_passes, local_passes,
 /// free_functions, iterations, initial_uncertified and final_uncertified (the other fields 0).
 /// progress: "untangle certificate K: N cells uncertified" before each round; throws
 /// volspline::Cancelled there if the callback asks to stop. cache (or null: one of its own): the

@@ -136,6 +136,7 @@ struct SplineUntangleResult {
   int polish_passes = 0;      ///< polish passes run
   int polish_folded = 0;      ///< folded points of the polish lattice at its last scan (0: none)
   int certificate_passes = 0;      ///< passes run by the certificate rounds
+  int local_passes = 0;            ///< of those, GPC passes moving their round's cells' functions only
   int initial_uncertified = 0;     ///< uncertified cells before the certificate rounds
   int final_uncertified = 0;       ///< and after (certify_jacobian's count)
   /// Cell edges whose det J was negative on a cuboid edge, tilted convex after the certificate
