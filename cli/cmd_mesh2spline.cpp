@@ -169,6 +169,11 @@ void write_gpc_outputs(const Args& args, const std::string& path, const pipeline
     j["samples"] = s.samples;
     j["untangled_control_points"] = s.untangled_control_points;
     j["untangle_surface_shift_rel"] = s.untangle_surface_shift_rel;
+    if (!s.untangle_path.empty()) {
+      j["untangle_path"] = s.untangle_path;
+      j["certificate_passes"] = s.certificate_passes;
+      j["local_certificate_passes"] = s.local_certificate_passes;
+    }
     j["times_s"] = stage_times_json(s.times_s);
     files.stage(args.get("stats-json"), j.dump(2) + "\n");
   }

@@ -249,6 +249,11 @@ val gpc_stats_to_js(const pipeline::Mesh2SplineStats& s, const std::string& name
   out.set("samples", s.samples);
   out.set("untangled_control_points", s.untangled_control_points);
   out.set("untangle_surface_shift_rel", s.untangle_surface_shift_rel);
+  if (!s.untangle_path.empty()) {
+    out.set("untangle_path", s.untangle_path);
+    out.set("certificate_passes", s.certificate_passes);
+    out.set("local_certificate_passes", s.local_certificate_passes);
+  }
   out.set("times_s", stage_times_object(s.times_s));
   return out;
 }

@@ -326,11 +326,18 @@ double longest_size(const polycube::GpcDomain& domain) {
 // rounds over all cuboids at once (spline::untangle_gpc_certificate), which move global
 // functions, shared ones as one control point. RoundsFirst: the rounds' first attempt alone
 // before all that, which ends the untangling where it certifies every cell (see
-// GpcMesh2SplineOptions::untangle_start). Returns the functions that were free to move.
+// GpcMesh2SplineOptions::untangle_start). Returns the functions that were free to move, the path
+// taken and the certificate passes run (Mesh2SplineStats::untangle_path, certificate_passes).
 // progress: "<stage>: certificate round K" (RoundsFirst), "<stage>: cuboids" (the share of
 // cuboids done) at every pass of a cuboid, then "<stage>: certificate round K", over [from, to]
 // in that order; each is where a cancel request stops the job.
-int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& samples, int threads,
+struct Untangled {
+  int free_functions = 0;
+  bool rounds_alone = false;
+  int certificate_passes = 0, local_passes = 0;
+};
+
+Untangled untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& samples, int threads,
                      int certificate_rounds, GpcMesh2SplineOptions::UntangleStart start,
                      spline::JacobianCertificateCache& certificates, const Progress& progress,
                      const std::string& stage, double from, double to) {
@@ -348,6 +355,7 @@ int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& sample
   rounds.certificate_rounds = certificate_rounds;
   const bool rounds_first = start == GpcMesh2SplineOptions::UntangleStart::RoundsFirst;
   const double passes_from = rounds_first ? from + (to - from) / 3.0 : from;
+  Untangled out;
   if (rounds_first) {
     // Not in the thesis: most fits fold in a few hundred cells that the rounds alone certify,
     // where the per-cuboid passes, which scan and polish every cuboid's lattice, cost as much as
@@ -359,7 +367,13 @@ int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& sample
     first.certificate_attempts = 1;
     const spline::SplineUntangleResult r =
         spline::untangle_gpc_certificate(spline, samples, first, round_progress(from, passes_from), &certificates);
-    if (r.final_uncertified == 0) return r.free_functions;
+    out.certificate_passes = r.certificate_passes;
+    out.local_passes = r.local_passes;
+    if (r.final_uncertified == 0) {
+      out.free_functions = r.free_functions;
+      out.rounds_alone = true;
+      return out;
+    }
     spline = fit;
   }
   const double longest_side = longest_size(spline.domain());
@@ -430,7 +444,10 @@ int untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& sample
   // certified or the count stalls for 3 rounds, so only a spline whose count still falls runs past 8.
   const spline::SplineUntangleResult certified =
       spline::untangle_gpc_certificate(spline, samples, rounds, round_progress(middle, to), &certificates);
-  return std::accumulate(free.begin(), free.end(), 0) + certified.free_functions;
+  out.free_functions = std::accumulate(free.begin(), free.end(), 0) + certified.free_functions;
+  out.certificate_passes += certified.certificate_passes;
+  out.local_passes += certified.local_passes;
+  return out;
 }
 
 
@@ -625,10 +642,14 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
     progress.report("untangle", 0.9);
     // The unit-box frame: distances are already relative to the diagonal.
     const Eigen::MatrixX3d fitted_surface = surface_values(fitted, data.samples, data.surface.size());
-    stats.untangled_control_points =
-        untangle_cuboids(fitted, data.samples, options.threads, options.certificate_rounds, options.untangle_start,
-                         certificates, progress,
-                         "untangle", 0.9, 0.91);
+    const auto set_untangled = [&stats](const Untangled& u) {
+      stats.untangled_control_points = u.free_functions;
+      stats.untangle_path = u.rounds_alone ? "rounds" : "passes";
+      stats.certificate_passes = u.certificate_passes;
+      stats.local_certificate_passes = u.local_passes;
+    };
+    set_untangled(untangle_cuboids(fitted, data.samples, options.threads, options.certificate_rounds,
+                                   options.untangle_start, certificates, progress, "untangle", 0.9, 0.91));
     const auto surface_shift = [](const Eigen::MatrixX3d& before, const Eigen::MatrixX3d& after) {
       return before.rows() ? (after - before).rowwise().norm().maxCoeff() : 0.0;
     };
@@ -660,9 +681,10 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
       // The first untangling showed that the rounds alone leave cells uncertified on this solid:
       // the second one starts with the passes (on large solids, armadillo's 230,000 cells, the
       // rounds alone would cost as much as the whole untangling again).
-      const int free = untangle_cuboids(second, unfolded.samples, options.threads, options.certificate_rounds,
-                                        GpcMesh2SplineOptions::UntangleStart::PassesFirst,
-                                        second_certificates, progress, "refit: untangle", 0.915, 0.92);
+      const Untangled second_untangled =
+          untangle_cuboids(second, unfolded.samples, options.threads, options.certificate_rounds,
+                           GpcMesh2SplineOptions::UntangleStart::PassesFirst, second_certificates, progress,
+                           "refit: untangle", 0.915, 0.92);
       timer.end_stage("refit_untangle");
       const spline::JacobianCertificate c =
           spline::certify_gpc_jacobian(second, spline::gpc_certificate_options(), &second_certificates);
@@ -670,7 +692,7 @@ GpcMesh2SplineResult run_gpc_mesh2spline(const mesh::TriangleMesh& mesh, const s
           (c.uncertified.size() == first.uncertified.size() && c.det_j_lower_bound_rel > first.det_j_lower_bound_rel)) {
         fitted = std::move(second);
         certificates = std::move(second_certificates);
-        stats.untangled_control_points = free;
+        set_untangled(second_untangled);
         stats.untangle_surface_shift_rel =
             surface_shift(second_surface, surface_values(fitted, unfolded.samples, unfolded.surface.size()));
         stats.refit_dropped_nodes = unfolded.dropped_nodes;

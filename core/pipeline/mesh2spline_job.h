@@ -127,6 +127,14 @@ struct Mesh2SplineStats {
   /// over the bbox diagonal (0 without untangling): the surface accuracy the unfolding cost,
   /// which hausdorff_rel includes.
   double untangle_surface_shift_rel = 0;
+  /// GPC splines: the kept untangling's path, "rounds" (the certificate rounds' first attempt
+  /// alone certified every cell, GpcMesh2SplineOptions::untangle_start RoundsFirst) or "passes"
+  /// (the per-cuboid passes, then the rounds' attempts); empty without untangling.
+  std::string untangle_path;
+  /// GPC splines: the kept untangling's certificate passes, all attempts (SplineUntangleResult::
+  /// certificate_passes), and the local ones among them (SplineUntangleResult::local_passes).
+  int certificate_passes = 0;
+  int local_certificate_passes = 0;
   /// bd-control-points the untangler's crease tilt moved (spline::convex_edge_creases; 0 if none)
   int creased_control_points = 0;
   int samples = 0;

@@ -320,6 +320,8 @@ export const meshTab = {
         ['grid_min_scaled_jacobian', fmt(s.grid_min_scaled_jacobian, 3)], ['samples', s.samples],
         ['untangled_control_points', s.untangled_control_points],
         ['untangle_surface_shift_rel', fmt(s.untangle_surface_shift_rel, 3)],
+        ['untangle_path', s.untangle_path], ['certificate_passes', s.certificate_passes],
+        ['local_certificate_passes', s.local_certificate_passes],
         // The GPC job's retried constructions (only those that ran): what was tried and kept.
         ...Object.entries(s.domain_retries ?? {}),
         ['cut_min_scaled_jacobian', fmt(this.result.cut.min_scaled_jacobian, 3)],

@@ -1,7 +1,7 @@
 # mesh2spline on a solid of genus > 0: one spline over the GPC; JSON, eval --cuboid, VTU, GLB, stats.
 expect 0 "$BIN" mesh2spline "$DATA/meshes/torus.off" -o "$TMP/gt.json" --vtk "$TMP/gt.vtu" --vtk-linear 24 --glb "$TMP/gt.glb" --stats-json "$TMP/gt_stats.json" --quiet
 contains "$TMP/gt.json" "\"format\": \"volspline-gpc-spline\""
-has_keys "$TMP/gt_stats.json" untangle_surface_shift_rel rms_rel hausdorff_rel control_points min_scaled_jacobian negative_jacobian_fraction lattice_negative_fraction semi_standard_max_error genus t_shapes cuboids ill_points interface_gap_rel interface_normal_jump_deg times_s
+has_keys "$TMP/gt_stats.json" untangle_surface_shift_rel untangle_path certificate_passes local_certificate_passes rms_rel hausdorff_rel control_points min_scaled_jacobian negative_jacobian_fraction lattice_negative_fraction semi_standard_max_error genus t_shapes cuboids ill_points interface_gap_rel interface_normal_jump_deg times_s
 contains "$TMP/gt_stats.json" "\"genus\": 1"
 contains "$TMP/gt_stats.json" "\"cuboids\": 1"
 # The det J certificate over every cell of the cuboid box (6 cells; the tube's square section

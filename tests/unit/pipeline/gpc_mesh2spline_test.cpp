@@ -247,6 +247,9 @@ TEST_CASE("gpc mesh2spline: the untangling starts with the certificate rounds an
   CHECK(rounds_first.stats.jacobian_certified_fraction == 1.0);
   CHECK(count("untangle: certificate round ") >= 1);
   CHECK(count("untangle: cuboids") == 0);
+  CHECK(rounds_first.stats.untangle_path == "rounds");
+  CHECK(rounds_first.stats.certificate_passes >= 1);
+  CHECK(rounds_first.stats.local_certificate_passes <= rounds_first.stats.certificate_passes);
   // On the genus-2 slab one round leaves cells uncertified: the fit is restored and the passes,
   // then one round, run, to the bytes of PassesFirst (the cell polynomials rebuilt exactly, not
   // rounded back).
@@ -258,7 +261,11 @@ TEST_CASE("gpc mesh2spline: the untangling starts with the certificate rounds an
   CHECK(restored.stats.jacobian_certified_fraction < 1.0);
   CHECK(count("untangle: certificate round ") >= 2);  // the rounds first, then after the passes
   CHECK(count("untangle: cuboids") >= 1);
+  CHECK(restored.stats.untangle_path == "passes");
   o.untangle_start = pipeline::GpcMesh2SplineOptions::UntangleStart::PassesFirst;
-  CHECK(io::serialize_gpc_spline_json(pipeline::run_gpc_mesh2spline(slab, "slab", o).spline) ==
-        io::serialize_gpc_spline_json(restored.spline));
+  const pipeline::GpcMesh2SplineResult passes_first = pipeline::run_gpc_mesh2spline(slab, "slab", o);
+  CHECK(io::serialize_gpc_spline_json(passes_first.spline) == io::serialize_gpc_spline_json(restored.spline));
+  CHECK(passes_first.stats.untangle_path == "passes");
+  // The rounds-first attempt's passes are counted too.
+  CHECK(restored.stats.certificate_passes > passes_first.stats.certificate_passes);
 }

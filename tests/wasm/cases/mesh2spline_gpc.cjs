@@ -32,6 +32,8 @@ module.exports = function (vs, { check, sourceDir, fs, path }) {
   check(s.interface_gap_rel <= 1e-9 && s.continued_interfaces === 1, `the glued face is continued, gap ${s.interface_gap_rel}`);
   check(s.untangle_surface_shift_rel >= 0 && s.untangle_surface_shift_rel < 0.01,
         `the untangling moved the surface by ${s.untangle_surface_shift_rel} of the diagonal, under 1 %`);
+  check(s.untangle_path === 'rounds' && s.certificate_passes >= 1 && s.local_certificate_passes <= s.certificate_passes,
+        `the torus's certificate rounds alone certify (${s.untangle_path}, ${s.certificate_passes} passes, ${s.local_certificate_passes} local)`);
   check(s.input === 'torus.off' && s.fit === 'grid' && s.times_s.total > 0 && s.times_s.gpc > 0, 'stats: input, fit, times_s');
   const h = s.level_history;
   check(s.knot_refinement === 'hierarchical' && h.length === s.levels + 1 && h[h.length - 1].control_points === s.control_points &&
