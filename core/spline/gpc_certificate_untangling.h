@@ -31,10 +31,11 @@ namespace volspline::spline {
 /// every sample there, which keeps the surface on the mesh; the samples on the solid's surface
 /// (on a cuboid face no other cuboid is glued to) are held surface_data_factor times as hard.
 /// A round whose uncertified cells' points free at most a fifth of the functions that all the
-/// held points free runs a local pass: it moves only the functions at the points of the cells uncertified in its round (the
-/// earlier rounds' points still held where those reach them), from the best round's points if
-/// its round left more cells uncertified than the best one (a pass over every held point costs
-/// in proportion to its functions, and re-folds cells certified already).
+/// held points free runs a local pass: it moves only the functions at the points of the cells
+/// uncertified in its round (the earlier rounds' points still held where those reach them), from
+/// the best round's points if its round left more cells uncertified than the best one (a pass
+/// over every held point costs in proportion to its functions, and re-folds cells certified
+/// already).
 /// Rounds stop when every cell is certified or the uncertified count has not fallen for 3
 /// rounds; the spline of the round with the fewest is kept. If cells stay uncertified, the
 /// rounds run again from the starting points with every sample held alike (if
