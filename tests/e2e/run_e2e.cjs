@@ -440,8 +440,9 @@ async function meshGpcSpline(page) {
   check(s.genus === 1 && s.cuboids === 1 && s.ill_points === 0 && s.rms_rel <= 0.002 && s.semi_standard_max_error <= 1e-12,
         `torus spline: genus ${s.genus}, ${s.cuboids} cuboid, rms_rel ${s.rms_rel.toExponential(2)}, semi-standard ${s.semi_standard_max_error.toExponential(1)}`);
   const shown = {};
-  for (const k of ['genus', 'cuboids', 'ill_points', 't_shapes', 'rms_rel', 'hausdorff_rel', 'control_points', 'cut_min_scaled_jacobian']) shown[k] = await stat(page, 'mesh-stats', k);
-  check(shown.cuboids === '1' && shown.ill_points === '0' && Number(shown.rms_rel) > 0 && Number(shown.control_points) === s.control_points && shown.cut_min_scaled_jacobian !== null,
+  for (const k of ['genus', 'cuboids', 'ill_points', 't_shapes', 'rms_rel', 'hausdorff_rel', 'control_points', 'cut_min_scaled_jacobian', 'untangle_path']) shown[k] = await stat(page, 'mesh-stats', k);
+  check(shown.cuboids === '1' && shown.ill_points === '0' && Number(shown.rms_rel) > 0 && Number(shown.control_points) === s.control_points && shown.cut_min_scaled_jacobian !== null &&
+        shown.untangle_path === s.untangle_path && ['rounds', 'passes'].includes(s.untangle_path),
         `GPC spline stats shown: ${JSON.stringify(shown)}`);
   check((await errorText(page)) === '' && r.cuboids.join() === '0' && r.cut > 0, `no error; the boundary is tagged with cuboid 0 and the cut has ${r.cut} points`);
   const verdict = await page.evaluate(() => document.getElementById('mesh-verdict').dataset.verdict);
