@@ -333,14 +333,14 @@ double longest_size(const polycube::GpcDomain& domain) {
 // in that order; each is where a cancel request stops the job.
 struct Untangled {
   int free_functions = 0;
-  bool rounds_alone = false;
-  int certificate_passes = 0, local_passes = 0;
+  bool rounds_alone = false;  // the rounds' first attempt alone certified every cell
+  int certificate_passes = 0, local_passes = 0;  // over all attempts, the rounds-first one included
 };
 
 Untangled untangle_cuboids(spline::GpcSpline& spline, const spline::GpcSamples& samples, int threads,
-                     int certificate_rounds, GpcMesh2SplineOptions::UntangleStart start,
-                     spline::JacobianCertificateCache& certificates, const Progress& progress,
-                     const std::string& stage, double from, double to) {
+                           int certificate_rounds, GpcMesh2SplineOptions::UntangleStart start,
+                           spline::JacobianCertificateCache& certificates, const Progress& progress,
+                           const std::string& stage, double from, double to) {
   // The rounds' own label is "untangle certificate K: N cells uncertified", K counting from 1 in
   // every attempt (untangle_gpc_certificate): shown as the stage's certificate round, over [lo, hi].
   const auto round_progress = [&](double lo, double hi) {
